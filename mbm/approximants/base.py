@@ -1,0 +1,209 @@
+"""The approximant interface shared by every paper module, and the registry.
+
+An *approximant* maps an anchor state (θ₀, θ̇₀) of a pendulum model to an analytic
+formula θ(t), θ'(t), with t measured from the anchor.  Each paper module defines
+its approximants as subclasses of :class:`Approximant` with two numba kernels:
+
+``anchor_kernel(beta, gamma, omega, theta0, v0) -> coef``
+    float64 scalars in, a float64 1-D array out.  ``coef[0]`` is a status code:
+    0 for success, otherwise a code the class maps to a message in
+    :attr:`Approximant.status_messages`.  ``coef[1:]`` are whatever the
+    formula needs (model parameters included), so evaluation needs nothing else.
+``eval_kernel(coef, t) -> (theta, theta_dot)``
+    float64 scalars; must return the anchor exactly at ``t == 0.0``.
+``eval_array_kernel(coef, t, out_theta, out_v)``
+    the same over a contiguous float64 array, calling ``eval_kernel`` in a loop
+    (one per module: numba does not cache a kernel that takes another kernel
+    as an argument, so the loop cannot be shared).
+
+The solver (window control) sees only these, the anchor state, and
+:attr:`Approximant.anchors` (which anchor states the approximant accepts).
+"""
+
+import numpy as np
+
+__all__ = [
+    "Approximant",
+    "Anchored",
+    "register",
+    "get_approximant",
+    "approximant_names",
+    "ApproximantDomainError",
+]
+
+_REGISTRY = {}
+
+
+class ApproximantDomainError(ValueError):
+    """An approximant was asked for a scene or an anchor state outside its domain."""
+
+
+def register(cls):
+    """Class decorator: register an :class:`Approximant` subclass under ``cls.name``."""
+    if cls.name in _REGISTRY:
+        raise RuntimeError(f"approximant name {cls.name!r} registered twice")
+    _REGISTRY[cls.name] = cls
+    return cls
+
+
+def approximant_names():
+    """Names of all registered approximants, sorted."""
+    _load_all()
+    return sorted(_REGISTRY)
+
+
+def get_approximant(name):
+    """Return an instance of the approximant registered under ``name``.
+
+    Parameters
+    ----------
+    name : str or Approximant
+        A registered name (see :func:`approximant_names`), or an instance, returned as is.
+
+    Raises
+    ------
+    ValueError
+        If ``name`` is not a registered approximant.
+    """
+    if isinstance(name, Approximant):
+        return name
+    _load_all()
+    if not isinstance(name, str) or name not in _REGISTRY:
+        raise ValueError(
+            f"approximant must be one of {sorted(_REGISTRY)}, got {name!r}"
+        )
+    return _REGISTRY[name]()
+
+
+def _load_all():
+    # Import the paper modules so that their @register decorators run.
+    from . import _catalogue  # noqa: F401
+
+
+class Approximant:
+    """Base class of all approximants.
+
+    Subclasses set the class attributes and the two kernels (as staticmethods
+    holding numba dispatchers).
+
+    Attributes
+    ----------
+    name : str
+        Registry name, e.g. ``"salas-torque"``.
+    citation : str
+        Paper and equation numbers the formula comes from.
+    anchors : str
+        Which anchor states it accepts: ``"any"``, ``"zero-crossing"`` (θ = d) or
+        ``"turning-point"`` (θ' = 0).
+    status_messages : dict
+        Maps non-zero status codes of ``anchor_kernel`` to error messages.
+    """
+
+    name = None
+    citation = ""
+    anchors = "any"
+    status_messages = {}
+    anchor_kernel = None
+    eval_kernel = None
+    eval_array_kernel = None
+
+    def check_model(self, model):
+        """Raise :class:`ApproximantDomainError` if the model is outside the approximant's scope."""
+
+    def param_names(self):
+        """Names of ``coef[1:]`` entries, in order, for :attr:`Anchored.params`."""
+        return ()
+
+    def params_from_coef(self, coef):
+        """The dictionary exposed as :attr:`Anchored.params`."""
+        return {k: float(v) for k, v in zip(self.param_names(), coef[1:])}
+
+    def anchor(self, model, theta0, v0):
+        """Anchor the approximant at the state (θ₀, θ̇₀) of ``model``.
+
+        Parameters
+        ----------
+        model : Pendulum
+            The equation's parameters.
+        theta0, v0 : float
+            Anchor state θ(0), θ'(0).
+
+        Returns
+        -------
+        Anchored
+            Callable ``(t) -> (theta, theta_dot)`` with ``t`` measured from the anchor.
+
+        Raises
+        ------
+        ApproximantDomainError
+            If the model or the anchor state is outside the approximant's domain.
+        """
+        self.check_model(model)
+        theta0 = float(theta0)
+        v0 = float(v0)
+        if not (np.isfinite(theta0) and np.isfinite(v0)):
+            raise ValueError(f"anchor state must be finite, got theta0={theta0!r}, v0={v0!r}")
+        coef = self.anchor_kernel(model.beta, model.gamma, model.omega, theta0, v0)
+        self.raise_for_status(coef, theta0, v0)
+        return Anchored(self, model, theta0, v0, coef)
+
+    def raise_for_status(self, coef, theta0, v0):
+        """Raise the error that ``coef[0]`` encodes, if any."""
+        code = int(coef[0])
+        if code != 0:
+            msg = self.status_messages.get(code, f"status {code}")
+            raise ApproximantDomainError(
+                f"approximant {self.name!r} cannot be anchored at theta0={theta0!r}, "
+                f"theta'0={v0!r}: {msg}"
+            )
+
+    def __repr__(self):
+        return f"<approximant {self.name!r}: {self.citation}>"
+
+
+class Anchored:
+    """An approximant anchored at a state: the analytic formula θ(t), θ'(t).
+
+    Attributes
+    ----------
+    approximant : Approximant
+    model : Pendulum
+    theta0, v0 : float
+        The anchor state.
+    coef : ndarray
+        The kernel's coefficient vector.
+    params : dict
+        Named constants of the formula (paper notation).
+    """
+
+    def __init__(self, approximant, model, theta0, v0, coef):
+        self.approximant = approximant
+        self.model = model
+        self.theta0 = theta0
+        self.v0 = v0
+        self.coef = coef
+        self.params = approximant.params_from_coef(coef)
+
+    def __call__(self, t):
+        """Evaluate at times ``t`` (scalar or array, measured from the anchor).
+
+        Returns
+        -------
+        theta, theta_dot : float or ndarray
+            Same shape as ``t``.
+        """
+        t_arr = np.asarray(t, dtype=np.float64)
+        if t_arr.ndim == 0:
+            a, b = self.approximant.eval_kernel(self.coef, float(t_arr))
+            return a, b
+        flat = np.ascontiguousarray(t_arr.reshape(-1))
+        th = np.empty_like(flat)
+        v = np.empty_like(flat)
+        self.approximant.eval_array_kernel(self.coef, flat, th, v)
+        return th.reshape(t_arr.shape), v.reshape(t_arr.shape)
+
+    def __repr__(self):
+        return (
+            f"<{self.approximant.name} anchored at theta0={self.theta0!r}, "
+            f"theta'0={self.v0!r}>"
+        )

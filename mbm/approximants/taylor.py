@@ -1,0 +1,402 @@
+r"""Anchored Taylor series of the true pendulum: a convergent approximant of order N.
+
+Each window's formula is the degree-N Taylor polynomial of the exact solution of
+θ'' + βθ' + ω² sin θ = γ at the anchor (θ₀, θ̇₀):
+
+    θ(t) ≈ Σ_{k=0}^{N} a_k t^k,      θ'(t) ≈ Σ_{k=1}^{N} k a_k t^{k−1}.
+
+It is an analytic formula in t, it reproduces the anchor exactly (a₀ = θ₀,
+a₁ = θ̇₀), and the polynomial *is* the dense output.  Unlike the second paper's
+℘ formula (``salas-torque``), which solves a cubic model of sin θ, it
+approximates the true equation, so a moving-boundary run converges to the true
+solution: the local error over a window of length τ is O(τ^{N+1}) and the
+global error O(τ^N).  Nothing restricts β, γ, ω or the state: damping, any
+torque (|γ| > ω², running states included), libration and rotation, any |θ|.
+
+Coefficients (automatic differentiation)
+----------------------------------------
+Write s(t) = sin θ(t) = Σ s_k t^k and c(t) = cos θ(t) = Σ c_k t^k.  From
+s' = c θ' and c' = −s θ', matching powers of t (with b_j = j a_j the
+coefficients of θ' shifted by one):
+
+    s₀ = sin a₀,  c₀ = cos a₀,
+    k s_k =  Σ_{j=1}^{k} b_j c_{k−j},      k c_k = −Σ_{j=1}^{k} b_j s_{k−j},   k ≥ 1,
+
+and from θ'' = γ − βθ' − ω² sin θ at power t^k:
+
+    (k+1)(k+2) a_{k+2} = γ δ_{k0} − β (k+1) a_{k+1} − ω² s_k,   k ≥ 0.
+
+Each order costs 2k multiply-adds for (s_k, c_k), so the N coefficients cost
+about N² operations; there is one sin and one cos per window.
+
+Radius and window length
+------------------------
+The series converges for |t| < R, the distance from the anchor to the nearest
+complex singularity of θ(t).  R is of order 1/ω for slow motion (π/(2ω) on the
+separatrix, where θ = 4 arctan e^{ωt} − π has poles at ωt = ±iπ/2) and
+shrinks like ln(v²/ω²)/v for a fast rotation with speed v (a running
+pendulum at γ = 1.2, β = 0.1 turns at v ≈ 12 and has R ≈ 0.4).  The window τ
+must stay well inside R: :func:`taylor_error_kernel` grows without bound as
+τ → R, so rtol/atol window control keeps τ inside, and :func:`radius_estimate`
+(the root test |a_k|^{−1/k} on the two extra coefficients, exposed as
+``params['radius']``) tells a caller with a fixed τ where the formula stops
+being usable.
+
+Error estimate
+--------------
+Two further coefficients a_{N+1}, a_{N+2} are computed (O(N) each) but not used
+in the formula; the local error of the window [0, h] is estimated by the first
+two neglected terms,
+
+    err_θ ≈ |a_{N+1}| h^{N+1} + |a_{N+2}| h^{N+2},
+    err_v ≈ (N+1)|a_{N+1}| h^N + (N+2)|a_{N+2}| h^{N+1}.
+
+Two terms, not one, because one coefficient can vanish by symmetry (an
+undamped, untorqued libration through θ = 0 has an odd θ(t): every even
+coefficient is 0).  For h well inside R the tail is geometric with ratio h/R and
+the two-term sum is within a factor 1/(1 − h/R) of the true tail
+(``tests/test_convergent.py`` measures the ratio).  The estimate scales as
+h^{N+1}, as the solver's step factor (1/err)^{1/(order+1)} assumes.
+"""
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .base import Approximant, register
+
+__all__ = [
+    "taylor_coefficients",
+    "taylor_eval_kernel",
+    "taylor_eval_array_kernel",
+    "taylor_error_kernel",
+    "taylor_fixed_window_run",
+    "radius_estimate",
+    "TAYLOR_ORDERS",
+    "TAYLOR_DEFAULT_ORDER",
+    "Taylor",
+]
+
+# Degrees N registered as "taylor<N>".  8 already beats every splitting and RK4
+# per microsecond at 1e-10 (docs/convergent.md); past 30 the window is pinned by
+# the radius of convergence, so more degree buys little length for its N² cost.
+TAYLOR_ORDERS = (8, 12, 16, 20, 24, 30)
+
+# Degree behind the plain name "taylor".  At 1e-10 on the six scenes of
+# docs/convergent.md, degrees 16-30 cost the same within ±20 % in a numba loop;
+# 24 needs 25-50 % fewer windows than 16 (what solve_ivp's ~9 µs per-step Python
+# overhead charges for) at 0.6 µs per window.
+TAYLOR_DEFAULT_ORDER = 24
+
+# Layout of coef (all float64):
+#   [0] status, [1] N, [2] beta, [3] gamma, [4] omega,
+#   [5 + k] = a_k for k = 0 .. N + 2 (a_{N+1}, a_{N+2} only feed the error estimate).
+HEADER = 5
+# Extra coefficients past a_N that feed the error estimate.
+N_EXTRA = 2
+# Highest degree the kernels accept (sizes the reciprocal tables below).
+MAX_ORDER = 60
+# 1/k and 1/((k+1)(k+2)): the recurrence multiplies by these instead of dividing
+# (two divisions per order were ~10 % of a degree-16 anchor).
+_INV_K = np.array([0.0] + [1.0 / k for k in range(1, MAX_ORDER + N_EXTRA + 1)])
+_INV_K12 = np.array([1.0 / ((k + 1.0) * (k + 2.0)) for k in range(MAX_ORDER + N_EXTRA + 1)])
+
+STATUS_OK = 0
+STATUS_BAD_STATE = 1  # non-finite anchor or parameters
+
+
+# Floating-point licences of the coefficient recurrence: reassociation and fused
+# multiply-add let LLVM vectorize the two convolution sums (10-25 % faster at
+# N = 16-30, measured); no nnan/ninf, so the finiteness checks stay.
+COEF_FASTMATH = {"reassoc", "contract"}
+
+
+@njit(cache=True, fastmath=COEF_FASTMATH)
+def taylor_coefficients(beta, gamma, omega, theta0, v0, n_order):
+    """Taylor coefficients of θ(t) at an anchor, with the two error-estimate extras.
+
+    Parameters
+    ----------
+    beta, gamma, omega : float
+        Model parameters (β ≥ 0, any γ, ω > 0; not checked here).
+    theta0, v0 : float
+        Anchor state.
+    n_order : int
+        Degree N of the approximant's polynomial, 1 ≤ N ≤ MAX_ORDER.
+
+    Returns
+    -------
+    coef : ndarray
+        The layout documented at module top: ``coef[5 + k] = a_k``, k = 0 .. N + 2.
+    """
+    nt = n_order + N_EXTRA  # highest coefficient index computed
+    coef = np.empty(HEADER + nt + 1)
+    coef[0] = STATUS_OK
+    coef[1] = n_order
+    coef[2] = beta
+    coef[3] = gamma
+    coef[4] = omega
+    if not (math.isfinite(theta0) and math.isfinite(v0) and math.isfinite(beta)
+            and math.isfinite(gamma) and math.isfinite(omega)):
+        coef[:] = np.nan
+        coef[0] = STATUS_BAD_STATE
+        return coef
+    w2 = omega * omega
+    a = coef[HEADER:]
+    # Scratch, one allocation: b_j = j a_j (θ' coefficients), s_k, c_k.
+    scratch = np.empty(3 * (nt + 1))
+    b = scratch[: nt + 1]
+    s = scratch[nt + 1 : 2 * nt + 2]
+    c = scratch[2 * nt + 2 :]
+    a[0] = theta0
+    a[1] = v0
+    b[0] = 0.0
+    b[1] = v0
+    s[0] = math.sin(theta0)
+    c[0] = math.cos(theta0)
+    a[2] = 0.5 * (gamma - beta * v0 - w2 * s[0])
+    b[2] = 2.0 * a[2]
+    for k in range(1, nt - 1):
+        ss = 0.0
+        cc = 0.0
+        for j in range(1, k + 1):
+            ss += b[j] * c[k - j]
+            cc += b[j] * s[k - j]
+        s[k] = ss * _INV_K[k]
+        c[k] = -cc * _INV_K[k]
+        a[k + 2] = (-beta * b[k + 1] - w2 * s[k]) * _INV_K12[k]
+        b[k + 2] = (k + 2.0) * a[k + 2]
+    return coef
+
+
+@njit(cache=True)
+def taylor_eval_kernel(coef, t):
+    """θ(t), θ'(t) of the anchored Taylor polynomial (Horner; the anchor exactly at t = 0).
+
+    Parameters
+    ----------
+    coef : ndarray
+        From a ``taylor*`` anchor kernel.
+    t : float
+        Time from the anchor.
+
+    Returns
+    -------
+    theta, theta_dot : float
+    """
+    n = int(coef[1])
+    a = coef[HEADER:]
+    p = a[n]
+    q = n * a[n]
+    for k in range(n - 1, 1, -1):
+        p = p * t + a[k]
+        q = q * t + k * a[k]
+    p = p * t + a[1]
+    q = q * t + a[1]
+    # a₀ added last so that t == 0 returns θ₀ bit for bit.
+    return a[0] + t * p, q
+
+
+@njit(cache=True)
+def taylor_eval_array_kernel(coef, t, out_theta, out_v):
+    """:func:`taylor_eval_kernel` over a float64 array ``t``."""
+    for i in range(t.shape[0]):
+        a, b = taylor_eval_kernel(coef, t[i])
+        out_theta[i] = a
+        out_v[i] = b
+
+
+@njit(cache=True)
+def taylor_error_kernel(coef, h):
+    """Estimated local error of the window [0, h]: the first two neglected terms.
+
+    Parameters
+    ----------
+    coef : ndarray
+        From a ``taylor*`` anchor kernel.
+    h : float
+        Window length.
+
+    Returns
+    -------
+    err_theta, err_v : float
+        Non-negative estimates of |θ_N(h) − θ(h)| and |θ'_N(h) − θ'(h)|.
+    """
+    n = int(coef[1])
+    a = coef[HEADER:]
+    ah = abs(h)
+    hn = ah ** n
+    e1 = abs(a[n + 1]) * hn
+    e2 = abs(a[n + 2]) * hn * ah
+    return (e1 + e2) * ah, (n + 1.0) * e1 + (n + 2.0) * e2
+
+
+# One anchor kernel per registered degree: the kernel signature has no room for
+# N, and numba caches a function of module-level constants, not a closure.
+@njit(cache=True)
+def taylor8_anchor_kernel(beta, gamma, omega, theta0, v0):
+    return taylor_coefficients(beta, gamma, omega, theta0, v0, 8)
+
+
+@njit(cache=True)
+def taylor12_anchor_kernel(beta, gamma, omega, theta0, v0):
+    return taylor_coefficients(beta, gamma, omega, theta0, v0, 12)
+
+
+@njit(cache=True)
+def taylor16_anchor_kernel(beta, gamma, omega, theta0, v0):
+    return taylor_coefficients(beta, gamma, omega, theta0, v0, 16)
+
+
+@njit(cache=True)
+def taylor20_anchor_kernel(beta, gamma, omega, theta0, v0):
+    return taylor_coefficients(beta, gamma, omega, theta0, v0, 20)
+
+
+@njit(cache=True)
+def taylor24_anchor_kernel(beta, gamma, omega, theta0, v0):
+    return taylor_coefficients(beta, gamma, omega, theta0, v0, 24)
+
+
+@njit(cache=True)
+def taylor30_anchor_kernel(beta, gamma, omega, theta0, v0):
+    return taylor_coefficients(beta, gamma, omega, theta0, v0, 30)
+
+
+_ANCHOR_KERNELS = {
+    8: taylor8_anchor_kernel,
+    12: taylor12_anchor_kernel,
+    16: taylor16_anchor_kernel,
+    20: taylor20_anchor_kernel,
+    24: taylor24_anchor_kernel,
+    30: taylor30_anchor_kernel,
+}
+
+
+class Taylor(Approximant):
+    """Degree-N Taylor polynomial of the true solution at the anchor (order N).
+
+    Registered as ``"taylor8"``, ``"taylor12"``, ``"taylor16"``, ``"taylor20"``,
+    ``"taylor24"``, ``"taylor30"`` and ``"taylor"`` (= degree
+    :data:`TAYLOR_DEFAULT_ORDER`).  Any β ≥ 0, γ, ω > 0 and any anchor state.
+    The window must lie inside the series' radius of convergence (``params['radius']``
+    estimates it); :meth:`error_kernel` estimates the local error for window control.
+
+    Attributes
+    ----------
+    order : int
+        Convergence order N: global error O(τ^N) for a fixed window τ.
+    error_kernel : numba dispatcher
+        ``error_kernel(coef, h) -> (err_theta, err_v)``, see :func:`taylor_error_kernel`.
+    """
+
+    order = None
+    citation = (
+        "Taylor series of the exact solution, coefficients by automatic differentiation "
+        "(s' = c θ', c' = −s θ'); not from the papers"
+    )
+    anchors = "any"
+    status_messages = {STATUS_BAD_STATE: "the anchor state and parameters must be finite"}
+    eval_kernel = staticmethod(taylor_eval_kernel)
+    eval_array_kernel = staticmethod(taylor_eval_array_kernel)
+    error_kernel = staticmethod(taylor_error_kernel)
+    needs = "any beta >= 0, gamma, omega > 0 and any state"
+
+    def param_names(self):
+        return ("order", "beta", "gamma", "omega")
+
+    def params_from_coef(self, coef):
+        """``order``, ``beta``, ``gamma``, ``omega``, ``radius`` (see :func:`radius_estimate`)
+        and ``coefficients`` (a_0 .. a_N)."""
+        d = {k: float(v) for k, v in zip(self.param_names(), coef[1:HEADER])}
+        d["order"] = int(coef[1])
+        d["radius"] = radius_estimate(coef)
+        d["coefficients"] = np.array(coef[HEADER:HEADER + int(coef[1]) + 1])
+        return d
+
+
+def radius_estimate(coef):
+    """Root-test estimate of the series' radius of convergence, min_k |a_k|^{−1/k}, k = N+1, N+2.
+
+    Parameters
+    ----------
+    coef : ndarray
+        From a ``taylor*`` anchor kernel.
+
+    Returns
+    -------
+    float
+        ``inf`` when both extra coefficients vanish (e.g. at rest at an equilibrium).
+    """
+    n = int(coef[1])
+    r = math.inf
+    for k in (n + 1, n + 2):
+        ak = abs(float(coef[HEADER + k]))
+        if ak > 0.0:
+            r = min(r, ak ** (-1.0 / k))
+    return r
+
+
+def _make(n, name):
+    cls = type(
+        f"Taylor{n}" if name != "taylor" else "TaylorDefault",
+        (Taylor,),
+        {
+            "name": name,
+            "order": n,
+            "anchor_kernel": staticmethod(_ANCHOR_KERNELS[n]),
+            "__doc__": f"Degree-{n} anchored Taylor polynomial (order {n}); see :class:`Taylor`.",
+        },
+    )
+    return register(cls)
+
+
+for _n in TAYLOR_ORDERS:
+    _c = _make(_n, f"taylor{_n}")
+    globals()[_c.__name__] = _c
+TaylorDefault = _make(TAYLOR_DEFAULT_ORDER, "taylor")
+del _n, _c
+
+
+@njit(cache=True)
+def taylor_fixed_window_run(beta, gamma, omega, theta0, v0, n_order, tau, n_windows,
+                            sample_every):
+    """A moving-boundary run with fixed window τ, without solve_ivp's per-step overhead.
+
+    Anchor → evaluate at τ → re-anchor, ``n_windows`` times; the state after every
+    ``sample_every`` windows is recorded.  For measurements and benchmarks
+    (``examples/convergence_study.py``); :class:`mbm.MBM` does the same steps.
+
+    Parameters
+    ----------
+    beta, gamma, omega : float
+        Model.
+    theta0, v0 : float
+        Initial state.
+    n_order : int
+        Taylor degree N.
+    tau : float
+        Window length.
+    n_windows, sample_every : int
+        Number of windows; sampling interval in windows.
+
+    Returns
+    -------
+    out : ndarray, shape (n_windows // sample_every + 1, 2)
+        ``out[j]`` is the state after ``j * sample_every`` windows (``out[0]`` the
+        initial state); rows after a non-finite state are NaN.
+    """
+    out = np.full((n_windows // sample_every + 1, 2), np.nan)
+    out[0, 0] = theta0
+    out[0, 1] = v0
+    th, v = theta0, v0
+    for i in range(1, n_windows + 1):
+        c = taylor_coefficients(beta, gamma, omega, th, v, n_order)
+        th, v = taylor_eval_kernel(c, tau)
+        if not (math.isfinite(th) and math.isfinite(v)):
+            break
+        if i % sample_every == 0:
+            out[i // sample_every, 0] = th
+            out[i // sample_every, 1] = v
+    return out

@@ -1,0 +1,206 @@
+"""The pendulum family  θ'' + β θ' + ω² sin θ = γ  and the probing of plain callables.
+
+This module knows the equation only: no approximant, no window control.
+"""
+
+import math
+
+import numpy as np
+
+__all__ = ["Pendulum", "identify_model"]
+
+# Relative tolerance for accepting a probed callable as a member of the family:
+# a member reproduces the fitted β, γ, ω² to round-off (a few ulps of the
+# largest term), anything above this is a different equation.
+PROBE_RTOL = 1e-10
+
+# Probe states (θ, θ', t) used to check the fit after β, γ, ω² are identified;
+# chosen off the identification states, with large |θ| and non-zero t so that
+# a θ³ term, a time dependence or a periodic forcing shows up.
+PROBE_CHECK_STATES = (
+    (0.7, -1.3, 0.37),
+    (-2.1, 0.4, 3.1),
+    (2.9, 2.2, -1.7),
+    (11.3, -0.8, 12.9),
+    (-0.3, 5.5, 100.25),
+)
+
+
+def _check_real(name, value):
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name} must be a real number, got {value!r}") from None
+    if not math.isfinite(v):
+        raise ValueError(f"{name} must be finite, got {value!r}")
+    return v
+
+
+class Pendulum:
+    """The damped, torque-driven pendulum  θ'' + β θ' + ω² sin θ = γ.
+
+    The state is ``y = [θ, θ']``.  The instance is callable as ``fun(t, y)``
+    so that it can be handed to :func:`scipy.integrate.solve_ivp` directly.
+
+    Parameters
+    ----------
+    beta : float, optional
+        Damping coefficient β ≥ 0 (default 0).
+    gamma : float, optional
+        Constant torque γ, any finite real (default 0).
+    omega : float, optional
+        Natural frequency ω > 0 (default 1).
+
+    Raises
+    ------
+    ValueError
+        If a parameter is not finite, ``beta < 0`` or ``omega <= 0``.
+    TypeError
+        If a parameter is not a real number.
+
+    Examples
+    --------
+    >>> from mbm import Pendulum
+    >>> p = Pendulum(beta=0.1, gamma=0.3)
+    >>> p(0.0, [0.0, 0.0])
+    array([0. , 0.3])
+    """
+
+    def __init__(self, beta=0.0, gamma=0.0, omega=1.0):
+        beta = _check_real("beta", beta)
+        gamma = _check_real("gamma", gamma)
+        omega = _check_real("omega", omega)
+        if beta < 0.0:
+            raise ValueError(f"beta must be >= 0 (damping), got {beta!r}")
+        if omega <= 0.0:
+            raise ValueError(f"omega must be > 0, got {omega!r}")
+        self._beta, self._gamma, self._omega = beta, gamma, omega
+
+    @property
+    def beta(self):
+        """Damping coefficient β."""
+        return self._beta
+
+    @property
+    def gamma(self):
+        """Constant torque γ."""
+        return self._gamma
+
+    @property
+    def omega(self):
+        """Natural frequency ω."""
+        return self._omega
+
+    def __repr__(self):
+        return f"Pendulum(beta={self._beta!r}, gamma={self._gamma!r}, omega={self._omega!r})"
+
+    def __eq__(self, other):
+        if not isinstance(other, Pendulum):
+            return NotImplemented
+        return (self._beta, self._gamma, self._omega) == (other._beta, other._gamma, other._omega)
+
+    def __hash__(self):
+        return hash((self._beta, self._gamma, self._omega))
+
+    def __call__(self, t, y):
+        """Right-hand side ``[θ', γ − β θ' − ω² sin θ]``; ``y`` may have shape (2,) or (2, k)."""
+        y = np.asarray(y, dtype=float)
+        theta, v = y[0], y[1]
+        return np.array([v, self._gamma - self._beta * v - self._omega**2 * np.sin(theta)])
+
+    fun = __call__
+
+    def jac(self, t, y):
+        """Jacobian of the right-hand side with respect to ``y``."""
+        theta = float(np.asarray(y, dtype=float)[0])
+        return np.array([[0.0, 1.0], [-self._omega**2 * math.cos(theta), -self._beta]])
+
+    def energy(self, y):
+        """Mechanical energy per unit inertia, ``θ'²/2 + ω² (1 − cos θ) − γ θ``.
+
+        Conserved when β = 0; non-increasing along solutions when γ = 0.
+        ``y`` may have shape (2,) or (2, k).
+        """
+        y = np.asarray(y, dtype=float)
+        return 0.5 * y[1] ** 2 + self._omega**2 * (1.0 - np.cos(y[0])) - self._gamma * y[0]
+
+    @property
+    def equilibrium(self):
+        """The stable rest angle ``arcsin(γ/ω²)`` in [−π/2, π/2], or None when |γ| > ω²."""
+        s = self._gamma / self._omega**2
+        if abs(s) > 1.0:
+            return None
+        return math.asin(s)
+
+    @property
+    def params(self):
+        """``(beta, gamma, omega)`` as floats."""
+        return (self._beta, self._gamma, self._omega)
+
+
+def identify_model(fun, t0=0.0):
+    """Identify β, γ, ω of the pendulum family from a right-hand side ``fun(t, y)``.
+
+    The family is linear in the basis (1, θ', sin θ) for the second component, and
+    the first component must be θ'.  Three probe states identify γ, β and ω²; further
+    states (with other t) check the fit.
+
+    Parameters
+    ----------
+    fun : callable
+        ``fun(t, y)`` returning an array_like of shape (2,).
+    t0 : float, optional
+        Time offset added to the probe times.
+
+    Returns
+    -------
+    model : Pendulum
+        The identified member (``fun`` itself when it already is a Pendulum).
+    nfev : int
+        Number of calls made to ``fun``.
+
+    Raises
+    ------
+    ValueError
+        If ``fun`` is not of the family θ'' + βθ' + ω² sin θ = γ with β ≥ 0, ω > 0.
+    """
+    if isinstance(fun, Pendulum):
+        return fun, 0
+    nfev = 0
+
+    def call(theta, v, t):
+        nonlocal nfev
+        nfev += 1
+        out = np.asarray(fun(t0 + t, np.array([theta, v], dtype=float)), dtype=float).reshape(-1)
+        if out.shape != (2,):
+            raise ValueError(f"fun must return 2 values for a pendulum state, got shape {out.shape}")
+        return out
+
+    not_family = (
+        "fun is not of the pendulum family theta'' + beta*theta' + omega**2*sin(theta) = gamma "
+        "(first component theta', second gamma - beta*theta' - omega**2*sin(theta)); "
+        "MBM solves only that family"
+    )
+    g = call(0.0, 0.0, 0.0)[1]
+    gb = call(0.0, 1.0, 0.0)[1]
+    gw = call(0.5 * math.pi, 0.0, 0.0)[1]
+    gamma = g
+    beta = g - gb
+    w2 = g - gw
+    if not all(math.isfinite(x) for x in (gamma, beta, w2)):
+        raise ValueError(not_family + " (non-finite values at probe states)")
+    for theta, v, t in PROBE_CHECK_STATES:
+        out = call(theta, v, t)
+        expect = gamma - beta * v - w2 * math.sin(theta)
+        scale = abs(gamma) + abs(beta * v) + abs(w2) + 1e-300
+        if not (abs(out[0] - v) <= PROBE_RTOL * (abs(v) + 1.0)) or not (
+            abs(out[1] - expect) <= PROBE_RTOL * scale
+        ):
+            raise ValueError(not_family + f" (mismatch at theta={theta}, theta'={v}, t={t0 + t})")
+    if w2 <= 0.0:
+        raise ValueError(
+            f"fun is of the pendulum form but with omega**2 = {w2!r}; omega**2 must be > 0"
+        )
+    if beta < 0.0:
+        raise ValueError(f"fun is of the pendulum form but with beta = {beta!r}; beta must be >= 0")
+    return Pendulum(beta=beta, gamma=gamma, omega=math.sqrt(w2)), nfev

@@ -1,0 +1,76 @@
+"""Special functions for the pendulum approximants: Jacobi elliptic functions,
+elliptic integrals of the first kind and the Weierstrass ℘ function.
+
+Numpy-level functions (broadcasting, validated, never a silent NaN):
+
+* Jacobi: :func:`sn`, :func:`cn`, :func:`dn`, :func:`am`, :func:`ellipj`,
+  :func:`ellipk`, :func:`ellipf` -- every function of the parameter takes
+  ``m`` and, optionally, ``mc = 1 - m`` (pass it when known more accurately,
+  e.g. ``mc = 1e-15``).
+* Weierstrass: :func:`wp`, :func:`wpp` (℘′), :func:`wp_roots`,
+  :func:`wp_half_period`, :func:`wp_inverse`.
+
+Scalar numba kernels for use inside other ``numba.njit`` code (call them
+with float64 arguments so that a single signature is compiled):
+
+* ``ellipj_kernel(u, m, mc) -> (sn, cn, dn, am)``
+* ``ellipk_kernel(m, mc) -> K``
+* ``ellipf_kernel(phi, m, mc) -> F``
+* ``wp_roots_kernel(g2, g3) -> (r1, r2, r3, delta_sign)``
+* ``wp_kernel(z, g2, g3) -> (wp, wpprime)``
+* ``wp_half_period_kernel(g2, g3) -> omega``
+* ``wp_inverse_kernel(w, g2, g3) -> z``
+
+See :mod:`mbm.special.jacobi` and :mod:`mbm.special.weierstrass` for the
+conventions (in particular the Δ < 0 convention of ``wp_roots_kernel``) and
+the accuracy.
+"""
+
+from .jacobi import (
+    am,
+    cn,
+    dn,
+    ellipf,
+    ellipf_kernel,
+    ellipj,
+    ellipj_kernel,
+    ellipk,
+    ellipk_kernel,
+    sn,
+)
+from .weierstrass import (
+    wp,
+    wp_half_period,
+    wp_half_period_kernel,
+    wp_inverse,
+    wp_inverse_kernel,
+    wp_kernel,
+    wp_roots,
+    wp_roots_kernel,
+    wpp,
+)
+
+__all__ = [
+    # Jacobi, numpy level
+    "sn",
+    "cn",
+    "dn",
+    "am",
+    "ellipj",
+    "ellipk",
+    "ellipf",
+    # Weierstrass, numpy level
+    "wp",
+    "wpp",
+    "wp_roots",
+    "wp_half_period",
+    "wp_inverse",
+    # numba kernels
+    "ellipj_kernel",
+    "ellipk_kernel",
+    "ellipf_kernel",
+    "wp_roots_kernel",
+    "wp_kernel",
+    "wp_half_period_kernel",
+    "wp_inverse_kernel",
+]

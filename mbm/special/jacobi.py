@@ -1,0 +1,872 @@
+"""Jacobi elliptic functions sn, cn, dn, am and the elliptic integrals K(m), F(φ|m).
+
+Two layers:
+
+* numba kernels (``ellipj_kernel``, ``ellipk_kernel``, ``ellipf_kernel``) taking
+  scalar float64 arguments, meant to be called from other numba code;
+* numpy-level wrappers (``sn``, ``cn``, ``dn``, ``am``, ``ellipj``, ``ellipk``,
+  ``ellipf``) that broadcast, validate and never return a silent NaN.
+
+Every function of the parameter takes both ``m`` and ``mc = 1 - m``.  The
+kernels treat ``mc`` as authoritative wherever ``1 - m`` is needed (it decides
+the branch and feeds K and the complementary modulus), so a caller who knows
+``mc = 1e-15`` exactly gets the function at that parameter, not at
+``m = fl(1 - 1e-15)``.
+
+Method
+------
+* Argument reduction ``u - n*4K`` in double-double arithmetic with K from an
+  arithmetic-geometric mean carried out in double-double (Dekker/Knuth
+  error-free transformations; numba emits no fma, so products are split).
+* Further folding to ``[0, K/2]`` with the half- and quarter-period shifts
+  (``sn(K - t) = cd t``, ``cn(K - t) = k' sd t``, ``dn(K - t) = k' nd t``), so
+  that cn and dn are relatively accurate near their zeros/minima.
+* On ``[0, K/2]`` the descending Landen transformation (DLMF 22.7.1-2) with
+  subtraction-free formulas for the moduli (``k1 = m/(1 + k')^2``,
+  ``1 - k1^2 = 4k'/(1 + k')^2``) and for the way back up (sn, cn from
+  positive terms, dn from ``dn^2 = cn^2 + mc sn^2``), projecting (sn, cn)
+  back onto ``sn^2 + cn^2 = 1`` at every level because the upward map
+  doubles that error per level.  For ``mc <= 1e-16`` the first-order
+  expansion about m = 1 (DLMF 22.10.7-9) replaces the chain.  sn, cn and dn
+  keep relative accuracy (~1e-14 worst, at m -> 1) down to ``mc = 1e-308``.
+* ``m < 0`` and ``m > 1`` through the imaginary- and reciprocal-modulus
+  transformations (DLMF 22.17.2, 22.17.4), with the scaled argument and the
+  transformed complementary modulus in double-double so that large arguments
+  stay accurate.
+* F(φ|m) through Carlson's R_F with ``1 - m sin^2 = cos^2 + mc sin^2`` and
+  quasi-periodicity ``F(φ + jπ) = F(φ) + 2jK`` (reduction in double-double).
+"""
+
+import math
+
+import numba
+import numpy as np
+from numba import types
+from numba.core import cgutils
+from numba.extending import intrinsic
+
+__all__ = [
+    "ellipj_kernel",
+    "ellipk_kernel",
+    "ellipf_kernel",
+    "sn",
+    "cn",
+    "dn",
+    "am",
+    "ellipj",
+    "ellipk",
+    "ellipf",
+]
+
+# ---------------------------------------------------------------------------
+# Tuning constants
+# ---------------------------------------------------------------------------
+
+# 2**27 + 1: Veltkamp splitting constant; exact products need it because numba
+# does not emit fused multiply-add.
+SPLITTER = 134217729.0
+
+# Stop the descending Landen chain once m_N is below this: the base case keeps
+# the O(m_N) term, so the neglected O(m_N**2) part is below 1e-18.
+LANDEN_M_STOP = 1e-9
+
+# Below this mc the expansion about m = 1 (first order in mc) is exact to
+# ~(k'/4)**2 < 1e-17 on [0, K/2]; it also avoids the top Landen levels, whose
+# rounding errors double at every level on the way up when k' is tiny.
+MC_HYPERBOLIC = 1e-16
+
+# Landen levels kept on the stack; mc just above MC_HYPERBOLIC needs 7 levels
+# (m -> m**2/16 per level once m is small), so 12 is never reached.
+LANDEN_SLOTS = 12
+_LANDEN_BUF = 2 * LANDEN_SLOTS
+
+# Stop the double-double AGM when |a - b| <= AGM_DD_RTOL * a and finish with
+# M = A (1 - x^2/4), A = (a + b)/2, x = (a - b)/(2A): the correction
+# (<= 6e-18 A, computed in double) and the neglected 5 x^4/64 are both below
+# 1e-32 relative, and one iteration is saved against waiting for a == b.
+AGM_DD_RTOL = 1e-8
+
+# Stop the plain double AGM (used only to choose the fast path) at this
+# relative gap: the result only needs a few correct digits there.
+AGM_D_RTOL = 1e-8
+
+# Safety cap on AGM iterations; mc = 1e-308 or 1e308 needs fewer than 25.
+AGM_MAX_ITER = 64
+
+# |u| <= FAST_PATH_FRACTION * K needs no reduction at all: Landen on [0, K/2]
+# keeps cn and dn relatively accurate, so no double-double K is needed there.
+FAST_PATH_FRACTION = 0.5
+
+# Carlson R_F: Q0 = (3 eps)**(-1/8) * max|A0 - x| (Boost's choice for the
+# 7th-order series; the remainder is then below eps).
+RF_Q_FACTOR = (3.0 * 2.220446049250313e-16) ** (-1.0 / 8.0)
+
+# Safety cap on Carlson duplications; extreme ratios (1e-300 : 1) need ~ 30.
+RF_MAX_ITER = 100
+
+# m > 1: 1 - m sin^2(phi) may come out a few ulps negative at the edge of the
+# real domain |sin phi| = 1/sqrt(m); clamp it to zero within this many ulps.
+EDGE_CLAMP_ULPS = 8.0
+
+# Wrapper check of m + mc == 1: allowed mismatch in ulps of max(1, |m|, |mc|);
+# 1 - m itself rounds by half an ulp, callers who compute mc more cleverly
+# may differ by a couple more.
+MC_CONSISTENCY_ULPS = 8.0
+
+# Below this a double-double's low part (~1e-32 relative) would be subnormal;
+# _dd_sqrt rescales such inputs (mc down to 1e-308 is a supported input).
+DD_TINY = 1e-270
+
+_EPS = 2.220446049250313e-16
+
+# pi, pi/2, 2 pi as double-double (hi + lo).
+PI_HI = 3.141592653589793
+PI_LO = 1.2246467991473532e-16
+PIO2_HI = 1.5707963267948966
+PIO2_LO = 6.123233995736766e-17
+TWO_PI_HI = 6.283185307179586
+TWO_PI_LO = 2.4492935982947064e-16
+PIO4 = 0.7853981633974483
+
+_jit = numba.njit(cache=True, error_model="numpy")
+
+
+# ---------------------------------------------------------------------------
+# Stack scratch space
+# ---------------------------------------------------------------------------
+
+
+@intrinsic
+def _stack_f64(typingctx, n):
+    """Pointer to ``n`` (a literal int) float64 slots on the caller's stack.
+
+    A fixed-size ``alloca`` in the entry block: no heap allocation, no
+    reference counting; the memory lives until the calling function returns.
+    """
+    if not isinstance(n, types.IntegerLiteral):
+        return None
+    size = n.literal_value
+    sig = types.CPointer(types.float64)(n)
+
+    def codegen(context, builder, signature, args):
+        return cgutils.alloca_once(builder, context.get_value_type(types.float64), size=size)
+
+    return sig, codegen
+
+
+# ---------------------------------------------------------------------------
+# Double-double arithmetic (Dekker 1971, Knuth TAOCP 4.2.2)
+# ---------------------------------------------------------------------------
+
+
+@_jit
+def _two_sum(a, b):
+    """s + e == a + b exactly, s = fl(a + b)."""
+    s = a + b
+    bb = s - a
+    e = (a - (s - bb)) + (b - bb)
+    return s, e
+
+
+@_jit
+def _fast_two_sum(a, b):
+    """s + e == a + b exactly, assuming |a| >= |b| or a == 0."""
+    s = a + b
+    e = b - (s - a)
+    return s, e
+
+
+@_jit
+def _split(a):
+    t = SPLITTER * a
+    hi = t - (t - a)
+    return hi, a - hi
+
+
+@_jit
+def _two_prod(a, b):
+    """p + e == a * b exactly, p = fl(a * b) (no fma: Dekker's split)."""
+    p = a * b
+    ah, al = _split(a)
+    bh, bl = _split(b)
+    e = ((ah * bh - p) + ah * bl + al * bh) + al * bl
+    return p, e
+
+
+@_jit
+def _dd_add(ah, al, bh, bl):
+    """Accurate double-double sum (both parts two-summed)."""
+    s, e = _two_sum(ah, bh)
+    t, f = _two_sum(al, bl)
+    e += t
+    s, e = _fast_two_sum(s, e)
+    e += f
+    return _fast_two_sum(s, e)
+
+
+@_jit
+def _dd_add_pos(ah, al, bh, bl):
+    """Double-double sum of two numbers of equal sign (no cancellation)."""
+    s, e = _two_sum(ah, bh)
+    e += al + bl
+    return _fast_two_sum(s, e)
+
+
+@_jit
+def _dd_mul(ah, al, bh, bl):
+    p, e = _two_prod(ah, bh)
+    e += ah * bl + al * bh
+    return _fast_two_sum(p, e)
+
+
+@_jit
+def _dd_mul_d(ah, al, b):
+    p, e = _two_prod(ah, b)
+    e += al * b
+    return _fast_two_sum(p, e)
+
+
+@_jit
+def _dd_div(ah, al, bh, bl):
+    q1 = ah / bh
+    ph, pl = _dd_mul_d(bh, bl, q1)
+    rh, rl = _dd_add(ah, al, -ph, -pl)
+    q2 = rh / bh
+    return _fast_two_sum(q1, q2)
+
+
+@_jit
+def _dd_gt(ah, al, bh, bl):
+    """a > b for normalized double-doubles."""
+    return ah > bh or (ah == bh and al > bl)
+
+
+@_jit
+def _dd_sqrt(ah, al):
+    """sqrt of a non-negative double-double (one Newton correction)."""
+    if ah <= 0.0:
+        if ah == 0.0:
+            return 0.0, 0.0
+        return math.nan, math.nan
+    if ah == math.inf:
+        return math.inf, 0.0
+    down = 1.0
+    if ah < DD_TINY:
+        # The low parts would be subnormal: work on a 2**600 scaled copy.
+        ah *= 2.0**600
+        al *= 2.0**600
+        down = 2.0**-300
+    s = math.sqrt(ah)
+    p, e = _two_prod(s, s)
+    r = (((ah - p) - e) + al) / (2.0 * s)
+    h, l = _fast_two_sum(s, r)
+    return h * down, l * down
+
+
+# ---------------------------------------------------------------------------
+# Complete integral K
+# ---------------------------------------------------------------------------
+
+
+@_jit
+def _ellipk_dd(kch, kcl):
+    """K = pi / (2 AGM(1, k')) in double-double, k' = kch + kcl >= 0.
+
+    Valid for any m < 1 (k' > 1 for m < 0).  Returns (inf, 0) for k' == 0.
+    """
+    if kch == 0.0:
+        return math.inf, 0.0
+    ah = 1.0
+    al = 0.0
+    bh = kch
+    bl = kcl
+    for _ in range(AGM_MAX_ITER):
+        if abs(ah - bh) <= AGM_DD_RTOL * ah:
+            break
+        sh, sl = _dd_add_pos(ah, al, bh, bl)
+        ph, pl = _dd_mul(ah, al, bh, bl)
+        bh, bl = _dd_sqrt(ph, pl)
+        ah = 0.5 * sh
+        al = 0.5 * sl
+    d = (ah - bh) + (al - bl)  # ah - bh is exact (Sterbenz)
+    Ah, Al = _dd_add_pos(ah, al, bh, bl)
+    Ah *= 0.5
+    Al *= 0.5
+    x = d / (2.0 * Ah)
+    x2 = x * x
+    # AGM(A + d/2, A - d/2) = A pi / (2 K(x)) = A (1 - x^2/4 - 5 x^4/64 - ...)
+    Mh, Ml = _dd_add(Ah, Al, -0.25 * Ah * x2, 0.0)
+    return _dd_div(PIO2_HI, PIO2_LO, Mh, Ml)
+
+
+@_jit
+def _ellipk_rough(kc):
+    """K to ~8 digits in plain double (used only to pick the fast path)."""
+    if kc == 0.0:
+        return math.inf
+    a = 1.0
+    b = kc
+    for _ in range(AGM_MAX_ITER):
+        if abs(a - b) <= AGM_D_RTOL * a:
+            break
+        a, b = 0.5 * (a + b), math.sqrt(a * b)
+    return PIO2_HI / (0.5 * (a + b))
+
+
+@_jit
+def ellipk_kernel(m, mc):
+    """Complete elliptic integral of the first kind K(m), numba kernel.
+
+    Parameters
+    ----------
+    m : float
+        Parameter (only its consistency with ``mc`` matters; unused here).
+    mc : float
+        Complementary parameter 1 - m; must be > 0 for a finite real K.
+
+    Returns
+    -------
+    float
+        K(m), correctly rounded in practice (double-double AGM).  ``inf`` for
+        ``mc == 0``; ``nan`` for ``mc < 0`` (m > 1, K not real) or NaN input.
+    """
+    if mc > 0.0:
+        kch, kcl = _dd_sqrt(mc, 0.0)
+        kh, kl = _ellipk_dd(kch, kcl)
+        return kh
+    if mc == 0.0:
+        return math.inf
+    return math.nan
+
+
+# ---------------------------------------------------------------------------
+# sn, cn, dn on [0, K/2]: descending Landen transformation
+# ---------------------------------------------------------------------------
+
+
+@_jit
+def _landen(z, m, mc):
+    """(sn, cn, dn)(z | m) for 0 <= z <= K(m)/2, |m| small or 0 <= m < 1.
+
+    ``mc`` must be the accurate complement of ``m``.  For mc <= MC_HYPERBOLIC
+    the first-order expansion about m = 1 is used directly.  Otherwise the
+    descending Landen chain runs down to m_N <= LANDEN_M_STOP, the base case
+    keeps the first-order term in m_N, and the chain is climbed back
+    (DLMF 22.7.1-2).  Every upward step uses only sums of non-negative terms,
+    so the results keep relative accuracy even where cn and dn are tiny.  The
+    chain is kept in a fixed-size stack buffer (no heap allocation).
+    """
+    if mc <= MC_HYPERBOLIC:
+        # DLMF 22.10.7-9; the O(mc**2) remainder relative to cn, dn is
+        # ~(k'/4)**2 on 0 <= z <= K/2.
+        ch = math.cosh(z)
+        t = math.tanh(z)
+        sech = 1.0 / ch
+        sc = t * ch * ch  # sinh z cosh z
+        q = 0.25 * mc * (sc - z)
+        return t + q * sech * sech, sech - q * t * sech, sech + 0.25 * mc * (sc + z) * t * sech
+    # Level i keeps k1 in buf[i] and its parameter mc in buf[LANDEN_SLOTS + i].
+    buf = numba.carray(_stack_f64(_LANDEN_BUF), _LANDEN_BUF)
+    n = 0
+    while m > LANDEN_M_STOP and n < LANDEN_SLOTS:
+        kc = math.sqrt(mc)
+        opk = 1.0 + kc
+        inv = 1.0 / opk
+        k1 = m * inv * inv  # (1 - k')/(1 + k') without cancellation
+        buf[n] = k1
+        buf[LANDEN_SLOTS + n] = mc
+        z = z * opk * 0.5  # z / (1 + k1)
+        m = k1 * k1
+        mc = 4.0 * kc * inv * inv  # 1 - k1**2 without cancellation
+        n += 1
+    s0 = math.sin(z)
+    c0 = math.cos(z)
+    # First-order term of the expansion in m (DLMF 22.10.4-6).
+    t = 0.25 * m * (z - s0 * c0)
+    s = s0 - t * c0
+    c = c0 + t * s0
+    d = 1.0 - 0.5 * m * s0 * s0
+    for i in range(n - 1, -1, -1):
+        k1 = buf[i]
+        r = 1.0 / (1.0 + k1 * s * s)
+        s, c = (1.0 + k1) * s * r, c * d * r
+        # The upward map doubles any error that leaves the curve
+        # s^2 + c^2 = 1 at every level: project back (one Newton step for
+        # 1/sqrt, the residual is a few ulps) and take dn from the
+        # subtraction-free identity dn^2 = cn^2 + mc sn^2.
+        f = 1.5 - 0.5 * (s * s + c * c)
+        s *= f
+        c *= f
+        d = math.sqrt(c * c + buf[LANDEN_SLOTS + i] * s * s)
+    return s, c, d
+
+
+@_jit
+def _reduce_eval(vh, vl, m, mc, kch, kcl):
+    """(sn, cn, dn, n, am_local) at v = vh + vl for 0 <= m < 1 (mc > 0).
+
+    ``kch + kcl`` is k' = sqrt(mc) in double-double (it fixes the period used
+    for the reduction).  n is the number of whole periods 4K removed, and
+    am_local in [-pi, pi] the amplitude of the reduced argument, so that
+    am(v) = am_local + 2 pi n.
+    """
+    av = abs(vh)
+    if av <= PIO4 or av <= FAST_PATH_FRACTION * _ellipk_rough(kch):
+        # |v| <= K/2 (K >= pi/2 for m >= 0): no reduction needed.
+        s, c, d = _landen(av, m, mc)
+        s = math.copysign(s, vh)
+        return s, c, d, 0.0, math.atan2(s, c)
+    Kh, Kl = _ellipk_dd(kch, kcl)
+    K4h = 4.0 * Kh
+    K4l = 4.0 * Kl
+    n = math.floor(vh / K4h + 0.5)
+    ph, pl = _two_prod(n, K4h)
+    pl += n * K4l
+    rh, rl = _dd_add(vh, vl, -ph, -pl)
+    # The quotient was rounded in double: fix a reduced argument that landed
+    # just outside [-2K, 2K].
+    if _dd_gt(rh, rl, 2.0 * Kh, 2.0 * Kl):
+        rh, rl = _dd_add(rh, rl, -K4h, -K4l)
+        n += 1.0
+    elif _dd_gt(-2.0 * Kh, -2.0 * Kl, rh, rl):
+        rh, rl = _dd_add(rh, rl, K4h, K4l)
+        n -= 1.0
+    neg = rh < 0.0 or (rh == 0.0 and math.copysign(1.0, rh) < 0.0)
+    if neg:
+        rh = -rh
+        rl = -rl
+    flip = _dd_gt(rh, rl, Kh, Kl)
+    if flip:
+        # sn(2K - r) = sn r, cn(2K - r) = -cn r, dn(2K - r) = dn r.
+        rh, rl = _dd_add(2.0 * Kh, 2.0 * Kl, -rh, -rl)
+        if rh < 0.0:
+            rh = 0.0
+            rl = 0.0
+    if rh > 0.5 * Kh:
+        # Quarter-period shift: cn and dn near K computed from sn(t), dn(t).
+        th, tl = _dd_add(Kh, Kl, -rh, -rl)
+        if th < 0.0:
+            th = 0.0
+        s, c, d = _landen(th, m, mc)
+        sn_ = c / d
+        cn_ = kch * s / d
+        dn_ = kch / d
+    else:
+        sn_, cn_, dn_ = _landen(rh, m, mc)
+    a = math.atan2(sn_, cn_)
+    if flip:
+        cn_ = -cn_
+        a = PI_HI - a
+    if neg:
+        sn_ = -sn_
+        a = -a
+    return sn_, cn_, dn_, n, a
+
+
+@_jit
+def _ellipj_dd(uh, ul, m, mc):
+    """(sn, cn, dn, am)(u | m) for u = uh + ul given in double-double."""
+    if mc == 0.0:
+        # m = 1: sn = tanh, cn = dn = sech, am = gd.
+        u = uh + ul
+        ch = math.cosh(u)
+        return math.tanh(u), 1.0 / ch, 1.0 / ch, math.atan(math.sinh(u))
+    if mc < 0.0:
+        # m > 1, reciprocal modulus (DLMF 22.17.4) with mu = 1/m:
+        # sn(u|m) = sn(k u|mu)/k, cn(u|m) = dn(k u|mu), dn(u|m) = cn(k u|mu).
+        kh, kl = _dd_sqrt(m, 0.0)
+        vh, vl = _dd_mul(uh, ul, kh, kl)
+        qh, ql = _dd_div(-mc, 0.0, m, 0.0)  # mu_c = (m - 1)/m
+        kch, kcl = _dd_sqrt(qh, ql)
+        s, c, d, n, a = _reduce_eval(vh, vl, 1.0 / m, qh, kch, kcl)
+        sn_ = s / kh
+        return sn_, d, c, math.atan2(sn_, d)
+    if mc > 1.0:
+        # m < 0, imaginary modulus (DLMF 22.17.2) with mu = -m/mc:
+        # sn(u|m) = sd(v|mu)/sqrt(mc), cn = cd(v|mu), dn = nd(v|mu),
+        # v = u sqrt(mc).  The period 4K(m) in u is 4K(mu) in v.
+        sh, sl = _dd_sqrt(mc, 0.0)
+        vh, vl = _dd_mul(uh, ul, sh, sl)
+        kch, kcl = _dd_div(1.0, 0.0, sh, sl)  # sqrt(mu_c) = 1/sqrt(mc)
+        s, c, d, n, a = _reduce_eval(vh, vl, -m / mc, 1.0 / mc, kch, kcl)
+        sn_ = s / (d * sh)
+        cn_ = c / d
+        a = math.atan2(sn_, cn_)
+        return sn_, cn_, 1.0 / d, n * TWO_PI_HI + (a + n * TWO_PI_LO)
+    # 0 <= m < 1 (m may be a few ulps negative when mc rounds to 1).
+    kch, kcl = _dd_sqrt(mc, 0.0)
+    s, c, d, n, a = _reduce_eval(uh, ul, m, mc, kch, kcl)
+    return s, c, d, n * TWO_PI_HI + (a + n * TWO_PI_LO)
+
+
+@_jit
+def ellipj_kernel(u, m, mc):
+    """Jacobi elliptic functions and amplitude, numba kernel.
+
+    Parameters
+    ----------
+    u : float
+        Argument, any finite real.
+    m : float
+        Parameter, any finite real.
+    mc : float
+        Complementary parameter 1 - m, supplied by the caller; it decides the
+        branch (``mc == 0``: m = 1, ``mc < 0``: m > 1, ``mc > 1``: m < 0) and
+        is used wherever 1 - m is needed.
+
+    Returns
+    -------
+    sn, cn, dn, am : float
+        Relative accuracy ~1e-15 away from zeros, including ``mc`` down to
+        1e-300 and ``|u|`` up to ~1e15 K (double-double reduction).  For
+        m <= 1, am is the increasing amplitude (am(u + 4K) = am(u) + 2 pi);
+        for m > 1 it is the continuous angle with sin am = sn, cos am = cn,
+        which stays in (-pi/2, pi/2) since cn = dn(k u | 1/m) > 0.  At
+        m = 1 (mc == 0): tanh, sech, sech, gd.  NaN input gives NaN.
+    """
+    return _ellipj_dd(u, 0.0, m, mc)
+
+
+# ---------------------------------------------------------------------------
+# Incomplete integral F
+# ---------------------------------------------------------------------------
+
+
+@_jit
+def _carlson_rf(x, y, z):
+    """Carlson's R_F(x, y, z) for x, y, z >= 0, at most one of them zero.
+
+    Duplication (Carlson 1995) with Boost's 7th-order series; relative
+    accuracy a few ulps.  Returns inf when two arguments vanish.
+    """
+    nz = (x == 0.0) + (y == 0.0) + (z == 0.0)
+    if nz >= 2:
+        return math.inf
+    a0 = (x + y + z) / 3.0
+    an = a0
+    q = RF_Q_FACTOR * max(abs(a0 - x), max(abs(a0 - y), abs(a0 - z)))
+    xn = x
+    yn = y
+    zn = z
+    fn = 1.0
+    for _ in range(RF_MAX_ITER):
+        rx = math.sqrt(xn)
+        ry = math.sqrt(yn)
+        rz = math.sqrt(zn)
+        lam = rx * ry + rx * rz + ry * rz
+        an = 0.25 * (an + lam)
+        xn = 0.25 * (xn + lam)
+        yn = 0.25 * (yn + lam)
+        zn = 0.25 * (zn + lam)
+        q *= 0.25
+        fn *= 4.0
+        if q < abs(an):
+            break
+    X = (a0 - x) / (an * fn)
+    Y = (a0 - y) / (an * fn)
+    Z = -X - Y
+    E2 = X * Y - Z * Z
+    E3 = X * Y * Z
+    return (
+        1.0
+        + E3 * (1.0 / 14.0 + 3.0 * E3 / 104.0)
+        + E2 * (-1.0 / 10.0 + E2 / 24.0 - 3.0 * E3 / 44.0 - 5.0 * E2 * E2 / 208.0 + E2 * E3 / 16.0)
+    ) / math.sqrt(an)
+
+
+@_jit
+def ellipf_kernel(phi, m, mc):
+    """Incomplete elliptic integral of the first kind F(phi | m), numba kernel.
+
+    Parameters
+    ----------
+    phi : float
+        Amplitude, any finite real for m <= 1.
+    m, mc : float
+        Parameter and its complement 1 - m (``mc`` is used for
+        ``1 - m sin^2 phi = cos^2 phi + mc sin^2 phi``).
+
+    Returns
+    -------
+    float
+        F(phi | m) = sin(phi) R_F(cos^2 phi, 1 - m sin^2 phi, 1) on
+        |phi| <= pi/2, extended by F(phi + j pi) = F(phi) + 2 j K (reduction
+        in double-double).  NaN where F is not real or finite: m = 1 with
+        |phi| beyond pi/2, and m > 1 unless |phi| <= pi/2 and
+        |sin phi| <= 1/sqrt(m).
+    """
+    if mc < 0.0:
+        # m > 1: real only on |phi| <= arcsin(1/sqrt(m)).
+        if not abs(phi) <= PIO2_HI:
+            return math.nan
+        s = math.sin(phi)
+        c = math.cos(phi)
+        c2 = c * c
+        t = mc * s * s
+        y = c2 + t
+        if y < 0.0:
+            if y >= -EDGE_CLAMP_ULPS * _EPS * (c2 - t):
+                y = 0.0
+            else:
+                return math.nan
+        return s * _carlson_rf(c2, y, 1.0)
+    if not (abs(phi) < math.inf and mc >= 0.0):
+        return math.nan
+    j = math.floor(phi / PI_HI + 0.5)
+    if j == 0.0:
+        s = math.sin(phi)
+        c = math.cos(phi)
+    else:
+        ph, pl = _two_prod(j, PI_HI)
+        pl += j * PI_LO
+        rh, rl = _dd_add(phi, 0.0, -ph, -pl)
+        sh = math.sin(rh)
+        ch = math.cos(rh)
+        s = sh + ch * rl
+        c = ch - sh * rl
+    if c < 0.0:
+        # The double quotient put the reduced angle just beyond +-pi/2, where
+        # the R_F formula (it sees only cos^2) does not hold: move one more pi.
+        j += 1.0 if s > 0.0 else -1.0
+        s = -s
+        c = -c
+    c2 = c * c
+    f = s * _carlson_rf(c2, c2 + mc * s * s, 1.0)
+    if j == 0.0:
+        return f
+    if mc == 0.0:
+        return math.nan  # F(phi | 1) diverges at |phi| = pi/2
+    kch, kcl = _dd_sqrt(mc, 0.0)
+    Kh, Kl = _ellipk_dd(kch, kcl)
+    return 2.0 * j * Kh + (2.0 * j * Kl + f)
+
+
+# ---------------------------------------------------------------------------
+# Array loops (one compiled signature each: 1-D contiguous float64)
+# ---------------------------------------------------------------------------
+
+
+@numba.njit(cache=True)
+def _ellipj_loop(u, m, mc, out_sn, out_cn, out_dn, out_am):
+    for i in range(u.shape[0]):
+        s, c, d, a = ellipj_kernel(u[i], m[i], mc[i])
+        out_sn[i] = s
+        out_cn[i] = c
+        out_dn[i] = d
+        out_am[i] = a
+
+
+@numba.njit(cache=True)
+def _ellipk_loop(m, mc, out):
+    for i in range(m.shape[0]):
+        out[i] = ellipk_kernel(m[i], mc[i])
+
+
+@numba.njit(cache=True)
+def _ellipf_loop(phi, m, mc, out):
+    for i in range(phi.shape[0]):
+        out[i] = ellipf_kernel(phi[i], m[i], mc[i])
+
+
+# ---------------------------------------------------------------------------
+# numpy-level wrappers
+# ---------------------------------------------------------------------------
+
+
+def _finite_f64(name, x):
+    try:
+        a = np.asarray(x, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name} must be real (float64-convertible), got {x!r}") from None
+    if not np.all(np.isfinite(a)):
+        bad = a[~np.isfinite(a)].ravel()[0] if a.ndim else a
+        raise ValueError(f"{name} must be finite, got {float(bad)!r}")
+    return a
+
+
+def _param(m, mc):
+    """Validated float64 arrays (m, mc); mc defaults to 1 - m."""
+    ma = _finite_f64("m", m)
+    if mc is None:
+        return ma, 1.0 - ma
+    mca = _finite_f64("mc", mc)
+    ma, mca = np.broadcast_arrays(ma, mca)
+    mismatch = np.abs((ma - 1.0) + mca)
+    scale = np.maximum(1.0, np.maximum(np.abs(ma), np.abs(mca)))
+    bad = mismatch > MC_CONSISTENCY_ULPS * _EPS * scale
+    if np.any(bad):
+        i = np.flatnonzero(bad.ravel())[0]
+        raise ValueError(
+            "mc must equal 1 - m to within a few ulps; got "
+            f"m={ma.ravel()[i]!r}, mc={mca.ravel()[i]!r}"
+        )
+    return ma, mca
+
+
+def _flat(*arrays):
+    """Broadcast, then contiguous 1-D float64 copies plus the common shape."""
+    b = np.broadcast_arrays(*arrays)
+    shape = b[0].shape
+    return shape, [np.ascontiguousarray(x, dtype=np.float64).reshape(-1) for x in b]
+
+
+def _out(a, shape, scalar):
+    if scalar:
+        return float(a[0])
+    return a.reshape(shape)
+
+
+def _nan_guard(name, *outs):
+    for o in outs:
+        if np.isnan(o).any():
+            raise FloatingPointError(f"{name}: internal error, NaN produced from finite input")
+
+
+def ellipj(u, m, mc=None):
+    """Jacobi elliptic functions sn, cn, dn and the amplitude am.
+
+    Parameters
+    ----------
+    u : array_like
+        Argument, finite real.
+    m : array_like
+        Parameter, finite real (any sign; m > 1 and m < 0 by the standard
+        modulus transformations).
+    mc : array_like, optional
+        Complementary parameter 1 - m.  Pass it when it is known more
+        accurately than ``1 - m`` (e.g. ``mc = 1e-15``); it must agree with
+        ``1 - m`` to a few ulps.
+
+    Returns
+    -------
+    sn, cn, dn, am : float or ndarray
+        Broadcast shape of the inputs; Python floats for scalar input.  am is
+        the increasing amplitude for m <= 1 (am(u + 4K) = am(u) + 2 pi) and
+        the continuous angle with sin am = sn, cos am = cn for m > 1.
+
+    Raises
+    ------
+    ValueError
+        Non-finite input, or m and mc inconsistent.
+    """
+    ua = _finite_f64("u", u)
+    ma, mca = _param(m, mc)
+    scalar = ua.ndim == 0 and ma.ndim == 0
+    shape, (uf, mf, mcf) = _flat(ua, ma, mca)
+    outs = [np.empty(uf.shape[0]) for _ in range(4)]
+    _ellipj_loop(uf, mf, mcf, *outs)
+    _nan_guard("ellipj", *outs)
+    return tuple(_out(o, shape, scalar) for o in outs)
+
+
+def sn(u, m, mc=None):
+    """Jacobi sn(u | m); see :func:`ellipj` for parameters and accuracy.
+
+    Returns
+    -------
+    float or ndarray
+    """
+    return ellipj(u, m, mc)[0]
+
+
+def cn(u, m, mc=None):
+    """Jacobi cn(u | m); see :func:`ellipj` for parameters and accuracy.
+
+    Returns
+    -------
+    float or ndarray
+    """
+    return ellipj(u, m, mc)[1]
+
+
+def dn(u, m, mc=None):
+    """Jacobi dn(u | m); see :func:`ellipj` for parameters and accuracy.
+
+    Returns
+    -------
+    float or ndarray
+    """
+    return ellipj(u, m, mc)[2]
+
+
+def am(u, m, mc=None):
+    """Jacobi amplitude am(u | m); see :func:`ellipj`.
+
+    Returns
+    -------
+    float or ndarray
+    """
+    return ellipj(u, m, mc)[3]
+
+
+def ellipk(m, mc=None):
+    """Complete elliptic integral of the first kind K(m).
+
+    Parameters
+    ----------
+    m : array_like
+        Parameter, m < 1 (any negative value allowed).
+    mc : array_like, optional
+        Complementary parameter 1 - m > 0; pass it for m close to 1.
+
+    Returns
+    -------
+    float or ndarray
+        K(m) (double-double AGM, correctly rounded in practice).
+
+    Raises
+    ------
+    ValueError
+        If m >= 1 (mc <= 0): K is infinite at m = 1 and not real beyond.
+    """
+    ma, mca = _param(m, mc)
+    if np.any(mca <= 0.0):
+        bad = ma[mca <= 0.0].ravel()[0] if ma.ndim else ma
+        raise ValueError(f"m must be < 1 (mc = 1 - m > 0) for ellipk, got m={float(bad)!r}")
+    scalar = ma.ndim == 0
+    shape, (mf, mcf) = _flat(ma, mca)
+    out = np.empty(mf.shape[0])
+    _ellipk_loop(mf, mcf, out)
+    _nan_guard("ellipk", out)
+    return _out(out, shape, scalar)
+
+
+def ellipf(phi, m, mc=None):
+    """Incomplete elliptic integral of the first kind F(phi | m).
+
+    Parameters
+    ----------
+    phi : array_like
+        Amplitude.  Any finite real for m < 1 (quasi-periodic:
+        F(phi + j pi) = F(phi) + 2 j K); |phi| < pi/2 for m = 1; for m > 1,
+        |phi| <= arcsin(1/sqrt(m)) (where F is real).
+    m : array_like
+        Parameter, finite real.
+    mc : array_like, optional
+        Complementary parameter 1 - m.
+
+    Returns
+    -------
+    float or ndarray
+
+    Raises
+    ------
+    ValueError
+        Non-finite input, inconsistent m/mc, or phi outside the real domain
+        described above.
+    """
+    pa = _finite_f64("phi", phi)
+    ma, mca = _param(m, mc)
+    scalar = pa.ndim == 0 and ma.ndim == 0
+    shape, (pf, mf, mcf) = _flat(pa, ma, mca)
+    out = np.empty(pf.shape[0])
+    _ellipf_loop(pf, mf, mcf, out)
+    bad = np.isnan(out)
+    if bad.any():
+        i = np.flatnonzero(bad)[0]
+        raise ValueError(
+            "phi outside the real domain of F(phi|m): need |phi| < pi/2 for m = 1 and "
+            "|phi| <= arcsin(1/sqrt(m)) for m > 1; "
+            f"got phi={pf[i]!r}, m={mf[i]!r}"
+        )
+    return _out(out, shape, scalar)
