@@ -140,12 +140,6 @@ def _kinds_and_d(kinds, d):
     return crossing, turning, (d if crossing else None)
 
 
-def _kind_code(crossing_hit, turning_hit):
-    if crossing_hit and turning_hit:
-        return KIND_BOTH
-    return KIND_CROSSING if crossing_hit else KIND_TURNING
-
-
 # ---------------------------------------------------------------------- d of θ = d
 
 
@@ -358,8 +352,8 @@ def next_event_analytic(eval_kernel, coef, d, kinds, t_max, direction, omega=1.0
         Forward or backward in t.
     omega : float, optional
         The model's ω (default 1, the paper's scaling): sets the sampling step.
-        Pass ``model.omega``; a too-small ω only costs samples, a too-large one
-        may let two sign changes fall between samples.
+        Pass ``model.omega``: an ω too large only costs samples, one too small
+        widens the step and may let two sign changes fall between samples.
 
     Returns
     -------
@@ -373,7 +367,8 @@ def next_event_analytic(eval_kernel, coef, d, kinds, t_max, direction, omega=1.0
     Raises
     ------
     ValueError
-        For a malformed ``kinds``, ``d``, ``t_max``, ``direction`` or ``omega``.
+        For a malformed ``kinds``, ``d``, ``t_max``, ``direction``, ``omega``, or a
+        ``coef`` whose status ``coef[0]`` is not 0.
     """
     crossing, turning, d = _kinds_and_d(kinds, d)
     if direction not in (1, -1):
@@ -385,6 +380,11 @@ def next_event_analytic(eval_kernel, coef, d, kinds, t_max, direction, omega=1.0
     if not omega > 0.0:
         raise ValueError(f"omega must be > 0, got {omega!r}")
     coef = np.asarray(coef, dtype=np.float64)
+    if coef.ndim != 1 or coef.size == 0 or coef[0] != 0.0:
+        raise ValueError(
+            "coef must be the 1-D output of a successful anchor_kernel call (coef[0] == 0), "
+            f"got {coef!r}"
+        )
 
     track = []  # (kind code, index into (theta − d, theta'), surface tolerance)
     if crossing:

@@ -17,10 +17,28 @@ from .problem import Pendulum, identify_model
 
 __all__ = ["MBM", "MBMDenseOutput"]
 
-# Window length used when neither ``tau`` nor ``first_step`` is given: one tenth of
-# the small-oscillation period 2π/ω keeps the paper's |βτ| ≪ 1 assumption (2.10)
-# for β ≲ 1 and resolves the motion without many windows.
+# scipy's RK methods refuse rtol below 100 eps (round-off dominates the estimate);
+# so does MBM's window control.
+RTOL_FLOOR = 100 * np.finfo(float).eps
+
+# Window length used when neither ``tau`` nor ``first_step`` is given and the
+# approximant has no error estimate: one tenth of the small-oscillation period 2π/ω
+# keeps the paper's |βτ| ≪ 1 assumption (2.10) for β ≲ 1.
 DEFAULT_TAU_PERIODS = 0.1
+# Window-control constants, as in scipy's RK controller (Hairer–Nørsett–Wanner
+# II.4): a safety factor below 1 keeps most windows accepted, the growth cap keeps
+# one lucky estimate from jumping past the region the estimate describes, and the
+# shrink floor keeps a bad estimate from collapsing the window.
+SAFETY = 0.9
+MAX_FACTOR = 5.0
+MIN_FACTOR = 0.2
+# First-window search: start from a quarter of the small-oscillation period and
+# correct it by the estimate's scaling this many times (the anchor is computed
+# once; each correction is one error estimate).
+FIRST_WINDOW_PERIODS = 0.25
+FIRST_WINDOW_ITERS = 4
+# A window shorter than this many ulps of t cannot advance t: fail instead of looping.
+MIN_WINDOW_ULPS = 10.0
 
 
 def _warn_extraneous(extraneous):
@@ -110,8 +128,8 @@ class MBM(OdeSolver):
         model=None,
         max_step=np.inf,
         first_step=None,
-        rtol=1e-3,
-        atol=1e-6,
+        rtol=None,
+        atol=None,
         vectorized=False,
         **extraneous,
     ):
@@ -124,8 +142,12 @@ class MBM(OdeSolver):
         if not (math.isfinite(t0) and math.isfinite(t_bound)):
             raise ValueError(f"t0 and t_bound must be finite, got {t0!r}, {t_bound!r}")
         self.max_step = _positive("max_step", max_step, allow_inf=True)
-        self.rtol = _positive("rtol", rtol)
-        self.atol = _positive("atol", atol)
+        tol_given = rtol is not None or atol is not None
+        self.rtol = _positive("rtol", 1e-3 if rtol is None else rtol)
+        self.atol = _positive("atol", 1e-6 if atol is None else atol)
+        if self.rtol < RTOL_FLOOR:
+            warnings.warn(f"rtol={self.rtol!r} is below {RTOL_FLOOR:.3g}; using {RTOL_FLOOR:.3g}", stacklevel=2)
+            self.rtol = RTOL_FLOOR
         if model is None:
             model, nprobe = identify_model(fun, t0=float(t0))
             self.nfev += nprobe
@@ -134,32 +156,115 @@ class MBM(OdeSolver):
         self.model = model
         self.approximant = get_approximant(approximant)
         self.approximant.check_model(model)
-        if tau is None:
-            tau = first_step if first_step is not None else DEFAULT_TAU_PERIODS * 2 * math.pi / model.omega
-            name = "first_step" if first_step is not None else "tau"
-        else:
-            name = "tau"
-        self.tau = min(_positive(name, tau), self.max_step)
-        self._coef = None
         self._beta, self._gamma, self._omega = model.params
+        self._coef = None
+        error_kernel = getattr(self.approximant, "error_kernel", None)
+        self.adaptive = tau is None and error_kernel is not None
+        self._h_abs = None
+        if first_step is not None:
+            first_step = _positive("first_step", first_step)
+        if self.adaptive:
+            self.tau = None
+            self._order = int(self.approximant.order)
+            self._h_abs = None if first_step is None else min(first_step, self.max_step)
+        else:
+            if tau is None:
+                if tol_given:
+                    warnings.warn(
+                        f"approximant {self.approximant.name!r} has no error estimate: rtol and "
+                        "atol do not change its windows; pass tau, or use an error-controlled "
+                        "approximant (see mbm.approximant_names())",
+                        stacklevel=2,
+                    )
+                tau = first_step if first_step is not None else DEFAULT_TAU_PERIODS * 2 * math.pi / model.omega
+            self.tau = min(_positive("tau", tau), self.max_step)
 
-    def _step_impl(self):
-        t = self.t
-        t_new = t + self.direction * self.tau
-        if self.direction * (t_new - self.t_bound) > 0:
-            t_new = self.t_bound
-        h = t_new - t
+    def _anchor(self):
         ap = self.approximant
         coef = ap.anchor_kernel(self._beta, self._gamma, self._omega, self.y[0], self.y[1])
         if coef[0] != 0:
             msg = ap.status_messages.get(int(coef[0]), f"status {int(coef[0])}")
-            return False, f"approximant {ap.name!r} cannot be anchored at t={t!r}: {msg}"
+            return None, f"approximant {ap.name!r} cannot be anchored at t={self.t!r}: {msg}"
+        return coef, None
+
+    def _window_end(self, h_abs):
+        t_new = self.t + self.direction * h_abs
+        if self.direction * (t_new - self.t_bound) > 0:
+            t_new = self.t_bound
+        return t_new
+
+    def _error_norm(self, coef, h, theta, v):
+        et, ev = self.approximant.error_kernel(coef, h)
+        y = self.y
+        st = self.atol + self.rtol * max(abs(y[0]), abs(theta))
+        sv = self.atol + self.rtol * max(abs(y[1]), abs(v))
+        return math.sqrt(0.5 * ((et / st) ** 2 + (ev / sv) ** 2))
+
+    def _first_window(self, coef):
+        # The anchor does not depend on the window, so the first window is found by
+        # correcting a guess with the estimate's own h^(p+1) scaling.
+        h_abs = min(FIRST_WINDOW_PERIODS * 2 * math.pi / self._omega, self.max_step)
+        for _ in range(FIRST_WINDOW_ITERS):
+            h = self._window_end(h_abs) - self.t
+            theta, v = self.approximant.eval_kernel(coef, h)
+            err = self._error_norm(coef, h, theta, v)
+            if not math.isfinite(err):
+                h_abs *= MIN_FACTOR
+                continue
+            fac = MAX_FACTOR if err == 0.0 else SAFETY * err ** (-1.0 / (self._order + 1))
+            h_abs = min(h_abs * min(MAX_FACTOR, max(MIN_FACTOR, fac)), self.max_step)
+        return h_abs
+
+    def _step_impl(self):
+        coef, msg = self._anchor()
+        if coef is None:
+            return False, msg
+        if self.adaptive:
+            return self._adaptive_step(coef)
+        t = self.t
+        t_new = self._window_end(self.tau)
+        h = t_new - t
+        ap = self.approximant
         theta, v = ap.eval_kernel(coef, h)
         if not (math.isfinite(theta) and math.isfinite(v)):
             return False, (
                 f"approximant {ap.name!r} produced a non-finite state over the window "
                 f"[{t!r}, {t_new!r}]: the motion left its domain"
             )
+        self._coef = coef
+        self.t = t_new
+        self.y = np.array([theta, v])
+        return True, None
+
+    def _adaptive_step(self, coef):
+        ap = self.approximant
+        t = self.t
+        if self._h_abs is None:
+            self._h_abs = self._first_window(coef)
+        min_h = MIN_WINDOW_ULPS * abs(np.nextafter(t, self.direction * np.inf) - t)
+        h_abs = min(self._h_abs, self.max_step)
+        rejected = False
+        inv = -1.0 / (self._order + 1)
+        while True:
+            if h_abs < min_h:
+                return False, (
+                    f"required window {h_abs!r} at t={t!r} is below the spacing of floating "
+                    f"point numbers: approximant {ap.name!r} cannot meet rtol={self.rtol!r}, "
+                    f"atol={self.atol!r} here"
+                )
+            t_new = self._window_end(h_abs)
+            h = t_new - t
+            theta, v = ap.eval_kernel(coef, h)
+            err = self._error_norm(coef, h, theta, v)
+            if math.isfinite(err) and err <= 1.0 and math.isfinite(theta) and math.isfinite(v):
+                fac = MAX_FACTOR if err == 0.0 else min(MAX_FACTOR, SAFETY * err**inv)
+                if rejected:
+                    fac = min(1.0, fac)
+                self._h_abs = h_abs * fac
+                break
+            fac = MIN_FACTOR if not math.isfinite(err) else max(MIN_FACTOR, SAFETY * err**inv)
+            h_abs *= fac
+            rejected = True
         self._coef = coef
         self.t = t_new
         self.y = np.array([theta, v])

@@ -207,15 +207,18 @@ def test_taylor_reaches_target(scene, ref):
     assert err <= TARGET, err
 
 
-SPLIT_TAU = {"ex1": "1/8", "ex2": "1/10", "paper1": "1/10", "running": "1/24",
-             "separatrix": "1"}
+# (method, scene, τ) at which a splitting reaches 1e-10 on the full horizon.  On the
+# running scene split6 gets 8.6e-11 at τ = 0.05 and is then on its round-off floor
+# (docs/convergent.md), too thin a margin for a test; split8 has 4e-11 at 0.1.
+SPLIT_REACH = [("split6", "ex1", "1/8"), ("split6", "ex2", "1/10"), ("split6", "paper1", "1/10"),
+               ("split8", "running", "1/10"), ("split6", "separatrix", "1")]
 
 
-@pytest.mark.parametrize("scene", list(SPLIT_TAU))
-def test_split6_reaches_target(scene, ref):
-    tau = Fraction(SPLIT_TAU[scene])
+@pytest.mark.parametrize(("method", "scene", "tau"), SPLIT_REACH)
+def test_splitting_reaches_target(method, scene, tau, ref):
+    tau = Fraction(tau)
     assert tau >= MIN_TAU
-    err = max_error("split6", scene, tau, ref)
+    err = max_error(method, scene, tau, ref)
     assert err <= TARGET, err
 
 
@@ -285,8 +288,8 @@ def test_finite_on_random_states(state, frac):
         coef = ap.anchor_kernel(b, g, w, th0, v0)
         if cls.name.startswith("taylor"):
             # A polynomial is finite everywhere; a usable window lies inside the radius.
-            h = frac * taylor.radius_estimate(coef)
-            h = min(h, 10.0)
+            # (The radius is infinite at rest at an equilibrium.)
+            h = frac * min(taylor.radius_estimate(coef), 10.0)
         else:
             h = 2.0 * frac / w
         th, v = ap.eval_kernel(coef, h)
@@ -378,7 +381,9 @@ def test_drift_flow_is_exact(beta, t):
         b = mpf(beta)
         phi1 = mpf(t) if beta == 0 else (1 - exp(-b * t)) / b
         expect = v0 * exp(-b * t) + gamma * phi1
-        assert abs(v - float(expect)) <= 4e-16 * max(1.0, abs(float(expect)))
+        # Two ulps, times the condition number max(1, |βt|) of e^{−βt} (βt is rounded).
+        tol = 4e-16 * max(1.0, abs(beta * t)) * max(1.0, abs(float(expect)))
+        assert abs(v - float(expect)) <= tol
 
 
 def test_split_without_torque_or_damping_is_the_exact_flow():

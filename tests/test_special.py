@@ -373,6 +373,17 @@ def test_validation_errors():
     assert S.cn(30.0, 1.0, 1e-17) != S.cn(30.0, 1.0, 0.0)
 
 
+def test_huge_arguments_stay_finite():
+    """Beyond 2**52 periods no accuracy is possible, but never NaN."""
+    u = np.array([1e17, -3e200, 1e300, -1.7e308])
+    for m in (0.5, 1.0 - 1e-15, -3.0, -1e300, 7.0, 1e300, 1.0):
+        for x in S.ellipj(u, m):
+            assert np.all(np.isfinite(x))
+    assert np.all(np.isfinite(S.ellipf(u[:3], 0.3)))
+    for g2, g3 in ((4.0, 1.0), (-2.0, 1.0), (3.0, -1.0), (3.0, 1.0)):
+        assert np.all(np.isfinite(S.wp(u, g2, g3))) and np.all(np.isfinite(S.wpp(u, g2, g3)))
+
+
 def test_kernels_nan_and_domain_conventions():
     assert math.isnan(ellipk_kernel(2.0, -1.0))
     assert ellipk_kernel(1.0, 0.0) == math.inf

@@ -68,9 +68,8 @@ import numpy as np
 from numba import njit
 
 from .base import Approximant, register
-from .taylor import taylor_coefficients, taylor_eval_kernel
-
 from .belendez2007 import pendulum_flow_kernel
+from .taylor import taylor_coefficients, taylor_eval_kernel
 
 __all__ = [
     "drift_flow_kernel",

@@ -32,10 +32,12 @@ about N² operations; there is one sin and one cos per window.
 Radius and window length
 ------------------------
 The series converges for |t| < R, the distance from the anchor to the nearest
-complex singularity of θ(t).  R is of order 1/ω for slow motion (π/(2ω) on the
-separatrix, where θ = 4 arctan e^{ωt} − π has poles at ωt = ±iπ/2) and
-shrinks like ln(v²/ω²)/v for a fast rotation with speed v (a running
-pendulum at γ = 1.2, β = 0.1 turns at v ≈ 12 and has R ≈ 0.4).  The window τ
+complex singularity of θ(t).  R is a few 1/ω for slow motion (π/(2ω) on the
+separatrix, where θ = 4 arctan e^{ωt} − π has branch points at ωt = ±iπ/2) and
+shrinks like (2/v) ln(2v/ω) for a fast rotation with speed v (θ = 2 am(vt/2 | 4ω²/v²),
+whose nearest singularity lies at u = iK′ ≈ i ln(2v/ω)): the running pendulum of
+γ = 1.2, β = 0.1 turns at v ≈ 12, R ≈ 0.53 (the root test below reads 0.56-0.59
+along that run, 1.7-8 on the other five scenes of docs/convergent.md).  The window τ
 must stay well inside R: :func:`taylor_error_kernel` grows without bound as
 τ → R, so rtol/atol window control keeps τ inside, and :func:`radius_estimate`
 (the root test |a_k|^{−1/k} on the two extra coefficients, exposed as

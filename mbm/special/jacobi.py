@@ -21,16 +21,16 @@ Method
 * Further folding to ``[0, K/2]`` with the half- and quarter-period shifts
   (``sn(K - t) = cd t``, ``cn(K - t) = k' sd t``, ``dn(K - t) = k' nd t``), so
   that cn and dn are relatively accurate near their zeros/minima.
-* On ``[0, K/2]`` the descending Landen transformation (DLMF 22.7.1-2) with
+* On ``[0, K/2]`` the descending Landen transformation (DLMF §22.7(i)) with
   subtraction-free formulas for the moduli (``k1 = m/(1 + k')^2``,
   ``1 - k1^2 = 4k'/(1 + k')^2``) and for the way back up (sn, cn from
   positive terms, dn from ``dn^2 = cn^2 + mc sn^2``), projecting (sn, cn)
   back onto ``sn^2 + cn^2 = 1`` at every level because the upward map
   doubles that error per level.  For ``mc <= 1e-16`` the first-order
-  expansion about m = 1 (DLMF 22.10.7-9) replaces the chain.  sn, cn and dn
+  expansion about m = 1 (DLMF §22.10(ii)) replaces the chain.  sn, cn and dn
   keep relative accuracy (~1e-14 worst, at m -> 1) down to ``mc = 1e-308``.
 * ``m < 0`` and ``m > 1`` through the imaginary- and reciprocal-modulus
-  transformations (DLMF 22.17.2, 22.17.4), with the scaled argument and the
+  transformations (DLMF §22.17), with the scaled argument and the
   transformed complementary modulus in double-double so that large arguments
   stay accurate.
 * F(φ|m) through Carlson's R_F with ``1 - m sin^2 = cos^2 + mc sin^2`` and
@@ -112,6 +112,15 @@ EDGE_CLAMP_ULPS = 8.0
 # 1 - m itself rounds by half an ulp, callers who compute mc more cleverly
 # may differ by a couple more.
 MC_CONSISTENCY_ULPS = 8.0
+
+# Argument reduction is exact (double-double) up to this many periods 4K;
+# beyond it the spacing of doubles exceeds the period and the result is only
+# guaranteed finite.
+REDUCE_MAX_PERIODS = 2.0**52
+
+# Above this magnitude the Veltkamp split overflows: products of huge
+# arguments fall back to plain double (only reached beyond REDUCE_MAX_PERIODS).
+SPLIT_SAFE = 1e290
 
 # Below this a double-double's low part (~1e-32 relative) would be subnormal;
 # _dd_sqrt rescales such inputs (mc down to 1e-308 is a supported input).
@@ -217,6 +226,18 @@ def _dd_mul(ah, al, bh, bl):
     p, e = _two_prod(ah, bh)
     e += ah * bl + al * bh
     return _fast_two_sum(p, e)
+
+
+@_jit
+def _dd_mul_safe(ah, al, bh, bl):
+    """_dd_mul, falling back to a plain product where the split would overflow."""
+    p = ah * bh
+    if abs(ah) > SPLIT_SAFE or abs(bh) > SPLIT_SAFE or abs(p) > SPLIT_SAFE:
+        if abs(p) == math.inf:
+            # Hopelessly beyond the exact range anyway: stay finite.
+            p = math.copysign(SPLIT_SAFE, p)
+        return p, 0.0
+    return _dd_mul(ah, al, bh, bl)
 
 
 @_jit
@@ -352,12 +373,12 @@ def _landen(z, m, mc):
     the first-order expansion about m = 1 is used directly.  Otherwise the
     descending Landen chain runs down to m_N <= LANDEN_M_STOP, the base case
     keeps the first-order term in m_N, and the chain is climbed back
-    (DLMF 22.7.1-2).  Every upward step uses only sums of non-negative terms,
+    (DLMF §22.7(i)).  Every upward step uses only sums of non-negative terms,
     so the results keep relative accuracy even where cn and dn are tiny.  The
     chain is kept in a fixed-size stack buffer (no heap allocation).
     """
     if mc <= MC_HYPERBOLIC:
-        # DLMF 22.10.7-9; the O(mc**2) remainder relative to cn, dn is
+        # DLMF §22.10(ii); the O(mc**2) remainder relative to cn, dn is
         # ~(k'/4)**2 on 0 <= z <= K/2.
         ch = math.cosh(z)
         t = math.tanh(z)
@@ -381,7 +402,7 @@ def _landen(z, m, mc):
         n += 1
     s0 = math.sin(z)
     c0 = math.cos(z)
-    # First-order term of the expansion in m (DLMF 22.10.4-6).
+    # First-order term of the expansion in m (DLMF §22.10(ii)).
     t = 0.25 * m * (z - s0 * c0)
     s = s0 - t * c0
     c = c0 + t * s0
@@ -419,10 +440,17 @@ def _reduce_eval(vh, vl, m, mc, kch, kcl):
     Kh, Kl = _ellipk_dd(kch, kcl)
     K4h = 4.0 * Kh
     K4l = 4.0 * Kl
-    n = math.floor(vh / K4h + 0.5)
-    ph, pl = _two_prod(n, K4h)
-    pl += n * K4l
-    rh, rl = _dd_add(vh, vl, -ph, -pl)
+    n = np.floor(vh / K4h + 0.5)
+    if abs(n) < REDUCE_MAX_PERIODS:
+        ph, pl = _two_prod(n, K4h)
+        pl += n * K4l
+        rh, rl = _dd_add(vh, vl, -ph, -pl)
+    else:
+        # Beyond 2**52 periods the ulp of v exceeds the period: no accuracy
+        # is possible; reduce by the double 4K to return something finite.
+        rh = np.fmod(vh, K4h)
+        rl = 0.0
+        n = (vh - rh) / K4h
     # The quotient was rounded in double: fix a reduced argument that landed
     # just outside [-2K, 2K].
     if _dd_gt(rh, rl, 2.0 * Kh, 2.0 * Kl):
@@ -472,21 +500,21 @@ def _ellipj_dd(uh, ul, m, mc):
         ch = math.cosh(u)
         return math.tanh(u), 1.0 / ch, 1.0 / ch, math.atan(math.sinh(u))
     if mc < 0.0:
-        # m > 1, reciprocal modulus (DLMF 22.17.4) with mu = 1/m:
+        # m > 1, reciprocal modulus (DLMF §22.17) with mu = 1/m:
         # sn(u|m) = sn(k u|mu)/k, cn(u|m) = dn(k u|mu), dn(u|m) = cn(k u|mu).
         kh, kl = _dd_sqrt(m, 0.0)
-        vh, vl = _dd_mul(uh, ul, kh, kl)
+        vh, vl = _dd_mul_safe(uh, ul, kh, kl)
         qh, ql = _dd_div(-mc, 0.0, m, 0.0)  # mu_c = (m - 1)/m
         kch, kcl = _dd_sqrt(qh, ql)
         s, c, d, n, a = _reduce_eval(vh, vl, 1.0 / m, qh, kch, kcl)
         sn_ = s / kh
         return sn_, d, c, math.atan2(sn_, d)
     if mc > 1.0:
-        # m < 0, imaginary modulus (DLMF 22.17.2) with mu = -m/mc:
+        # m < 0, imaginary modulus (DLMF §22.17) with mu = -m/mc:
         # sn(u|m) = sd(v|mu)/sqrt(mc), cn = cd(v|mu), dn = nd(v|mu),
         # v = u sqrt(mc).  The period 4K(m) in u is 4K(mu) in v.
         sh, sl = _dd_sqrt(mc, 0.0)
-        vh, vl = _dd_mul(uh, ul, sh, sl)
+        vh, vl = _dd_mul_safe(uh, ul, sh, sl)
         kch, kcl = _dd_div(1.0, 0.0, sh, sl)  # sqrt(mu_c) = 1/sqrt(mc)
         s, c, d, n, a = _reduce_eval(vh, vl, -m / mc, 1.0 / mc, kch, kcl)
         sn_ = s / (d * sh)
@@ -517,8 +545,10 @@ def ellipj_kernel(u, m, mc):
     Returns
     -------
     sn, cn, dn, am : float
-        Relative accuracy ~1e-15 away from zeros, including ``mc`` down to
-        1e-300 and ``|u|`` up to ~1e15 K (double-double reduction).  For
+        Relative accuracy ~1e-15 (1e-14 worst, for m -> 1 where cn and dn
+        are tiny), including near the zeros of sn and cn, for ``mc`` down to
+        1e-300 and ``|u|`` up to 2**52 periods (double-double reduction);
+        beyond that the values are only guaranteed finite.  For
         m <= 1, am is the increasing amplitude (am(u + 4K) = am(u) + 2 pi);
         for m > 1 it is the continuous angle with sin am = sn, cos am = cn,
         which stays in (-pi/2, pi/2) since cn = dn(k u | 1/m) > 0.  At
@@ -612,10 +642,16 @@ def ellipf_kernel(phi, m, mc):
         return s * _carlson_rf(c2, y, 1.0)
     if not (abs(phi) < math.inf and mc >= 0.0):
         return math.nan
-    j = math.floor(phi / PI_HI + 0.5)
+    j = np.floor(phi / PI_HI + 0.5)
     if j == 0.0:
         s = math.sin(phi)
         c = math.cos(phi)
+    elif abs(j) >= REDUCE_MAX_PERIODS:
+        # No accuracy possible (ulp(phi) > pi); stay finite.
+        rh = np.fmod(phi, PI_HI)
+        j = (phi - rh) / PI_HI
+        s = math.sin(rh)
+        c = math.cos(rh)
     else:
         ph, pl = _two_prod(j, PI_HI)
         pl += j * PI_LO

@@ -15,7 +15,7 @@ relative 1e-32).  The roots of 4x³ − g2 x − g3 are e1, e2, e3:
   which is e3 + (e1 − e3)/sn² written so that both terms are ≥ 0.
 * Δ < 0: one real root e2 and e1 = a + i b, e3 = a − i b with b > 0,
   a = −e2/2.  With H = |e1 − e2| = sqrt(3 e2² − g2/4) and
-  m = 1/2 − 3 e2/(4H) (A&S 18.9.11, rewritten by the half-argument formulas)
+  m = 1/2 − 3 e2/(4H) (A&S §18.9, rewritten by the half-argument formulas)
   ℘(z) = e2 + H cn²/(sn² dn²)(√H z | m).
 * g2 = g3 = 0: ℘(z) = 1/z², no real period (half-period = inf).
 
@@ -48,6 +48,7 @@ from .jacobi import (
     _dd_div,
     _dd_mul,
     _dd_mul_d,
+    _dd_mul_safe,
     _dd_sqrt,
     _ellipk_dd,
     _fast_two_sum,
@@ -355,7 +356,7 @@ def wp_kernel(z, g2, g3):
         return math.nan, math.nan
     if z == 0.0:
         return math.inf, -math.copysign(math.inf, z)
-    vh, vl = _dd_mul_d(lh, ll, z)
+    vh, vl = _dd_mul_safe(lh, ll, z, 0.0)
     if mc == 0.0:
         # Δ = 0 with g3 < 0: m = 1, sn = tanh, cn = dn = sech.
         # First order in the low part keeps sech(v) ~ 2 exp(-v) relatively
@@ -427,7 +428,7 @@ def wp_inverse_kernel(w, g2, g3):
 
     Notes
     -----
-    Δ >= 0: z = R_F(w − e1, w − e2, w − e3) (DLMF 23.6.33?, the integral
+    Δ >= 0: z = R_F(w − e1, w − e2, w − e3) (DLMF §23.6(iv), the integral
     ∫_w^∞ dt/sqrt(4t³ − g2 t − g3)) with w − e2, w − e3 formed from the
     cancellation-free root differences.  Δ < 0: invert
     ℘ = e2 + H (1 + cn 2v)/(1 − cn 2v) through

@@ -134,7 +134,7 @@ def wp_mp(z, g2, g3):
 
 
 def wp_laurent(z, g2, g3):
-    """Laurent series of ℘ about 0 (DLMF 23.9.2-3), first eight terms."""
+    """Laurent series of ℘ about 0 (DLMF §23.9), first eight terms."""
     Z, G2, G3 = mp.mpf(z), mp.mpf(g2), mp.mpf(g3)
     c = [None, None, G2 / 20, G3 / 28]
     for n in range(4, 10):
