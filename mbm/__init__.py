@@ -14,6 +14,7 @@ from .approximants import (
 from .approximants.belendez2007 import pendulum_flow, period
 from .problem import Pendulum, identify_model
 from .reference import reference
+from . import choice
 from .solver import MBM
 
 __version__ = "0.1.0"

@@ -173,10 +173,8 @@ def event_function_d(model, approximant="salas-torque"):
     """
     _check_model(model)
     ap = get_approximant(approximant)
-    if ap.name == "salas-torque":
-        d = float(cubic_equilibrium(model.gamma / model.omega**2))
-        return None if math.isnan(d) else d
-    return model.equilibrium
+    # The approximant knows its own centre (Approximant.event_center).
+    return ap.event_center(model)
 
 
 # ------------------------------------------------------------- hybrid: CVODE roots

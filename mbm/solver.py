@@ -12,7 +12,9 @@ import warnings
 import numpy as np
 from scipy.integrate import DenseOutput, OdeSolver
 
+from . import events as _events
 from .approximants import get_approximant
+from .choice import choose_approximant
 from .problem import Pendulum, identify_model
 
 __all__ = ["MBM", "MBMDenseOutput"]
@@ -39,6 +41,14 @@ FIRST_WINDOW_PERIODS = 0.25
 FIRST_WINDOW_ITERS = 4
 # A window shorter than this many ulps of t cannot advance t: fail instead of looping.
 MIN_WINDOW_ULPS = 10.0
+# Hybrid event-point mode (3.32): CVODE's tolerances for locating the events and the
+# anchor states; tight, because the anchors carry CVODE's error into every window.
+HYBRID_RTOL = 1e-10
+HYBRID_ATOL = 1e-12
+# Analytic event-point mode: longest window searched for the formula's next event,
+# in small-oscillation periods (a libration has a turning point every half period;
+# a rotation may have none, and then the window ends here).
+EVENT_MAX_WINDOW_PERIODS = 1.0
 
 
 def _warn_extraneous(extraneous):
@@ -124,8 +134,10 @@ class MBM(OdeSolver):
         y0,
         t_bound,
         tau=None,
-        approximant="salas-torque",
+        approximant="auto",
         model=None,
+        anchors="windows",
+        events_from="cvode",
         max_step=np.inf,
         first_step=None,
         rtol=None,
@@ -154,16 +166,37 @@ class MBM(OdeSolver):
         elif not isinstance(model, Pendulum):
             raise TypeError(f"model must be an mbm.Pendulum, got {type(model).__name__}")
         self.model = model
+        if isinstance(approximant, str) and approximant == "auto":
+            approximant, reason = choose_approximant(model, self.y, self.rtol, self.atol)
+        else:
+            reason = "chosen by the caller"
         self.approximant = get_approximant(approximant)
         self.approximant.check_model(model)
+        #: (name, reason) of the approximant in use; "auto" records why it chose it.
+        self.approximant_choice = (self.approximant.name, reason)
         self._beta, self._gamma, self._omega = model.params
         self._coef = None
         error_kernel = getattr(self.approximant, "error_kernel", None)
-        self.adaptive = tau is None and error_kernel is not None
+        exact = bool(getattr(self.approximant, "exact", False))
+        self.adaptive = tau is None and error_kernel is not None and not exact
         self._h_abs = None
         if first_step is not None:
             first_step = _positive("first_step", first_step)
-        if self.adaptive:
+        if anchors not in ("windows", "events"):
+            raise ValueError(f"anchors must be 'windows' or 'events', got {anchors!r}")
+        if events_from not in ("cvode", "approximant"):
+            raise ValueError(f"events_from must be 'cvode' or 'approximant', got {events_from!r}")
+        self.anchors = anchors
+        self.events_from = events_from if anchors == "events" else None
+        if anchors == "events":
+            self._setup_events(float(t0), float(t_bound))
+            self.adaptive = False
+            self.tau = None
+            return
+        if exact and tau is None:
+            # An exact flow has no truncation error: one window as long as max_step allows.
+            self.tau = self.max_step if math.isfinite(self.max_step) else abs(t_bound - t0) or 1.0
+        elif self.adaptive:
             self.tau = None
             self._order = int(self.approximant.order)
             self._h_abs = None if first_step is None else min(first_step, self.max_step)
@@ -179,9 +212,102 @@ class MBM(OdeSolver):
                 tau = first_step if first_step is not None else DEFAULT_TAU_PERIODS * 2 * math.pi / model.omega
             self.tau = min(_positive("tau", tau), self.max_step)
 
+    def _setup_events(self, t0, t_bound):
+        ap = self.approximant
+        kind = ap.anchors
+        d = _events.event_function_d(self.model, ap)
+        if kind == "any":
+            kinds = ("crossing", "turning") if d is not None else ("turning",)
+        elif kind == "zero-crossing":
+            if d is None:
+                raise ValueError(
+                    f"approximant {ap.name!r} anchors only at zero crossings theta = d, and "
+                    f"d does not exist for gamma/omega**2 = {self._gamma / self._omega**2!r}"
+                )
+            kinds = ("crossing",)
+        elif kind == "turning-point":
+            kinds = ("turning",)
+        else:
+            raise ValueError(f"approximant {ap.name!r} declares unknown anchors {kind!r}")
+        # The first window anchors at y0 itself: it must be an anchor the approximant accepts.
+        y0 = self.y
+        if kind == "zero-crossing" and abs(y0[0] - d) > _events.ON_SURFACE_TOL:
+            raise ValueError(
+                f"approximant {ap.name!r} anchors only at zero crossings theta = d = {d!r}; "
+                f"y0[0] = {y0[0]!r} is not one"
+            )
+        if kind == "turning-point" and abs(y0[1]) > _events.ON_SURFACE_TOL:
+            raise ValueError(
+                f"approximant {ap.name!r} anchors only at turning points theta' = 0; "
+                f"y0[1] = {y0[1]!r} is not one"
+            )
+        self._event_d = d
+        self._event_kinds = kinds
+        self._event_queue = None
+        if self.events_from == "cvode" and t_bound != t0:
+            te, ye, _ = _events.hybrid_event_points(
+                self.model, (t0, t_bound), y0, d, kinds=kinds, rtol=HYBRID_RTOL, atol=HYBRID_ATOL
+            )
+            self._event_queue = (list(te), [np.array(y) for y in ye])
+            self._event_index = 0
+
+    def _events_step(self):
+        ap = self.approximant
+        t = self.t
+        if self.events_from == "cvode":
+            te, ye = self._event_queue
+            i = self._event_index
+            if i < len(te) and self.direction * (te[i] - t) > 0:
+                t_new = te[i]
+            else:
+                t_new = self.t_bound
+            if self.direction * (t_new - t) > self.max_step:
+                t_new = t + self.direction * self.max_step
+            coef, msg = self._anchor()
+            if coef is None:
+                return False, msg
+            h = t_new - t
+            theta, v = ap.eval_kernel(coef, h)
+            if i < len(te) and t_new == te[i]:
+                # (3.32): the next window anchors at the numerical solution's state
+                # φ(τ_n), not at this window's end value — the method's jump.
+                self._next_anchor = ye[i]
+                self._event_index = i + 1
+            else:
+                self._next_anchor = None
+        else:
+            coef, msg = self._anchor()
+            if coef is None:
+                return False, msg
+            span = abs(self.t_bound - t)
+            t_max = min(span, self.max_step, EVENT_MAX_WINDOW_PERIODS * 2 * math.pi / self._omega)
+            te, _ = _events.next_event_analytic(
+                ap.eval_kernel, coef, self._event_d, self._event_kinds,
+                self.direction * t_max, int(self.direction), omega=self._omega,
+            )
+            if math.isfinite(te):
+                t_new = t + te
+            else:
+                t_new = self._window_end(t_max)
+            h = t_new - t
+            theta, v = ap.eval_kernel(coef, h)
+        if not (math.isfinite(theta) and math.isfinite(v)):
+            return False, (
+                f"approximant {ap.name!r} produced a non-finite state over the window "
+                f"[{t!r}, {t_new!r}]: the motion left its domain"
+            )
+        self._coef = coef
+        self.t = t_new
+        self.y = np.array([theta, v])
+        return True, None
+
     def _anchor(self):
         ap = self.approximant
-        coef = ap.anchor_kernel(self._beta, self._gamma, self._omega, self.y[0], self.y[1])
+        y = self.y
+        nxt = getattr(self, "_next_anchor", None)
+        if nxt is not None:
+            y = nxt
+        coef = ap.anchor_kernel(self._beta, self._gamma, self._omega, y[0], y[1])
         if coef[0] != 0:
             msg = ap.status_messages.get(int(coef[0]), f"status {int(coef[0])}")
             return None, f"approximant {ap.name!r} cannot be anchored at t={self.t!r}: {msg}"
@@ -216,6 +342,8 @@ class MBM(OdeSolver):
         return h_abs
 
     def _step_impl(self):
+        if self.anchors == "events":
+            return self._events_step()
         coef, msg = self._anchor()
         if coef is None:
             return False, msg

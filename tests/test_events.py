@@ -268,7 +268,7 @@ def test_analytic_event_points_chain():
 def test_successive_equals_mbm_windows_then_continues():
     tau, j = 0.5, 7
     T = 12.0
-    sol = solve_ivp(EX2, (0.0, T), EX2_Y0, method=mbm.MBM, tau=tau, dense_output=True)
+    sol = solve_ivp(EX2, (0.0, T), EX2_Y0, method=mbm.MBM, approximant="salas-torque", tau=tau, dense_output=True)
     theta_j = successive(EX2, EX2_Y0, tau, j)
     t_in = np.linspace(0.0, j * tau, 301)
     np.testing.assert_allclose(np.vstack(theta_j(t_in)), sol.sol(t_in), rtol=0, atol=1e-14)
@@ -340,7 +340,7 @@ def test_event_point_mbm_errors_on_example2():
     t_a, y_a, _ = analytic_event_points(EX2, (0.0, 80.0), EX2_Y0, d)
     analytic = np.max(np.abs(event_point_solution(EX2, 0.0, EX2_Y0, t_a, y_a)(t)[0] - ref))
     tau = 80.0 / (len(t_h) + 1)
-    fixed = np.max(np.abs(solve_ivp(EX2, (0.0, 80.0), EX2_Y0, method=mbm.MBM, tau=tau, t_eval=t).y[0] - ref))
+    fixed = np.max(np.abs(solve_ivp(EX2, (0.0, 80.0), EX2_Y0, method=mbm.MBM, approximant="salas-torque", tau=tau, t_eval=t).y[0] - ref))
     assert single == pytest.approx(0.368, abs=0.005)
     assert hybrid == pytest.approx(0.0463, abs=0.001)
     assert analytic == pytest.approx(0.0471, abs=0.001)
@@ -358,7 +358,7 @@ def test_event_point_mbm_beats_fixed_windows_on_example1():
     d = event_function_d(EX1)
     t_h, y_h, _ = hybrid_event_points(EX1, (0.0, 80.0), EX1_Y0, d)
     hybrid = np.max(np.abs(event_point_solution(EX1, 0.0, EX1_Y0, t_h, y_h)(t)[0] - ref))
-    fixed = np.max(np.abs(solve_ivp(EX1, (0.0, 80.0), EX1_Y0, method=mbm.MBM, tau=0.1, t_eval=t).y[0] - ref))
+    fixed = np.max(np.abs(solve_ivp(EX1, (0.0, 80.0), EX1_Y0, method=mbm.MBM, approximant="salas-torque", tau=0.1, t_eval=t).y[0] - ref))
     single = np.max(np.abs(AP.anchor(EX1, *EX1_Y0)(t)[0] - ref))
     assert hybrid == pytest.approx(1.14e-3, rel=0.02)
     assert hybrid < single < fixed

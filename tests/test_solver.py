@@ -20,7 +20,7 @@ EX2_Y0 = [math.radians(90.0), 0.0]
 
 
 def test_drop_in_solve_ivp_with_pendulum():
-    sol = solve_ivp(EX1, (0.0, 10.0), EX1_Y0, method=mbm.MBM, tau=0.5)
+    sol = solve_ivp(EX1, (0.0, 10.0), EX1_Y0, method=mbm.MBM, approximant="salas-torque", tau=0.5)
     assert sol.success and sol.status == 0
     assert sol.t[0] == 0.0 and sol.t[-1] == 10.0
     assert np.all(np.diff(sol.t) > 0)
@@ -33,8 +33,8 @@ def test_plain_callable_is_probed():
     def rhs(t, y):
         return [y[1], 0.3 - 0.1 * y[1] - np.sin(y[0])]
 
-    a = solve_ivp(rhs, (0.0, 10.0), EX1_Y0, method=mbm.MBM, tau=0.5)
-    b = solve_ivp(EX1, (0.0, 10.0), EX1_Y0, method=mbm.MBM, tau=0.5)
+    a = solve_ivp(rhs, (0.0, 10.0), EX1_Y0, method=mbm.MBM, approximant="salas-torque", tau=0.5)
+    b = solve_ivp(EX1, (0.0, 10.0), EX1_Y0, method=mbm.MBM, approximant="salas-torque", tau=0.5)
     assert a.nfev > 0
     np.testing.assert_allclose(a.y, b.y, rtol=0, atol=1e-12)
 
@@ -43,8 +43,8 @@ def test_args_are_passed():
     def rhs(t, y, beta, gamma):
         return [y[1], gamma - beta * y[1] - np.sin(y[0])]
 
-    a = solve_ivp(rhs, (0.0, 5.0), EX1_Y0, method=mbm.MBM, tau=0.5, args=(0.1, 0.3))
-    b = solve_ivp(EX1, (0.0, 5.0), EX1_Y0, method=mbm.MBM, tau=0.5)
+    a = solve_ivp(rhs, (0.0, 5.0), EX1_Y0, method=mbm.MBM, approximant="salas-torque", tau=0.5, args=(0.1, 0.3))
+    b = solve_ivp(EX1, (0.0, 5.0), EX1_Y0, method=mbm.MBM, approximant="salas-torque", tau=0.5)
     np.testing.assert_allclose(a.y, b.y, atol=1e-12)
 
 
@@ -72,7 +72,7 @@ def test_identify_model_recovers_parameters():
 )
 def test_non_member_rejected(rhs):
     with pytest.raises(ValueError, match="not of the pendulum family"):
-        solve_ivp(rhs, (0, 1), [0.1, 0.0], method=mbm.MBM)
+        solve_ivp(rhs, (0, 1), [0.1, 0.0], method=mbm.MBM, approximant="salas-torque")
 
 
 def test_negative_damping_rejected():
@@ -84,15 +84,15 @@ def test_model_option_skips_probing():
     def never(t, y):
         raise AssertionError("fun must not be called when model= is given")
 
-    sol = solve_ivp(never, (0.0, 3.0), EX1_Y0, method=mbm.MBM, model=EX1, tau=0.5)
+    sol = solve_ivp(never, (0.0, 3.0), EX1_Y0, method=mbm.MBM, approximant="salas-torque", model=EX1, tau=0.5)
     assert sol.success and sol.nfev == 0
     with pytest.raises(TypeError, match="model"):
-        solve_ivp(never, (0.0, 3.0), EX1_Y0, method=mbm.MBM, model=(0.1, 0.3, 1.0))
+        solve_ivp(never, (0.0, 3.0), EX1_Y0, method=mbm.MBM, approximant="salas-torque", model=(0.1, 0.3, 1.0))
 
 
 def test_step_contract_exact_window_ends():
     # sol(t_old) == y_old and sol(t) == y bit for bit; the last window lands on t_bound.
-    solver = mbm.MBM(EX1, 0.0, EX1_Y0, 7.3, tau=1.0)
+    solver = mbm.MBM(EX1, 0.0, EX1_Y0, 7.3, tau=1.0, approximant="salas-torque")
     assert isinstance(solver, OdeSolver)
     y_old = solver.y.copy()
     ends = []
@@ -114,8 +114,8 @@ def test_step_contract_exact_window_ends():
 
 
 def test_backward_integration():
-    fwd = solve_ivp(EX1, (0.0, 5.0), EX1_Y0, method=mbm.MBM, tau=0.25)
-    back = solve_ivp(EX1, (5.0, 0.0), fwd.y[:, -1], method=mbm.MBM, tau=0.25)
+    fwd = solve_ivp(EX1, (0.0, 5.0), EX1_Y0, method=mbm.MBM, approximant="salas-torque", tau=0.25)
+    back = solve_ivp(EX1, (5.0, 0.0), fwd.y[:, -1], method=mbm.MBM, approximant="salas-torque", tau=0.25)
     assert back.success and back.t[-1] == 0.0
     assert np.all(np.diff(back.t) < 0)
     # Both directions follow the same cubic-model flow up to its re-anchoring error.
@@ -124,13 +124,13 @@ def test_backward_integration():
 
 def test_t_eval_and_dense_output_agree():
     t_eval = np.linspace(0.0, 20.0, 41)
-    sol = solve_ivp(EX1, (0.0, 20.0), EX1_Y0, method=mbm.MBM, tau=0.7, t_eval=t_eval, dense_output=True)
+    sol = solve_ivp(EX1, (0.0, 20.0), EX1_Y0, method=mbm.MBM, approximant="salas-torque", tau=0.7, t_eval=t_eval, dense_output=True)
     assert sol.success
     np.testing.assert_array_equal(sol.t, t_eval)
     np.testing.assert_allclose(sol.sol(t_eval), sol.y, rtol=0, atol=1e-15)
     # t_eval points inside windows are the analytic formula of that window.
     ap = mbm.get_approximant("salas-torque")
-    windows = solve_ivp(EX1, (0.0, 20.0), EX1_Y0, method=mbm.MBM, tau=0.7)
+    windows = solve_ivp(EX1, (0.0, 20.0), EX1_Y0, method=mbm.MBM, approximant="salas-torque", tau=0.7)
     k = 5
     a = ap.anchor(EX1, *windows.y[:, k])
     tm = windows.t[k] + 0.3
@@ -139,7 +139,7 @@ def test_t_eval_and_dense_output_agree():
 
 def test_t_eval_backward():
     t_eval = np.linspace(10.0, 0.0, 11)
-    sol = solve_ivp(EX1, (10.0, 0.0), EX1_Y0, method=mbm.MBM, tau=0.5, t_eval=t_eval)
+    sol = solve_ivp(EX1, (10.0, 0.0), EX1_Y0, method=mbm.MBM, approximant="salas-torque", tau=0.5, t_eval=t_eval)
     np.testing.assert_array_equal(sol.t, t_eval)
 
 
@@ -153,7 +153,7 @@ def test_events_terminal_and_direction():
         return y[1]
 
     turning.direction = 1
-    sol = solve_ivp(EX1, (0.0, 40.0), EX1_Y0, method=mbm.MBM, tau=0.5, events=[crossing, turning])
+    sol = solve_ivp(EX1, (0.0, 40.0), EX1_Y0, method=mbm.MBM, approximant="salas-torque", tau=0.5, events=[crossing, turning])
     assert sol.success
     tc, tt = sol.t_events
     assert len(tc) >= 10 and len(tt) >= 5
@@ -171,52 +171,52 @@ def test_events_terminal_and_direction():
     assert 0.03 < lag[-1] < 0.1 and lag[-1] > lag[0]
 
     crossing.terminal = True
-    sol = solve_ivp(EX1, (0.0, 40.0), EX1_Y0, method=mbm.MBM, tau=0.5, events=crossing)
+    sol = solve_ivp(EX1, (0.0, 40.0), EX1_Y0, method=mbm.MBM, approximant="salas-torque", tau=0.5, events=crossing)
     assert sol.status == 1 and sol.t[-1] == pytest.approx(tc[0], abs=1e-9)
     assert sol.y[0, -1] == pytest.approx(d, abs=1e-9)
 
 
 def test_max_step_caps_tau():
-    sol = solve_ivp(EX1, (0.0, 5.0), EX1_Y0, method=mbm.MBM, tau=2.0, max_step=0.5)
+    sol = solve_ivp(EX1, (0.0, 5.0), EX1_Y0, method=mbm.MBM, approximant="salas-torque", tau=2.0, max_step=0.5)
     assert np.max(np.diff(sol.t)) <= 0.5 + 1e-15
 
 
 def test_no_integration():
-    sol = solve_ivp(EX1, (3.0, 3.0), EX1_Y0, method=mbm.MBM)
+    sol = solve_ivp(EX1, (3.0, 3.0), EX1_Y0, method=mbm.MBM, approximant="salas-torque")
     assert sol.success
     np.testing.assert_array_equal(sol.y[:, -1], EX1_Y0)
 
 
 def test_bad_input():
     with pytest.raises(ValueError, match="tau"):
-        solve_ivp(EX1, (0, 1), EX1_Y0, method=mbm.MBM, tau=0.0)
+        solve_ivp(EX1, (0, 1), EX1_Y0, method=mbm.MBM, approximant="salas-torque", tau=0.0)
     with pytest.raises(ValueError, match="tau"):
-        solve_ivp(EX1, (0, 1), EX1_Y0, method=mbm.MBM, tau=float("nan"))
+        solve_ivp(EX1, (0, 1), EX1_Y0, method=mbm.MBM, approximant="salas-torque", tau=float("nan"))
     with pytest.raises(ValueError, match="y0"):
-        solve_ivp(EX1, (0, 1), [0.1, 0.0, 0.0], method=mbm.MBM)
+        solve_ivp(EX1, (0, 1), [0.1, 0.0, 0.0], method=mbm.MBM, approximant="salas-torque")
     with pytest.raises(ValueError, match="y0"):
-        solve_ivp(EX1, (0, 1), [np.nan, 0.0], method=mbm.MBM)
+        solve_ivp(EX1, (0, 1), [np.nan, 0.0], method=mbm.MBM, approximant="salas-torque")
     with pytest.raises(ValueError, match="approximant"):
         solve_ivp(EX1, (0, 1), EX1_Y0, method=mbm.MBM, approximant="no-such")
     with pytest.raises(mbm.ApproximantDomainError, match="gamma"):
-        solve_ivp(mbm.Pendulum(gamma=1.2), (0, 1), EX1_Y0, method=mbm.MBM)
+        solve_ivp(mbm.Pendulum(gamma=1.2), (0, 1), EX1_Y0, method=mbm.MBM, approximant="salas-torque")
     with pytest.raises(ValueError, match="rtol"):
-        solve_ivp(EX1, (0, 1), EX1_Y0, method=mbm.MBM, rtol=-1.0)
+        solve_ivp(EX1, (0, 1), EX1_Y0, method=mbm.MBM, approximant="salas-torque", rtol=-1.0)
     with pytest.warns(UserWarning, match="no effect"):
-        solve_ivp(EX1, (0, 1), EX1_Y0, method=mbm.MBM, bogus=1)
+        solve_ivp(EX1, (0, 1), EX1_Y0, method=mbm.MBM, approximant="salas-torque", bogus=1)
 
 
 def test_leaving_the_domain_fails_cleanly():
     # Example 2's scene starts inside the cubic's domain; a hard push sends the state past
     # the hump of the cubic, and the solver reports failure instead of returning NaN.
-    sol = solve_ivp(mbm.Pendulum(beta=0.0, gamma=0.0), (0, 10), [0.0, 2.5], method=mbm.MBM, tau=0.5)
+    sol = solve_ivp(mbm.Pendulum(beta=0.0, gamma=0.0), (0, 10), [0.0, 2.5], method=mbm.MBM, approximant="salas-torque", tau=0.5)
     assert not sol.success and sol.status == -1
     assert "bounded orbit" in sol.message
     assert np.all(np.isfinite(sol.y))
 
 
 def _mbm_error(model, y0, tau, t, against):
-    sol = solve_ivp(model, (t[0], t[-1]), y0, method=mbm.MBM, tau=tau, t_eval=t)
+    sol = solve_ivp(model, (t[0], t[-1]), y0, method=mbm.MBM, approximant="salas-torque", tau=tau, t_eval=t)
     assert sol.success
     return np.max(np.abs(sol.y[0] - against))
 
@@ -261,3 +261,30 @@ def test_tau_sweep_converges_to_cubic_model(model, y0, model_err, rel):
     assert e_true[-1] == pytest.approx(model_err, rel=rel)
     steps = np.abs(np.diff(e_true[small]))
     assert np.all(steps[1:] < steps[:-1])
+
+
+@pytest.mark.parametrize(
+    "model,kw",
+    [
+        (EX1, dict()),  # auto: the convergent family with rtol/atol windows
+        (EX1, dict(rtol=1e-9, atol=1e-9)),
+        (EX1, dict(approximant="taylor12", tau=0.3)),
+        (mbm.Pendulum(0.0, 0.0), dict(max_step=2.5)),  # auto: exact flow
+        (EX1, dict(approximant="salas-torque", anchors="events", events_from="approximant")),
+    ],
+)
+@pytest.mark.parametrize("direction", [1, -1])
+def test_step_contract_every_mode(model, kw, direction):
+    t_bound = 9.7 * direction
+    solver = mbm.MBM(model, 0.0, EX1_Y0, t_bound, **kw)
+    y_old = solver.y.copy()
+    n = 0
+    while solver.status == "running":
+        assert solver.step() is None
+        sol = solver.dense_output()
+        assert np.array_equal(sol(solver.t_old), y_old)
+        assert np.array_equal(sol(solver.t), solver.y)
+        assert direction * (solver.t - solver.t_old) > 0
+        y_old = solver.y.copy()
+        n += 1
+    assert solver.status == "finished" and solver.t == t_bound and n >= 2

@@ -22,9 +22,11 @@ from mbm.special import (
     ellipf_kernel,
     ellipj_kernel,
     ellipk_kernel,
+    wp_eval_kernel,
     wp_half_period_kernel,
     wp_inverse_kernel,
     wp_kernel,
+    wp_lattice_kernel,
     wp_roots_kernel,
 )
 
@@ -408,6 +410,13 @@ def test_kernels_callable_from_user_numba_code():
         return s + c + d + a + k + f + p + pp + e1 + e2 + e3 + ds + om + z
 
     assert math.isfinite(use(0.4, 0.3, 0.7, 4.0, 1.0))
+
+
+def test_wp_lattice_split_is_bit_identical():
+    for g2, g3 in ((4.0, 1.0), (-2.0, 1.0), (3.0, -1.0), (0.0, 0.0)):
+        lat = wp_lattice_kernel(g2, g3)
+        for z in (0.0, 1e-3, 0.7, -2.9, 41.0):
+            assert wp_eval_kernel(z, lat) == wp_kernel(z, g2, g3)
 
 
 # ---------------------------------------------------------------------------

@@ -110,6 +110,14 @@ class Approximant:
     def check_model(self, model):
         """Raise :class:`ApproximantDomainError` if the model is outside the approximant's scope."""
 
+    def event_center(self, model):
+        """The angle d of the zero-crossing event surface θ = d in (3.32), or None.
+
+        Default: the pendulum's stable equilibrium arcsin(γ/ω²) (None when |γ| > ω²).
+        Approximants that oscillate about another centre override this.
+        """
+        return model.equilibrium
+
     def param_names(self):
         """Names of ``coef[1:]`` entries, in order, for :attr:`Anchored.params`."""
         return ()

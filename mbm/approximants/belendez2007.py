@@ -675,6 +675,8 @@ class BelendezExact(Approximant):
     """
 
     name = "belendez"
+    # The exact flow: no truncation error, so MBM's default window is the whole span.
+    exact = True
     citation = (
         "Beléndez, Pascual, Méndez, Beléndez, Neipp (2007), Eqs. (23), (26), (31), "
         "generalized to any state: libration, rotation and separatrix"

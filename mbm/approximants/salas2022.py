@@ -366,6 +366,11 @@ class SalasTorque(Approximant):
     def param_names(self):
         return _PARAM_NAMES
 
+    def event_center(self, model):
+        """The cubic's root d of (2.6), about which the formula oscillates; None past its maximum."""
+        d = float(cubic_equilibrium(model.gamma / model.omega**2))
+        return None if math.isnan(d) else d
+
     def params_from_coef(self, coef):
         params = super().params_from_coef(coef)
         params["D"] = _paper_D(params)

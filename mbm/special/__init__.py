@@ -17,7 +17,9 @@ with float64 arguments so that a single signature is compiled):
 * ``ellipk_kernel(m, mc) -> K``
 * ``ellipf_kernel(phi, m, mc) -> F``
 * ``wp_roots_kernel(g2, g3) -> (r1, r2, r3, delta_sign)``
-* ``wp_kernel(z, g2, g3) -> (wp, wpprime)``
+* ``wp_kernel(z, g2, g3) -> (wp, wpprime)``; for many z with the same
+  invariants, ``wp_eval_kernel(z, wp_lattice_kernel(g2, g3))`` gives the same
+  bits without recomputing the roots and the period each time
 * ``wp_half_period_kernel(g2, g3) -> omega``
 * ``wp_inverse_kernel(w, g2, g3) -> z``
 
@@ -40,11 +42,13 @@ from .jacobi import (
 )
 from .weierstrass import (
     wp,
+    wp_eval_kernel,
     wp_half_period,
     wp_half_period_kernel,
     wp_inverse,
     wp_inverse_kernel,
     wp_kernel,
+    wp_lattice_kernel,
     wp_roots,
     wp_roots_kernel,
     wpp,
@@ -71,6 +75,8 @@ __all__ = [
     "ellipf_kernel",
     "wp_roots_kernel",
     "wp_kernel",
+    "wp_lattice_kernel",
+    "wp_eval_kernel",
     "wp_half_period_kernel",
     "wp_inverse_kernel",
 ]

@@ -62,68 +62,50 @@ __all__ = [
 # Tuning constants
 # ---------------------------------------------------------------------------
 
-# 2**27 + 1: Veltkamp splitting constant; exact products need it because numba
-# does not emit fused multiply-add.
+# Veltkamp split point 2**27 + 1: exact products need it, numba emits no fma.
 SPLITTER = 134217729.0
 
-# Stop the descending Landen chain once m_N is below this: the base case keeps
-# the O(m_N) term, so the neglected O(m_N**2) part is below 1e-18.
+# End of the Landen chain: the base case keeps O(m), so the O(m**2) remainder is < 1e-18.
 LANDEN_M_STOP = 1e-9
 
-# Below this mc the expansion about m = 1 (first order in mc) is exact to
-# ~(k'/4)**2 < 1e-17 on [0, K/2]; it also avoids the top Landen levels, whose
-# rounding errors double at every level on the way up when k' is tiny.
+# Below this mc the first-order expansion about m = 1 is exact to (k'/4)**2 < 1e-17.
 MC_HYPERBOLIC = 1e-16
 
-# Landen levels kept on the stack; mc just above MC_HYPERBOLIC needs 7 levels
-# (m -> m**2/16 per level once m is small), so 12 is never reached.
+# Landen levels kept on the stack: 7 are needed at worst (mc just above MC_HYPERBOLIC).
 LANDEN_SLOTS = 12
 _LANDEN_BUF = 2 * LANDEN_SLOTS
 
-# Stop the double-double AGM when |a - b| <= AGM_DD_RTOL * a and finish with
-# M = A (1 - x^2/4), A = (a + b)/2, x = (a - b)/(2A): the correction
-# (<= 6e-18 A, computed in double) and the neglected 5 x^4/64 are both below
-# 1e-32 relative, and one iteration is saved against waiting for a == b.
+# Double-double AGM stop: A(1 - x^2/4) then finishes to < 1e-32 and saves an iteration.
 AGM_DD_RTOL = 1e-8
 
-# Stop the plain double AGM (used only to choose the fast path) at this
-# relative gap: the result only needs a few correct digits there.
+# Double AGM stop: that K only chooses the fast path, a few digits suffice.
 AGM_D_RTOL = 1e-8
 
-# Safety cap on AGM iterations; mc = 1e-308 or 1e308 needs fewer than 25.
+# AGM safety cap: mc = 1e-308 or 1e308 needs fewer than 25 iterations.
 AGM_MAX_ITER = 64
 
-# |u| <= FAST_PATH_FRACTION * K needs no reduction at all: Landen on [0, K/2]
-# keeps cn and dn relatively accurate, so no double-double K is needed there.
+# |u| <= this * K needs no reduction: Landen on [0, K/2] keeps cn, dn relatively accurate.
 FAST_PATH_FRACTION = 0.5
 
-# Carlson R_F: Q0 = (3 eps)**(-1/8) * max|A0 - x| (Boost's choice for the
-# 7th-order series; the remainder is then below eps).
+# Carlson R_F start, (3 eps)**(-1/8) (Boost): the 7th-order series remainder is then < eps.
 RF_Q_FACTOR = (3.0 * 2.220446049250313e-16) ** (-1.0 / 8.0)
 
-# Safety cap on Carlson duplications; extreme ratios (1e-300 : 1) need ~ 30.
+# Carlson duplication safety cap: argument ratios of 1e-300 need about 30.
 RF_MAX_ITER = 100
 
-# m > 1: 1 - m sin^2(phi) may come out a few ulps negative at the edge of the
-# real domain |sin phi| = 1/sqrt(m); clamp it to zero within this many ulps.
+# m > 1: 1 - m sin^2(phi) rounding a few ulps below 0 at the domain edge is clamped to 0.
 EDGE_CLAMP_ULPS = 8.0
 
-# Wrapper check of m + mc == 1: allowed mismatch in ulps of max(1, |m|, |mc|);
-# 1 - m itself rounds by half an ulp, callers who compute mc more cleverly
-# may differ by a couple more.
+# Allowed |m + mc - 1| in ulps of max(1, |m|, |mc|): 1 - m rounds, clever callers differ a bit more.
 MC_CONSISTENCY_ULPS = 8.0
 
-# Argument reduction is exact (double-double) up to this many periods 4K;
-# beyond it the spacing of doubles exceeds the period and the result is only
-# guaranteed finite.
+# Exact (double-double) reduction up to 2**52 periods; beyond, doubles are coarser than a period.
 REDUCE_MAX_PERIODS = 2.0**52
 
-# Above this magnitude the Veltkamp split overflows: products of huge
-# arguments fall back to plain double (only reached beyond REDUCE_MAX_PERIODS).
+# The Veltkamp split overflows above this: huge (already hopeless) products use plain double.
 SPLIT_SAFE = 1e290
 
-# Below this a double-double's low part (~1e-32 relative) would be subnormal;
-# _dd_sqrt rescales such inputs (mc down to 1e-308 is a supported input).
+# Below this a double-double low part would be subnormal: _dd_sqrt rescales (mc >= 1e-308 works).
 DD_TINY = 1e-270
 
 _EPS = 2.220446049250313e-16

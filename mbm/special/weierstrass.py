@@ -26,14 +26,19 @@ same functions, so ℘ is continuous across Δ = 0 from both sides.
 Accuracy
 --------
 The roots are computed in a scaled copy of the cubic (g2/t², g3/t³ with t a
-power of 4, exact), by the trigonometric method (Δ ≥ 0, with the root
-differences from sine formulas, free of cancellation) or Cardano with the
-cancellation-free choice of cube root (Δ < 0), one Newton step in double,
-then one more Newton step with the cubic evaluated in double-double.  The
-lattice data that fix the period (the scale √(e1 − e3) or √H and the
-complementary parameter mc) are carried in double-double, so the argument
-reduction of z is accurate even far from the origin and near the poles
-z = 2kω, where sn is evaluated with relative accuracy.
+power of 4, exact).  Δ ≥ 0: trigonometric method with the angle from
+atan2(sqrt(Δ), ·) (Δ in double-double, so the formulas stay accurate next to
+a double root) and the root differences from sine formulas, free of
+cancellation.  Δ < 0: Cardano with the cancellation-free choice of cube root
+and one Newton step.  Then one Newton step with the cubic evaluated in
+double-double on every root that is not part of a close pair.  The lattice
+data that fix the period (the scale √(e1 − e3) or √H and the complementary
+parameter mc) are carried in double-double, so the argument reduction of z
+is accurate far from the origin and next to the poles z = 2kω, where sn is
+evaluated with relative accuracy.  Exception: when two roots are closer than
+DD_SEP_MIN (relative to the root scale; |Δ| ≲ 1e-6 g2³) their difference,
+and with it ω, is known to ~eps/(2K) only (~3e-18 measured), which shows
+next to the far poles (2.2e-10 at z = (4 + 1e-7) ω, g2 = 3, g3 = −1 + 2⁻⁴⁰).
 """
 
 import math
@@ -63,6 +68,8 @@ from .jacobi import (
 __all__ = [
     "wp_roots_kernel",
     "wp_kernel",
+    "wp_lattice_kernel",
+    "wp_eval_kernel",
     "wp_half_period_kernel",
     "wp_inverse_kernel",
     "wp_roots",
@@ -76,27 +83,19 @@ __all__ = [
 # Tuning constants
 # ---------------------------------------------------------------------------
 
-# Root differences (normalised cubic, roots of order 1) come from the
-# double-double Newton-refined roots only when all roots are at least this
-# far apart: the step leaves an error ~eps^2/sep^3, i.e. ~eps^2/sep^4
-# relative to the difference, 5e-20 here; closer roots keep the sine formulas
-# (relative accuracy ~eps, they use the exact Δ).
+# Roots closer than this use the sine-formula differences: the double-double Newton
+# step would leave ~eps^2/sep^4 relative error (5e-20 here), and worse below.
 DD_SEP_MIN = 1e-3
 
-# Accept a Newton correction of a root only if it is below this (normalised
-# units): the trigonometric/Cardano start is good to a few ulps, larger
-# steps only happen next to a double root, where Newton is unreliable.
+# Larger Newton corrections only happen next to a double root, where Newton is unreliable.
 NEWTON_MAX_STEP = 1e-10
 
-# wp_inverse: a w below the minimum of ℘ by at most this many ulps (of the
-# size of the root data) is rounding noise from a forward evaluation and is
-# clamped to the minimum.
+# wp_inverse: w this many ulps below the minimum of ℘ is forward rounding noise, clamped.
 INVERSE_CLAMP_ULPS = 16.0
 
 _SQRT3 = 1.7320508075688772
 _SQRT27 = 5.196152422706632
 _SQRT1728 = 41.569219381653056
-_PI = 3.141592653589793
 _PI_3 = 1.0471975511965979
 _LOG4 = 1.3862943611198906
 
@@ -328,25 +327,31 @@ def wp_roots_kernel(g2, g3):
 
 
 @_jit
-def wp_kernel(z, g2, g3):
-    """Weierstrass ℘(z; g2, g3) and ℘′ for real z, numba kernel.
+def wp_lattice_kernel(g2, g3):
+    """Lattice data of ℘(·; g2, g3) for repeated ``wp_eval_kernel`` calls.
 
-    Parameters
-    ----------
-    z : float
-        Real argument.
-    g2, g3 : float
-        Real invariants, any sign of Δ.
+    ``wp_kernel(z, g2, g3)`` spends roughly half of its time deriving the
+    roots and the period from (g2, g3); a caller evaluating many z for the
+    same invariants can do that once.
+
+    Returns
+    -------
+    tuple of 13 floats
+        Opaque (its layout may change); pass it to ``wp_eval_kernel``.
+    """
+    return _wp_setup(g2, g3)
+
+
+@_jit
+def wp_eval_kernel(z, lattice):
+    """``wp_kernel`` with the lattice data precomputed by ``wp_lattice_kernel``.
 
     Returns
     -------
     wp, wpprime : float
-        At a pole (z = 0, or z exactly on 2kω after reduction) ``wp = +inf``
-        and ``wpprime = -inf`` for z = +0 (the limit from the right,
-        ℘′ ~ −2/z³) and ``+inf`` for z = −0.  Values whose magnitude exceeds
-        the float range overflow to inf with the correct sign.
+        Bit-for-bit what ``wp_kernel(z, g2, g3)`` returns.
     """
-    kind, r1, r2, r3, ds, base, lam2, lh, ll, m, mc, kch, kcl = _wp_setup(g2, g3)
+    kind, r1, r2, r3, ds, base, lam2, lh, ll, m, mc, kch, kcl = lattice
     if kind == 0.0:
         if z == 0.0:
             return math.inf, -math.copysign(math.inf, z)
@@ -383,6 +388,31 @@ def wp_kernel(z, g2, g3):
         s2 = sn * sn
         wpp_ = -2.0 * lam3 * q * ((d2 * d2 + m * mc * s2 * s2) / sd) / sd
     return wp_, wpp_
+
+
+@_jit
+def wp_kernel(z, g2, g3):
+    """Weierstrass ℘(z; g2, g3) and ℘′ for real z, numba kernel.
+
+    Parameters
+    ----------
+    z : float
+        Real argument.
+    g2, g3 : float
+        Real invariants, any sign of Δ.
+
+    Returns
+    -------
+    wp, wpprime : float
+        At a pole (z = 0, or z exactly on 2kω after reduction) ``wp = +inf``
+        and ``wpprime = -inf`` for z = +0 (the limit from the right,
+        ℘′ ~ −2/z³) and ``+inf`` for z = −0.  Values whose magnitude exceeds
+        the float range overflow to inf with the correct sign.  Accuracy
+        ~1e-15 relative (absolute, on the scale of the roots, next to a zero
+        of ℘; relative to |z ℘″| eps next to the zero of ℘′ at z = ω),
+        including next to the poles and for |z| up to ~1e3 ω and beyond.
+    """
+    return wp_eval_kernel(z, _wp_setup(g2, g3))
 
 
 @_jit
