@@ -13,11 +13,12 @@ import numpy as np
 from scipy.integrate import DenseOutput, OdeSolver
 
 from . import events as _events
+from . import kernels as _kernels
 from .approximants import get_approximant
 from .choice import choose_approximant
 from .problem import Pendulum, identify_model
 
-__all__ = ["MBM", "MBMDenseOutput"]
+__all__ = ["MBM", "MBMDenseOutput", "MBMWindowsDenseOutput"]
 
 # scipy's RK methods refuse rtol below 100 eps (round-off dominates the estimate);
 # so does MBM's window control.
@@ -27,20 +28,9 @@ RTOL_FLOOR = 100 * np.finfo(float).eps
 # approximant has no error estimate: one tenth of the small-oscillation period 2π/ω
 # keeps the paper's |βτ| ≪ 1 assumption (2.10) for β ≲ 1.
 DEFAULT_TAU_PERIODS = 0.1
-# Window-control constants, as in scipy's RK controller (Hairer–Nørsett–Wanner
-# II.4): a safety factor below 1 keeps most windows accepted, the growth cap keeps
-# one lucky estimate from jumping past the region the estimate describes, and the
-# shrink floor keeps a bad estimate from collapsing the window.
-SAFETY = 0.9
-MAX_FACTOR = 5.0
-MIN_FACTOR = 0.2
-# First-window search: start from a quarter of the small-oscillation period and
-# correct it by the estimate's scaling this many times (the anchor is computed
-# once; each correction is one error estimate).
-FIRST_WINDOW_PERIODS = 0.25
-FIRST_WINDOW_ITERS = 4
-# A window shorter than this many ulps of t cannot advance t: fail instead of looping.
-MIN_WINDOW_ULPS = 10.0
+# Initial size of the per-step window buffers (grown by doubling when a step holds
+# more windows).
+WINDOW_BUFFER = 16
 # Hybrid event-point mode (3.32): CVODE's tolerances for locating the events and the
 # anchor states; tight, because the anchors carry CVODE's error into every window.
 HYBRID_RTOL = 1e-10
@@ -138,6 +128,7 @@ class MBM(OdeSolver):
         model=None,
         anchors="windows",
         events_from="cvode",
+        windows_per_step=1,
         max_step=np.inf,
         first_step=None,
         rtol=None,
@@ -176,16 +167,23 @@ class MBM(OdeSolver):
         self.approximant_choice = (self.approximant.name, reason)
         self._beta, self._gamma, self._omega = model.params
         self._coef = None
-        error_kernel = getattr(self.approximant, "error_kernel", None)
+        self._run = None
+        self._kind = _kernels.kind_of(self.approximant)
         exact = bool(getattr(self.approximant, "exact", False))
-        self.adaptive = tau is None and error_kernel is not None and not exact
-        self._h_abs = None
+        has_estimate = getattr(self.approximant, "error_kernel", None) is not None
+        self.adaptive = tau is None and has_estimate and not exact and self._kind is not None
         if first_step is not None:
             first_step = _positive("first_step", first_step)
         if anchors not in ("windows", "events"):
             raise ValueError(f"anchors must be 'windows' or 'events', got {anchors!r}")
         if events_from not in ("cvode", "approximant"):
             raise ValueError(f"events_from must be 'cvode' or 'approximant', got {events_from!r}")
+        if windows_per_step is None:
+            self.windows_per_step = None
+        else:
+            if isinstance(windows_per_step, bool) or not isinstance(windows_per_step, (int, np.integer)) or windows_per_step < 1:
+                raise ValueError(f"windows_per_step must be an integer >= 1 or None, got {windows_per_step!r}")
+            self.windows_per_step = int(windows_per_step)
         self.anchors = anchors
         self.events_from = events_from if anchors == "events" else None
         if anchors == "events":
@@ -195,11 +193,9 @@ class MBM(OdeSolver):
             return
         if exact and tau is None:
             # An exact flow has no truncation error: one window as long as max_step allows.
-            self.tau = self.max_step if math.isfinite(self.max_step) else abs(t_bound - t0) or 1.0
+            self.tau = self.max_step if math.isfinite(self.max_step) else (abs(t_bound - t0) or 1.0)
         elif self.adaptive:
             self.tau = None
-            self._order = int(self.approximant.order)
-            self._h_abs = None if first_step is None else min(first_step, self.max_step)
         else:
             if tau is None:
                 if tol_given:
@@ -211,6 +207,9 @@ class MBM(OdeSolver):
                     )
                 tau = first_step if first_step is not None else DEFAULT_TAU_PERIODS * 2 * math.pi / model.omega
             self.tau = min(_positive("tau", tau), self.max_step)
+        # Next window length for the compiled controller (≤ 0: search from the estimate).
+        self._h_abs = self.tau if not self.adaptive else (min(first_step, self.max_step) if first_step else -1.0)
+        self._order = int(self.approximant.order) if self.adaptive else 1
 
     def _setup_events(self, t0, t_bound):
         ap = self.approximant
@@ -319,41 +318,74 @@ class MBM(OdeSolver):
             t_new = self.t_bound
         return t_new
 
-    def _error_norm(self, coef, h, theta, v):
-        et, ev = self.approximant.error_kernel(coef, h)
-        y = self.y
-        st = self.atol + self.rtol * max(abs(y[0]), abs(theta))
-        sv = self.atol + self.rtol * max(abs(y[1]), abs(v))
-        return math.sqrt(0.5 * ((et / st) ** 2 + (ev / sv) ** 2))
-
-    def _first_window(self, coef):
-        # The anchor does not depend on the window, so the first window is found by
-        # correcting a guess with the estimate's own h^(p+1) scaling.
-        h_abs = min(FIRST_WINDOW_PERIODS * 2 * math.pi / self._omega, self.max_step)
-        for _ in range(FIRST_WINDOW_ITERS):
-            h = self._window_end(h_abs) - self.t
-            theta, v = self.approximant.eval_kernel(coef, h)
-            err = self._error_norm(coef, h, theta, v)
-            if not math.isfinite(err):
-                h_abs *= MIN_FACTOR
-                continue
-            fac = MAX_FACTOR if err == 0.0 else SAFETY * err ** (-1.0 / (self._order + 1))
-            h_abs = min(h_abs * min(MAX_FACTOR, max(MIN_FACTOR, fac)), self.max_step)
-        return h_abs
-
     def _step_impl(self):
         if self.anchors == "events":
             return self._events_step()
+        if self._kind is None:
+            return self._python_window()
+        kind, karg = self._kind
+        nmax = self.windows_per_step or WINDOW_BUFFER
+        starts = np.empty(nmax + 1)
+        coefs = np.empty((nmax, self._coef_width()))
+        st, n, t, th, v, h_abs = _kernels.advance(
+            kind, karg, self._order, self._beta, self._gamma, self._omega, self.t, self.y[0],
+            self.y[1], float(self.direction), float(self.t_bound), float(self._h_abs),
+            self.max_step, self.rtol, self.atol, self.adaptive, float(self.t_bound), nmax,
+            starts, coefs,
+        )
+        # windows_per_step=None: keep going in compiled chunks until t_bound.
+        while st == 0 and self.windows_per_step is None and t != self.t_bound:
+            more_s = np.empty(nmax + 1)
+            more_c = np.empty((nmax, coefs.shape[1]))
+            st, m, t, th, v, h_abs = _kernels.advance(
+                kind, karg, self._order, self._beta, self._gamma, self._omega, t, th, v,
+                float(self.direction), float(self.t_bound), h_abs, self.max_step, self.rtol,
+                self.atol, self.adaptive, float(self.t_bound), nmax, more_s, more_c,
+            )
+            starts = np.concatenate((starts[:n], more_s[: m + 1]))
+            coefs = np.concatenate((coefs[:n], more_c[:m]))
+            n += m
+        if n == 0:
+            return False, self._failure(st)
+        self._run = (starts[: n + 1], coefs[:n], n)
+        self._h_abs = h_abs
+        self.t = t
+        self.y = np.array([th, v])
+        # A failure after some accepted windows ends this step early; the next step reports it.
+        return True, None
+
+    def _coef_width(self):
+        # Widest coefficient vector of this approximant: anchor once at the current state.
+        kind, karg = self._kind
+        if not hasattr(self, "_width"):
+            self._width = _kernels.anchor(kind, karg, self._beta, self._gamma, self._omega, self.y[0], self.y[1]).size
+        return self._width
+
+    def _failure(self, st):
+        ap = self.approximant
+        if st == _kernels.STATUS_ANCHOR:
+            coef, msg = self._anchor()
+            return msg or f"approximant {ap.name!r} cannot be anchored at t={self.t!r}"
+        if st == _kernels.STATUS_TOO_SMALL:
+            return (
+                f"required window at t={self.t!r} is below the spacing of floating point "
+                f"numbers: approximant {ap.name!r} cannot meet rtol={self.rtol!r}, "
+                f"atol={self.atol!r} here"
+            )
+        return (
+            f"approximant {ap.name!r} produced a non-finite state over the window starting "
+            f"at t={self.t!r}: the motion left its domain"
+        )
+
+    def _python_window(self):
+        # Approximants outside the compiled kinds: one fixed window per step.
         coef, msg = self._anchor()
         if coef is None:
             return False, msg
-        if self.adaptive:
-            return self._adaptive_step(coef)
         t = self.t
         t_new = self._window_end(self.tau)
-        h = t_new - t
         ap = self.approximant
-        theta, v = ap.eval_kernel(coef, h)
+        theta, v = ap.eval_kernel(coef, t_new - t)
         if not (math.isfinite(theta) and math.isfinite(v)):
             return False, (
                 f"approximant {ap.name!r} produced a non-finite state over the window "
@@ -364,41 +396,10 @@ class MBM(OdeSolver):
         self.y = np.array([theta, v])
         return True, None
 
-    def _adaptive_step(self, coef):
-        ap = self.approximant
-        t = self.t
-        if self._h_abs is None:
-            self._h_abs = self._first_window(coef)
-        min_h = MIN_WINDOW_ULPS * abs(np.nextafter(t, self.direction * np.inf) - t)
-        h_abs = min(self._h_abs, self.max_step)
-        rejected = False
-        inv = -1.0 / (self._order + 1)
-        while True:
-            if h_abs < min_h:
-                return False, (
-                    f"required window {h_abs!r} at t={t!r} is below the spacing of floating "
-                    f"point numbers: approximant {ap.name!r} cannot meet rtol={self.rtol!r}, "
-                    f"atol={self.atol!r} here"
-                )
-            t_new = self._window_end(h_abs)
-            h = t_new - t
-            theta, v = ap.eval_kernel(coef, h)
-            err = self._error_norm(coef, h, theta, v)
-            if math.isfinite(err) and err <= 1.0 and math.isfinite(theta) and math.isfinite(v):
-                fac = MAX_FACTOR if err == 0.0 else min(MAX_FACTOR, SAFETY * err**inv)
-                if rejected:
-                    fac = min(1.0, fac)
-                self._h_abs = h_abs * fac
-                break
-            fac = MIN_FACTOR if not math.isfinite(err) else max(MIN_FACTOR, SAFETY * err**inv)
-            h_abs *= fac
-            rejected = True
-        self._coef = coef
-        self.t = t_new
-        self.y = np.array([theta, v])
-        return True, None
-
     def _dense_output_impl(self):
+        if self._run is not None and self.anchors == "windows":
+            starts, coefs, n = self._run
+            return MBMWindowsDenseOutput(self.t_old, self.t, self._kind[0], starts, coefs, n, self.direction)
         return MBMDenseOutput(self.t_old, self.t, self.approximant, self._coef)
 
 
@@ -424,4 +425,29 @@ class MBMDenseOutput(DenseOutput):
         th = np.empty_like(s)
         v = np.empty_like(s)
         self.approximant.eval_array_kernel(self.coef, s, th, v)
+        return np.vstack((th, v))
+
+
+class MBMWindowsDenseOutput(DenseOutput):
+    """Dense output of a step made of one or more windows: each window's anchored formula.
+
+    Exact at both ends of the step: ``sol(t_old)`` is the first anchor and ``sol(t)``
+    repeats the evaluation that produced the step's end state.
+    """
+
+    def __init__(self, t_old, t, kind, starts, coefs, n, direction):
+        super().__init__(t_old, t)
+        self.kind = kind
+        self.starts = starts
+        self.coefs = coefs
+        self.n = n
+        self.direction = float(direction)
+
+    def _call_impl(self, t):
+        tt = np.ascontiguousarray(np.atleast_1d(np.asarray(t, dtype=np.float64)))
+        th = np.empty_like(tt)
+        v = np.empty_like(tt)
+        _kernels.evaluate_windows(self.kind, self.starts, self.coefs, self.n, self.direction, tt, th, v)
+        if np.ndim(t) == 0:
+            return np.array([th[0], v[0]])
         return np.vstack((th, v))

@@ -288,3 +288,32 @@ def test_step_contract_every_mode(model, kw, direction):
         y_old = solver.y.copy()
         n += 1
     assert solver.status == "finished" and solver.t == t_bound and n >= 2
+
+
+@pytest.mark.parametrize("wps", [3, None])
+@pytest.mark.parametrize("kw", [dict(rtol=1e-8, atol=1e-8), dict(approximant="salas-torque", tau=0.4)])
+def test_many_windows_per_step_same_answer(wps, kw):
+    # Grouping windows into steps changes the Python overhead, not the windows.
+    t = np.linspace(0.0, 30.0, 301)
+    one = solve_ivp(EX1, (0.0, 30.0), EX1_Y0, method=mbm.MBM, t_eval=t, dense_output=True, **kw)
+    many = solve_ivp(EX1, (0.0, 30.0), EX1_Y0, method=mbm.MBM, t_eval=t, dense_output=True, windows_per_step=wps, **kw)
+    assert many.success and many.t.size == t.size
+    np.testing.assert_array_equal(many.y, one.y)
+    tt = np.linspace(0.0, 30.0, 1001)
+    np.testing.assert_array_equal(many.sol(tt), one.sol(tt))
+    solver = mbm.MBM(EX1, 0.0, EX1_Y0, 30.0, windows_per_step=wps, **kw)
+    y_old = solver.y.copy()
+    steps = 0
+    while solver.status == "running":
+        solver.step()
+        sol = solver.dense_output()
+        assert np.array_equal(sol(solver.t_old), y_old) and np.array_equal(sol(solver.t), solver.y)
+        y_old = solver.y.copy()
+        steps += 1
+    if wps is None:
+        assert steps == 1
+
+
+def test_windows_per_step_validated():
+    with pytest.raises(ValueError, match="windows_per_step"):
+        mbm.MBM(EX1, 0.0, EX1_Y0, 1.0, windows_per_step=0)

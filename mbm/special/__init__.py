@@ -40,6 +40,16 @@ from .jacobi import (
     ellipk_kernel,
     sn,
 )
+from .trig import (
+    M_MAX as TRIG_M_MAX,
+    cos_m,
+    cos_m_kernel,
+    dn_m,
+    sin_m,
+    sin_m_dm_kernel,
+    sin_m_kernel,
+    trig_m_kernel,
+)
 from .weierstrass import (
     wp,
     wp_eval_kernel,
@@ -69,6 +79,11 @@ __all__ = [
     "wp_roots",
     "wp_half_period",
     "wp_inverse",
+    # trigonometric approximants of sn, cn (first paper (3.12)-(3.14), second (2.25)-(2.26))
+    "sin_m",
+    "cos_m",
+    "dn_m",
+    "TRIG_M_MAX",
     # numba kernels
     "ellipj_kernel",
     "ellipk_kernel",
@@ -79,4 +94,8 @@ __all__ = [
     "wp_eval_kernel",
     "wp_half_period_kernel",
     "wp_inverse_kernel",
+    "trig_m_kernel",
+    "sin_m_kernel",
+    "cos_m_kernel",
+    "sin_m_dm_kernel",
 ]
