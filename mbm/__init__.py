@@ -15,6 +15,7 @@ from .approximants.belendez2007 import pendulum_flow, period
 from .problem import Pendulum, identify_model
 from .reference import reference
 from . import choice
+from .fast import solve, solve_batch
 from .solver import MBM
 
 __version__ = "0.1.0"
@@ -31,4 +32,6 @@ __all__ = [
     "pendulum_flow",
     "period",
     "reference",
+    "solve",
+    "solve_batch",
 ]

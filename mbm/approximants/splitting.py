@@ -54,12 +54,13 @@ Error estimate
 --------------
 Compositions have no cheap embedded partner (the intermediate states depend on t,
 so no flow is shared between methods of different order).  :func:`split_error_kernel`
-compares Φ(h) with the degree-SPLIT_ERROR_TAYLOR_DEGREE Taylor polynomial of the
-true solution at the anchor (:mod:`mbm.approximants.taylor`), whose own error
-(h/R)^{21} is negligible against Φ's O(h^{p+1}) wherever the window is usable;
-the estimate is then the local error itself (measured in ``tests/test_convergent.py``).
-It costs one more composition and one Taylor anchor (the solver may reuse the
-composition it evaluates anyway, but the interface does not pass it in).
+compares Φ(h) with the true state at h computed by degree-30 Taylor polynomials
+(:mod:`mbm.approximants.taylor`) in substeps of at most a third of the series'
+radius (one substep unless h is large or the rotation fast); their error,
+~(1/3)^31, is far below Φ's O(h^{p+1}), so the estimate is the local error itself
+(``tests/test_convergent.py`` measures the ratio: 1.00).  It costs one more
+composition and a Taylor anchor or a few (the solver could reuse the composition it
+evaluates anyway, but the interface does not pass it in).
 """
 
 import math
@@ -69,7 +70,7 @@ from numba import njit
 
 from .base import Approximant, register
 from .belendez2007 import pendulum_flow_kernel
-from .taylor import taylor_coefficients, taylor_eval_kernel
+from .taylor import taylor_coefficients, taylor_eval_kernel, taylor_radius_kernel
 
 __all__ = [
     "drift_flow_kernel",
@@ -90,9 +91,14 @@ B_SERIES_MAX = 1.0
 B_SERIES_TERMS = 19
 # 1/k! for the drift-flow series.
 _INV_FACT = np.array([1.0 / math.factorial(k) for k in range(B_SERIES_TERMS + 2)])
-# Degree of the Taylor polynomial the error estimate compares with: its own error
-# over h is (h/R)^21, far below a splitting's C h^{p+1} at usable windows.
-SPLIT_ERROR_TAYLOR_DEGREE = 20
+# The error estimate's reference solution: Taylor substeps of this degree, each at
+# most this fraction of its radius estimate, err ≈ (1/3)^31 ≈ 2e-15 relative:
+# below every splitting's local error at any window worth taking.
+SPLIT_ERROR_TAYLOR_DEGREE = 30
+SPLIT_ERROR_RADIUS_FRACTION = 1.0 / 3.0
+# Substep cap (a window 64 radii long is no window for a splitting either):
+# beyond it the estimate is inf, i.e. "shrink the window".
+SPLIT_ERROR_MAX_SUBSTEPS = 64
 
 # 2π as hi + lo and Veltkamp's splitter 2^27 + 1, for the exact reduction of θ₀.
 TWO_PI_HI = 6.283185307179586
@@ -331,11 +337,23 @@ def split_error_kernel(coef, h):
     if coef[2] == 0.0 and coef[3] == 0.0:
         # β = γ = 0: the composition is the exact elliptic flow (see compose_kernel).
         return 0.0, 0.0
+    if h == 0.0:
+        return 0.0, 0.0
     th, v = split_eval_kernel(coef, h)
-    tc = taylor_coefficients(coef[2], coef[3], coef[4], coef[5], coef[6],
-                             SPLIT_ERROR_TAYLOR_DEGREE)
-    tth, tv = taylor_eval_kernel(tc, h)
-    return abs(th - tth), abs(v - tv)
+    beta, gamma, omega = coef[2], coef[3], coef[4]
+    # The true state at h: Taylor substeps no longer than SPLIT_ERROR_RADIUS_FRACTION
+    # of each anchor's radius estimate (one substep for the usual windows).
+    tth, tv = coef[5], coef[6]
+    done = 0.0
+    sgn = 1.0 if h > 0.0 else -1.0
+    for _ in range(SPLIT_ERROR_MAX_SUBSTEPS):
+        tc = taylor_coefficients(beta, gamma, omega, tth, tv, SPLIT_ERROR_TAYLOR_DEGREE)
+        step = min(abs(h) - done, SPLIT_ERROR_RADIUS_FRACTION * taylor_radius_kernel(tc))
+        tth, tv = taylor_eval_kernel(tc, sgn * step)
+        done += step
+        if done >= abs(h):
+            return abs(th - tth), abs(v - tv)
+    return math.inf, math.inf
 
 
 @njit(cache=True)

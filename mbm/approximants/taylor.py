@@ -75,6 +75,7 @@ __all__ = [
     "taylor_error_kernel",
     "taylor_fixed_window_run",
     "radius_estimate",
+    "taylor_radius_kernel",
     "TAYLOR_ORDERS",
     "TAYLOR_DEFAULT_ORDER",
     "Taylor",
@@ -210,6 +211,18 @@ def taylor_eval_array_kernel(coef, t, out_theta, out_v):
 
 
 @njit(cache=True)
+def taylor_radius_kernel(coef):
+    """Root-test radius estimate min(|a_{N+1}|^{−1/(N+1)}, |a_{N+2}|^{−1/(N+2)}); inf if both are 0."""
+    n = int(coef[1])
+    r = math.inf
+    for k in range(n + 1, n + 3):
+        ak = abs(coef[HEADER + k])
+        if ak > 0.0:
+            r = min(r, ak ** (-1.0 / k))
+    return r
+
+
+@njit(cache=True)
 def taylor_error_kernel(coef, h):
     """Estimated local error of the window [0, h]: the first two neglected terms.
 
@@ -331,13 +344,7 @@ def radius_estimate(coef):
     float
         ``inf`` when both extra coefficients vanish (e.g. at rest at an equilibrium).
     """
-    n = int(coef[1])
-    r = math.inf
-    for k in (n + 1, n + 2):
-        ak = abs(float(coef[HEADER + k]))
-        if ak > 0.0:
-            r = min(r, ak ** (-1.0 / k))
-    return r
+    return float(taylor_radius_kernel(coef))
 
 
 def _make(n, name):
