@@ -65,6 +65,9 @@ def _errors(ref, prefix, cases_key, t_key):
     return out
 
 
+EPS = np.finfo(float).eps
+
+
 def _energy(th, v, w):
     return 0.5 * v * v + 2.0 * w * w * np.sin(0.5 * th) ** 2
 
@@ -279,7 +282,11 @@ def test_flow_properties_random(th0, v0, w, t, s):
         return
     a = _F(th0, v0, w, t)
     e0 = _energy(th0, v0, w)
-    assert abs(_energy(a[0], a[1], w) - e0) <= ENERGY_RTOL * e0 + 1e-300
+    # The energy formula itself is ill-conditioned at small amplitude away from θ = 0:
+    # a rounding of θ by eps·|θ| moves 2ω² sin²(θ/2) by ω²|sin θ|·eps·|θ| (hypothesis
+    # found θ₀ = 2π + 9.6e-6, E = 1.6e-10, where this term is 1e-21 ≫ 1e-13·E).
+    cond = 4 * EPS * w * w * (abs(np.sin(th0)) * abs(th0) + abs(np.sin(a[0])) * abs(a[0]))
+    assert abs(_energy(a[0], a[1], w) - e0) <= ENERGY_RTOL * e0 + cond + 1e-300
     b = _F(a[0], a[1], w, s)
     c = _F(th0, v0, w, t + s)
     assert abs(b[0] - c[0]) <= 1e-10 * max(1.0, abs(c[0]))
