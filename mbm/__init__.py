@@ -1,9 +1,17 @@
 """mbm: the moving boundary method for the damped, torque-driven pendulum.
 
 θ'' + β θ' + ω² sin θ = γ, integrated by re-anchored analytic approximants, as a
-drop-in ``scipy.integrate.solve_ivp`` method (:class:`MBM`).
+drop-in ``scipy.integrate.solve_ivp`` method (:class:`MBM`) and as a compiled
+whole-run solver (:func:`solve`, :func:`solve_batch`).
+
+:class:`MBM` and the :mod:`mbm.events` module import ``scipy.integrate`` (about
+half a second); they are loaded on first use so that ``import mbm`` followed by
+:func:`solve` stays fast.
 """
 
+import importlib
+
+from . import choice
 from .approximants import (
     Anchored,
     Approximant,
@@ -12,11 +20,9 @@ from .approximants import (
     get_approximant,
 )
 from .approximants.belendez2007 import pendulum_flow, period
+from .fast import solve, solve_batch
 from .problem import Pendulum, identify_model
 from .reference import reference
-from . import choice
-from .fast import solve, solve_batch
-from .solver import MBM
 
 __version__ = "0.1.0"
 
@@ -35,3 +41,24 @@ __all__ = [
     "solve",
     "solve_batch",
 ]
+
+# name -> (module, attribute or None for the module itself)
+_LAZY = {
+    "MBM": ("mbm.solver", "MBM"),
+    "events": ("mbm.events", None),
+    "solver": ("mbm.solver", None),
+}
+
+
+def __getattr__(name):
+    if name in _LAZY:
+        mod_name, attr = _LAZY[name]
+        mod = importlib.import_module(mod_name)
+        value = mod if attr is None else getattr(mod, attr)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'mbm' has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_LAZY))

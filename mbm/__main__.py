@@ -1,4 +1,9 @@
-"""Command line: ``python -m mbm demo`` (also the ``mbm`` console script)."""
+"""Command line of mbm (the ``mbm`` console script, also ``python -m mbm``).
+
+Subcommands: ``demo`` (the second paper's Example 1, error and time), ``solve`` (one
+scene to CSV/NPZ, optional PNG), ``study`` (a step-size / accuracy study with fitted
+orders) and ``bench`` (the work-precision benchmark of :mod:`mbm.bench`).
+"""
 
 import argparse
 import math
@@ -7,7 +12,7 @@ import time
 
 import numpy as np
 
-__all__ = ["main", "demo"]
+__all__ = ["main", "demo", "solve_command", "study_command", "parse_angle"]
 
 # Repetitions of each timed solve in the demo: the median of a few runs keeps one
 # slow run (page faults, another process) out of the figure.
@@ -94,17 +99,316 @@ def demo(rtol=1e-9, out=sys.stdout):
     return results
 
 
-def main(argv=None):
-    """Entry point of the ``mbm`` command."""
-    parser = argparse.ArgumentParser(prog="mbm", description=__doc__)
+# Suffixes `mbm solve --out` understands; anything else is rejected by name.
+OUT_SUFFIXES = (".csv", ".npz")
+# Suffixes of an angle given in degrees ("30deg", "30°"); plain numbers are radians.
+DEG_SUFFIXES = ("deg", "°", "d")
+
+
+def parse_angle(text):
+    """Parse ``--theta0``: a number (radians) or a number with a ``deg`` suffix.
+
+    Parameters
+    ----------
+    text : str
+        E.g. ``"0.5"``, ``"30deg"``, ``"30°"``.
+
+    Returns
+    -------
+    (float, bool)
+        The number and whether it was marked as degrees.
+
+    Raises
+    ------
+    argparse.ArgumentTypeError
+        If it is not a finite number (argparse then names the argument).
+    """
+    s = str(text).strip().lower()
+    deg = False
+    for suf in DEG_SUFFIXES:
+        if s.endswith(suf) and s[: -len(suf)].strip():
+            s, deg = s[: -len(suf)].strip(), True
+            break
+    try:
+        x = float(s)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not an angle: {text!r} (a number in radians, or e.g. 30deg)") from None
+    if not math.isfinite(x):
+        raise argparse.ArgumentTypeError(f"angle must be finite, got {text!r}")
+    return x, deg
+
+
+def _finite(text):
+    try:
+        x = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not math.isfinite(x):
+        raise argparse.ArgumentTypeError(f"must be finite, got {text!r}")
+    return x
+
+
+def _positive(text):
+    x = _finite(text)
+    if not x > 0:
+        raise argparse.ArgumentTypeError(f"must be > 0, got {text!r}")
+    return x
+
+
+def _count(text):
+    try:
+        n = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not an integer: {text!r}") from None
+    if n < 2:
+        raise argparse.ArgumentTypeError(f"must be >= 2, got {text!r}")
+    return n
+
+
+def _positive_list(text):
+    try:
+        xs = [float(x) for x in str(text).split(",") if x.strip()]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a comma-separated list of numbers: {text!r}") from None
+    if not xs or not all(math.isfinite(x) and x > 0 for x in xs):
+        raise argparse.ArgumentTypeError(f"need positive finite numbers, got {text!r}")
+    return xs
+
+
+def _approximant(text):
+    import mbm
+
+    names = ["auto", *mbm.approximant_names()]
+    if text not in names:
+        raise argparse.ArgumentTypeError(f"unknown approximant {text!r}; choose from {', '.join(names)}")
+    return text
+
+
+def _approximant_list(text):
+    return [_approximant(x.strip()) for x in str(text).split(",") if x.strip()]
+
+
+def _require_matplotlib(parser, option):
+    """Import matplotlib with the Agg backend, or stop with an error naming ``option``."""
+    try:
+        import matplotlib
+    except ImportError:
+        parser.error(f"{option} needs matplotlib, which is not installed (pip install matplotlib)")
+    matplotlib.use("Agg")  # writes files only: no display is needed or assumed
+
+
+def solve_command(beta, gamma, omega, theta0, v0, t_end, tau=None, approximant="auto",
+                  rtol=1e-6, atol=1e-9, n_out=201, out=None, plot=None, stdout=sys.stdout):
+    """Solve one scene and write θ, θ' at ``n_out`` times (the ``mbm solve`` command).
+
+    Parameters
+    ----------
+    beta, gamma, omega : float
+        θ'' + βθ' + ω² sin θ = γ.
+    theta0, v0 : float
+        Initial state (θ₀ in radians).
+    t_end : float
+        End time (> 0); output on ``linspace(0, t_end, n_out)``.
+    tau, approximant, rtol, atol
+        As for :func:`mbm.solve`; approximants without a compiled kernel run through
+        ``solve_ivp(method=mbm.MBM)``.
+    n_out : int
+    out : str or Path, optional
+        ``.csv`` (columns ``t,theta,theta_dot``) or ``.npz`` (arrays ``t``, ``theta``,
+        ``theta_dot`` and the scene's parameters); default: CSV on ``stdout``.
+    plot : str or Path, optional
+        PNG of θ(t) and the phase portrait (needs matplotlib).
+    stdout : file-like
+
+    Returns
+    -------
+    (ndarray, ndarray)
+        ``t`` and ``y`` (shape (2, n_out)).
+    """
+    from pathlib import Path
+
+    import mbm
+    from mbm.cli_study import integrate
+
+    model = mbm.Pendulum(beta=beta, gamma=gamma, omega=omega)
+    t = np.linspace(0.0, t_end, n_out)
+    y, _ = integrate(model, (0.0, t_end), [theta0, v0], t, approximant=approximant, tau=tau,
+                     rtol=rtol, atol=atol)
+    if out is None:
+        _write_csv(stdout, t, y)
+    elif str(out).lower().endswith(".npz"):
+        np.savez(out, t=t, theta=y[0], theta_dot=y[1], beta=beta, gamma=gamma, omega=omega,
+                 theta0=theta0, v0=v0, approximant=approximant)
+    else:
+        with open(out, "w", newline="") as f:
+            _write_csv(f, t, y)
+    if plot is not None:
+        import matplotlib.pyplot as plt
+
+        fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4))
+        a1.plot(t, y[0], lw=1.2)
+        a1.set_xlabel("t")
+        a1.set_ylabel(r"$\theta$")
+        a1.set_title(rf"$\beta$={beta:g}, $\gamma$={gamma:g}, $\omega$={omega:g}")
+        a2.plot(y[0], y[1], lw=1.0)
+        a2.set_xlabel(r"$\theta$")
+        a2.set_ylabel(r"$\theta'$")
+        a2.set_title("phase portrait")
+        fig.tight_layout()
+        fig.savefig(Path(plot), dpi=110)
+        plt.close(fig)
+    return t, y
+
+
+def _write_csv(f, t, y):
+    f.write("t,theta,theta_dot\n")
+    for ti, a, b in zip(t, y[0], y[1]):
+        f.write(f"{float(ti)!r},{float(a)!r},{float(b)!r}\n")
+
+
+def study_command(scene, approximants, taus=None, rtols=None, n_out=201, csv=None, plot=None,
+                  stdout=sys.stdout):
+    """Run a step-size study and print its table (the ``mbm study`` command).
+
+    Parameters
+    ----------
+    scene : tuple
+        ``(beta, gamma, omega, theta0, v0, t_end)``.
+    approximants : list of str
+    taus, rtols : list of float, optional
+        The sweep (see :func:`mbm.cli_study.run_study`).
+    n_out : int
+    csv, plot : str or Path, optional
+        Where to write the rows (CSV) and the figure (PNG).
+    stdout : file-like
+
+    Returns
+    -------
+    dict
+        The study (:func:`mbm.cli_study.run_study`).
+    """
+    from mbm import cli_study
+
+    study = cli_study.run_study(scene, approximants, taus=taus, rtols=rtols, n_out=n_out)
+    print(cli_study.format_table(study), file=stdout)
+    if csv:
+        cli_study.write_csv(study, csv)
+    if plot:
+        cli_study.plot_study(study, plot)
+    return study
+
+
+def _bench(argv):
+    """Hand ``mbm bench ARGS`` to :func:`mbm.bench.main`."""
+    try:
+        from mbm import bench
+    except ImportError as exc:
+        print(f"mbm bench: error: mbm.bench cannot be imported ({exc})", file=sys.stderr)
+        return 2
+    entry = getattr(bench, "main", None)
+    if entry is None:
+        print("mbm bench: error: mbm.bench has no main(argv)", file=sys.stderr)
+        return 2
+    return int(entry(list(argv)) or 0)
+
+
+def _build_parser():
+    from mbm.cli_study import DEFAULT_TAUS, SCENES
+
+    parser = argparse.ArgumentParser(prog="mbm", description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = parser.add_subparsers(dest="command", required=True)
     p_demo = sub.add_parser("demo", help="solve the second paper's Example 1, print error and time")
     p_demo.add_argument("--rtol", type=float, default=1e-9, help="rtol = atol (default 1e-9)")
+
+    p = sub.add_parser("solve", help="solve one scene; write CSV or NPZ (and a PNG)",
+                       description="Solve theta'' + beta theta' + omega^2 sin(theta) = gamma by MBM "
+                       "and write t, theta, theta_dot at --n-out times on [0, --t-end].")
+    p.add_argument("--beta", type=_finite, default=0.0, help="damping beta (default 0)")
+    p.add_argument("--gamma", type=_finite, default=0.0, help="torque gamma (default 0)")
+    p.add_argument("--omega", type=_positive, default=1.0, help="natural frequency omega (default 1)")
+    p.add_argument("--theta0", type=parse_angle, default=(0.0, False),
+                   help="initial angle: radians, or degrees with --degrees or a 'deg' suffix (30deg)")
+    p.add_argument("--degrees", action="store_true", help="read --theta0 in degrees")
+    p.add_argument("--v0", type=_finite, default=0.0, help="initial angular velocity (default 0)")
+    p.add_argument("--t-end", type=_positive, default=80.0, help="end time (default 80)")
+    p.add_argument("--tau", type=_positive, default=None, help="fixed window length (default: from rtol/atol)")
+    p.add_argument("--approximant", type=_approximant, default="auto", help="approximant name (default auto)")
+    p.add_argument("--rtol", type=_positive, default=1e-6, help="relative tolerance (default 1e-6)")
+    p.add_argument("--atol", type=_positive, default=1e-9, help="absolute tolerance (default 1e-9)")
+    p.add_argument("--n-out", type=_count, default=201, help="number of output times (default 201)")
+    p.add_argument("--out", default=None, help="output file, .csv or .npz (default: CSV on stdout)")
+    p.add_argument("--plot", default=None, metavar="PNG", help="also save theta(t) and the phase portrait")
+
+    q = sub.add_parser("study", help="step-size / accuracy study: table, fitted orders, plots",
+                       description="Sweep tau (or rtol) for chosen approximants on one scene; print "
+                       "error, windows and time per point and the fitted order of error ~ C h^p.")
+    q.add_argument("--scene", choices=sorted(SCENES), default="ex1",
+                   help="scene (default ex1: beta=0.1, gamma=0.3, theta0=30deg, 0<=t<=80)")
+    q.add_argument("--approximants", type=_approximant_list, default=["taylor8", "split4", "salas-torque"],
+                   help="comma-separated approximants (default taylor8,split4,salas-torque)")
+    g = q.add_mutually_exclusive_group()
+    g.add_argument("--taus", type=_positive_list, default=None,
+                   help="comma-separated window lengths (default " + ",".join(f"{x:g}" for x in DEFAULT_TAUS) + ")")
+    g.add_argument("--rtols", type=_positive_list, default=None,
+                   help="comma-separated rtol = atol values: adaptive windows instead of a tau sweep")
+    q.add_argument("--n-out", type=_count, default=201, help="output times where the error is measured")
+    q.add_argument("--csv", default=None, help="write the rows to this CSV file")
+    q.add_argument("--plot", default=None, metavar="PNG", help="save error-vs-h and error-vs-time plots")
+
+    sub.add_parser("bench", help="work-precision benchmark (mbm bench --help for its options)",
+                   add_help=False)
+    return parser
+
+
+def main(argv=None):
+    """Entry point of the ``mbm`` command.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        Arguments (default ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        Exit status.
+    """
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if argv and argv[0] == "bench":
+        # Every argument after "bench" belongs to mbm.bench's own parser.
+        return _bench(argv[1:])
+    parser = _build_parser()
     args = parser.parse_args(argv)
     if args.command == "demo":
         if not (args.rtol > 0 and math.isfinite(args.rtol)):
             parser.error("--rtol must be a positive number")
         demo(rtol=args.rtol)
+    elif args.command == "solve":
+        if args.out is not None and not str(args.out).lower().endswith(OUT_SUFFIXES):
+            parser.error(f"--out must end in .csv or .npz, got {args.out!r}")
+        if args.plot is not None:
+            _require_matplotlib(parser, "--plot")
+        th, deg = args.theta0
+        theta0 = math.radians(th) if (deg or args.degrees) else th
+        try:
+            solve_command(args.beta, args.gamma, args.omega, theta0, args.v0, args.t_end, tau=args.tau,
+                          approximant=args.approximant, rtol=args.rtol, atol=args.atol,
+                          n_out=args.n_out, out=args.out, plot=args.plot)
+        except (ValueError, RuntimeError, ArithmeticError) as exc:
+            # The solver names the offending option (e.g. "pass tau"): report it the argparse way.
+            parser.error(f"solve failed: {exc}")
+        if args.out:
+            print(f"wrote {args.out}" + (f" and {args.plot}" if args.plot else ""), file=sys.stderr)
+    elif args.command == "study":
+        if args.plot is not None:
+            _require_matplotlib(parser, "--plot")
+        from mbm.cli_study import SCENES
+
+        study_command(SCENES[args.scene], args.approximants, taus=args.taus, rtols=args.rtols,
+                      n_out=args.n_out, csv=args.csv, plot=args.plot)
+    elif args.command == "bench":  # reached only via an unusual argv order; delegate anyway
+        return _bench([])
     return 0
 
 

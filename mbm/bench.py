@@ -25,13 +25,15 @@ P5    0.1    1.2    0      0       [0, 1000]   running (γ > ω²): θ grows to 
 P6    0      0      0      1.999   [0, 200]    just inside the separatrix (θ̇ = 2)
 ====  =====  =====  =====  ======  ==========  =========================================
 
-Reference: CVODE (Adams, analytic Jacobian) at rtol = atol = :data:`REF_TOL`
-through :func:`mbm.reference`, except P6 (β = γ = 0), whose reference is the
-exact elliptic flow :func:`mbm.pendulum_flow`.  Each reference is checked
-against an independent solution (the numba DOP853 below at :data:`REF_CHECK_TOL`,
-and for P6 CVODE); the discrepancy is reported, and a target error less than
-:data:`REF_MARGIN` times it is flagged in the tables.  References are cached as
-``.npz`` files in :func:`default_cache_dir` (not in the repository).
+Reference (:func:`scene_reference`): for P6 (β = γ = 0) the exact elliptic flow
+:func:`mbm.pendulum_flow`; for the others a degree-28 Taylor integrator in 128-bit
+fixed point (mpmath's fixed-point sine and cosine, ~1e-20), because CVODE at
+rtol = atol = 1e-13 is itself off by 2e-8 on P5 and 4e-8 on P6.  Each reference is
+checked against CVODE at 1e-13 (:func:`mbm.reference`) and the difference is
+reported.  Without mpmath the reference falls back to CVODE, checked against the
+numba DOP853 below, and targets within :data:`REF_MARGIN` of that difference are
+flagged.  References are cached as ``.npz`` files in :func:`default_cache_dir`
+(not in the repository).
 
 The numba peers written here are what a user would write: a fixed-step RK4 that
 lands on the output times, and an adaptive Dormand-Prince 8(5,3) (DOP853) with
@@ -66,9 +68,13 @@ __all__ = [
     "TARGETS",
     "solver_registry",
     "scene_reference",
+    "default_cache_dir",
+    "fixed_point_reference",
     "run_sweep",
     "run_benchmark",
+    "write_plots",
     "cheapest_at_target",
+    "cold_first_call_seconds",
     "format_report",
     "rk4_run",
     "dop853_run",
@@ -91,9 +97,9 @@ TARGETS = (1e-3, 1e-6, 1e-9)
 # in error); atol = rtol because the error is measured absolutely on θ = O(1).
 RTOL_SWEEP = tuple(10.0 ** (-k / 2) for k in range(4, 25))
 
-# MBM windows τ (and compiled MBM kernels), coarse to fine in steps of √2 from 2
-# (a third of the small-oscillation period, past the Taylor radius of the slow
-# scenes: such points fail and are recorded as failures) to 2^-9 (order-4
+# MBM fixed windows τ (solve_ivp and mbm.solve), coarse to fine in steps of √2 from
+# 2 (a third of the small-oscillation period; past the Taylor radius of a fast
+# rotation, where points fail and are recorded as failures) to 2^-9 (order-4
 # compositions reach 1e-10 there on P2).
 TAU_SWEEP = tuple(2.0 ** (1 - j / 2) for j in range(0, 21))
 
@@ -151,6 +157,10 @@ REF_SANITY = 1e-6
 # large enough for every point of the sweeps, small enough that a stuck
 # integration returns instead of spinning.
 MAX_STEPS = 50_000_000
+
+# --cold-compile: limit on the subprocess that compiles MBM's kernels from an empty
+# numba cache (a few tens of seconds on a loaded 2-core machine).
+COLD_COMPILE_TIMEOUT = 600
 
 # Bump when the reference computation changes, to invalidate cached references.
 REFERENCE_VERSION = 1
@@ -760,23 +770,35 @@ def _numbalsoda_entries():
     ], ""
 
 
-# MBM entries: approximant names run through solve_ivp(method=mbm.MBM) with a fixed
-# window τ swept over TAU_SWEEP.  Only approximants that converge to the true
-# solution belong here (salas-torque & co. stop at their model error, ~3e-3 on P2,
-# and never reach a target).  To add a variant, append its registered name; names
-# not registered in this checkout are skipped with a note.
-MBM_VARIANTS = ["taylor", "taylor12", "split4", "split6", "split8"]
+# MBM entries: (approximant, knob) pairs, each run through solve_ivp(method=mbm.MBM)
+# and through the compiled mbm.solve (when the package has it).  Knob "tau": fixed
+# windows swept over TAU_SWEEP; knob "rtol": MBM's own window control (atol = rtol)
+# swept over RTOL_SWEEP.  Only approximants that converge to the true solution
+# belong here with "tau" (salas-torque & co. stop at their model error, ~3e-3 on P2,
+# and never reach a target); "auto" lets MBM choose per scene.  To add a variant,
+# append a pair; names not registered in this checkout are skipped with a note.
+MBM_VARIANTS = [
+    ("auto", "rtol"),
+    ("taylor", "rtol"),
+    ("taylor", "tau"),
+    ("split4", "tau"),
+    ("split8", "tau"),
+]
 
 
-def _mbm_solve_ivp_runner(name):
-    def run(scene, tau):
+def _mbm_options(knob, value):
+    return {"tau": value} if knob == "tau" else {"rtol": value, "atol": value}
+
+
+def _mbm_solve_ivp_runner(name, knob):
+    def run(scene, value):
         from scipy.integrate import solve_ivp
 
         from .solver import MBM
 
         model = scene.model
-        sol = solve_ivp(model, scene.t_span, scene.y0, method=MBM, tau=tau, approximant=name,
-                        model=model, t_eval=scene.t_eval)
+        sol = solve_ivp(model, scene.t_span, scene.y0, method=MBM, approximant=name, model=model,
+                        t_eval=scene.t_eval, **_mbm_options(knob, value))
         if not sol.success:
             raise RuntimeError(sol.message)
         return sol.y[0]
@@ -784,59 +806,17 @@ def _mbm_solve_ivp_runner(name):
     return run
 
 
-def _mbm_solve_runner(name):
-    # Hook for the compiled path (another issue).  Assumed signature, mirroring
-    # solve_ivp: mbm.solve(model, t_span, y0, t_eval=..., tau=..., approximant=...)
-    # returning an object with .y (2, n) or an array (2, n).  A mismatch shows up
-    # as failed points with the error message in the report, not as a crash.
-    def run(scene, tau):
+def _mbm_solve_runner(name, knob):
+    def run(scene, value):
         import mbm
 
-        res = mbm.solve(scene.model, scene.t_span, scene.y0, t_eval=scene.t_eval, tau=tau,
-                        approximant=name)
-        y = np.asarray(getattr(res, "y", res))
-        return y[0]
+        res = mbm.solve(scene.model, scene.t_span, scene.y0, t_eval=scene.t_eval,
+                        approximant=name, **_mbm_options(knob, value))
+        if not res.success:
+            raise RuntimeError(res.message)
+        return res.y[0]
 
     return run
-
-
-def _mbm_kernel_runner(name):
-    """Fixed-window numba loop of the approximant module (stand-in for mbm.solve).
-
-    τ is rounded down to divide the output spacing, and the state is sampled at
-    the output times, so the run is exactly MBM's windows without solve_ivp.
-    Returns None when the approximant has no such loop.
-    """
-    from .approximants import get_approximant
-
-    try:
-        from .approximants import splitting, taylor
-    except ImportError:
-        return None
-    ap = get_approximant(name)
-    if isinstance(ap, taylor.Taylor) and hasattr(taylor, "taylor_fixed_window_run"):
-        order = int(ap.order)
-
-        def run(scene, tau):
-            k = _k_per_output(scene, tau)
-            out = taylor.taylor_fixed_window_run(scene.beta, scene.gamma, scene.omega, scene.theta0,
-                                                 scene.v0, order, scene.dt_out / k,
-                                                 k * (N_OUTPUT - 1), k)
-            return out[:, 0]
-
-        return run
-    if isinstance(ap, splitting.Splitting) and hasattr(splitting, "split_fixed_window_run"):
-        method_id = list(splitting.SPLIT_METHODS).index(name)
-
-        def run(scene, tau):
-            k = _k_per_output(scene, tau)
-            out = splitting.split_fixed_window_run(scene.beta, scene.gamma, scene.omega,
-                                                   scene.theta0, scene.v0, method_id,
-                                                   scene.dt_out / k, k * (N_OUTPUT - 1), k)
-            return out[:, 0]
-
-        return run
-    return None
 
 
 def solver_registry():
@@ -847,8 +827,10 @@ def solver_registry():
     solvers : list of Solver
     notes : list of str
         Why entries are missing (numbalsoda not installed, an MBM variant not
-        registered, the compiled path not there yet).
+        registered, the compiled path not there).
     """
+    import mbm
+
     from . import approximants
 
     notes = []
@@ -874,33 +856,27 @@ def solver_registry():
     solvers += extra
     if note:
         notes.append(note)
-    names = set(approximants.approximant_names())
-    variants = [n for n in MBM_VARIANTS if n in names]
-    for n in MBM_VARIANTS:
-        if n not in names:
+    names = set(approximants.approximant_names()) | {"auto"}
+    sweeps = {"tau": (TAU_SWEEP, QUICK_TAUS), "rtol": (RTOL_SWEEP, QUICK_RTOLS)}
+    how = {"tau": "fixed window τ", "rtol": "MBM's window control, atol = rtol"}
+    variants = []
+    for n, knob in MBM_VARIANTS:
+        if n in names:
+            variants.append((n, knob))
+        else:
             notes.append(f"MBM variant {n!r} is not a registered approximant here: skipped.")
-    for n in variants:
-        solvers.append(Solver(f"MBM {n}", "mbm", False, "tau", _mbm_solve_ivp_runner(n), TAU_SWEEP,
-                              QUICK_TAUS, "solve_ivp(method=mbm.MBM), fixed window tau"))
-    import mbm
-
+    paths = [("MBM", "mbm", False, _mbm_solve_ivp_runner, "solve_ivp(method=mbm.MBM")]
     if hasattr(mbm, "solve"):
-        for n in variants:
-            solvers.append(Solver(f"mbm.solve {n}", "mbm-compiled", True, "tau", _mbm_solve_runner(n),
-                                  TAU_SWEEP, QUICK_TAUS, "compiled path mbm.solve"))
+        paths.append(("mbm.solve", "mbm-compiled", True, _mbm_solve_runner, "mbm.solve("))
     else:
-        notes.append(
-            "mbm.solve (the compiled path) does not exist yet; the rows 'MBM kernel ...' run the "
-            "approximant modules' fixed-window numba loops instead (tau rounded down to divide "
-            "the output spacing, state sampled at the output times)."
-        )
-        for n in variants:
-            run = _mbm_kernel_runner(n)
-            if run is not None:
-                solvers.append(Solver(f"MBM kernel {n}", "mbm-compiled", True, "tau", run,
-                                      TAU_SWEEP, QUICK_TAUS, "fixed-window numba loop"))
+        notes.append("mbm.solve (the compiled path) is not in this checkout: no compiled MBM rows.")
+    for prefix, family, compiled, runner, call in paths:
+        for n, knob in variants:
+            solvers.append(Solver(
+                f"{prefix} {n} ({'τ' if knob == 'tau' else 'rtol'})", family, compiled, knob,
+                runner(n, knob), *sweeps[knob],
+                f"{call}{'' if call.endswith('(') else ', '}approximant={n!r}), {how[knob]}"))
     return solvers, notes
-
 
 # ---------------------------------------------------------------------------
 # References
@@ -1149,9 +1125,9 @@ def run_sweep(solver, scene, ref_theta, repeats=DEFAULT_REPEATS, quick=False,
     points = []
     seen = set()
     for knob in (solver.quick_sweep if quick else solver.sweep):
-        if solver.knob in ("h", "tau"):
-            # Fixed-step entries may round the knob to the output grid: skip duplicates.
-            key = _k_per_output(scene, knob) if solver.compiled else knob
+        if solver.knob == "h":
+            # Fixed steps are rounded to divide the output spacing: skip duplicates.
+            key = _k_per_output(scene, knob)
             if key in seen:
                 continue
             seen.add(key)
@@ -1200,6 +1176,65 @@ def _first_call_seconds(solver, scene):
     except Exception:
         return None
     return max(0.0, cold - warm)
+
+
+_COLD_SCRIPT = r"""
+import json, math, sys, time
+t0 = time.perf_counter()
+import numpy as np
+from scipy.integrate import solve_ivp
+import mbm
+out = {"import mbm": time.perf_counter() - t0}
+model = mbm.Pendulum(0.1, 0.3)
+y0 = [math.radians(30.0), 0.0]
+t = np.linspace(0.0, 80.0, 201)
+calls = [("MBM (solve_ivp), first call",
+          lambda: solve_ivp(model, (0.0, 80.0), y0, method=mbm.MBM, model=model, t_eval=t,
+                            rtol=1e-6, atol=1e-6))]
+if hasattr(mbm, "solve"):
+    calls.append(("mbm.solve, first call",
+                  lambda: mbm.solve(model, (0.0, 80.0), y0, t_eval=t, rtol=1e-6, atol=1e-6)))
+for name, fn in calls:
+    t0 = time.perf_counter()
+    fn()
+    cold = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    fn()
+    out[name] = cold - (time.perf_counter() - t0)
+print(json.dumps(out))
+"""
+
+
+def cold_first_call_seconds():
+    """MBM's import and first-call seconds in a fresh process with an empty numba cache.
+
+    MBM's kernels are cached on disk (``cache=True``), so in the benchmark process
+    their first call is a cache load; this measures the one-off JIT compile a new
+    installation pays, in a subprocess whose ``NUMBA_CACHE_DIR`` is a new empty
+    directory (P2, ``approximant="auto"``, rtol = 1e-6; first call minus second).
+
+    Returns
+    -------
+    dict or None
+        ``{"import mbm": s, "MBM (solve_ivp), first call": s, "mbm.solve, first call": s}``,
+        or None if the subprocess failed.
+    """
+    import subprocess
+    import tempfile
+
+    with tempfile.TemporaryDirectory() as tmp:
+        env = dict(os.environ, NUMBA_CACHE_DIR=tmp)
+        try:
+            proc = subprocess.run([sys.executable, "-c", _COLD_SCRIPT], env=env, capture_output=True,
+                                  text=True, timeout=COLD_COMPILE_TIMEOUT)
+        except subprocess.TimeoutExpired:
+            return None
+    if proc.returncode != 0:
+        return None
+    try:
+        return json.loads(proc.stdout.strip().splitlines()[-1])
+    except (ValueError, IndexError):
+        return None
 
 
 def cheapest_at_target(points, target):
@@ -1259,7 +1294,7 @@ def machine_info():
 
 
 def run_benchmark(scenes=None, repeats=DEFAULT_REPEATS, quick=False, max_seconds=MAX_POINT_SECONDS,
-                  solver_filter=None, cache_dir=None, log=None):
+                  solver_filter=None, cache_dir=None, cold_compile=False, log=None):
     """Run every solver's sweep on every scene.
 
     Parameters
@@ -1276,6 +1311,9 @@ def run_benchmark(scenes=None, repeats=DEFAULT_REPEATS, quick=False, max_seconds
         Keep solvers whose name contains one of these (case-insensitive).
     cache_dir : path-like, None or False
         Reference cache, see :func:`scene_reference`.
+    cold_compile : bool
+        Also measure MBM's compile from an empty numba cache
+        (:func:`cold_first_call_seconds`, a subprocess).
     log : file-like or None
         Progress lines go here.
 
@@ -1284,7 +1322,8 @@ def run_benchmark(scenes=None, repeats=DEFAULT_REPEATS, quick=False, max_seconds
     dict
         ``scenes``, ``solvers`` (name -> family, compiled, knob, note),
         ``references``, ``points`` (scene -> solver -> list of points),
-        ``first_call`` (solver -> seconds), ``notes``, ``machine``, ``settings``.
+        ``first_call`` (solver -> seconds), ``cold_compile`` (dict or None),
+        ``notes``, ``machine``, ``settings``.
     """
     scenes = list(SCENES) if scenes is None else list(scenes)
     for s in scenes:
@@ -1308,6 +1347,10 @@ def run_benchmark(scenes=None, repeats=DEFAULT_REPEATS, quick=False, max_seconds
             first_call[s.name] = compile_s[s.name]
         else:
             first_call[s.name] = _first_call_seconds(s, first_scene)
+    cold = None
+    if cold_compile:
+        say("MBM compile from an empty numba cache (subprocess) ...")
+        cold = cold_first_call_seconds()
     references = {}
     points = {}
     for name in scenes:
@@ -1324,7 +1367,7 @@ def run_benchmark(scenes=None, repeats=DEFAULT_REPEATS, quick=False, max_seconds
                             max_seconds=max_seconds)
             points[name][s.name] = pts
             best = min((p["error"] for p in pts), default=math.inf)
-            say(f"  {s.name:<22} {len(pts):2d} points, best error {best:.1e}, "
+            say(f"  {s.name:<24} {len(pts):2d} points, best error {best:.1e}, "
                 f"{time.perf_counter() - t0:.1f} s")
     return {
         "scenes": scenes,
@@ -1333,6 +1376,7 @@ def run_benchmark(scenes=None, repeats=DEFAULT_REPEATS, quick=False, max_seconds
         "references": references,
         "points": points,
         "first_call": first_call,
+        "cold_compile": cold,
         "notes": notes,
         "machine": machine_info(),
         "settings": {"repeats": repeats, "quick": quick, "max_seconds": max_seconds,
@@ -1365,7 +1409,8 @@ def _cell(points, target, ref_time):
         return "—"
     text = _fmt_ms(best["time"])
     if ref_time is not None:
-        text += f" ({best['time'] / ref_time:.2g}×)"
+        r = best["time"] / ref_time
+        text += f" ({r:.2g}×)" if r < 10 else f" ({r:.0f}×)"
     return text
 
 
@@ -1392,7 +1437,7 @@ def _target_table(result, target, names, ratio_family):
     return lines, flags
 
 
-def format_report(result, command=None):
+def format_report(result, command=None, note=None):
     """The Markdown report: settings, machine, references, one table per target.
 
     Parameters
@@ -1401,6 +1446,8 @@ def format_report(result, command=None):
         From :func:`run_benchmark`.
     command : str or None
         The command line that produced it (shown so that it can be rerun).
+    note : str or None
+        A line put under the title (e.g. "development run on a loaded machine").
 
     Returns
     -------
@@ -1408,6 +1455,8 @@ def format_report(result, command=None):
     """
     st, mi = result["settings"], result["machine"]
     out = ["# Work-precision benchmark", ""]
+    if note:
+        out += [f"> {note}", ""]
     out.append("Generated by `mbm/bench.py`; regenerate with")
     out.append("")
     out.append("```bash")
@@ -1435,6 +1484,9 @@ def format_report(result, command=None):
     out.append(f"- run {st['date']}")
     out.append("")
     out.append("## Scenes and references")
+    out.append("")
+    out.append("Max difference: max |θ_ref − θ_check| over the 201 times; with an exact or "
+               "fixed-point reference it is the check's own error.")
     out.append("")
     out.append("| scene | problem | reference | independent check | max difference |")
     out.append("|---|---|---|---|---:|")
@@ -1476,6 +1528,11 @@ def format_report(result, command=None):
         v = result["first_call"].get(n)
         out.append(f"| {n} | {'n/a' if v is None else f'{v:.3f}'} |")
     out.append("")
+    cold = result.get("cold_compile")
+    if cold:
+        out.append("From an empty numba cache (a fresh process; what a new installation pays "
+                   "once): " + ", ".join(f"{k} {v:.2f} s" for k, v in cold.items()) + ".")
+        out.append("")
     out.append("## Solvers")
     out.append("")
     out.append("| solver | knob | notes |")
@@ -1534,7 +1591,8 @@ def write_plots(result, directory):
             fam = result["solvers"][n]["family"]
             style = "-" if fam == "peer" else ("--" if fam == "mbm" else ":")
             marker = "os^vD<>ph*x+"[i % 12]
-            ax.loglog(xs, ys, style, marker=marker, ms=4, lw=1.2 if fam == "peer" else 2, label=n)
+            ax.loglog(xs, ys, style, marker=marker, ms=4, lw=1.2 if fam == "peer" else 2, label=n,
+                      color=plt.cm.tab20(i % 20))
         for target in result["settings"]["targets"]:
             ax.axhline(target, color="0.6", lw=0.8, ls=":")
         ax.set_xlabel("median time per solve (ms)")
@@ -1593,6 +1651,9 @@ def main(argv=None):
     parser.add_argument("--cache", default=None, metavar="DIR",
                         help=f"reference cache directory (default {default_cache_dir()})")
     parser.add_argument("--no-cache", action="store_true", help="recompute references, store nothing")
+    parser.add_argument("--cold-compile", action="store_true",
+                        help="also time MBM's JIT compile from an empty numba cache (subprocess)")
+    parser.add_argument("--note", default=None, help="a line to put under the report's title")
     args = parser.parse_args(argv)
     repeats = args.repeats if args.repeats is not None else (QUICK_REPEATS if args.quick else DEFAULT_REPEATS)
     if repeats < 1:
@@ -1607,10 +1668,10 @@ def main(argv=None):
     solver_filter = [s.strip() for s in args.solvers.split(",")] if args.solvers else None
     result = run_benchmark(scenes=scenes, repeats=repeats, quick=args.quick,
                            max_seconds=args.max_seconds, solver_filter=solver_filter,
-                           cache_dir=cache, log=sys.stderr)
+                           cache_dir=cache, cold_compile=args.cold_compile, log=sys.stderr)
     command = "python -m mbm.bench " + " ".join(shlex.quote(a) for a in (argv if argv is not None
                                                                            else sys.argv[1:]))
-    report = format_report(result, command=command.strip())
+    report = format_report(result, command=command.strip(), note=args.note)
     if args.plot:
         files = write_plots(result, args.plot)
         if files:

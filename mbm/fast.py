@@ -10,14 +10,28 @@ import math
 
 import numba
 import numpy as np
-from scipy.optimize import OptimizeResult
 
 from . import kernels as K
 from .approximants import get_approximant
 from .choice import choose_approximant
 from .problem import Pendulum
 
-__all__ = ["solve", "solve_batch"]
+__all__ = ["solve", "solve_batch", "SolveResult"]
+
+
+class SolveResult(dict):
+    """Result of :func:`solve` / :func:`solve_batch`: a dict with attribute access,
+    like scipy's ``OptimizeResult`` (not used here to keep ``import mbm`` free of
+    ``scipy.optimize``)."""
+
+    def __getattr__(self, name):
+        try:
+            return self[name]
+        except KeyError:
+            raise AttributeError(name) from None
+
+    def __repr__(self):
+        return "SolveResult(" + ", ".join(f"{k}={v!r}" for k, v in self.items()) + ")"
 
 # Initial capacity of the window-end record when no t_eval is given (doubled as needed).
 ENDS_CAPACITY = 64
@@ -203,7 +217,7 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
 
     Returns
     -------
-    OptimizeResult
+    SolveResult
         ``t``, ``y`` (shape (2, n)), ``success``, ``status`` (0 ok, else a kernel
         status), ``message``, ``n_windows``, ``approximant`` and ``reason`` (what
         "auto" chose and why).
@@ -228,7 +242,7 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
         t, y = et, np.vstack((eth, ev))
     else:
         t, y = te[:n_filled], np.vstack((out_th[:n_filled], out_v[:n_filled]))
-    return OptimizeResult(
+    return SolveResult(
         t=t, y=y, success=status == K.STATUS_OK, status=int(status),
         message=STATUS_MESSAGES[int(status)], n_windows=int(n_w),
         approximant=s["ap"].name, reason=s["reason"],
@@ -269,7 +283,7 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
 
     Returns
     -------
-    OptimizeResult
+    SolveResult
         ``t`` (m,), ``y`` (N, 2, m), ``status`` (N,) per scene (0 ok), ``success``
         (N,) bool, ``n_windows`` (N,), ``approximant`` (N,) names.  Each scene's
         answer equals :func:`solve` for that scene.
@@ -312,7 +326,7 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
         np.ascontiguousarray(y0[:, 1]), t1, h_abs, float(max_step), float(rtol), float(atol),
         adaptive, te, out_th, out_v, status, n_windows,
     )
-    return OptimizeResult(
+    return SolveResult(
         t=te, y=np.stack((out_th, out_v), axis=1), status=status, success=status == 0,
         n_windows=n_windows, approximant=np.array(names),
     )

@@ -299,6 +299,12 @@ def test_finite_on_random_states(state, frac):
         assert et >= 0.0 and ev >= 0.0
 
 
+def test_degree_out_of_range_reports_status():
+    for n in (0, taylor.MAX_ORDER + 1):
+        assert taylor.taylor_coefficients(0.1, 0.3, 1.0, 0.5, 0.0, n)[0] == taylor.STATUS_BAD_ORDER
+    assert taylor.taylor_coefficients(0.1, 0.3, 1.0, 0.5, 0.0, taylor.MAX_ORDER)[0] == 0
+
+
 def test_nonfinite_anchor_reports_status():
     for cls in ALL_CLASSES:
         ap = cls()
@@ -416,6 +422,31 @@ def test_taylor_coefficients_match_derivatives():
     assert a[2] == pytest.approx(acc / 2, rel=1e-15)
     assert a[3] == pytest.approx(jerk / 6, rel=1e-14)
     assert len(a) == 8 + 1 + taylor.N_EXTRA
+
+
+def test_taylor_backward_window():
+    # Negative t is the same polynomial, and the estimate holds for h < 0: compare a
+    # backward window with the fixed-point reference (degree 8, so that truncation,
+    # ~1e-6, dwarfs round-off).
+    ap = taylor.Taylor8()
+    b, g, w, th0, v0 = 0.2, 1.1, 1.3, 0.4, -2.5
+    coef = ap.anchor_kernel(b, g, w, th0, v0)
+    for h in (-0.2, -0.4):
+        th, v = ap.eval_kernel(coef, h)
+        (a, al), (vv, vl) = local_step(b, g, w, th0, v0, h)
+        et, ev = ap.error_kernel(coef, h)
+        for est, true in ((et, abs((th - a) - al)), (ev, abs((v - vv) - vl))):
+            assert true > 1e-12
+            assert 0.5 <= est / true <= 10.0, (h, est, true)
+
+
+def test_taylor_params():
+    model = mbm.Pendulum(0.1, 1.2)
+    pr = taylor.Taylor16().anchor(model, 3.0, 12.0).params
+    assert pr["order"] == 16 and pr["coefficients"].shape == (17,)
+    assert pr["coefficients"][0] == 3.0 and pr["coefficients"][1] == 12.0
+    # Fast rotation, v ≈ 12: R ≈ (2/v) ln(2v/ω) = 0.53 (module docstring).
+    assert 0.4 < pr["radius"] < 0.8
 
 
 def test_large_angle_round_off_does_not_accumulate(ref):
