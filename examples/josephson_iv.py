@@ -56,8 +56,9 @@ def _grid(lo, hi, coarse, fine, band):
     """Increasing bias values on [lo, hi]: ``coarse`` steps, ``fine`` inside ``band``."""
     parts = [np.arange(lo, band[0], coarse), np.arange(band[0], band[1], fine),
              np.arange(band[1], hi + coarse / 2, coarse)]
-    g = np.concatenate(parts)
-    return np.unique(np.round(g[(g >= lo) & (g <= hi)], 10))
+    # Rounded before filtering: arange's accumulated 1e-16 must not drop the end point.
+    g = np.round(np.concatenate(parts), 10)
+    return np.unique(g[(g >= lo) & (g <= hi)])
 
 
 def bias_sweeps(coarse=COARSE, fine_switch=FINE_SWITCH, fine_retrap=FINE_RETRAP):

@@ -28,3 +28,144 @@ def test_cli_entry_point():
     assert "MBM auto, mbm.solve" in out.stdout
     with pytest.raises(SystemExit):
         main(["demo", "--rtol", "-1"])
+
+
+# ---------------------------------------------------------------- mbm solve / study / bench
+
+import csv  # noqa: E402
+import math  # noqa: E402
+
+import numpy as np  # noqa: E402
+
+import mbm  # noqa: E402
+from mbm.__main__ import parse_angle  # noqa: E402
+from mbm.cli_progress import Progress, progress  # noqa: E402
+
+SOLVE_ARGS = ["solve", "--beta", "0.1", "--gamma", "0.3", "--theta0", "30deg", "--t-end", "20",
+              "--n-out", "41", "--rtol", "1e-10", "--atol", "1e-10"]
+
+
+def _read_csv(path):
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    return rows[0], np.array(rows[1:], dtype=float)
+
+
+def test_solve_writes_csv_with_columns(tmp_path):
+    out = tmp_path / "run.csv"
+    assert main(SOLVE_ARGS + ["--out", str(out)]) == 0
+    header, data = _read_csv(out)
+    assert header == ["t", "theta", "theta_dot"]
+    assert data.shape == (41, 3)
+    assert data[0, 1] == pytest.approx(math.radians(30)) and data[-1, 0] == 20.0
+    ref = mbm.reference(mbm.Pendulum(beta=0.1, gamma=0.3), (0.0, 20.0), [math.radians(30), 0.0],
+                        t_eval=data[:, 0])
+    assert np.max(np.abs(data[:, 1:].T - ref.y)) < 1e-8
+
+
+def test_solve_writes_npz_and_degrees_flag_matches_suffix(tmp_path):
+    a, b = tmp_path / "a.npz", tmp_path / "b.npz"
+    main(SOLVE_ARGS + ["--out", str(a)])
+    args = [x if x != "30deg" else "30" for x in SOLVE_ARGS] + ["--degrees", "--out", str(b)]
+    main(args)
+    za, zb = np.load(a), np.load(b)
+    assert {"t", "theta", "theta_dot", "beta", "gamma", "omega"} <= set(za.files)
+    assert za["theta"].shape == (41,)
+    np.testing.assert_array_equal(za["theta"], zb["theta"])
+
+
+def test_solve_csv_on_stdout_and_non_compiled_approximant(capsys):
+    main(["solve", "--beta", "0.4", "--v0", "0.25", "--t-end", "5", "--n-out", "6",
+          "--approximant", "johannessen", "--tau", "0.5"])
+    lines = capsys.readouterr().out.strip().splitlines()
+    assert lines[0] == "t,theta,theta_dot" and len(lines) == 7
+
+
+def test_solve_plot(tmp_path):
+    png = tmp_path / "p.png"
+    main(SOLVE_ARGS + ["--out", str(tmp_path / "x.csv"), "--plot", str(png)])
+    assert png.exists() and png.stat().st_size > 5000
+
+
+@pytest.mark.parametrize("args, name", [
+    (["solve", "--theta0", "abc"], "--theta0"),
+    (["solve", "--omega", "0"], "--omega"),
+    (["solve", "--t-end", "-1"], "--t-end"),
+    (["solve", "--n-out", "1"], "--n-out"),
+    (["solve", "--approximant", "nope"], "--approximant"),
+    (["solve", "--out", "x.txt"], "--out"),
+    (["solve", "--beta", "nan"], "--beta"),
+    (["study", "--taus", "0.5,-1"], "--taus"),
+    (["study", "--scene", "mars"], "--scene"),
+    (["study", "--taus", "0.5", "--rtols", "1e-6"], "--rtols"),
+])
+def test_bad_arguments_name_the_argument(args, name, capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(args)
+    assert exc.value.code == 2
+    assert name in capsys.readouterr().err
+
+
+def test_solve_error_from_solver_is_reported(capsys):
+    # The paper's approximant has no error estimate: the solver asks for tau.
+    with pytest.raises(SystemExit):
+        main(["solve", "--approximant", "johannessen", "--t-end", "1"])
+    assert "tau" in capsys.readouterr().err
+
+
+def test_plot_without_matplotlib_is_a_clear_error(monkeypatch, capsys, tmp_path):
+    monkeypatch.setitem(sys.modules, "matplotlib", None)  # import matplotlib -> ImportError
+    with pytest.raises(SystemExit):
+        main(SOLVE_ARGS + ["--plot", str(tmp_path / "p.png")])
+    assert "matplotlib" in capsys.readouterr().err
+
+
+def test_theta0_parsing():
+    assert parse_angle("30deg") == (30.0, True)
+    assert parse_angle("30°") == (30.0, True)
+    assert parse_angle("0.5") == (0.5, False)
+
+
+def test_study_prints_table_with_fitted_orders(tmp_path, capsys):
+    out_csv, png = tmp_path / "s.csv", tmp_path / "s.png"
+    assert main(["study", "--scene", "ex1", "--approximants", "split4,taylor8",
+                 "--taus", "0.5,0.25,0.125", "--csv", str(out_csv), "--plot", str(png)]) == 0
+    text = capsys.readouterr().out
+    assert "windows" in text and "error" in text
+    orders = {line.split()[1]: float(line.split()[2]) for line in text.splitlines()
+              if line.strip().startswith("order ")}
+    assert orders["split4"] == pytest.approx(4.0, abs=0.3)
+    assert orders["taylor8"] > 6.0
+    header, _ = _read_csv(out_csv) if False else (None, None)
+    with open(out_csv, newline="") as f:
+        rows = list(csv.DictReader(f))
+    assert len(rows) == 6 and {"approximant", "tau", "error", "fitted_order"} <= set(rows[0])
+    assert png.exists()
+
+
+def test_study_rtol_sweep_records_failures(capsys):
+    # salas-torque has no error estimate: an rtol sweep marks its rows failed.
+    main(["study", "--scene", "ex1", "--approximants", "taylor8,salas-torque", "--rtols", "1e-4,1e-6,1e-8"])
+    text = capsys.readouterr().out
+    assert "rtol" in text and "failed" in text and "order taylor8" in text
+
+
+def test_bench_delegates_to_mbm_bench(monkeypatch):
+    import mbm.bench
+
+    seen = []
+    monkeypatch.setattr(mbm.bench, "main", lambda argv: seen.append(argv) or 0)
+    assert main(["bench", "--quick", "--scenes", "P1"]) == 0
+    assert seen == [["--quick", "--scenes", "P1"]]
+
+
+def test_progress_silent_unless_terminal():
+    buf = io.StringIO()  # not a terminal
+    assert list(progress(range(3), "x", stream=buf)) == [0, 1, 2]
+    assert buf.getvalue() == ""
+    buf = io.StringIO()
+    with Progress(2, "sweep", stream=buf, enabled=True) as bar:
+        bar.update()
+        bar.update()
+    text = buf.getvalue()
+    assert "sweep [" in text and "2/2" in text and text.endswith("\n")

@@ -526,7 +526,9 @@ def test_equilibrium_and_omega_scaling():
 def test_registered_interface():
     for ap in (CN, TRIG):
         assert ap.name in mbm.approximant_names()
-        assert ap.anchors == "any" and ap.order == 1 and "(2.2" in ap.citation
+        assert ap.anchors == "any" and "(2.2" in ap.citation
+        # measured: the cn form converges at order 1 to the cubic model; the trig form not at all
+        assert ap.order == (1 if ap is CN else 0)
         coef = ap.anchor_kernel(0.1, 0.3, 1.0, 0.5, 0.0)
         assert coef[0] == 0 and len(ap.param_names()) <= coef.size - 1
         out_t = np.empty(3)

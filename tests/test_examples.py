@@ -1,0 +1,138 @@
+"""The figure examples of ``examples/``: each runs, writes its PNG, and plots right values.
+
+Every example exposes ``main(out, ...)`` returning the plotted data; the values are
+spot-checked against :func:`mbm.reference` (CVODE), independent of how the example
+computed them.
+"""
+
+import importlib
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import mbm
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _agg_backend():
+    import matplotlib
+
+    matplotlib.use("Agg")  # the tests write files only
+
+
+def _load(name):
+    if str(EXAMPLES) not in sys.path:
+        sys.path.insert(0, str(EXAMPLES))
+    return importlib.import_module(name)
+
+
+def _ref(model, y0, t, **kw):
+    return mbm.reference(model, (0.0, float(t[-1])), y0, t_eval=t, **kw).y
+
+
+def test_salas2021_figure1(tmp_path):
+    ex = _load("fig_salas2021")
+    d, png = ex.main(tmp_path, n_points=81)
+    assert png.exists() and png.stat().st_size > 10_000
+    ref = _ref(mbm.Pendulum(beta=0.4), [0.0, 0.25], d["t"])[0]
+    assert np.max(np.abs(d["runge_kutta"] - ref)) < 1e-8
+    # Johannessen's sn formula and the elementary solution are close, not exact:
+    # their model errors on this scene (measured: 9.3e-5, 2.8e-4, 1.4e-3).
+    assert np.max(np.abs(d["johannessen"] - ref)) < 2e-4
+    assert np.max(np.abs(d["salas-damped"] - ref)) < 5e-4
+    assert 5e-4 < np.max(np.abs(d["salas-damped-linear"] - ref)) < 3e-3
+
+
+def test_salas2022_figures(tmp_path):
+    ex = _load("fig_salas2022")
+    d, pngs = ex.main(tmp_path, n_points=161, js=(0, 5))
+    assert [p.name for p in pngs] == [f"salas2022_fig{k}.png" for k in (1, 2, 3, 4)]
+    assert all(p.exists() for p in pngs)
+    t = d["t"]
+    m1 = mbm.Pendulum(beta=0.1, gamma=0.3)
+    ref1 = _ref(m1, [math.radians(30), 0.0], t)
+    assert np.max(np.abs(d["ex1"]["numerical"] - ref1)) < 1e-7
+    assert d["ex1"]["d"] == pytest.approx(0.304337, abs=1e-6)
+    # The paper's E = 0.00162852 for the single approximant (4.33).
+    assert np.max(np.abs(d["ex1"]["approximant"][0] - ref1[0])) == pytest.approx(1.63e-3, rel=0.03)
+    m2 = mbm.Pendulum(beta=0.1, gamma=0.6)
+    ref2 = _ref(m2, [math.radians(90), 0.0], t)[0]
+    e2 = d["ex2"]
+    assert np.max(np.abs(e2["approximant"][0] - ref2)) > 0.3  # "clearly not good"
+    # Re-anchoring improves it: Θ_5 is better than Θ_0, and the event-point solution
+    # is within the cubic model's error (~5e-2) everywhere.
+    err_j = {j: np.max(np.abs(th - ref2)) for j, th in e2["successive"].items()}
+    assert err_j[5] < 0.5 * err_j[0]
+    assert np.max(np.abs(e2["event_solution"] - ref2)) < 0.06
+    # The marked event points lie on the solution: θ = d or θ' = 0 there.
+    te, kinds = e2["event_t"], e2["event_kind"]
+    y_at = mbm.reference(m2, (0.0, 80.0), [math.radians(90), 0.0], t_eval=te).y
+    from mbm.events import KIND_CROSSING, KIND_TURNING
+
+    assert np.all(np.abs(y_at[0, kinds == KIND_CROSSING] - e2["d"]) < 1e-7)
+    assert np.all(np.abs(y_at[1, kinds == KIND_TURNING]) < 1e-7)
+    assert te.size > 20
+
+
+def test_belendez2007_figures(tmp_path):
+    ex = _load("fig_belendez2007")
+    assert ex.AMPLITUDES_PI == (0.1, 0.25, 0.5, 0.75, 0.9, 0.99)  # the paper's captions
+    d, pngs = ex.main(tmp_path, n_points=121, amplitudes_pi=(0.25, 0.9))
+    assert len(pngs) == 2 and all(p.exists() for p in pngs)
+    t = d["t"]
+    for a, (exact, harmonic, per) in d["curves"].items():
+        y0 = [a * math.pi, 0.0]
+        ref = _ref(mbm.Pendulum(), y0, t)[0]
+        assert np.max(np.abs(exact - ref)) < 1e-8
+        # Same period: the harmonic curve returns to θ₀ at t = period.
+        h = mbm.get_approximant("harmonic").anchor(mbm.Pendulum(), *y0)(np.array([per]))[0]
+        assert h[0] == pytest.approx(a * math.pi, abs=1e-9)
+    # Small amplitude: close; near the top: far (the paper's point).
+    ex_s, h_s, _ = d["curves"][0.25]
+    ex_l, h_l, _ = d["curves"][0.9]
+    assert np.max(np.abs(ex_s - h_s)) < 0.01 < 0.3 < np.max(np.abs(ex_l - h_l))
+
+
+def test_step_size_study(tmp_path):
+    ex = _load("step_size_study")
+    study, png = ex.main(tmp_path, taus=(0.5, 0.25, 0.125), approximants=("split4", "salas-torque"))
+    assert png.exists()
+    assert study["orders"]["split4"] == pytest.approx(4.0, abs=0.3)
+    assert abs(study["orders"]["salas-torque"]) < 0.5  # the cubic's model error: no convergence
+    # Spot-check one row against an independent reference on a different grid.
+    row = next(r for r in study["rows"] if r["approximant"] == "split4" and r["value"] == 0.25)
+    model = mbm.Pendulum(beta=0.1, gamma=0.3)
+    t = study["t"]
+    ref = _ref(model, [math.radians(30), 0.0], t, solver="ida")[0]
+    sol = mbm.solve(model, (0.0, 80.0), [math.radians(30), 0.0], tau=0.25, approximant="split4", t_eval=t)
+    assert row["error"] == pytest.approx(np.max(np.abs(sol.y[0] - ref)), rel=1e-3)
+
+
+def test_josephson_iv(tmp_path):
+    ex = _load("josephson_iv")
+    d, png = ex.main(tmp_path)
+    assert png.exists()
+    beta = d["beta"]
+    assert beta == 0.1
+    # Measured (full grid): switching 1.000, retrapping 0.1275 against 4β/π = 0.1273.
+    assert d["retrapping"] == pytest.approx(4 * beta / math.pi, rel=0.10)
+    assert d["switching"] == pytest.approx(1.0, rel=0.02)
+    up, down = d["up"], d["down"]
+    assert up["gamma"][0] == 0.0 and up["gamma"][-1] == 2.0 and down["gamma"][-1] == 0.0
+    # Hysteresis: at γ = 0.5 trapped going up, running coming down.
+    i_up = np.flatnonzero(np.isclose(up["gamma"], 0.5))[0]
+    i_dn = np.flatnonzero(np.isclose(down["gamma"], 0.5))[0]
+    assert abs(up["v"][i_up]) < 1e-3 and down["v"][i_dn] > 4.0
+    # Spot-check points against CVODE from the same start state.
+    for sweep, g in ((down, 1.5), (down, 0.5), (up, 0.5)):
+        i = np.flatnonzero(np.isclose(sweep["gamma"], g))[0]
+        t = np.array([0.0, d["t_transient"], d["t_transient"] + d["t_average"]])
+        th = _ref(mbm.Pendulum(beta=beta, gamma=g), sweep["y0"][i], t, rtol=1e-10, atol=1e-10)[0]
+        assert sweep["v"][i] == pytest.approx((th[2] - th[1]) / d["t_average"], abs=1e-5)
+    # Far above the transitions the junction is ohmic: ⟨θ'⟩ ≈ γ/β.
+    assert down["v"][0] == pytest.approx(2.0 / beta, rel=0.01)
