@@ -198,7 +198,7 @@ def _require_matplotlib(parser, option):
 
 
 def solve_command(beta, gamma, omega, theta0, v0, t_end, tau=None, approximant="auto",
-                  rtol=1e-6, atol=1e-9, n_out=201, out=None, plot=None, stdout=sys.stdout):
+                  rtol=1e-6, atol=1e-9, n_out=201, out=None, plot=None, stdout=None):
     """Solve one scene and write θ, θ' at ``n_out`` times (the ``mbm solve`` command).
 
     Parameters
@@ -218,7 +218,8 @@ def solve_command(beta, gamma, omega, theta0, v0, t_end, tau=None, approximant="
         ``theta_dot`` and the scene's parameters); default: CSV on ``stdout``.
     plot : str or Path, optional
         PNG of θ(t) and the phase portrait (needs matplotlib).
-    stdout : file-like
+    stdout : file-like, optional
+        Default: ``sys.stdout`` at call time (so that redirection is honoured).
 
     Returns
     -------
@@ -230,6 +231,7 @@ def solve_command(beta, gamma, omega, theta0, v0, t_end, tau=None, approximant="
     import mbm
     from mbm.cli_study import integrate
 
+    stdout = sys.stdout if stdout is None else stdout
     model = mbm.Pendulum(beta=beta, gamma=gamma, omega=omega)
     t = np.linspace(0.0, t_end, n_out)
     y, _ = integrate(model, (0.0, t_end), [theta0, v0], t, approximant=approximant, tau=tau,
@@ -267,7 +269,7 @@ def _write_csv(f, t, y):
 
 
 def study_command(scene, approximants, taus=None, rtols=None, n_out=201, csv=None, plot=None,
-                  stdout=sys.stdout):
+                  stdout=None):
     """Run a step-size study and print its table (the ``mbm study`` command).
 
     Parameters
@@ -280,7 +282,8 @@ def study_command(scene, approximants, taus=None, rtols=None, n_out=201, csv=Non
     n_out : int
     csv, plot : str or Path, optional
         Where to write the rows (CSV) and the figure (PNG).
-    stdout : file-like
+    stdout : file-like, optional
+        Default: ``sys.stdout`` at call time.
 
     Returns
     -------
@@ -289,6 +292,7 @@ def study_command(scene, approximants, taus=None, rtols=None, n_out=201, csv=Non
     """
     from mbm import cli_study
 
+    stdout = sys.stdout if stdout is None else stdout
     study = cli_study.run_study(scene, approximants, taus=taus, rtols=rtols, n_out=n_out)
     print(cli_study.format_table(study), file=stdout)
     if csv:

@@ -77,6 +77,14 @@ def integrate(model, t_span, y0, t_eval, approximant="auto", tau=None, rtol=1e-6
     from . import fast
     from .solver import MBM
 
+    from .approximants import get_approximant
+
+    if tau is None and approximant != "auto":
+        ap = get_approximant(approximant)
+        if not getattr(ap, "exact", False) and getattr(ap, "error_kernel", None) is None:
+            # solve_ivp would only warn and pick windows unrelated to rtol; the compiled
+            # path refuses.  Refuse on both paths so the CLI's answer does not depend on it.
+            raise ValueError(f"approximant {ap.name!r} has no error estimate: pass tau")
     if _compiled(approximant):
         sol = fast.solve(model, t_span, y0, tau=tau, rtol=rtol, atol=atol,
                          approximant=approximant, t_eval=t_eval)

@@ -136,7 +136,6 @@ def test_study_prints_table_with_fitted_orders(tmp_path, capsys):
               if line.strip().startswith("order ")}
     assert orders["split4"] == pytest.approx(4.0, abs=0.3)
     assert orders["taylor8"] > 6.0
-    header, _ = _read_csv(out_csv) if False else (None, None)
     with open(out_csv, newline="") as f:
         rows = list(csv.DictReader(f))
     assert len(rows) == 6 and {"approximant", "tau", "error", "fitted_order"} <= set(rows[0])
