@@ -45,14 +45,24 @@ STATUS_MESSAGES = {
 }
 
 
+# Layout of the packed scalar arguments of _run (one float64 array: numba's
+# dispatcher costs ~0.5 µs per argument, more than a window of work).
+P_BETA, P_GAMMA, P_OMEGA, P_T0, P_Y0, P_Y1, P_T1, P_H, P_MAXSTEP, P_RTOL, P_ATOL, P_ADAPTIVE = range(12)
+N_PACKED = 12
+
+
 @numba.njit(cache=True)
-def _run(kind, karg, order, beta, gamma, omega, t0, y0, y1, t_bound, h_abs, max_step,
-         rtol, atol, adaptive, t_eval, out_th, out_v, record_ends):
-    """One scene.  Fills out_th/out_v at t_eval (monotone in the direction of
-    integration); with ``record_ends`` returns the window ends instead.
+def _run(kind, karg, order, p, t_eval, out_th, out_v, record_ends):
+    """One scene.  ``p`` holds the packed scalars (P_* indices).  Fills out_th/out_v
+    at t_eval (monotone in the direction of integration); with ``record_ends``
+    returns the window ends instead.
 
     Returns (status, n_windows, ends_t, ends_th, ends_v, n_filled).
     """
+    beta, gamma, omega = p[P_BETA], p[P_GAMMA], p[P_OMEGA]
+    t0, y0, y1, t_bound = p[P_T0], p[P_Y0], p[P_Y1], p[P_T1]
+    h_abs, max_step, rtol, atol = p[P_H], p[P_MAXSTEP], p[P_RTOL], p[P_ATOL]
+    adaptive = p[P_ADAPTIVE] != 0.0
     direction = 1.0 if t_bound >= t0 else -1.0
     t = t0
     n_windows = 0
@@ -233,11 +243,9 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
     te = np.empty(0) if record else s["t_eval"]
     out_th = np.empty(te.size)
     out_v = np.empty(te.size)
-    status, n_w, et, eth, ev, n_filled = _run(
-        s["kind"], s["karg"], s["order"], model.beta, model.gamma, model.omega, s["t0"],
-        s["y0"][0], s["y0"][1], s["t1"], s["h_abs"], float(max_step), float(rtol), float(atol),
-        s["adaptive"], te, out_th, out_v, record,
-    )
+    p = np.array([model.beta, model.gamma, model.omega, s["t0"], s["y0"][0], s["y0"][1], s["t1"],
+                  s["h_abs"], float(max_step), float(rtol), float(atol), float(s["adaptive"])])
+    status, n_w, et, eth, ev, n_filled = _run(s["kind"], s["karg"], s["order"], p, te, out_th, out_v, record)
     if record:
         t, y = et, np.vstack((eth, ev))
     else:
@@ -250,18 +258,13 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
 
 
 @numba.njit(cache=True, parallel=True)
-def _run_batch(kinds, kargs, orders, beta, gamma, omega, t0, th0, v0, t1, h_abs, max_step,
-               rtol, atol, adaptive, t_eval, out_th, out_v, status, n_windows):
-    n = beta.size
-    dummy = np.empty(0)
+def _run_batch(kinds, kargs, orders, packed, t_eval, out_th, out_v, status, n_windows):
+    n = kinds.size
     for i in numba.prange(n):
-        st, nw, _, _, _, _ = _run(
-            kinds[i], kargs[i], orders[i], beta[i], gamma[i], omega[i], t0, th0[i], v0[i], t1,
-            h_abs[i], max_step, rtol, atol, adaptive[i], t_eval, out_th[i], out_v[i], False,
-        )
+        st, nw, _, _, _, _ = _run(kinds[i], kargs[i], orders[i], packed[i], t_eval, out_th[i], out_v[i], False)
         status[i] = st
         n_windows[i] = nw
-    return dummy.size
+    return n
 
 
 def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
@@ -320,12 +323,12 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
     out_v = np.empty((n, te.size))
     status = np.empty(n, dtype=np.int64)
     n_windows = np.empty(n, dtype=np.int64)
-    _run_batch(
-        kinds, kargs, orders, np.ascontiguousarray(beta), np.ascontiguousarray(gamma),
-        np.ascontiguousarray(omega), t0, np.ascontiguousarray(y0[:, 0]),
-        np.ascontiguousarray(y0[:, 1]), t1, h_abs, float(max_step), float(rtol), float(atol),
-        adaptive, te, out_th, out_v, status, n_windows,
-    )
+    packed = np.empty((n, N_PACKED))
+    packed[:, P_BETA], packed[:, P_GAMMA], packed[:, P_OMEGA] = beta, gamma, omega
+    packed[:, P_T0], packed[:, P_Y0], packed[:, P_Y1], packed[:, P_T1] = t0, y0[:, 0], y0[:, 1], t1
+    packed[:, P_H], packed[:, P_MAXSTEP] = h_abs, float(max_step)
+    packed[:, P_RTOL], packed[:, P_ATOL], packed[:, P_ADAPTIVE] = float(rtol), float(atol), adaptive
+    _run_batch(kinds, kargs, orders, packed, te, out_th, out_v, status, n_windows)
     return SolveResult(
         t=te, y=np.stack((out_th, out_v), axis=1), status=status, success=status == 0,
         n_windows=n_windows, approximant=np.array(names),
