@@ -40,12 +40,14 @@ __all__ = [
     "reference",
     "solve",
     "solve_batch",
+    "successive",
 ]
 
 # name -> (module, attribute or None for the module itself)
 _LAZY = {
     "MBM": ("mbm.solver", "MBM"),
     "events": ("mbm.events", None),
+    "successive": ("mbm.events", "successive"),
     "solver": ("mbm.solver", None),
 }
 
