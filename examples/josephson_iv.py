@@ -28,6 +28,7 @@ import numpy as np
 from _common import cli_out, out_dir, pyplot
 
 import mbm
+from mbm.cli_progress import Progress
 
 BETA = 0.1
 GAMMA_MAX = 2.0
@@ -118,9 +119,12 @@ def compute(beta=BETA, coarse=COARSE, fine_switch=FINE_SWITCH, fine_retrap=FINE_
     up_g, down_g = bias_sweeps(coarse, fine_switch, fine_retrap)
     y = np.array([0.0, 0.0])
     out = {"beta": beta, "t_transient": t_transient, "t_average": t_average}
+    # A progress bar on stderr (silent unless it is a terminal): the sweep is sequential.
+    bar = Progress(up_g.size + down_g.size, "I-V sweep")
     for name, grid in (("up", up_g), ("down", down_g)):
         vs, starts = [], []
         for g in grid:
+            bar.update()
             starts.append(y.copy())
             v, y = mean_velocity(beta, g, y, t_transient, t_average)
             # Hand over θ mod 2π: the equation is 2π-periodic in θ, and a small θ keeps
@@ -128,6 +132,7 @@ def compute(beta=BETA, coarse=COARSE, fine_switch=FINE_SWITCH, fine_retrap=FINE_
             y[0] = math.remainder(y[0], 2.0 * math.pi)
             vs.append(v)
         out[name] = {"gamma": grid, "v": np.array(vs), "y0": np.array(starts)}
+    bar.close()
     run_up = out["up"]["v"] > V_THRESHOLD
     run_down = out["down"]["v"] > V_THRESHOLD
     out["switching"] = float(out["up"]["gamma"][np.argmax(run_up)]) if run_up.any() else float("nan")

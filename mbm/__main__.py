@@ -346,7 +346,11 @@ def _build_parser():
 
     q = sub.add_parser("study", help="step-size / accuracy study: table, fitted orders, plots",
                        description="Sweep tau (or rtol) for chosen approximants on one scene; print "
-                       "error, windows and time per point and the fitted order of error ~ C h^p.")
+                       "error, windows and time per point and the fitted order of error ~ C h^p.",
+                       epilog="scenes (beta, gamma, omega, theta0 [deg], v0, t_end):\n" + "\n".join(
+                           f"  {k:<8s} {b:g}, {g:g}, {w:g}, {math.degrees(th):g}, {v:g}, {te:g}"
+                           for k, (b, g, w, th, v, te) in SCENES.items()),
+                       formatter_class=argparse.RawDescriptionHelpFormatter)
     q.add_argument("--scene", choices=sorted(SCENES), default="ex1",
                    help="scene (default ex1: beta=0.1, gamma=0.3, theta0=30deg, 0<=t<=80)")
     q.add_argument("--approximants", type=_approximant_list, default=["taylor8", "split4", "salas-torque"],

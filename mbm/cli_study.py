@@ -149,7 +149,8 @@ def run_study(scene, approximants, taus=None, rtols=None, n_out=201, show_progre
     dict
         ``knob`` ("tau" or "rtol"), ``values``, ``t``, ``ref`` (θ_ref at t),
         ``rows`` (list of dicts: approximant, value, windows, h, error, time_s, note),
-        ``orders`` ({approximant: fitted order}) and ``curves``
+        ``orders`` ({approximant: fitted order}), ``n_fit`` ({approximant: points in
+        the fit}), ``scene`` and ``curves``
         ({approximant: (value, |θ − θ_ref| at t)} at the middle knob value).
     """
     from .cli_progress import Progress
@@ -196,7 +197,13 @@ def run_study(scene, approximants, taus=None, rtols=None, n_out=201, show_progre
                         [r["error"] for r in rows if r["approximant"] == name])
         for name in approximants
     }
-    return dict(knob=knob, values=values, t=t, ref=ref, rows=rows, orders=orders, curves=curves,
+    # How many points each fit used: a slope from two points deserves less trust.
+    n_fit = {
+        name: int(sum(1 for r in rows if r["approximant"] == name and np.isfinite(r["error"])
+                      and ERR_FLOOR < r["error"] < ERR_CEIL))
+        for name in approximants
+    }
+    return dict(knob=knob, values=values, t=t, ref=ref, rows=rows, orders=orders, n_fit=n_fit, curves=curves,
                 scene=(beta, gamma, omega, th0, v0, t_end))
 
 
@@ -230,7 +237,9 @@ def format_table(study):
     lines.append("")
     lines.append(f"fitted order p of error ~ C h^p (h = mean window; errors in ({ERR_FLOOR:g}, {ERR_CEIL:g})):")
     for name, p in study["orders"].items():
-        txt = f"{p:.2f}" if math.isfinite(p) else "n/a (fewer than two points in range)"
+        n = study.get("n_fit", {}).get(name)
+        txt = (f"{p:.2f}" + (f"  (fit over {n} points)" if n is not None else "")
+               if math.isfinite(p) else "n/a (fewer than two points in range)")
         lines.append(f"  order {name:<20s} {txt}")
     return "\n".join(lines)
 

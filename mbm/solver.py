@@ -333,17 +333,18 @@ class MBM(OdeSolver):
             self.max_step, self.rtol, self.atol, self.adaptive, float(self.t_bound), nmax,
             starts, coefs,
         )
-        # windows_per_step=None: keep going in compiled chunks until t_bound.
+        # windows_per_step=None: keep going in compiled chunks until t_bound, doubling
+        # the buffers (amortized linear in the number of windows).
         while st == 0 and self.windows_per_step is None and t != self.t_bound:
-            more_s = np.empty(nmax + 1)
-            more_c = np.empty((nmax, coefs.shape[1]))
+            if n + nmax > coefs.shape[0]:
+                cap = 2 * (n + nmax)
+                starts = np.concatenate((starts[: n + 1], np.empty(cap - n)))
+                coefs = np.concatenate((coefs[:n], np.empty((cap - n, coefs.shape[1]))))
             st, m, t, th, v, h_abs = _kernels.advance(
                 kind, karg, self._order, self._beta, self._gamma, self._omega, t, th, v,
                 float(self.direction), float(self.t_bound), h_abs, self.max_step, self.rtol,
-                self.atol, self.adaptive, float(self.t_bound), nmax, more_s, more_c,
+                self.atol, self.adaptive, float(self.t_bound), nmax, starts[n:], coefs[n:],
             )
-            starts = np.concatenate((starts[:n], more_s[: m + 1]))
-            coefs = np.concatenate((coefs[:n], more_c[:m]))
             n += m
         if n == 0:
             return False, self._failure(st)

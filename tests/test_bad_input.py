@@ -210,11 +210,6 @@ def test_model_not_a_pendulum(model):
         solve_ivp(MODEL, (0.0, 1.0), [0.1, 0.0], method=mbm.MBM, model=model)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="Approximant.anchor (mbm/approximants/base.py) does not check model: a non-Pendulum "
-    "raises AttributeError ('NoneType' object has no attribute 'beta') instead of TypeError",
-)
 @pytest.mark.parametrize("model", [None, (0.1, 0.3, 1.0)])
 def test_model_not_a_pendulum_anchor(model):
     with pytest.raises(TypeError, match=r"model"):

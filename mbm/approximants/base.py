@@ -146,6 +146,10 @@ class Approximant:
         ApproximantDomainError
             If the model or the anchor state is outside the approximant's domain.
         """
+        from ..problem import Pendulum
+
+        if not isinstance(model, Pendulum):
+            raise TypeError(f"model must be an mbm.Pendulum, got {type(model).__name__}")
         self.check_model(model)
         theta0 = float(theta0)
         v0 = float(v0)
