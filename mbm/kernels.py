@@ -91,15 +91,6 @@ def evaluate(kind, coef, t):
 
 
 @numba.njit(cache=True)
-def evaluate_array(kind, coef, t, out_theta, out_v):
-    """:func:`evaluate` over an array of times."""
-    for i in range(t.size):
-        a, b = evaluate(kind, coef, t[i])
-        out_theta[i] = a
-        out_v[i] = b
-
-
-@numba.njit(cache=True)
 def estimate(kind, coef, h):
     """Local error estimate (err_θ, err_θ') of the window [0, h]; 0 for the exact flow."""
     if kind == KIND_TAYLOR:

@@ -290,10 +290,14 @@ class MBM(OdeSolver):
                 t_new = self._window_end(t_max)
             h = t_new - t
             theta, v = ap.eval_kernel(coef, h)
+        return self._accept_window(coef, t, t_new, theta, v)
+
+    def _accept_window(self, coef, t, t_new, theta, v):
+        # One window of a Python-driven mode: accept it, or fail cleanly (never NaN).
         if not (math.isfinite(theta) and math.isfinite(v)):
             return False, (
-                f"approximant {ap.name!r} produced a non-finite state over the window "
-                f"[{t!r}, {t_new!r}]: the motion left its domain"
+                f"approximant {self.approximant.name!r} produced a non-finite state over "
+                f"the window [{t!r}, {t_new!r}]: the motion left its domain"
             )
         self._coef = coef
         self.t = t_new
@@ -385,17 +389,8 @@ class MBM(OdeSolver):
             return False, msg
         t = self.t
         t_new = self._window_end(self.tau)
-        ap = self.approximant
-        theta, v = ap.eval_kernel(coef, t_new - t)
-        if not (math.isfinite(theta) and math.isfinite(v)):
-            return False, (
-                f"approximant {ap.name!r} produced a non-finite state over the window "
-                f"[{t!r}, {t_new!r}]: the motion left its domain"
-            )
-        self._coef = coef
-        self.t = t_new
-        self.y = np.array([theta, v])
-        return True, None
+        theta, v = self.approximant.eval_kernel(coef, t_new - t)
+        return self._accept_window(coef, t, t_new, theta, v)
 
     def _dense_output_impl(self):
         if self._run is not None and self.anchors == "windows":
