@@ -6,6 +6,7 @@ many scenes in parallel (``numba.prange``).  Both use the window control of
 equal the solve_ivp path's bit for bit for the same options.
 """
 
+import functools
 import math
 
 import numba
@@ -13,7 +14,7 @@ import numpy as np
 
 from . import kernels as K
 from .approximants import get_approximant
-from .choice import choose_approximant
+from .choice import CONVERGENT_DEFAULT, EXACT_UNDAMPED, choose_approximant
 from .problem import Pendulum
 
 __all__ = ["solve", "solve_batch", "SolveResult"]
@@ -35,6 +36,7 @@ class SolveResult(dict):
 
 # Initial capacity of the window-end record when no t_eval is given (doubled as needed).
 ENDS_CAPACITY = 64
+_NO_TIMES = np.empty(0)
 
 STATUS_MESSAGES = {
     K.STATUS_OK: "The solver successfully reached the end of the integration interval.",
@@ -142,13 +144,36 @@ def _t_eval_problem(t_eval, t0, t1):
     return 0
 
 
+@functools.lru_cache(maxsize=64)
+def _resolve(name, undamped):
+    """Approximant, kernel kind and flags for a registered name (cached: this is
+    per-call overhead of :func:`solve`, paid once per name)."""
+    if name == "auto":
+        name = EXACT_UNDAMPED if undamped else CONVERGENT_DEFAULT
+    return _describe(get_approximant(name))
+
+
+def _describe(ap):
+    kk = K.kind_of(ap)
+    if kk is None:
+        raise ValueError(
+            f"approximant {ap.name!r} has no compiled kernel; mbm.solve runs 'auto', 'taylor*', "
+            "'split*', 'belendez' and 'salas-torque' (use solve_ivp(method=mbm.MBM) for the others)"
+        )
+    exact = bool(getattr(ap, "exact", False))
+    has_estimate = getattr(ap, "error_kernel", None) is not None
+    return ap, kk[0], kk[1], exact, has_estimate
+
+
 def _setup(model, t_span, y0, tau, rtol, atol, approximant, t_eval, max_step):
     """Validate and translate the options of :func:`solve` into kernel arguments."""
     if not isinstance(model, Pendulum):
         raise TypeError(f"model must be an mbm.Pendulum, got {type(model).__name__}")
     try:
-        t0, t1 = (float(x) for x in t_span)
-    except (TypeError, ValueError):
+        t0, t1 = float(t_span[0]), float(t_span[1])
+        if len(t_span) != 2:
+            raise ValueError
+    except (TypeError, ValueError, IndexError):
         raise ValueError(f"t_span must be a pair of real numbers (t0, t_bound), got {t_span!r}") from None
     if not (math.isfinite(t0) and math.isfinite(t1)):
         raise ValueError(f"t_span must be finite, got {t_span!r}")
@@ -162,20 +187,13 @@ def _setup(model, t_span, y0, tau, rtol, atol, approximant, t_eval, max_step):
             raise ValueError(f"{name} must be a positive finite number, got {val!r}")
     if not (max_step > 0):
         raise ValueError(f"max_step must be > 0, got {max_step!r}")
-    if isinstance(approximant, str) and approximant == "auto":
-        name, reason = choose_approximant(model, y0, rtol, atol)
+    undamped = model.beta == 0.0 and model.gamma == 0.0
+    if isinstance(approximant, str):
+        ap, kind, karg, exact, has_estimate = _resolve(approximant, undamped)
     else:
-        name, reason = approximant, "chosen by the caller"
-    ap = get_approximant(name)
+        ap, kind, karg, exact, has_estimate = _describe(get_approximant(approximant))
     ap.check_model(model)
-    kk = K.kind_of(ap)
-    if kk is None:
-        raise ValueError(
-            f"approximant {ap.name!r} has no compiled kernel; mbm.solve runs 'auto', 'taylor*', "
-            "'split*', 'belendez' and 'salas-torque' (use solve_ivp(method=mbm.MBM) for the others)"
-        )
-    exact = bool(getattr(ap, "exact", False))
-    adaptive = tau is None and not exact and getattr(ap, "error_kernel", None) is not None
+    adaptive = tau is None and not exact and has_estimate
     if tau is not None:
         tau = float(tau)
         if not (math.isfinite(tau) and tau > 0):
@@ -188,7 +206,7 @@ def _setup(model, t_span, y0, tau, rtol, atol, approximant, t_eval, max_step):
     else:
         raise ValueError(f"approximant {ap.name!r} has no error estimate: pass tau")
     if t_eval is not None:
-        t_eval = np.ascontiguousarray(np.asarray(t_eval, dtype=float).reshape(-1))
+        t_eval = np.ascontiguousarray(t_eval, dtype=float).reshape(-1)
         problem = _t_eval_problem(t_eval, t0, t1)
         if problem:
             raise ValueError(
@@ -196,8 +214,13 @@ def _setup(model, t_span, y0, tau, rtol, atol, approximant, t_eval, max_step):
                  "t_eval must be sorted in the direction of integration")[problem]
             )
     order = int(ap.order) if adaptive else 1
-    return dict(ap=ap, reason=reason, kind=kk[0], karg=kk[1], order=order, t0=t0, t1=t1, y0=y0,
-                h_abs=float(h_abs), adaptive=adaptive, t_eval=t_eval)
+    return (ap, approximant, kind, karg, order, t0, t1, y0, float(h_abs), adaptive, t_eval)
+
+
+def _reason(model, y0, rtol, atol, approximant):
+    if isinstance(approximant, str) and approximant == "auto":
+        return choose_approximant(model, y0, rtol, atol)[1]
+    return "chosen by the caller"
 
 
 def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="auto",
@@ -238,22 +261,25 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
         For invalid arguments (naming the argument) or an approximant without a
         compiled kernel.
     """
-    s = _setup(model, t_span, y0, tau, rtol, atol, approximant, t_eval, float(max_step))
-    record = s["t_eval"] is None
-    te = np.empty(0) if record else s["t_eval"]
-    out_th = np.empty(te.size)
-    out_v = np.empty(te.size)
-    p = np.array([model.beta, model.gamma, model.omega, s["t0"], s["y0"][0], s["y0"][1], s["t1"],
-                  s["h_abs"], float(max_step), float(rtol), float(atol), float(s["adaptive"])])
-    status, n_w, et, eth, ev, n_filled = _run(s["kind"], s["karg"], s["order"], p, te, out_th, out_v, record)
+    ap, _, kind, karg, order, t0, t1, y0, h_abs, adaptive, te = _setup(
+        model, t_span, y0, tau, rtol, atol, approximant, t_eval, float(max_step)
+    )
+    record = te is None
+    if record:
+        te = _NO_TIMES
+    y = np.empty((2, te.size))
+    p = np.array([model.beta, model.gamma, model.omega, t0, y0[0], y0[1], t1, h_abs,
+                  float(max_step), float(rtol), float(atol), float(adaptive)])
+    status, n_w, et, eth, ev, n_filled = _run(kind, karg, order, p, te, y[0], y[1], record)
     if record:
         t, y = et, np.vstack((eth, ev))
     else:
-        t, y = te[:n_filled], np.vstack((out_th[:n_filled], out_v[:n_filled]))
+        t = te if n_filled == te.size else te[:n_filled]
+        y = y if n_filled == te.size else y[:, :n_filled]
     return SolveResult(
         t=t, y=y, success=status == K.STATUS_OK, status=int(status),
         message=STATUS_MESSAGES[int(status)], n_windows=int(n_w),
-        approximant=s["ap"].name, reason=s["reason"],
+        approximant=ap.name, reason=_reason(model, y0, rtol, atol, approximant),
     )
 
 
@@ -314,11 +340,10 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
     t0 = t1 = None
     for i in range(n):
         model = Pendulum(beta[i], gamma[i], omega[i])
-        s = _setup(model, t_span, y0[i], tau, rtol, atol, approximant, t_eval, float(max_step))
-        kinds[i], kargs[i], orders[i] = s["kind"], s["karg"], s["order"]
-        h_abs[i], adaptive[i] = s["h_abs"], s["adaptive"]
-        names.append(s["ap"].name)
-        te, t0, t1 = s["t_eval"], s["t0"], s["t1"]
+        ap, _, kinds[i], kargs[i], orders[i], t0, t1, _, h_abs[i], adaptive[i], te = _setup(
+            model, t_span, y0[i], tau, rtol, atol, approximant, t_eval, float(max_step)
+        )
+        names.append(ap.name)
     out_th = np.empty((n, te.size))
     out_v = np.empty((n, te.size))
     status = np.empty(n, dtype=np.int64)

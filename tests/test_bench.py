@@ -169,8 +169,13 @@ def test_quick_harness_produces_tables(tmp_path):
 
     data = json.loads(js.read_text())
     assert data["settings"]["quick"] is True and data["scenes"] == ["P1"]
-    # the reference was cached and is reused
+    # the reference was cached
     assert list((tmp_path / "cache").glob("ref_P1_*.npz"))
+    # the saved points render the same tables again without running anything
+    out2 = tmp_path / "again.md"
+    assert bench.main(["--from-json", str(js), "--out", str(out2)]) == 0
+    tables = lambda t: t.split("## Target error", 1)[1].split("## First-call")[0]  # noqa: E731
+    assert tables(out2.read_text()) == tables(text)
 
 
 def test_cli_rejects_unknown_scene():
@@ -186,3 +191,19 @@ def test_scenes_match_the_issue():
     assert (p["P4"].beta, p["P4"].gamma, p["P4"].theta0, p["P4"].t_end) == (0.01, 0.3, 1.0, 1e4)
     assert (p["P5"].gamma, p["P5"].t_end) == (1.2, 1000)
     assert (p["P6"].beta, p["P6"].gamma, p["P6"].v0, p["P6"].t_end) == (0.0, 0.0, 1.999, 200)
+
+
+def test_reference_without_mpmath_falls_back_to_cvode_and_flags(monkeypatch):
+    import sys
+
+    monkeypatch.setitem(sys.modules, "mpmath", None)  # import mpmath -> ImportError
+    ref = bench.scene_reference(bench.SCENES["P1"], cache_dir=False)
+    assert ref["method"].startswith("CVODE") and ref["check_method"].startswith("numba DOP853")
+    # the CVODE reference's own error (~1e-12 on P1) is measured by its check
+    assert 0 < ref["uncertainty"] == ref["check"] < 1e-10
+    # a reference no better than 1e-9 makes the 1e-9 column flagged, the others not
+    result = {"scenes": ["P1"], "solvers": {"x": {"family": "mbm"}},
+              "points": {"P1": {"x": _pts((1.0, 1e-10, 1e-3, "ok"))}},
+              "references": {"P1": {"uncertainty": 1e-9}}}
+    assert bench._target_table(result, 1e-9, ["x"], "mbm")[1]
+    assert not bench._target_table(result, 1e-6, ["x"], "mbm")[1]
