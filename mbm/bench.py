@@ -795,7 +795,7 @@ def _mbm_options(knob, value):
     return {"tau": value} if knob == "tau" else {"rtol": value, "atol": value}
 
 
-def _mbm_solve_ivp_runner(name, knob):
+def _mbm_solve_ivp_runner(name, knob, windows_per_step=1):
     def run(scene, value):
         from scipy.integrate import solve_ivp
 
@@ -803,7 +803,8 @@ def _mbm_solve_ivp_runner(name, knob):
 
         model = scene.model
         sol = solve_ivp(model, scene.t_span, scene.y0, method=MBM, approximant=name, model=model,
-                        t_eval=scene.t_eval, **_mbm_options(knob, value))
+                        t_eval=scene.t_eval, windows_per_step=windows_per_step,
+                        **_mbm_options(knob, value))
         if not sol.success:
             raise RuntimeError(sol.message)
         return sol.y[0]
@@ -875,6 +876,14 @@ def solver_registry():
         paths.append(("mbm.solve", "mbm-compiled", True, _mbm_solve_runner, "mbm.solve("))
     else:
         notes.append("mbm.solve (the compiled path) is not in this checkout: no compiled MBM rows.")
+    # solve_ivp with all windows of a step in one compiled call (windows_per_step=None):
+    # same windows and answers, Python overhead independent of the number of windows.
+    for n, knob in variants:
+        if knob == "rtol" and n == "auto":
+            solvers.append(Solver(
+                f"MBM {n} (rtol, windows_per_step=None)", "mbm", False, knob,
+                _mbm_solve_ivp_runner(n, knob, None), *sweeps[knob],
+                f"solve_ivp(method=mbm.MBM, approximant={n!r}, windows_per_step=None), {how[knob]}"))
     for prefix, family, compiled, runner, call in paths:
         for n, knob in variants:
             solvers.append(Solver(
