@@ -11,7 +11,7 @@ half a second); they are loaded on first use so that ``import mbm`` followed by
 
 import importlib
 
-from . import choice
+from . import choice  # noqa: F401  (mbm.choice: the "auto" rule, documented in the README)
 from .approximants import (
     Anchored,
     Approximant,

@@ -36,7 +36,6 @@ import numpy as np
 from scipy.optimize import brentq
 
 from .approximants.base import ApproximantDomainError, get_approximant
-from .approximants.salas2022 import cubic_equilibrium
 from .problem import Pendulum
 from .reference import CVODE_ADAMS_MAX_ORDER, MAX_NUM_STEPS, MIN_RTOL
 

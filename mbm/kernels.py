@@ -16,7 +16,6 @@ same formula at a shorter length.
 import math
 
 import numba
-import numpy as np
 
 from .approximants.belendez2007 import belendez_anchor_kernel, belendez_eval_kernel
 from .approximants.salas2022 import salas_torque_anchor, salas_torque_eval

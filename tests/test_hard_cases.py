@@ -321,8 +321,11 @@ def test_long_horizon_1e6_against_reference(gamma):
     assert ref.success
     th, v = sol.y[:, -1]
     if gamma < 1:
+        # The settled state is known exactly (asin γ, 0): mbm meets it to 1e-9.  CVODE
+        # at 1e-10 settles 3.1e-9 off it (measured; its corrector stops within its
+        # weighted tolerance, not at the fixed point), so it is held to 1e-8.
         assert abs(th - math.asin(gamma)) <= 1e-9 and abs(v) <= 1.3e-9
-        assert abs(ref.y[0, -1] - math.asin(gamma)) <= 1e-9
+        assert abs(ref.y[0, -1] - math.asin(gamma)) <= 1e-8
     else:
         u, _ = _cycle_speed(0.01, gamma, th)
         ur, _ = _cycle_speed(0.01, gamma, ref.y[0, -1])

@@ -163,3 +163,16 @@ def test_equilibrium_anchor_stays_put():
     th, v = AP.anchor(model, d, 0.0)(np.linspace(0, 50, 11))
     np.testing.assert_allclose(th, d, atol=1e-15)
     np.testing.assert_allclose(v, 0.0, atol=1e-15)
+
+
+@pytest.mark.parametrize("theta0", [6.41496634789293e-29, 1e-20, 1e-12])
+def test_tiny_amplitude_at_rest_anchors(theta0):
+    # Found by the stress suite: at rest with a tiny amplitude, w of (2.16) cancelled
+    # (A and y0 carry absolute errors large against A − y0) and fell below the
+    # minimum of ℘, so computing D raised.  At rest away from A, D is the half period.
+    a = AP.anchor(mbm.Pendulum(), theta0, 0.0)
+    assert a.params["D"] == pytest.approx(math.pi, rel=1e-12)  # half period for g2=1/12, g3=1/216
+    th, v = a(1.0)
+    # The cubic model at tiny amplitude is the harmonic oscillator θ0 cos t.
+    assert abs(th - theta0 * math.cos(1.0)) <= 1e-10 * theta0 + 1e-30
+    assert abs(v + theta0 * math.sin(1.0)) <= 1e-10 * theta0 + 1e-30

@@ -64,6 +64,16 @@ import numpy as np
 from numba import njit as _njit
 
 from ..problem import Pendulum
+from ..special._dd import (
+    _dd_add,
+    _dd_div,
+    _dd_div_d,
+    _dd_mul,
+    _dd_sqrt,
+    _fast_two_sum,
+    _two_prod,
+    _two_sum,
+)
 from ..special.jacobi import ellipf_kernel, ellipj_kernel
 from .base import Approximant, ApproximantDomainError, register
 
@@ -98,10 +108,6 @@ PI_LO = 1.2246467991473532e-16
 # error j·2π·2^-107 stays below that; beyond, a finer 2π would be needed (and θ₀
 # itself has an ulp of 0.125 there).
 THETA_REDUCE_MAX = 1e15
-
-# Veltkamp splitter 2^27 + 1: splits a double into two 26-bit halves so that
-# products of halves are exact (Dekker's two-product without an FMA).
-SPLITTER = 134217729.0
 
 # Taylor terms of the double-double sin/cos at |y| <= π/16: the first omitted
 # term y^21/21! < 1e-33.
@@ -155,79 +161,12 @@ njit = functools.partial(_njit, error_model="numpy")
 
 
 @njit(cache=True)
-def _two_sum(a, b):
-    # Knuth: s + e == a + b exactly.
-    s = a + b
-    bb = s - a
-    e = (a - (s - bb)) + (b - bb)
-    return s, e
-
-
-@njit(cache=True)
-def _fast_two_sum(a, b):
-    # Dekker, requires |a| >= |b| (or a == 0).
-    s = a + b
-    return s, b - (s - a)
-
-
-@njit(cache=True)
-def _split(a):
-    c = SPLITTER * a
-    hi = c - (c - a)
-    return hi, a - hi
-
-
-@njit(cache=True)
-def _two_prod(a, b):
-    # Dekker: p + e == a * b exactly (barring over/underflow).
-    p = a * b
-    ah, al = _split(a)
-    bh, bl = _split(b)
-    e = ((ah * bh - p) + ah * bl + al * bh) + al * bl
-    return p, e
-
-
-@njit(cache=True)
-def _dd_add(ah, al, bh, bl):
-    s, e = _two_sum(ah, bh)
-    e += al + bl
-    return _fast_two_sum(s, e)
-
-
-@njit(cache=True)
-def _dd_mul(ah, al, bh, bl):
-    p, e = _two_prod(ah, bh)
-    e += ah * bl + al * bh
-    return _fast_two_sum(p, e)
-
-
-@njit(cache=True)
-def _dd_sqrt(ah, al):
-    # One Newton step on the double sqrt doubles the number of correct bits.
+def _dd_sqrt_nonneg(ah, al):
+    # Radicands here are squares or products of non-negatives: a rounding-negative
+    # one means 0 (the shared _dd_sqrt would give NaN).
     if ah <= 0.0:
         return 0.0, 0.0
-    s = math.sqrt(ah)
-    p, e = _two_prod(s, s)
-    corr = (((ah - p) - e) + al) / (2.0 * s)
-    return _fast_two_sum(s, corr)
-
-
-@njit(cache=True)
-def _dd_div(ah, al, bh, bl):
-    q1 = ah / bh
-    ph, pl = _dd_mul(q1, 0.0, bh, bl)
-    rh, rl = _dd_add(ah, al, -ph, -pl)
-    q2 = (rh + rl) / bh
-    return _fast_two_sum(q1, q2)
-
-
-@njit(cache=True)
-def _dd_div_d(ah, al, b):
-    # (ah + al) / b for a double b.
-    q1 = ah / b
-    p, e = _two_prod(q1, b)
-    q2 = (((ah - p) - e) + al) / b
-    return _fast_two_sum(q1, q2)
+    return _dd_sqrt(ah, al)
 
 
 @njit(cache=True)
@@ -285,17 +224,17 @@ def ellipk_dd_kernel(mc, mc_lo):
     if mc < AGM_TINY_MC:
         # √mc via √(mc·2^600)·2^-300 (exact scalings): the low part of mc = b·b
         # would otherwise be subnormal and lose bits.
-        bh, bl = _dd_sqrt(mc * 2.0**600, mc_lo * 2.0**600)
+        bh, bl = _dd_sqrt_nonneg(mc * 2.0**600, mc_lo * 2.0**600)
         bh, bl = bh * 2.0**-300, bl * 2.0**-300
     else:
-        bh, bl = _dd_sqrt(mc, mc_lo)
+        bh, bl = _dd_sqrt_nonneg(mc, mc_lo)
     for _ in range(AGM_MAX_ITER):
         if abs(ah - bh) <= AGM_GAP_RTOL * ah:
             break
         ph, pl = _dd_mul(ah, al, bh, bl)
         sh, sl = _dd_add(ah, al, bh, bl)
         ah, al = 0.5 * sh, 0.5 * sl
-        bh, bl = _dd_sqrt(ph, pl)
+        bh, bl = _dd_sqrt_nonneg(ph, pl)
     # The mean (a + b)/2 is within gap²/(8a) of the limit (one more AGM step).
     mh, ml = _dd_add(ah, al, bh, bl)
     # K = (π/2) / AGM

@@ -393,6 +393,12 @@ def _paper_D(pr):
     y0, yd0 = pr["y0"], pr["ydot0"]
     if y0 == A:
         return 0.0  # anchored at the turning point A itself: the pole of ℘
+    if yd0 == 0.0:
+        # At rest away from A: the other turning point, where ℘ takes its minimum,
+        # at the half period.  Computing w here would cancel: for amplitudes below
+        # ~1e-8 A and y0 carry absolute errors that are large relative to A − y0
+        # (amplitude 1e-20 gave w 1.4e-9 below the minimum; 6e-29 gave nonsense).
+        return float(wp_half_period(g2, g3))
     w = (y0 - A - B) / (C * (A - y0))
     # y0 at the upper turning point makes w the minimum of ℘ (at the half period),
     # which rounding can undercut by a few ulps: clamp only such undercuts.

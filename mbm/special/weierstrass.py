@@ -46,22 +46,24 @@ import math
 import numba
 import numpy as np
 
-from .jacobi import (
-    _EPS,
-    _carlson_rf,
+from ._dd import (
     _dd_add,
     _dd_div,
     _dd_mul,
     _dd_mul_d,
     _dd_mul_safe,
     _dd_sqrt,
-    _ellipk_dd,
     _fast_two_sum,
+    _two_prod,
+)
+from .jacobi import (
+    _EPS,
+    _carlson_rf,
+    _ellipk_dd,
     _finite_f64,
     _flat,
     _out,
     _reduce_eval,
-    _two_prod,
     ellipf_kernel,
 )
 
