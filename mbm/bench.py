@@ -65,6 +65,8 @@ from pathlib import Path
 import numpy as np
 from numba import njit
 
+from .cli_progress import Progress
+
 __all__ = [
     "Scene",
     "Solver",
@@ -1333,7 +1335,8 @@ class _stdout_to_stderr:
 
 
 def run_benchmark(scenes=None, repeats=DEFAULT_REPEATS, quick=False, max_seconds=MAX_POINT_SECONDS,
-                  solver_filter=None, cache_dir=None, cold_compile=False, log=None):
+                  solver_filter=None, cache_dir=None, cold_compile=False, log=None,
+                  show_progress=True):
     """Run every solver's sweep on every scene.
 
     Parameters
@@ -1355,6 +1358,9 @@ def run_benchmark(scenes=None, repeats=DEFAULT_REPEATS, quick=False, max_seconds
         (:func:`cold_first_call_seconds`, a subprocess).
     log : file-like or None
         Progress lines go here.
+    show_progress : bool or file-like
+        Draw a progress bar over the (scene, solver) sweeps on stderr when it is a
+        terminal (True), never (False), or always on the given stream.
 
     Returns
     -------
@@ -1369,14 +1375,19 @@ def run_benchmark(scenes=None, repeats=DEFAULT_REPEATS, quick=False, max_seconds
         if s not in SCENES:
             raise ValueError(f"unknown scene {s!r}; choose from {sorted(SCENES)}")
 
-    def say(msg):
-        if log is not None:
-            print(msg, file=log, flush=True)
-
     solvers, notes = solver_registry()
     if solver_filter:
         keys = [f.lower() for f in solver_filter]
         solvers = [s for s in solvers if any(k in s.name.lower() for k in keys)]
+    if show_progress is True or show_progress is False:
+        bar = Progress(len(scenes) * len(solvers), "bench", enabled=None if show_progress else False)
+    else:
+        bar = Progress(len(scenes) * len(solvers), "bench", stream=show_progress, enabled=True)
+
+    def say(msg):
+        # Log lines go above the bar when both share a terminal.
+        if log is not None:
+            bar.message(msg, stream=log)
     # JIT compile times first, before anything else in this process calls the peers.
     compile_s = _compile_numba_peers()
     first_scene = SCENES[scenes[0]]
@@ -1409,6 +1420,8 @@ def run_benchmark(scenes=None, repeats=DEFAULT_REPEATS, quick=False, max_seconds
             best = min((p["error"] for p in pts), default=math.inf)
             say(f"  {s.name:<24} {len(pts):2d} points, best error {best:.1e}, "
                 f"{time.perf_counter() - t0:.1f} s")
+            bar.update()
+    bar.close()
     return {
         "scenes": scenes,
         "solvers": {s.name: {"family": s.family, "compiled": s.compiled, "knob": s.knob,

@@ -73,6 +73,21 @@ class Progress:
             self.stream.write(self._line())
             self.stream.flush()
 
+    def message(self, text, stream=None):
+        """Print ``text`` as a line of its own without breaking the bar.
+
+        With the bar drawn on ``stream`` (default: the bar's stream) the bar line is
+        cleared, ``text`` printed and the bar redrawn under it; otherwise ``text`` is
+        just printed to ``stream`` (nothing when that is None and the bar is off).
+        """
+        target = self.stream if stream is None else stream
+        if self.enabled and target is self.stream:
+            width = len(self._line()) - 1
+            target.write("\r" + " " * width + "\r" + str(text) + "\n" + self._line())
+            target.flush()
+        elif stream is not None:
+            print(text, file=stream, flush=True)
+
     def close(self):
         """Finish the line (a newline), if anything was drawn."""
         if self.enabled:

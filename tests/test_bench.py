@@ -207,3 +207,15 @@ def test_reference_without_mpmath_falls_back_to_cvode_and_flags(monkeypatch):
               "references": {"P1": {"uncertainty": 1e-9}}}
     assert bench._target_table(result, 1e-9, ["x"], "mbm")[1]
     assert not bench._target_table(result, 1e-6, ["x"], "mbm")[1]
+
+
+def test_run_benchmark_draws_progress_over_scene_solver_pairs(tmp_path):
+    import io
+
+    buf = io.StringIO()
+    res = bench.run_benchmark(scenes=["P1"], quick=True, solver_filter=["numba RK4", "scipy RK45"],
+                              cache_dir=tmp_path, show_progress=buf)
+    assert sorted(res["points"]["P1"]) == ["numba RK4", "scipy RK45"]
+    text = buf.getvalue()
+    assert "bench [" in text and text.rstrip().split("\r")[-1].count("2/2") == 1
+    assert text.endswith("\n")

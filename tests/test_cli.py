@@ -168,3 +168,18 @@ def test_progress_silent_unless_terminal():
         bar.update()
     text = buf.getvalue()
     assert "sweep [" in text and "2/2" in text and text.endswith("\n")
+
+
+def test_progress_message_goes_above_the_bar():
+    buf = io.StringIO()
+    bar = Progress(4, "bench", stream=buf, enabled=True)
+    bar.update()
+    bar.message("P1: reference done")
+    text = buf.getvalue()
+    # the bar line is cleared, the message gets a line of its own, the bar is redrawn after it
+    head, tail = text.rsplit("P1: reference done\n", 1)
+    assert head.endswith("\r") and tail.startswith("\rbench [") and "1/4" in tail
+    # with the bar off, a message goes plainly to the stream it names
+    off, log = Progress(4, "bench", stream=io.StringIO(), enabled=False), io.StringIO()
+    off.message("hello", stream=log)
+    assert log.getvalue() == "hello\n"

@@ -1,0 +1,263 @@
+r"""Two speed targets that the work-precision tables of :mod:`mbm.bench` do not cover.
+
+Run ``python -m mbm.bench_extras --out docs/benchmark_extras.md`` (about 10 minutes on
+2 cores; ``--quick`` for a short smoke run).
+
+1. **Undamped, t = 10⁶** (β = γ = 0, ω = 1, θ₀ = 1 rad, θ̇₀ = 0).  Reference: the exact
+   solution sin(θ/2) = k·cd(t | k²), k = sin(θ₀/2), evaluated by mpmath at 40 digits.
+   MBM ("auto": the exact elliptic flow in one window) through ``solve_ivp`` and
+   :func:`mbm.solve`, against scipy's DOP853 (one run: over 10⁶ it takes minutes) and
+   the numba DOP853 of :mod:`mbm.bench` over a range of rtol.  MBM's error is below
+   every peer's, so each time ratio is a lower bound on the speed-up at equal error.
+2. **Ensemble: an I–V sweep of 10⁴ scenes** (β = 0.1, γ = 0 … 2, ω = 1, from rest,
+   0 ≤ t ≤ 1000, output at t = 0, 500, 1000 — what ⟨θ′⟩ over the second half needs).
+   :func:`mbm.solve_batch` on one thread and on all threads, against the numba DOP853
+   and RK4 of :mod:`mbm.bench` called in a loop over the scenes (one thread).  Error:
+   max |θ − θ_ref| over the outputs of every 1000th scene, θ_ref from the 128-bit
+   fixed-point Taylor reference of :mod:`mbm.bench`.  Each solver's knob is the
+   cheapest of its sweep that meets the target error on that subset.
+
+Times are medians of ``repeats`` runs after a warm-up (single runs where marked).
+"""
+
+import argparse
+import math
+import statistics
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from . import bench
+
+__all__ = ["undamped_long_horizon", "ensemble_iv", "format_report", "main"]
+
+# Horizon of the undamped scene: the issue's 10⁶.
+T_LONG = 1e6
+# θ₀ of the undamped scene (a libration of amplitude 1 rad; θ̇₀ = 0).
+THETA0_LONG = 1.0
+# rtol = atol of the single scipy DOP853 run over 10⁶ (≈ 4 min here; tighter costs more).
+SCIPY_DOP853_RTOL = 1e-8
+# rtol sweep of the numba DOP853 over 10⁶ (each run 0.4-2 s).
+NUMBA_DOP853_RTOLS = (1e-6, 1e-9, 1e-12)
+# Ensemble size, damping, torque range and horizon from the speed issue.
+N_ENSEMBLE = 10_000
+BETA_IV = 0.1
+GAMMA_IV_MAX = 2.0
+T_IV = 1000.0
+# Output times: ⟨θ′⟩ over the second half is (θ(1000) − θ(500)) / 500.
+T_EVAL_IV = np.array([0.0, 500.0, 1000.0])
+# Every SUBSET_STRIDE-th scene is checked against the fixed-point reference (~10 s a
+# scene over t = 1000: 10 scenes, γ = 0, 0.2, …, 1.8).
+SUBSET_STRIDE = 1000
+# Target errors of the ensemble comparison.
+IV_TARGETS = (1e-3, 1e-6)
+# Knob sweeps (cheap to expensive) of the ensemble solvers.
+MBM_RTOLS = (1e-4, 1e-6, 1e-8, 1e-10)
+DOP853_RTOLS = (1e-4, 1e-6, 1e-8, 1e-10)
+RK4_STEPS = (0.2, 0.1, 0.05, 0.025, 0.0125)
+
+
+def _median_time(fn, repeats):
+    fn()
+    times = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t0)
+    return statistics.median(times)
+
+
+def exact_undamped(theta0, t, dps=40):
+    """θ(t) of θ'' + sin θ = 0 from rest at θ₀ (|θ₀| < π), by mpmath at ``dps`` digits."""
+    import mpmath as mp
+
+    with mp.workdps(dps):
+        k = mp.sin(mp.mpf(theta0) / 2)
+        return float(2 * mp.asin(k * mp.ellipfun("cd", mp.mpf(t), k * k)))
+
+
+def undamped_long_horizon(repeats=5, quick=False):
+    """Time and error at t = 10⁶ (``quick``: 10⁴) of MBM and the DOP853 peers.
+
+    Returns
+    -------
+    dict
+        ``t_end``, ``reference`` θ(t_end), ``rows``: list of dicts (solver, knob,
+        error, seconds, single_run).
+    """
+    import mbm
+    from scipy.integrate import solve_ivp
+
+    t_end = 1e4 if quick else T_LONG
+    ref = exact_undamped(THETA0_LONG, t_end)
+    model = mbm.Pendulum()
+    y0 = [THETA0_LONG, 0.0]
+    rows = []
+
+    def mbm_ivp():
+        return solve_ivp(model, (0.0, t_end), y0, method=mbm.MBM, t_eval=[t_end]).y[0, -1]
+
+    def mbm_solve():
+        return mbm.solve(model, (0.0, t_end), y0, t_eval=[t_end]).y[0, -1]
+
+    for name, fn in (("MBM auto, solve_ivp", mbm_ivp), ("MBM auto, mbm.solve", mbm_solve)):
+        rows.append(dict(solver=name, knob="-", error=abs(fn() - ref),
+                         seconds=_median_time(fn, repeats), single_run=False))
+    bench._compile_numba_peers()
+    te = np.array([0.0, t_end])
+    for rtol in NUMBA_DOP853_RTOLS:
+        def run(rtol=rtol):
+            return bench.dop853_run(0.0, 0.0, 1.0, THETA0_LONG, 0.0, te, rtol, rtol, 10**10)[0, -1]
+        rows.append(dict(solver="numba DOP853", knob=f"rtol={rtol:g}", error=abs(run() - ref),
+                         seconds=_median_time(run, 1 if not quick else repeats), single_run=not quick))
+
+    def rhs(t, y):
+        return [y[1], -math.sin(y[0])]
+
+    t0 = time.perf_counter()
+    sol = solve_ivp(rhs, (0.0, t_end), y0, method="DOP853", rtol=SCIPY_DOP853_RTOL,
+                    atol=SCIPY_DOP853_RTOL, t_eval=[t_end])
+    seconds = time.perf_counter() - t0
+    rows.append(dict(solver="scipy DOP853", knob=f"rtol={SCIPY_DOP853_RTOL:g}",
+                     error=abs(sol.y[0, -1] - ref), seconds=seconds, single_run=True))
+    return {"t_end": t_end, "reference": ref, "rows": rows}
+
+
+def _subset_reference(gammas, t_end):
+    # The fixed-point reference samples N_OUTPUT = 201 equally spaced times: the
+    # outputs t_end/2 and t_end are samples 100 and 200.
+    idx = [0, (bench.N_OUTPUT - 1) // 2, bench.N_OUTPUT - 1]
+    refs = []
+    for g in gammas:
+        scene = bench.Scene("iv", BETA_IV, float(g), 1.0, 0.0, 0.0, t_end, "I-V scene")
+        refs.append(bench.fixed_point_reference(scene)[idx])
+    return np.array(refs)
+
+
+def ensemble_iv(n=N_ENSEMBLE, repeats=1, quick=False):
+    """Scenes per second per core of the I–V ensemble for MBM and the looped peers.
+
+    Returns
+    -------
+    dict
+        ``n``, ``t_end``, ``rows`` (solver, threads, target, knob, subset error,
+        seconds, scenes_per_s_per_core), ``subset`` size.
+    """
+    import numba
+
+    import mbm
+
+    t_end = 100.0 if quick else T_IV
+    t_eval = T_EVAL_IV * (t_end / T_IV)
+    gammas = np.linspace(0.0, GAMMA_IV_MAX, n)
+    sub = gammas[::SUBSET_STRIDE] if not quick else gammas[:: max(1, n // 5)]
+    ref = _subset_reference(sub, t_end)
+    bench._compile_numba_peers()
+
+    def err(theta):  # theta: (len(sub), len(t_eval))
+        return float(np.max(np.abs(theta - ref)))
+
+    def mbm_batch(g, rtol):
+        r = mbm.solve_batch(BETA_IV, g, 1.0, [0.0, 0.0], (0.0, t_end), t_eval, rtol=rtol, atol=rtol)
+        if not np.all(r.success):
+            raise RuntimeError("solve_batch failed on some scenes")
+        return r.y[:, 0, :]
+
+    def dop_loop(g, rtol):
+        return np.array([bench.dop853_run(BETA_IV, x, 1.0, 0.0, 0.0, t_eval, rtol, rtol, 10**9)[0]
+                         for x in g])
+
+    def rk4_loop(g, h):
+        k = max(1, math.ceil((t_eval[1] - t_eval[0]) / h - 1e-9))
+        return np.array([bench.rk4_run(BETA_IV, x, 1.0, 0.0, 0.0, t_eval[1] - t_eval[0],
+                                       t_eval.size, k)[0] for x in g])
+
+    solvers = [("mbm.solve_batch", mbm_batch, MBM_RTOLS, "rtol"),
+               ("numba DOP853, looped", dop_loop, DOP853_RTOLS, "rtol"),
+               ("numba RK4, looped", rk4_loop, RK4_STEPS, "h")]
+    all_threads = numba.get_num_threads()
+    rows = []
+    for target in IV_TARGETS:
+        for name, fn, knobs, kname in solvers:
+            chosen = None
+            for knob in knobs:
+                e = err(fn(sub, knob))
+                if e <= target:
+                    chosen = (knob, e)
+                    break
+            if chosen is None:
+                rows.append(dict(solver=name, threads=1, target=target, knob="—", error=None,
+                                 seconds=None, per_core=None))
+                continue
+            knob, e = chosen
+            thread_counts = (1, all_threads) if name == "mbm.solve_batch" and all_threads > 1 else (1,)
+            for th in thread_counts:
+                numba.set_num_threads(th)
+                try:
+                    s = _median_time(lambda: fn(gammas, knob), repeats)
+                finally:
+                    numba.set_num_threads(all_threads)
+                rows.append(dict(solver=name, threads=th, target=target, knob=f"{kname}={knob:g}",
+                                 error=e, seconds=s, per_core=n / s / th))
+    return {"n": n, "t_end": t_end, "subset": int(sub.size), "rows": rows}
+
+
+def format_report(und, ens, machine, command):
+    """Markdown report of :func:`undamped_long_horizon` and :func:`ensemble_iv`."""
+    lines = ["# Speed targets outside the work-precision tables", "",
+             f"Generated by `mbm/bench_extras.py`; regenerate with `{command}`.", "",
+             "## Machine", ""]
+    lines += [f"- {k}: {v}" for k, v in machine.items()]
+    lines += ["", f"## Undamped, t = {und['t_end']:g} (β = γ = 0, θ₀ = {THETA0_LONG} rad, θ̇₀ = 0)", "",
+              f"Reference θ(t_end) = {und['reference']!r} (mpmath, 40 digits).  Error = |θ − θ_ref| "
+              "at t_end.  Ratio = the peer's time over MBM's (solve_ivp); MBM's error is below "
+              "every peer's, so it bounds the speed-up at equal error from below.", "",
+              "| solver | knob | error | time (s) | ratio to MBM solve_ivp |", "|---|---|---:|---:|---:|"]
+    base = und["rows"][0]["seconds"]
+    for r in und["rows"]:
+        mark = " (single run)" if r["single_run"] else ""
+        lines.append(f"| {r['solver']} | {r['knob']} | {r['error']:.1e} | {r['seconds']:.4g}{mark} | "
+                     f"{r['seconds'] / base:,.3g}× |")
+    lines += ["", f"## Ensemble: I–V sweep, {ens['n']} scenes (β = {BETA_IV}, γ = 0 … {GAMMA_IV_MAX}, "
+              f"from rest, 0 ≤ t ≤ {ens['t_end']:g})", "",
+              f"Error: max |θ − θ_ref| at t = 0, t_end/2, t_end over {ens['subset']} scenes "
+              "(every 1000th), against the 128-bit fixed-point Taylor reference.  Knob: the "
+              "cheapest of each solver's sweep meeting the target on that subset.  Time: the "
+              "whole ensemble.", "",
+              "| target | solver | threads | knob | subset error | time (s) | scenes/s per core |",
+              "|---|---|---:|---|---:|---:|---:|"]
+    for r in ens["rows"]:
+        if r["seconds"] is None:
+            lines.append(f"| {r['target']:g} | {r['solver']} | - | — | — | — | — |")
+            continue
+        lines.append(f"| {r['target']:g} | {r['solver']} | {r['threads']} | {r['knob']} | {r['error']:.1e} | "
+                     f"{r['seconds']:.3g} | {r['per_core']:,.0f} |")
+    return "\n".join(lines) + "\n"
+
+
+def main(argv=None):
+    """Command line: ``python -m mbm.bench_extras [--quick] [--out FILE]``."""
+    parser = argparse.ArgumentParser(prog="python -m mbm.bench_extras", description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--quick", action="store_true", help="short horizons and a small ensemble")
+    parser.add_argument("--repeats", type=int, default=5, help="timed runs per point (default 5)")
+    parser.add_argument("--out", default=None, help="write the Markdown report here")
+    args = parser.parse_args(argv)
+    if args.repeats < 1:
+        parser.error("--repeats must be >= 1")
+    und = undamped_long_horizon(repeats=args.repeats, quick=args.quick)
+    ens = ensemble_iv(n=200 if args.quick else N_ENSEMBLE, quick=args.quick)
+    command = "python -m mbm.bench_extras " + " ".join(argv if argv is not None else sys.argv[1:])
+    report = format_report(und, ens, bench.machine_info(), command.strip())
+    if args.out:
+        Path(args.out).write_text(report)
+        print(f"wrote {args.out}", file=sys.stderr)
+    else:
+        print(report)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

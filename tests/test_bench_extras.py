@@ -1,0 +1,49 @@
+"""Tests of mbm/bench_extras.py (undamped t = 1e6 and the I–V ensemble), on short runs."""
+
+import math
+
+import numpy as np
+import pytest
+
+import mbm
+from mbm import bench_extras as bx
+
+pytest.importorskip("mpmath")
+
+
+def test_exact_undamped_matches_exact_flow():
+    # mpmath's cd formula and the package's exact flow are independent implementations.
+    for t in (0.0, 1.3, 50.0, 1234.5):
+        th = mbm.pendulum_flow(mbm.Pendulum(), [bx.THETA0_LONG, 0.0], t)[0]
+        assert abs(bx.exact_undamped(bx.THETA0_LONG, t) - th) <= 1e-13
+
+
+def test_undamped_quick_rows_and_mbm_most_accurate():
+    res = bx.undamped_long_horizon(repeats=1, quick=True)
+    names = [r["solver"] for r in res["rows"]]
+    assert names[:2] == ["MBM auto, solve_ivp", "MBM auto, mbm.solve"]
+    assert "scipy DOP853" in names and names.count("numba DOP853") == len(bx.NUMBA_DOP853_RTOLS)
+    mbm_err = max(r["error"] for r in res["rows"][:2])
+    assert mbm_err <= 1e-12
+    # MBM's error is below every peer's: the report's ratios are lower bounds at equal error
+    assert all(r["error"] >= mbm_err for r in res["rows"][2:])
+    assert all(r["seconds"] > 0 for r in res["rows"])
+
+
+def test_ensemble_quick_picks_knobs_meeting_targets(monkeypatch):
+    monkeypatch.setattr(bx, "IV_TARGETS", (1e-3,))
+    res = bx.ensemble_iv(n=12, quick=True)
+    rows = res["rows"]
+    assert {r["solver"] for r in rows} == {"mbm.solve_batch", "numba DOP853, looped", "numba RK4, looped"}
+    for r in rows:
+        if r["seconds"] is not None:
+            assert r["error"] <= r["target"] and r["per_core"] > 0 and math.isfinite(r["seconds"])
+    text = bx.format_report(bx.undamped_long_horizon(repeats=1, quick=True), res, {"cpu": "x"}, "cmd")
+    assert "## Ensemble" in text and "| 0.001 | mbm.solve_batch |" in text and "cmd" in text
+
+
+def test_subset_reference_samples_the_right_times():
+    ref = bx._subset_reference(np.array([0.3]), 10.0)
+    sol = mbm.solve(mbm.Pendulum(beta=bx.BETA_IV, gamma=0.3), (0.0, 10.0), [0.0, 0.0],
+                    rtol=1e-12, atol=1e-12, t_eval=[0.0, 5.0, 10.0])
+    np.testing.assert_allclose(ref[0], sol.y[0], atol=1e-10)
