@@ -925,9 +925,8 @@ def _fp_step(X, V, cst, degree):
         k S_k = Σ_{j=1}^{k} j A_j C_{k−j},   k C_k = −Σ_{j=1}^{k} j A_j S_{k−j},
         (k+1)(k+2) A_{k+2} = γh² δ_{k0} − βh (k+1) A_{k+1} − ω²h² S_k,
 
-    and θ(h) = Σ A_k, θ'(h) = Σ k A_k / h.  (The scheme of
-    ``tests/data/convergent_fixed_point.py``, restated here so the package does not
-    import from the tests.)
+    and θ(h) = Σ A_k, θ'(h) = Σ k A_k / h.  Also the step of the tests' reference
+    generator ``tests/data/convergent_fixed_point.py``.
     """
     from mpmath.libmp import from_man_exp, mpf_cos_sin, to_fixed
 
