@@ -36,7 +36,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from .approximants.base import ApproximantDomainError, get_approximant
-from .problem import Pendulum
+from .problem import Pendulum, check_state
 from .reference import CVODE_ADAMS_MAX_ORDER, MAX_NUM_STEPS, MIN_RTOL
 
 __all__ = [
@@ -98,18 +98,6 @@ def _real(name, value, finite=True):
 def _check_model(model):
     if not isinstance(model, Pendulum):
         raise TypeError(f"model must be an mbm.Pendulum, got {type(model).__name__}")
-
-
-def _state(name, y0):
-    try:
-        y = np.asarray(y0, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be array_like of 2 real numbers [theta, theta'], got {y0!r}") from None
-    if y.shape != (2,):
-        raise ValueError(f"{name} must have shape (2,) ([theta, theta']), got shape {y.shape}")
-    if not np.all(np.isfinite(y)):
-        raise ValueError(f"{name} must be finite, got {y0!r}")
-    return y
 
 
 def _kinds_and_d(kinds, d):
@@ -241,7 +229,7 @@ def hybrid_event_points(model, t_span, y0, d, kinds=("crossing", "turning"), rto
         raise ValueError(f"t_span must be a pair of real numbers (t0, tf), got {t_span!r}") from None
     if not (math.isfinite(t0) and math.isfinite(tf)) or t0 == tf:
         raise ValueError(f"t_span must be finite with t0 != tf, got {t_span!r}")
-    y0 = _state("y0", y0)
+    y0 = check_state("y0", y0)
     crossing, turning, d = _kinds_and_d(kinds, d)
     rtol = _real("rtol", rtol)
     atol = _real("atol", atol)
@@ -474,7 +462,7 @@ def analytic_event_points(model, t_span, y0, d, kinds=("crossing", "turning"), a
         raise ValueError(f"t_span must be a pair of real numbers (t0, tf), got {t_span!r}") from None
     if not (math.isfinite(t0) and math.isfinite(tf)) or t0 == tf:
         raise ValueError(f"t_span must be finite with t0 != tf, got {t_span!r}")
-    y = _state("y0", y0)
+    y = check_state("y0", y0)
     _kinds_and_d(kinds, d)  # validate here, before the loop
     sign = 1 if tf > t0 else -1
     t = t0
@@ -612,7 +600,7 @@ def event_point_solution(model, t0, y0, t_events, y_events, approximant="salas-t
     ap = get_approximant(approximant)
     ap.check_model(model)
     t0 = _real("t0", t0)
-    y0 = _state("y0", y0)
+    y0 = check_state("y0", y0)
     te = np.asarray(t_events, dtype=float).reshape(-1)
     ye = np.asarray(y_events, dtype=float).reshape(-1, 2) if te.size else np.empty((0, 2))
     if ye.shape != (te.size, 2):
@@ -671,7 +659,7 @@ def successive(model, y0, tau, j, approximant="salas-torque"):
     _check_model(model)
     ap = get_approximant(approximant)
     ap.check_model(model)
-    y0 = _state("y0", y0)
+    y0 = check_state("y0", y0)
     tau = _real("tau", tau)
     if not tau > 0.0:
         raise ValueError(f"tau must be > 0, got {tau!r}")

@@ -138,6 +138,20 @@ class Pendulum:
         return (self._beta, self._gamma, self._omega)
 
 
+
+def check_state(name, y0):
+    """``y0`` as a finite float array of shape (2,), or a ValueError naming ``name``."""
+    try:
+        y = np.asarray(y0, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be array_like of 2 real numbers [theta, theta'], got {y0!r}") from None
+    if y.shape != (2,):
+        raise ValueError(f"{name} must have shape (2,) ([theta, theta']), got shape {y.shape}")
+    if not np.all(np.isfinite(y)):
+        raise ValueError(f"{name} must be finite, got {y0!r}")
+    return y
+
+
 def identify_model(fun, t0=0.0):
     """Identify β, γ, ω of the pendulum family from a right-hand side ``fun(t, y)``.
 

@@ -26,7 +26,7 @@ import numpy as np
 # scipy.integrate and scipy.optimize are imported where used: `import mbm` (which
 # imports this module) stays free of their ~0.5 s import.
 
-from .problem import Pendulum
+from .problem import Pendulum, check_state
 
 __all__ = ["reference", "REFERENCE_SOLVERS"]
 
@@ -64,14 +64,7 @@ def _validate(model, t_span, y0, t_eval, rtol, atol, solver):
         raise ValueError(f"t_span must be finite, got {t_span!r}")
     if t0 == tf:
         raise ValueError(f"t_span must have t0 != tf, got {t_span!r}")
-    try:
-        y0 = np.asarray(y0, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError(f"y0 must be array_like of 2 real numbers [theta, theta'], got {y0!r}") from None
-    if y0.shape != (2,):
-        raise ValueError(f"y0 must have shape (2,) ([theta, theta']), got shape {y0.shape}")
-    if not np.all(np.isfinite(y0)):
-        raise ValueError(f"y0 must be finite, got {y0!r}")
+    y0 = check_state("y0", y0)
     for name, tol in (("rtol", rtol), ("atol", atol)):
         try:
             tol = float(tol)
