@@ -34,6 +34,10 @@ class SolveResult(dict):
     def __repr__(self):
         return "SolveResult(" + ", ".join(f"{k}={v!r}" for k, v in self.items()) + ")"
 
+# Scenes per work unit of solve_batch's prange.  Sweeps order scenes by parameter and
+# their cost varies ~100x (settling vs running), so numba's default static split can
+# leave one thread all the expensive ones; 4 scenes (>= µs each) dwarf the scheduling.
+BATCH_CHUNK = 4
 # Initial capacity of the window-end record when no t_eval is given (doubled as needed).
 ENDS_CAPACITY = 64
 _NO_TIMES = np.empty(0)
@@ -353,7 +357,14 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
     packed[:, P_T0], packed[:, P_Y0], packed[:, P_Y1], packed[:, P_T1] = t0, y0[:, 0], y0[:, 1], t1
     packed[:, P_H], packed[:, P_MAXSTEP] = h_abs, float(max_step)
     packed[:, P_RTOL], packed[:, P_ATOL], packed[:, P_ADAPTIVE] = float(rtol), float(atol), adaptive
-    _run_batch(kinds, kargs, orders, packed, te, out_th, out_v, status, n_windows)
+    # Scenes differ in cost by orders of magnitude (a settling scene vs a running one)
+    # and sweeps order them by parameter: numba's default static halves put the
+    # expensive ones on one thread.  Small chunks balance the load.
+    previous = numba.set_parallel_chunksize(BATCH_CHUNK)
+    try:
+        _run_batch(kinds, kargs, orders, packed, te, out_th, out_v, status, n_windows)
+    finally:
+        numba.set_parallel_chunksize(previous)
     return SolveResult(
         t=te, y=np.stack((out_th, out_v), axis=1), status=status, success=status == 0,
         n_windows=n_windows, approximant=np.array(names),

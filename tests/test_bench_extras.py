@@ -47,3 +47,8 @@ def test_subset_reference_samples_the_right_times():
     sol = mbm.solve(mbm.Pendulum(beta=bx.BETA_IV, gamma=0.3), (0.0, 10.0), [0.0, 0.0],
                     rtol=1e-12, atol=1e-12, t_eval=[0.0, 5.0, 10.0])
     np.testing.assert_allclose(ref[0], sol.y[0], atol=1e-10)
+
+
+def test_parallel_baseline_reports_speedup():
+    res = bx.parallel_baseline(n=8, work=1000)
+    assert res["threads"] >= 1 and res["speedup"] > 0
