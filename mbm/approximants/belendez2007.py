@@ -63,7 +63,7 @@ import math
 import numpy as np
 from numba import njit as _njit
 
-from ..problem import Pendulum
+from ..problem import Pendulum, check_state
 from ..special._dd import (
     _dd_add,
     _dd_div,
@@ -773,14 +773,7 @@ def _validated(model, y0, what):
             f"{what} is defined for the undamped, unforced pendulum only "
             f"(beta = 0, gamma = 0); model = {model!r}"
         )
-    try:
-        y = np.asarray(y0, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError(f"y0 must be two real numbers [theta0, theta'0], got {y0!r}") from None
-    if y.shape != (2,):
-        raise ValueError(f"y0 must have shape (2,) ([theta0, theta'0]), got shape {y.shape}")
-    if not np.all(np.isfinite(y)):
-        raise ValueError(f"y0 must be finite, got {y0!r}")
+    y = check_state("y0", y0)
     if abs(y[0]) > THETA_REDUCE_MAX:
         raise ValueError(
             f"y0[0] = theta0 must satisfy |theta0| <= {THETA_REDUCE_MAX:g}, got {y0!r}"
