@@ -72,6 +72,7 @@ __all__ = [
     "Solver",
     "SCENES",
     "MBM_VARIANTS",
+    "timed_runs",
     "TARGETS",
     "solver_registry",
     "scene_reference",
@@ -1107,6 +1108,21 @@ def _timed(fn):
     return time.perf_counter() - t0, out
 
 
+def timed_runs(fn, repeats):
+    """Seconds of ``repeats`` calls of ``fn`` with the garbage collector off (as ``timeit``)."""
+    times = []
+    gc_was = gc.isenabled()
+    gc.collect()
+    gc.disable()
+    try:
+        for _ in range(repeats):
+            times.append(_timed(fn)[0])
+    finally:
+        if gc_was:
+            gc.enable()
+    return times
+
+
 def run_sweep(solver, scene, ref_theta, repeats=DEFAULT_REPEATS, quick=False,
               max_seconds=MAX_POINT_SECONDS, stop_error=STOP_ERROR):
     """Work-precision points of one solver on one scene.
@@ -1164,16 +1180,7 @@ def run_sweep(solver, scene, ref_theta, repeats=DEFAULT_REPEATS, quick=False,
             points.append(point)
             break
         if point["status"] == "ok":
-            times = []
-            gc_was = gc.isenabled()
-            gc.collect()
-            gc.disable()
-            try:
-                for _ in range(repeats):
-                    times.append(_timed(lambda: solver.run(scene, knob))[0])
-            finally:
-                if gc_was:
-                    gc.enable()
+            times = timed_runs(lambda: solver.run(scene, knob), repeats)
             point["times"] = times
             point["time"] = statistics.median(times)
         points.append(point)

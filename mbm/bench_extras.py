@@ -60,13 +60,9 @@ RK4_STEPS = (0.2, 0.1, 0.05, 0.025, 0.0125, 0.00625)
 
 
 def _median_time(fn, repeats):
+    # One warm-up call, then the benchmark's own timing (gc off, median).
     fn()
-    times = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times)
+    return statistics.median(bench.timed_runs(fn, repeats))
 
 
 def exact_undamped(theta0, t, dps=40):

@@ -15,13 +15,20 @@ The rule, and the measurements behind it (``docs/convergent.md``,
   cost per window.
 """
 
-__all__ = ["choose_approximant", "CONVERGENT_DEFAULT", "EXACT_UNDAMPED"]
+__all__ = ["choose_approximant", "auto_name", "CONVERGENT_DEFAULT", "EXACT_UNDAMPED"]
 
 # The convergent family used by "auto" for β ≠ 0 or γ ≠ 0 (docs/convergent.md: the
 # best accuracy per microsecond over the accuracy issue's scenes).
 CONVERGENT_DEFAULT = "taylor"
 # The exact flow used by "auto" for β = γ = 0.
 EXACT_UNDAMPED = "belendez"
+
+
+def auto_name(undamped):
+    """The name "auto" stands for: the exact flow when β = γ = 0 (``undamped``), else
+    the convergent family.  The rule alone, without the reason text (the compiled
+    path caches it per call signature)."""
+    return EXACT_UNDAMPED if undamped else CONVERGENT_DEFAULT
 
 
 def choose_approximant(model, y0, rtol, atol):
@@ -43,12 +50,13 @@ def choose_approximant(model, y0, rtol, atol):
     reason : str
         Why, in one sentence.
     """
-    if model.beta == 0.0 and model.gamma == 0.0:
-        return EXACT_UNDAMPED, (
+    name = auto_name(model.beta == 0.0 and model.gamma == 0.0)
+    if name == EXACT_UNDAMPED:
+        return name, (
             "beta = gamma = 0: the exact elliptic solution (Belendez et al. (31), any state), "
             "error at round-off, one window as long as max_step allows"
         )
-    return CONVERGENT_DEFAULT, (
+    return name, (
         f"beta or gamma != 0: the convergent family {CONVERGENT_DEFAULT!r} with windows from "
         f"rtol={rtol:g}, atol={atol:g}; the papers' approximants carry a model error "
         "(2.5e-2 to 1e-4 on the papers' scenes) that re-anchoring does not remove and "

@@ -14,7 +14,7 @@ import numpy as np
 
 from . import kernels as K
 from .approximants import get_approximant
-from .choice import CONVERGENT_DEFAULT, EXACT_UNDAMPED, choose_approximant
+from .choice import auto_name, choose_approximant
 from .problem import Pendulum
 
 __all__ = ["solve", "solve_batch", "SolveResult"]
@@ -154,9 +154,7 @@ def _t_eval_problem(t_eval, t0, t1):
 def _resolve(name, undamped):
     """Approximant, kernel kind and flags for a registered name (cached: this is
     per-call overhead of :func:`solve`, paid once per name)."""
-    if name == "auto":
-        name = EXACT_UNDAMPED if undamped else CONVERGENT_DEFAULT
-    return _describe(get_approximant(name))
+    return _describe(get_approximant(auto_name(undamped) if name == "auto" else name))
 
 
 def _describe(ap):
@@ -220,7 +218,7 @@ def _setup(model, t_span, y0, tau, rtol, atol, approximant, t_eval, max_step):
                  "t_eval must be sorted in the direction of integration")[problem]
             )
     order = int(ap.order) if adaptive else 1
-    return (ap, approximant, kind, karg, order, t0, t1, y0, float(h_abs), adaptive, t_eval)
+    return (ap, kind, karg, order, t0, t1, y0, float(h_abs), adaptive, t_eval)
 
 
 def _reason(model, y0, rtol, atol, approximant):
@@ -267,7 +265,7 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
         For invalid arguments (naming the argument) or an approximant without a
         compiled kernel.
     """
-    ap, _, kind, karg, order, t0, t1, y0, h_abs, adaptive, te = _setup(
+    ap, kind, karg, order, t0, t1, y0, h_abs, adaptive, te = _setup(
         model, t_span, y0, tau, rtol, atol, approximant, t_eval, float(max_step)
     )
     record = te is None
@@ -352,7 +350,7 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
     t0 = t1 = None
     for i in range(n):
         model = Pendulum(beta[i], gamma[i], omega[i])
-        ap, _, kinds[i], kargs[i], orders[i], t0, t1, _, h_abs[i], adaptive[i], te = _setup(
+        ap, kinds[i], kargs[i], orders[i], t0, t1, _, h_abs[i], adaptive[i], te = _setup(
             model, t_span, y0[i], tau, rtol, atol, approximant, t_eval, float(max_step)
         )
         names.append(ap.name)

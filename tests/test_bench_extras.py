@@ -3,12 +3,9 @@
 import math
 
 import numpy as np
-import pytest
 
 import mbm
 from mbm import bench_extras as bx
-
-pytest.importorskip("mpmath")
 
 
 def test_exact_undamped_matches_exact_flow():

@@ -117,9 +117,6 @@ DD_SINCOS_TERMS = 10
 # ~log2(ln(1/mc)) steps; mc down to the smallest subnormal needs < 20.
 AGM_MAX_ITER = 64
 
-# Below this mc the double-double √mc is taken after scaling by 2^600: the low
-# part of mc (~1e-16 mc) must stay a normal number (> 2.2e-308).
-AGM_TINY_MC = 1e-280
 
 # AGM stopping point: once the relative gap |a − b|/a is below this, (a + b)/2 is
 # within gap²/8 ≈ 1e-33 (relative) of the limit, below double-double round-off.
@@ -158,15 +155,6 @@ njit = functools.partial(_njit, error_model="numpy")
 # ---------------------------------------------------------------------------
 # Double-double helpers (error-free transformations)
 # ---------------------------------------------------------------------------
-
-
-@njit(cache=True)
-def _dd_sqrt_nonneg(ah, al):
-    # Radicands here are squares or products of non-negatives: a rounding-negative
-    # one means 0 (the shared _dd_sqrt would give NaN).
-    if ah <= 0.0:
-        return 0.0, 0.0
-    return _dd_sqrt(ah, al)
 
 
 @njit(cache=True)
@@ -221,20 +209,16 @@ def ellipk_dd_kernel(mc, mc_lo):
     if not mc > 0.0:
         return _INF, 0.0
     ah, al = 1.0, 0.0
-    if mc < AGM_TINY_MC:
-        # √mc via √(mc·2^600)·2^-300 (exact scalings): the low part of mc = b·b
-        # would otherwise be subnormal and lose bits.
-        bh, bl = _dd_sqrt_nonneg(mc * 2.0**600, mc_lo * 2.0**600)
-        bh, bl = bh * 2.0**-300, bl * 2.0**-300
-    else:
-        bh, bl = _dd_sqrt_nonneg(mc, mc_lo)
+    # mc > 0 here and AGM products stay >= 0; _dd_sqrt rescales a tiny mc itself
+    # (its low part would be subnormal).
+    bh, bl = _dd_sqrt(mc, mc_lo)
     for _ in range(AGM_MAX_ITER):
         if abs(ah - bh) <= AGM_GAP_RTOL * ah:
             break
         ph, pl = _dd_mul(ah, al, bh, bl)
         sh, sl = _dd_add(ah, al, bh, bl)
         ah, al = 0.5 * sh, 0.5 * sl
-        bh, bl = _dd_sqrt_nonneg(ph, pl)
+        bh, bl = _dd_sqrt(ph, pl)
     # The mean (a + b)/2 is within gap²/(8a) of the limit (one more AGM step).
     mh, ml = _dd_add(ah, al, bh, bl)
     # K = (π/2) / AGM
