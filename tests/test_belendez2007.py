@@ -444,7 +444,9 @@ def test_period_validation():
 
 def test_dd_building_blocks():
     with mp.workdps(360):  # 1 − mc must be exact for mc = 1e-300
-        for mc in (1.0, 0.5, 1e-3, 3.7e-33, 1e-300, 4.0):
+        # 3e-281 and 1e-275: between the shared _dd_sqrt's rescale threshold (1e-270) and
+        # the one belendez2007 used to apply itself (1e-280)
+        for mc in (1.0, 0.5, 1e-3, 3.7e-33, 1e-275, 3e-281, 1e-300, 4.0):
             hi, lo = ellipk_dd_kernel(mc, 0.0)
             K = mp.ellipk(1 - mp.mpf(mc))
             assert abs((mp.mpf(hi) + lo) / K - 1) < 1e-30, mc
