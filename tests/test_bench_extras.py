@@ -49,3 +49,16 @@ def test_subset_reference_samples_the_right_times():
 def test_parallel_baseline_reports_speedup():
     res = bx.parallel_baseline(n=8, work=1000)
     assert res["threads"] >= 1 and res["speedup"] > 0
+
+
+def test_overheads_section():
+    ov = bx.overheads(repeats=2)
+    assert len(ov["fixed"]) == 3 and all(v > 0 for v in ov["fixed"].values())
+    rows = ov["degrees"]
+    assert [(r["scene"], r["degree"]) for r in rows] == [
+        (s, d) for s in ("P1", "P2") for d in bx.OVERHEAD_DEGREES]
+    # fewer windows at higher degree (longer windows at the same tolerance)
+    p2 = [r["windows"] for r in rows if r["scene"] == "P2"]
+    assert p2[0] > p2[-1]
+    text = bx.format_overheads(ov)
+    assert "| P2 | 24 |" in text and "empty span" in text

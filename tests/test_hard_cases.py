@@ -310,8 +310,8 @@ def test_long_horizon_settles_on_running_cycle():
 @pytest.mark.slow
 @pytest.mark.parametrize("gamma", [0.3, 1.2])
 def test_long_horizon_1e6_against_reference(gamma):
-    # The same scenes over 1e6 against CVODE at 1e-10 (CVODE takes ~100 s for γ = 0.3,
-    # which settles, and ~20 min for the running γ = 1.2: 18 s per 1e4 measured): the
+    # The same scenes over 1e6 against CVODE at 1e-10 (CVODE takes long on the running
+    # γ = 1.2: the whole slow suite took 31 min here, nearly all of it this case): the
     # settled states must agree.  For the equilibrium: to atol; for the running cycle the phase
     # along the cycle is not comparable after 1e6 (it is not stable), so compare the
     # speed at the same θ mod 2π through the cycle u(θ) and the final speeds' difference.
