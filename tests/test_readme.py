@@ -20,3 +20,92 @@ def test_readme_example_runs():
     assert lines[1].startswith("taylor - ")
     g2, g3, D = (float(x) for x in lines[2].split())
     assert abs(g2 - 0.0794131) < 1e-7 and abs(g3 - 0.00345555) < 1e-8 and abs(D - 3.17128) < 1e-5
+
+
+BENCH = README.parent / "docs" / "benchmark.md"
+# README row label -> the row of docs/benchmark.md it quotes (None: the fastest mbm.solve row).
+README_ROWS = {
+    "scipy DOP853": "scipy DOP853",
+    "scipy LSODA": "scipy LSODA",
+    "CVODE Adams": "CVODE Adams",
+    "MBM auto, solve_ivp": "MBM auto (rtol, windows_per_step=None)",
+    "MBM auto, solve_ivp, one window per step (default)": "MBM auto (rtol)",
+    "numba RK4 (fixed step, written in the benchmark)": "numba RK4",
+    "numba RK4": "numba RK4",
+    "numba DOP853 (written in the benchmark)": "numba DOP853",
+    "numba DOP853": "numba DOP853",
+    "numbalsoda DOP853": "numbalsoda DOP853",
+    "mbm.solve (best of its rows)": None,
+}
+
+
+def _cells(line):
+    return [c.strip().replace("**", "") for c in line.strip().strip("|").split("|")]
+
+
+def _bench_tables():
+    """{target: {solver: [cell text per scene]}} from the first table of each target."""
+    tables = {}
+    for block in re.split(r"^## Target error ", BENCH.read_text(encoding="utf-8"), flags=re.M)[1:]:
+        target = float(block.split("\n", 1)[0])
+        rows = {}
+        for line in block.split("\n\n", 3)[2].splitlines()[2:]:
+            c = _cells(line)
+            rows[c[0]] = [x.split(" (")[0] for x in c[1:]]
+        tables[target] = rows
+    return tables
+
+
+def _best_solve(rows, col):
+    vals = [r[col] for name, r in rows.items() if name.startswith("mbm.solve")]
+    nums = [v for v in vals if v not in ("—", "> budget")]
+    return min(nums, key=float) if nums else "—"
+
+
+def test_readme_benchmark_tables_quote_docs_benchmark():
+    """Every time in the README's two benchmark tables is the cell of docs/benchmark.md
+    (the run the README cites), so the README cannot drift from the measurement."""
+    text = README.read_text(encoding="utf-8")
+    section = text[text.index("## Benchmark"):text.index("Two targets the tables do not cover")]
+    tables = _bench_tables()
+    checked = 0
+    for table in re.findall(r"(\| solver \|.*?)\n\n", section, flags=re.S):
+        lines = table.splitlines()
+        head = _cells(lines[0])
+        has_target = head[1] == "target"
+        scenes = head[2:] if has_target else head[1:]
+        for line in lines[2:]:
+            c = _cells(line)
+            target = float(c[1]) if has_target else 1e-6
+            values = c[2:] if has_target else c[1:]
+            rows = tables[target]
+            source = README_ROWS[c[0]]
+            for scene, value in zip(scenes, values):
+                col = int(scene[1:]) - 1
+                expect = _best_solve(rows, col) if source is None else rows[source][col]
+                assert value == expect, (c[0], target, scene)
+                checked += 1
+    assert checked >= 60
+
+
+def test_readme_overheads_quote_docs_benchmark_overheads():
+    """The per-call costs the README quotes are docs/benchmark_overheads.md's, rounded."""
+    text = README.read_text(encoding="utf-8")
+    para = text[text.index("Why it loses on cheap targets"):text.index("Two targets the tables do not cover")]
+    rows = {}
+    for line in (README.parent / "docs" / "benchmark_overheads.md").read_text(encoding="utf-8").splitlines():
+        c = _cells(line) if line.startswith("|") else []
+        if len(c) == 2 and c[1] != "µs" and not c[1].startswith("-"):
+            rows[c[0]] = float(c[1])
+        elif len(c) == 5 and c[1].isdigit():
+            rows[(c[0], int(c[1]))] = float(c[3])
+    quoted = {
+        "mbm.solve, empty span": "costs {} µs before its first window",
+        "solve_ivp(method=mbm.MBM, windows_per_step=None), empty span": "`solve_ivp(method=mbm.MBM)` {} µs",
+        ("P1", 24): "the whole\nrun is {} µs",
+        ("P1", 8): "does P1 in {} µs",
+        ("P2", 8): "P2 in {} µs",
+        ("P2", 24): "against {} µs",
+    }
+    for key, phrase in quoted.items():
+        assert phrase.format(round(rows[key])) in para, key
