@@ -15,7 +15,7 @@ The rule, and the measurements behind it (``docs/convergent.md``,
   cost per window.
 """
 
-__all__ = ["choose_approximant", "auto_name", "CONVERGENT_DEFAULT", "EXACT_UNDAMPED"]
+__all__ = ["choose_approximant", "auto_name", "auto_reason", "CONVERGENT_DEFAULT", "EXACT_UNDAMPED"]
 
 # The convergent family used by "auto" for β ≠ 0 or γ ≠ 0 (docs/convergent.md: the
 # best accuracy per microsecond over the accuracy issue's scenes).
@@ -50,13 +50,19 @@ def choose_approximant(model, y0, rtol, atol):
     reason : str
         Why, in one sentence.
     """
-    name = auto_name(model.beta == 0.0 and model.gamma == 0.0)
-    if name == EXACT_UNDAMPED:
-        return name, (
+    undamped = model.beta == 0.0 and model.gamma == 0.0
+    return auto_name(undamped), auto_reason(undamped, rtol, atol)
+
+
+def auto_reason(undamped, rtol, atol):
+    """The one-sentence reason :func:`choose_approximant` gives, from the facts it uses
+    (β = γ = 0, and the tolerances); a pure function, so callers may cache it."""
+    if auto_name(undamped) == EXACT_UNDAMPED:
+        return (
             "beta = gamma = 0: the exact elliptic solution (Belendez et al. (31), any state), "
             "error at round-off, one window as long as max_step allows"
         )
-    return name, (
+    return (
         f"beta or gamma != 0: the convergent family {CONVERGENT_DEFAULT!r} with windows from "
         f"rtol={rtol:g}, atol={atol:g}; the papers' approximants carry a model error "
         "(2.5e-2 to 1e-4 on the papers' scenes) that re-anchoring does not remove and "

@@ -118,6 +118,11 @@ STATUS_BAD_ORDER = 2  # degree outside 1 .. MAX_ORDER
 # multiply-add let LLVM vectorize the two convolution sums (10-25 % faster at
 # N = 16-30, measured); no nnan/ninf, so the finiteness checks stay.
 COEF_FASTMATH = {"reassoc", "contract"}
+# Fused multiply-add in the Horner chains: each output is a chain of N dependent
+# steps, and an FMA is one rounding and one latency instead of two (201 degree-24
+# outputs: 10.8 → 8.6 µs, measured in one process).  At t = 0 the result is still
+# a₀, a₁ exactly (fma(0, p, a) = a).
+EVAL_FASTMATH = {"contract"}
 
 
 @njit(cache=True, fastmath=COEF_FASTMATH)
@@ -157,33 +162,39 @@ def taylor_coefficients(beta, gamma, omega, theta0, v0, n_order):
 
     w2 = omega * omega
     a = coef[HEADER:]
-    # Scratch, one allocation: b_j = j a_j (θ' coefficients), s_k, c_k.
+    # Scratch, one allocation: b_j = j a_j (θ' coefficients), and s_k, c_k stored
+    # backwards (sr[nt − k] = s_k) so that both convolution sums run forward through
+    # memory: s_{k−j} = sr[nt − k + j].  Forward dot products vectorize; the reversed
+    # index did not (degree 24: 533 → 438 ns per anchor, measured in one process).
     scratch = np.empty(3 * (nt + 1))
     b = scratch[: nt + 1]
-    s = scratch[nt + 1 : 2 * nt + 2]
-    c = scratch[2 * nt + 2 :]
+    sr = scratch[nt + 1 : 2 * nt + 2]
+    cr = scratch[2 * nt + 2 :]
     a[0] = theta0
     a[1] = v0
     b[0] = 0.0
     b[1] = v0
-    s[0] = math.sin(theta0)
-    c[0] = math.cos(theta0)
-    a[2] = 0.5 * (gamma - beta * v0 - w2 * s[0])
+    s0 = math.sin(theta0)
+    sr[nt] = s0
+    cr[nt] = math.cos(theta0)
+    a[2] = 0.5 * (gamma - beta * v0 - w2 * s0)
     b[2] = 2.0 * a[2]
     for k in range(1, nt - 1):
         ss = 0.0
         cc = 0.0
+        off = nt - k
         for j in range(1, k + 1):
-            ss += b[j] * c[k - j]
-            cc += b[j] * s[k - j]
-        s[k] = ss * _INV_K[k]
-        c[k] = -cc * _INV_K[k]
-        a[k + 2] = (-beta * b[k + 1] - w2 * s[k]) * _INV_K12[k]
+            ss += b[j] * cr[off + j]
+            cc += b[j] * sr[off + j]
+        sk = ss * _INV_K[k]
+        sr[off] = sk
+        cr[off] = -cc * _INV_K[k]
+        a[k + 2] = (-beta * b[k + 1] - w2 * sk) * _INV_K12[k]
         b[k + 2] = (k + 2.0) * a[k + 2]
     return coef
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=EVAL_FASTMATH)
 def taylor_eval_kernel(coef, t):
     """θ(t), θ'(t) of the anchored Taylor polynomial (Horner; the anchor exactly at t = 0).
 
