@@ -18,12 +18,14 @@ Run ``python -m mbm.bench_extras --out docs/benchmark_extras.md`` (about 10 minu
    cheapest of its sweep that meets the target error on that subset.
 
 3. ``--overheads``: where a short run's time goes (fixed per-call costs, the cost of
-   the 201 outputs, the Taylor degree), :func:`overheads`.
+   the 201 outputs, the Taylor degree), :func:`overheads`, and each degree's cheapest
+   time at equal error, :func:`degrees_at_equal_error`.
 
 Times are medians of ``repeats`` runs after a warm-up (single runs where marked).
 """
 
 import argparse
+import gc
 import math
 import statistics
 import sys
@@ -34,7 +36,8 @@ import numpy as np
 
 from . import bench
 
-__all__ = ["undamped_long_horizon", "ensemble_iv", "parallel_baseline", "overheads", "format_overheads",
+__all__ = ["undamped_long_horizon", "ensemble_iv", "parallel_baseline", "overheads",
+           "degrees_at_equal_error", "format_overheads",
            "format_report", "main"]
 
 # Horizon of the undamped scene: the issue's 10⁶.
@@ -61,6 +64,47 @@ IV_TARGETS = (1e-3, 1e-6)
 MBM_RTOLS = (1e-4, 1e-6, 1e-8, 1e-10, 1e-12, 1e-13)
 DOP853_RTOLS = (1e-4, 1e-6, 1e-8, 1e-10, 1e-12)
 RK4_STEPS = (0.2, 0.1, 0.05, 0.025, 0.0125, 0.00625)
+# Taylor degrees compared in the fixed-cost study (all registered "taylor<N>").
+OVERHEAD_DEGREES = (8, 12, 16, 20, 24)
+# rtol = atol of the fixed-cost study: the loosest target of the tables.
+OVERHEAD_RTOL = 1e-3
+# Calls timed in a row per turn by the overheads table: enough for warm caches and
+# branch predictors (as in the benchmark's repeated runs; one call per turn, round
+# robin over 23 entries, read 2-3x slower), few enough that turns interleave.
+ROUND_ROBIN_BLOCK = 20
+# Scenes and targets of the equal-error degree comparison: the two short scenes,
+# where the fixed cost matters most, and the long weakly damped one, where it does not.
+DEGREE_SCENES = ("P1", "P2", "P4")
+DEGREE_TARGETS = (1e-3, 1e-6)
+# Calls in a row per turn there: 5 x 21 sweep points per scene, so short turns.
+DEGREE_BLOCK = 5
+
+
+def _round_robin_medians(calls, repeats, block=ROUND_ROBIN_BLOCK):
+    """Median seconds of each of ``calls`` (name -> callable), timed in turns.
+
+    Each round times every call ``block`` times in a row, after one untimed call
+    (as the benchmark's sweeps do: the same call repeated, warm); rounds repeat
+    until each call has ``repeats`` timings.  Garbage collector off.  A slow spell
+    of a shared machine then lands on every entry alike instead of on the few
+    timed during it.
+    """
+    times = {k: [] for k in calls}
+    gc_was = gc.isenabled()
+    gc.collect()
+    gc.disable()
+    try:
+        while any(len(v) < repeats for v in times.values()):
+            for k, fn in calls.items():
+                fn()
+                for _ in range(min(block, repeats - len(times[k]))):
+                    t0 = time.perf_counter()
+                    fn()
+                    times[k].append(time.perf_counter() - t0)
+    finally:
+        if gc_was:
+            gc.enable()
+    return {k: statistics.median(v) for k, v in times.items()}
 
 
 def _median_time(fn, repeats):
@@ -240,12 +284,6 @@ def ensemble_iv(n=N_ENSEMBLE, repeats=1, quick=False):
             "parallel": parallel_baseline(n=40 if quick else 400, work=20_000 if quick else 200_000)}
 
 
-# Taylor degrees compared in the fixed-cost study (all registered "taylor<N>").
-OVERHEAD_DEGREES = (8, 12, 16, 20, 24)
-# rtol = atol of the fixed-cost study: the loosest target of the tables.
-OVERHEAD_RTOL = 1e-3
-
-
 def overheads(repeats=200):
     """Where the time of a short MBM run goes: fixed per-call costs and output cost.
 
@@ -265,19 +303,19 @@ def overheads(repeats=200):
 
     import mbm
 
-    med = lambda fn: _median_time(fn, repeats)  # noqa: E731
     p1 = bench.SCENES["P1"]
     model, y0, tiny = p1.model, p1.y0, (0.0, 1e-9)
     opts = dict(rtol=OVERHEAD_RTOL, atol=OVERHEAD_RTOL)
-    fixed = {
-        "solve_ivp(method=mbm.MBM, windows_per_step=None), empty span": med(
+    calls = {
+        "solve_ivp(method=mbm.MBM, windows_per_step=None), empty span":
             lambda: solve_ivp(model, tiny, y0, method=mbm.MBM, windows_per_step=None,
-                              t_eval=list(tiny), **opts)),
-        "mbm.MBM(...) construction": med(
-            lambda: mbm.MBM(model, 0.0, y0, 20.0, windows_per_step=None, **opts)),
-        "mbm.solve, empty span": med(lambda: mbm.solve(model, tiny, y0, **opts)),
+                              t_eval=list(tiny), **opts),
+        "mbm.MBM(...) construction":
+            lambda: mbm.MBM(model, 0.0, y0, 20.0, windows_per_step=None, **opts),
+        "mbm.solve, empty span": lambda: mbm.solve(model, tiny, y0, **opts),
     }
-    rows = []
+    fixed_names = list(calls)
+    windows = {}
     for name in ("P1", "P2"):
         sc = bench.SCENES[name]
         for d in OVERHEAD_DEGREES:
@@ -286,9 +324,55 @@ def overheads(repeats=200):
             def run(te=sc.t_eval, ap=ap, sc=sc):
                 return mbm.solve(sc.model, sc.t_span, sc.y0, approximant=ap, t_eval=te, **opts)
 
-            rows.append(dict(scene=name, degree=d, with_outputs=med(run),
-                             without_outputs=med(lambda: run(None)), windows=run().n_windows))
+            calls[(name, d, True)] = run
+            calls[(name, d, False)] = lambda run=run: run(None)
+            windows[(name, d)] = run().n_windows
+    seconds = _round_robin_medians(calls, repeats)
+    fixed = {k: seconds[k] for k in fixed_names}
+    rows = [dict(scene=name, degree=d, with_outputs=seconds[(name, d, True)],
+                 without_outputs=seconds[(name, d, False)], windows=windows[(name, d)])
+            for name, d in windows]
     return {"fixed": fixed, "degrees": rows}
+
+
+def degrees_at_equal_error(scenes=DEGREE_SCENES, targets=DEGREE_TARGETS, repeats=20):
+    """Cheapest :func:`mbm.solve` time of each Taylor degree at equal error.
+
+    For each scene and degree, rtol = atol is swept over the benchmark's
+    ``RTOL_SWEEP``; each point's error is max |θ − θ_ref| over the 201 output
+    times (the benchmark's fixed-point reference), its time a median of
+    ``repeats`` calls timed in turns (:func:`_round_robin_medians`).  The cell of
+    a target is the cheapest point at or below it, as in the benchmark's tables.
+
+    Returns
+    -------
+    list of dict
+        ``scene``, ``degree`` and, per target, ``(seconds, rtol)`` or None.
+    """
+    import mbm
+
+    rows = []
+    for name in scenes:
+        sc = bench.SCENES[name]
+        ref = bench.scene_reference(sc)["theta"]
+        calls, errors = {}, {}
+        for d in OVERHEAD_DEGREES:
+            for r in bench.RTOL_SWEEP:
+                def run(d=d, r=r):
+                    return mbm.solve(sc.model, sc.t_span, sc.y0, t_eval=sc.t_eval,
+                                     approximant=f"taylor{d}", rtol=r, atol=r)
+
+                res = run()
+                errors[(d, r)] = bench._error(res.y[0], ref) if res.success else math.inf
+                calls[(d, r)] = run
+        seconds = _round_robin_medians(calls, repeats, block=DEGREE_BLOCK)
+        for d in OVERHEAD_DEGREES:
+            row = {"scene": name, "degree": d}
+            for target in targets:
+                ok = [(seconds[(d, r)], r) for r in bench.RTOL_SWEEP if errors[(d, r)] <= target]
+                row[target] = min(ok) if ok else None
+            rows.append(row)
+    return rows
 
 
 def format_overheads(ov):
@@ -302,6 +386,17 @@ def format_overheads(ov):
               "|---|---:|---:|---:|---:|"]
     lines += [f"| {r['scene']} | {r['degree']} | {r['windows']} | {r['with_outputs'] * 1e6:.1f} | "
               f"{r['without_outputs'] * 1e6:.1f} |" for r in ov["degrees"]]
+    eq = ov.get("equal_error")
+    if eq:
+        targets = [k for k in eq[0] if isinstance(k, float)]
+        lines += ["", "At equal error: the cheapest `mbm.solve` time of each degree whose max error "
+                  "over the 201 outputs is at or below the target (rtol = atol swept as in the "
+                  "benchmark; in parentheses the rtol it took).", "",
+                  "| scene | degree | " + " | ".join(f"{t:g} (µs)" for t in targets) + " |",
+                  "|---|---:|" + "---:|" * len(targets)]
+        for r in eq:
+            cells = [("—" if r[t] is None else f"{r[t][0] * 1e6:.1f} ({r[t][1]:g})") for t in targets]
+            lines.append(f"| {r['scene']} | {r['degree']} | " + " | ".join(cells) + " |")
     return "\n".join(lines) + "\n"
 
 
@@ -357,15 +452,18 @@ def main(argv=None):
     parser.add_argument("--repeats", type=int, default=5, help="timed runs per point (default 5)")
     parser.add_argument("--out", default=None, help="write the Markdown report here")
     parser.add_argument("--overheads", action="store_true",
-                        help="instead: the fixed per-call costs and output cost of short runs "
-                             "(about 1 minute)")
+                        help="instead: the fixed per-call costs and output cost of short runs, "
+                             "and each Taylor degree at equal error (about 1 minute)")
     args = parser.parse_args(argv)
     if args.repeats < 1:
         parser.error("--repeats must be >= 1")
     command = "python -m mbm.bench_extras " + " ".join(argv if argv is not None else sys.argv[1:])
     if args.overheads:
         report = format_report(None, None, bench.machine_info(), command.strip())
-        report += "\n" + format_overheads(overheads(repeats=20 if args.quick else 200))
+        ov = overheads(repeats=20 if args.quick else 200)
+        ov["equal_error"] = degrees_at_equal_error(scenes=("P1",) if args.quick else DEGREE_SCENES,
+                                                   repeats=3 if args.quick else 20)
+        report += "\n" + format_overheads(ov)
     else:
         und = undamped_long_horizon(repeats=args.repeats, quick=args.quick)
         ens = ensemble_iv(n=200 if args.quick else N_ENSEMBLE, quick=args.quick)

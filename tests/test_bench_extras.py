@@ -5,6 +5,7 @@ import math
 import numpy as np
 
 import mbm
+from mbm import bench
 from mbm import bench_extras as bx
 
 
@@ -62,3 +63,27 @@ def test_overheads_section():
     assert p2[0] > p2[-1]
     text = bx.format_overheads(ov)
     assert "| P2 | 24 |" in text and "empty span" in text
+
+
+def test_round_robin_medians_times_each_call_in_turns():
+    order = []
+    calls = {"a": lambda: order.append("a"), "b": lambda: order.append("b")}
+    med = bx._round_robin_medians(calls, 5, block=2)
+    # per turn: one untimed call, then up to `block` timed ones; turns alternate a, b
+    # until each has 5 timings
+    assert order == ["a"] * 3 + ["b"] * 3 + ["a"] * 3 + ["b"] * 3 + ["a"] * 2 + ["b"] * 2
+    assert set(med) == {"a", "b"} and all(v >= 0 for v in med.values())
+
+
+def test_degrees_at_equal_error_section():
+    rows = bx.degrees_at_equal_error(scenes=("P1",), targets=(1e-3, 1e-6), repeats=2)
+    assert [r["degree"] for r in rows] == list(bx.OVERHEAD_DEGREES)
+    for r in rows:
+        for target in (1e-3, 1e-6):
+            seconds, rtol = r[target]  # every degree reaches both targets on P1
+            assert seconds > 0 and rtol in bench.RTOL_SWEEP
+        # every point meeting 1e-6 also meets 1e-3, so 1e-3 is never dearer
+        assert r[1e-3][0] <= r[1e-6][0]
+    ov = {"fixed": {"x": 1e-6}, "degrees": [], "equal_error": rows}
+    text = bx.format_overheads(ov)
+    assert "At equal error" in text and "| P1 | 8 |" in text

@@ -93,19 +93,62 @@ def test_readme_overheads_quote_docs_benchmark_overheads():
     text = README.read_text(encoding="utf-8")
     para = text[text.index("Why it loses on cheap targets"):text.index("Two targets the tables do not cover")]
     rows = {}
-    for line in (README.parent / "docs" / "benchmark_overheads.md").read_text(encoding="utf-8").splitlines():
+    text_ov = (README.parent / "docs" / "benchmark_overheads.md").read_text(encoding="utf-8")
+    outputs_p1_24 = None
+    for line in text_ov.split("At equal error", 1)[0].splitlines():
         c = _cells(line) if line.startswith("|") else []
         if len(c) == 2 and c[1] != "µs" and not c[1].startswith("-"):
             rows[c[0]] = float(c[1])
         elif len(c) == 5 and c[1].isdigit():
             rows[(c[0], int(c[1]))] = float(c[3])
+            if (c[0], c[1]) == ("P1", "24"):
+                outputs_p1_24 = float(c[3]) - float(c[4])
     quoted = {
         "mbm.solve, empty span": "costs {} µs before its first window",
         "solve_ivp(method=mbm.MBM, windows_per_step=None), empty span": "`solve_ivp(method=mbm.MBM)` {} µs",
-        ("P1", 24): "the whole\nrun is {} µs",
-        ("P1", 8): "does P1 in {} µs",
-        ("P2", 8): "P2 in {} µs",
-        ("P2", 24): "against {} µs",
+        ("P1", 24): "On P1 the whole run is {} µs",
+        ("P2", 24): "on P2 {} µs",
     }
+    para = " ".join(para.split())
     for key, phrase in quoted.items():
         assert phrase.format(round(rows[key])) in para, key
+    assert f"outputs of the degree-24 formula are {outputs_p1_24:.1f} µs" in para
+    # the equal-error table: (scene, degree) -> µs at 1e-3
+    eq = {}
+    for line in text_ov.split("At equal error", 1)[1].splitlines():
+        c = _cells(line) if line.startswith("| P") else []
+        if c:
+            eq[(c[0], int(c[1]))] = float(c[2].split(" (")[0])
+    for phrase, key in (("P1 in {:.1f} µs with `taylor8`", ("P1", 8)),
+                        ("against {:.1f} µs with degree 24", ("P1", 24)),
+                        ("P2 in {:.1f} µs with `taylor12`", ("P2", 12)),
+                        ("against {:.1f} µs — and", ("P2", 24)),
+                        ("P4 ({:.0f} against", ("P4", 16)),
+                        ("against {:.0f} µs)", ("P4", 24))):
+        assert phrase.format(eq[key]) in para, key
+
+
+def test_readme_extras_quote_docs_benchmark_extras():
+    """The undamped-10⁶ and ensemble figures in the README are docs/benchmark_extras.md's."""
+    text = " ".join(README.read_text(encoding="utf-8").split())
+    para = text[text.index("Two targets the tables do not cover"):text.index("First calls (same run")]
+    und, ens = {}, {}
+    for line in (README.parent / "docs" / "benchmark_extras.md").read_text(encoding="utf-8").splitlines():
+        c = _cells(line) if line.startswith("|") else []
+        if len(c) == 5 and c[2][:1].isdigit():
+            und[(c[0], c[1])] = (c[2], float(c[3].split(" ")[0]))
+        elif len(c) == 7 and c[2].isdigit():
+            ens[(c[0], c[1], int(c[2]))] = (float(c[5]), float(c[6]))
+    mbm_s = und[("MBM auto, solve_ivp", "-")][1]
+    assert f"{mbm_s * 1e3:.2f} ms through `solve_ivp`" in para
+    scipy_err, scipy_s = und[("scipy DOP853", "rtol=1e-08")]
+    assert f"{scipy_s:.0f} s, error {float(scipy_err):.2f}" in para
+    nb_err, nb_s = und[("numba DOP853", "rtol=1e-12")]
+    assert f"{nb_s:.1f} s, error {float(nb_err):.1e}".replace("e-04", "e-4") in para
+    for target, names in (("0.001", ("mbm.solve_batch", "numba RK4, looped", "numba DOP853, looped")),
+                          ("1e-06", ("mbm.solve_batch", "numba DOP853, looped", "numba RK4, looped"))):
+        for name in names:
+            per_core = ens[(target, name, 1)][1]
+            assert f" {per_core:.0f}" in para, (target, name)
+        one, two = ens[(target, "mbm.solve_batch", 1)][0], ens[(target, "mbm.solve_batch", 2)][0]
+        assert f"{one / two:.2f}×" in para, target
