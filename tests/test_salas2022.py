@@ -176,3 +176,21 @@ def test_tiny_amplitude_at_rest_anchors(theta0):
     # The cubic model at tiny amplitude is the harmonic oscillator θ0 cos t.
     assert abs(th - theta0 * math.cos(1.0)) <= 1e-10 * theta0 + 1e-30
     assert abs(v + theta0 * math.sin(1.0)) <= 1e-10 * theta0 + 1e-30
+
+
+@pytest.mark.parametrize("theta0", [2.1236578841844363e-28, 1e-20, 1e-100])
+def test_tiny_amplitude_turning_point_converges(theta0):
+    # Found by the stress suite (β = 1, ω = 3, θ0 = 2.1e-28, from rest): Newton from the
+    # bracket's midpoint only halves its distance to a turning point next to the double
+    # root y = 0, and 100 iterations left A 11 % short; w of (2.16) then fell below the
+    # minimum of ℘ and computing D raised.  With damping ẏ0 = βs y0/2 ≠ 0, so the
+    # at-rest branch does not apply.  For a tiny amplitude the cubic model is
+    # harmonic: y'² = f0 + p (y0² − y²), so A = −sqrt(y0² + f0/p).
+    model = mbm.Pendulum(beta=1.0, gamma=0.0, omega=3.0)
+    a = AP.anchor(model, theta0, 0.0)
+    pr = a.params
+    expect = -math.sqrt(pr["y0"] ** 2 + pr["ydot0"] ** 2 / pr["p"])
+    assert pr["A"] == pytest.approx(expect, rel=1e-12)
+    th, v = a(1.0)
+    assert math.isfinite(pr["D"]) and math.isfinite(th) and math.isfinite(v)
+    assert abs(th) <= 1.1 * theta0 and a(0.0) == (theta0, 0.0)
