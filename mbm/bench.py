@@ -1533,8 +1533,9 @@ def format_report(result, command=None, note=None):
     out.append("")
     out.append(
         f"Error = max |θ − θ_ref| over {st['n_output']} equally spaced times.  Time = median of "
-        f"{st['repeats']} runs (after one warm-up run) of the whole call a user makes (solver set-up, "
-        "integration, output at the 201 times).  Each cell: the cheapest *measured* point whose "
+        f"{st['repeats']} runs (after one warm-up run) of the whole solver call on inputs built once "
+        "per scene (model, y0, the 201 output times): solver set-up, integration, output at the 201 "
+        "times.  Each cell: the cheapest *measured* point whose "
         "error is at or below the target (nothing interpolated), in ms, and in parentheses its time "
         "divided by the best MBM entry's at that target (> 1: slower than MBM).  "
         "`—`: the sweep never reached the target; `> budget`: the sweep stopped at a point whose "
