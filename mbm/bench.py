@@ -48,6 +48,7 @@ no public import path, so they are copied below).
 """
 
 import argparse
+import contextlib
 import dataclasses
 import datetime
 import functools
@@ -209,9 +210,8 @@ class Scene:
     Notes
     -----
     ``model``, ``y0`` and ``t_eval`` are built once per scene and shared by every
-    run: a timed call measures the solver on ready inputs, not ``np.linspace``
-    (~6 µs for 201 points, a third of a numba RK4 run of P2, which builds its output
-    times inside and so never paid it).  Runners must not modify them
+    run: a timed call measures the solver on ready inputs, not ``np.linspace`` (which
+    the numba RK4, building its output times inside, never paid).  Runners must not modify them
     (``test_runners_leave_scene_inputs_unchanged``).
     """
 
@@ -1117,19 +1117,23 @@ def _timed(fn):
     return time.perf_counter() - t0, out
 
 
-def timed_runs(fn, repeats):
-    """Seconds of ``repeats`` calls of ``fn`` with the garbage collector off (as ``timeit``)."""
-    times = []
+@contextlib.contextmanager
+def gc_paused():
+    """Collect, then keep the garbage collector off for the block (as ``timeit`` does)."""
     gc_was = gc.isenabled()
     gc.collect()
     gc.disable()
     try:
-        for _ in range(repeats):
-            times.append(_timed(fn)[0])
+        yield
     finally:
         if gc_was:
             gc.enable()
-    return times
+
+
+def timed_runs(fn, repeats):
+    """Seconds of ``repeats`` calls of ``fn`` with the garbage collector off (as ``timeit``)."""
+    with gc_paused():
+        return [_timed(fn)[0] for _ in range(repeats)]
 
 
 def run_sweep(solver, scene, ref_theta, repeats=DEFAULT_REPEATS, quick=False,

@@ -25,7 +25,6 @@ Times are medians of ``repeats`` runs after a warm-up (single runs where marked)
 """
 
 import argparse
-import gc
 import math
 import statistics
 import sys
@@ -37,7 +36,7 @@ import numpy as np
 from . import bench
 
 __all__ = ["undamped_long_horizon", "ensemble_iv", "parallel_baseline", "overheads",
-           "degrees_at_equal_error", "format_overheads",
+           "kernel_costs", "degrees_at_equal_error", "format_overheads",
            "format_report", "main"]
 
 # Horizon of the undamped scene: the issue's 10⁶.
@@ -78,6 +77,9 @@ DEGREE_SCENES = ("P1", "P2", "P4")
 DEGREE_TARGETS = (1e-3, 1e-6)
 # Calls in a row per turn there: 5 x 21 sweep points per scene, so short turns.
 DEGREE_BLOCK = 5
+# Calls per compiled loop in the kernel-cost table: ~10 ms a loop, far above the
+# timer's resolution and the loop's one dispatch.
+KERNEL_LOOP = 20_000
 
 
 def _round_robin_medians(calls, repeats, block=ROUND_ROBIN_BLOCK):
@@ -85,25 +87,16 @@ def _round_robin_medians(calls, repeats, block=ROUND_ROBIN_BLOCK):
 
     Each round times every call ``block`` times in a row, after one untimed call
     (as the benchmark's sweeps do: the same call repeated, warm); rounds repeat
-    until each call has ``repeats`` timings.  Garbage collector off.  A slow spell
+    until each call has ``repeats`` timings (:func:`mbm.bench.timed_runs`: garbage
+    collector off).  A slow spell
     of a shared machine then lands on every entry alike instead of on the few
     timed during it.
     """
     times = {k: [] for k in calls}
-    gc_was = gc.isenabled()
-    gc.collect()
-    gc.disable()
-    try:
-        while any(len(v) < repeats for v in times.values()):
-            for k, fn in calls.items():
-                fn()
-                for _ in range(min(block, repeats - len(times[k]))):
-                    t0 = time.perf_counter()
-                    fn()
-                    times[k].append(time.perf_counter() - t0)
-    finally:
-        if gc_was:
-            gc.enable()
+    while any(len(v) < repeats for v in times.values()):
+        for k, fn in calls.items():
+            fn()
+            times[k] += bench.timed_runs(fn, min(block, repeats - len(times[k])))
     return {k: statistics.median(v) for k, v in times.items()}
 
 
@@ -296,16 +289,25 @@ def overheads(repeats=200):
     Returns
     -------
     dict
-        ``fixed`` (name -> seconds) and ``degrees`` (rows: scene, degree, seconds
-        with t_eval, seconds without, windows).
+        ``fixed`` (name -> seconds; two entries split up mbm.solve's), ``degrees``
+        (rows: scene, degree, seconds with t_eval, seconds without, windows) and
+        ``kernels`` (:func:`kernel_costs`).
     """
     from scipy.integrate import solve_ivp
 
     import mbm
 
+    from . import fast
+
     p1 = bench.SCENES["P1"]
     model, y0, tiny = p1.model, p1.y0, (0.0, 1e-9)
     opts = dict(rtol=OVERHEAD_RTOL, atol=OVERHEAD_RTOL)
+    # the compiled call of mbm.solve on the empty span, with its own packed arguments
+    _, kind, karg, order, *_ = fast._setup(model, tiny, y0, None, OVERHEAD_RTOL, OVERHEAD_RTOL,
+                                           "auto", None, math.inf)
+    packed = np.array([model.beta, model.gamma, model.omega, 0.0, y0[0], y0[1], tiny[1], -1.0,
+                       math.inf, OVERHEAD_RTOL, OVERHEAD_RTOL, 1.0])
+    out = np.empty((2, 0))
     calls = {
         "solve_ivp(method=mbm.MBM, windows_per_step=None), empty span":
             lambda: solve_ivp(model, tiny, y0, method=mbm.MBM, windows_per_step=None,
@@ -313,6 +315,10 @@ def overheads(repeats=200):
         "mbm.MBM(...) construction":
             lambda: mbm.MBM(model, 0.0, y0, 20.0, windows_per_step=None, **opts),
         "mbm.solve, empty span": lambda: mbm.solve(model, tiny, y0, **opts),
+        "  of which: argument checks (mbm.fast._setup)": lambda: fast._setup(
+            model, tiny, y0, None, OVERHEAD_RTOL, OVERHEAD_RTOL, "auto", None, math.inf),
+        "  of which: the compiled run (mbm.fast._run, one window)": lambda: fast._run(
+            kind, karg, order, packed, fast._NO_TIMES, out[0], out[1], True),
     }
     fixed_names = list(calls)
     windows = {}
@@ -332,7 +338,53 @@ def overheads(repeats=200):
     rows = [dict(scene=name, degree=d, with_outputs=seconds[(name, d, True)],
                  without_outputs=seconds[(name, d, False)], windows=windows[(name, d)])
             for name, d in windows]
-    return {"fixed": fixed, "degrees": rows}
+    return {"fixed": fixed, "degrees": rows, "kernels": kernel_costs()}
+
+
+def _kernel_loops():
+    import numba
+
+    from .approximants.taylor import taylor_coefficients, taylor_eval_kernel
+
+    @numba.njit
+    def anchors(n, degree):
+        acc = 0.0
+        for i in range(n):
+            acc += taylor_coefficients(0.1, 0.3, 1.0, 0.5 + i * 1e-12, 0.1, degree)[6]
+        return acc
+
+    @numba.njit
+    def outputs(n, degree):
+        coef = taylor_coefficients(0.1, 0.3, 1.0, 0.5, 0.1, degree)
+        acc = 0.0
+        for i in range(n):
+            a, b = taylor_eval_kernel(coef, 1.5 * i / n)
+            acc += a + b
+        return acc
+
+    return anchors, outputs
+
+
+def kernel_costs(n=KERNEL_LOOP, repeats=7):
+    """Nanoseconds of one Taylor anchor and of one output evaluation, by degree.
+
+    Timed inside a compiled loop of ``n`` calls (no dispatch), on P2's parameters,
+    minimum over ``repeats`` loops.
+
+    Returns
+    -------
+    list of dict
+        ``degree``, ``anchor_ns``, ``output_ns``.
+    """
+    anchors, outputs = _kernel_loops()
+    rows = []
+    for d in OVERHEAD_DEGREES:
+        anchors(2, d)
+        outputs(2, d)
+        a = min(bench.timed_runs(lambda: anchors(n, d), repeats)) / n
+        o = min(bench.timed_runs(lambda: outputs(n, d), repeats)) / n
+        rows.append(dict(degree=d, anchor_ns=a * 1e9, output_ns=o * 1e9))
+    return rows
 
 
 def degrees_at_equal_error(scenes=DEGREE_SCENES, targets=DEGREE_TARGETS, repeats=20):
@@ -386,6 +438,11 @@ def format_overheads(ov):
               "|---|---:|---:|---:|---:|"]
     lines += [f"| {r['scene']} | {r['degree']} | {r['windows']} | {r['with_outputs'] * 1e6:.1f} | "
               f"{r['without_outputs'] * 1e6:.1f} |" for r in ov["degrees"]]
+    if ov.get("kernels"):
+        lines += ["", "Taylor kernels inside a compiled loop (no dispatch; P2's parameters; best of 7 "
+                  "loops): one anchor (coefficients a_0 … a_{N+2}) and one output (θ, θ' by Horner).", "",
+                  "| degree | anchor (ns) | output (ns) |", "|---:|---:|---:|"]
+        lines += [f"| {r['degree']} | {r['anchor_ns']:.0f} | {r['output_ns']:.0f} |" for r in ov["kernels"]]
     eq = ov.get("equal_error")
     if eq:
         targets = [k for k in eq[0] if isinstance(k, float)]

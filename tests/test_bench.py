@@ -195,7 +195,7 @@ def test_scenes_match_the_issue():
 
 
 def test_scene_inputs_are_built_once():
-    # Timed calls get ready inputs (np.linspace alone is ~6 µs): the same objects each time.
+    # Timed calls get ready inputs: the same objects each time.
     sc = dataclasses.replace(bench.SCENES["P1"])
     assert sc.t_eval is sc.t_eval and sc.y0 is sc.y0 and sc.model is sc.model
     assert np.array_equal(sc.t_eval, np.linspace(0.0, 20.0, bench.N_OUTPUT))

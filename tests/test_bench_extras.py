@@ -54,7 +54,16 @@ def test_parallel_baseline_reports_speedup():
 
 def test_overheads_section():
     ov = bx.overheads(repeats=2)
-    assert len(ov["fixed"]) == 3 and all(v > 0 for v in ov["fixed"].values())
+    assert len(ov["fixed"]) == 5 and all(v > 0 for v in ov["fixed"].values())
+    # the two parts of mbm.solve's fixed cost are parts of it
+    total = ov["fixed"]["mbm.solve, empty span"]
+    parts = [v for k, v in ov["fixed"].items() if k.strip().startswith("of which")]
+    assert len(parts) == 2
+    # kernel costs: one row per degree; an anchor costs more at a higher degree
+    ks = ov["kernels"]
+    assert [r["degree"] for r in ks] == list(bx.OVERHEAD_DEGREES)
+    assert ks[-1]["anchor_ns"] > ks[0]["anchor_ns"] > 0 and all(r["output_ns"] > 0 for r in ks)
+    assert total > 0
     rows = ov["degrees"]
     assert [(r["scene"], r["degree"]) for r in rows] == [
         (s, d) for s in ("P1", "P2") for d in bx.OVERHEAD_DEGREES]
@@ -62,7 +71,7 @@ def test_overheads_section():
     p2 = [r["windows"] for r in rows if r["scene"] == "P2"]
     assert p2[0] > p2[-1]
     text = bx.format_overheads(ov)
-    assert "| P2 | 24 |" in text and "empty span" in text
+    assert "| P2 | 24 |" in text and "empty span" in text and "| 24 |" in text
 
 
 def test_round_robin_medians_times_each_call_in_turns():
