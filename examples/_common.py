@@ -4,9 +4,8 @@ import os
 import sys
 from pathlib import Path
 
+# The repository root (mbm itself is imported as installed: `pip install -e .`).
 ROOT = Path(__file__).resolve().parents[1]
-if str(ROOT) not in sys.path:
-    sys.path.insert(0, str(ROOT))  # run from a checkout without installing
 
 # Environment variable naming the directory the examples write their PNGs to.
 OUT_ENV = "MBM_EXAMPLES_OUT"

@@ -14,29 +14,23 @@ Usage::
 """
 
 import math
-import sys
 import time
-from pathlib import Path
 
 import numpy as np
 from scipy.integrate import solve_ivp
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-
-import mbm  # noqa: E402
-from mbm.events import (  # noqa: E402
+import mbm
+import mbm.scenes
+from mbm.events import (
     analytic_event_points,
     event_function_d,
     event_point_solution,
     hybrid_event_points,
 )
-from mbm.reference import reference  # noqa: E402
+from mbm.references import reference
 
-# name -> (beta, gamma, theta0 [deg], v0, T): the paper's Examples 1 and 2.
-SCENES = {
-    "Example 1": (0.1, 0.3, 30.0, 0.0, 80.0),
-    "Example 2": (0.1, 0.6, 90.0, 0.0, 80.0),
-}
+# The paper's Examples 1 and 2 (mbm.scenes: P2 and P3).
+SCENES = {"Example 1": mbm.scenes.get("ex1"), "Example 2": mbm.scenes.get("ex2")}
 # Points of the error grid (as the paper's-error test of Example 1 uses).
 N_GRID = 4001
 FIXED_TAUS = (0.1, 0.25, 0.5, 1.0)
@@ -46,9 +40,9 @@ def max_error(f, t, ref):
     return float(np.max(np.abs(f(t)[0] - ref)))
 
 
-def run(name, beta, gamma, th0_deg, v0, T, approximant="salas-torque"):
-    model = mbm.Pendulum(beta=beta, gamma=gamma)
-    y0 = [math.radians(th0_deg), v0]
+def run(name, scene, approximant="salas-torque"):
+    model, y0, T = scene.model, list(scene.y0), scene.t_end
+    beta, gamma, th0_deg = scene.beta, scene.gamma, math.degrees(scene.theta0)
     t = np.linspace(0.0, T, N_GRID)
     ref = reference(model, (0.0, T), y0, t_eval=t).y[0]
     ap = mbm.get_approximant(approximant)
@@ -71,7 +65,7 @@ def run(name, beta, gamma, th0_deg, v0, T, approximant="salas-torque"):
         err = float(np.max(np.abs(sol.y[0] - ref)))
         rows.append((f"fixed tau = {tau:.4g}", math.ceil(T / tau - 1e-9), err, time.perf_counter() - c))
 
-    print(f"\n{name}: beta={beta}, gamma={gamma}, theta0={th0_deg} deg, 0 <= t <= {T}, d = {d:.6f}")
+    print(f"\n{name}: beta={beta}, gamma={gamma}, theta0={th0_deg:g} deg, 0 <= t <= {T:g}, d = {d:.6f}")
     print(f"  {'mode':32s} {'windows':>8s} {'max |error|':>12s} {'seconds':>8s}")
     for label, n, err, sec in rows:
         print(f"  {label:32s} {n:8d} {err:12.4e} {sec:8.3f}")
@@ -80,8 +74,8 @@ def run(name, beta, gamma, th0_deg, v0, T, approximant="salas-torque"):
 
 
 def main():
-    for name, args in SCENES.items():
-        run(name, *args)
+    for name, scene in SCENES.items():
+        run(name, scene)
 
 
 if __name__ == "__main__":

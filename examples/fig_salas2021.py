@@ -17,9 +17,12 @@ from scipy.integrate import solve_ivp
 from _common import cli_out, out_dir, pyplot
 
 import mbm
+import mbm.scenes
 
-# The paper's scene (3.10): ε = 0.2 (β = 2ε), θ₀ = 0, θ̇₀ = 0.25, ω = 1, T = 20.
-BETA, THETA0, V0, T_END = 0.4, 0.0, 0.25, 20.0
+# The paper's scene (3.10): ε = 0.2 (β = 2ε), θ₀ = 0, θ̇₀ = 0.25, ω = 1, T = 20
+# (mbm.scenes: P1, alias "paper1").
+SCENE = mbm.scenes.get("paper1")
+BETA, (THETA0, V0), T_END = SCENE.beta, SCENE.y0, SCENE.t_end
 # Output points: smooth curves at this time scale (period ≈ 2π).
 N_POINTS = 401
 # Tolerances of the Runge–Kutta curve: tight enough to stand for "the numerical solution".

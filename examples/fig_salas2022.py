@@ -23,6 +23,7 @@ from scipy.integrate import solve_ivp
 from _common import cli_out, out_dir, pyplot
 
 import mbm
+import mbm.scenes
 from mbm.events import (
     KIND_BOTH,
     KIND_CROSSING,
@@ -33,8 +34,8 @@ from mbm.events import (
     successive,
 )
 
-# name -> (beta, gamma, theta0 [deg], v0, t_end): the paper's Examples 1 and 2.
-EXAMPLES = {"ex1": (0.1, 0.3, 30.0, 0.0, 80.0), "ex2": (0.1, 0.6, 90.0, 0.0, 80.0)}
+# The paper's Examples 1 and 2 (mbm.scenes: P2 and P3), by their catalogue aliases.
+EXAMPLES = {"ex1": mbm.scenes.get("ex1"), "ex2": mbm.scenes.get("ex2")}
 # Output points on [0, 80]: resolves the ~6.5-long periods smoothly.
 N_POINTS = 801
 # Tolerances of the "Runge–Kutta" curve: tight enough to stand for the exact solution.
@@ -47,8 +48,8 @@ JS = (0, 3, 10, 40)
 
 
 def _scene(name):
-    beta, gamma, th0, v0, t_end = EXAMPLES[name]
-    return mbm.Pendulum(beta=beta, gamma=gamma), [math.radians(th0), v0], t_end
+    sc = EXAMPLES[name]
+    return sc.model, list(sc.y0), sc.t_end
 
 
 def compute(n_points=N_POINTS, js=JS, tau=TAU):
@@ -72,7 +73,7 @@ def compute(n_points=N_POINTS, js=JS, tau=TAU):
         ``event_t``, ``event_y``, ``event_kind`` and ``event_solution`` (θ of (3.32)).
     """
     ap = mbm.get_approximant(APPROXIMANT)
-    t_end = EXAMPLES["ex1"][4]
+    t_end = EXAMPLES["ex1"].t_end
     t = np.linspace(0.0, t_end, n_points)
     data = {"t": t}
     for name in EXAMPLES:
@@ -114,7 +115,8 @@ def main(out=None, n_points=N_POINTS, js=JS):
 
     for fig_no, name in ((1, "ex1"), (2, "ex2")):
         e = d[name]
-        beta, gamma, th0, _, _ = EXAMPLES[name]
+        sc = EXAMPLES[name]
+        beta, gamma, th0 = sc.beta, sc.gamma, math.degrees(sc.theta0)
         fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4))
         a1.plot(t, e["numerical"][0], "r", lw=1.3, label="Runge–Kutta (RK45, 1e-10)")
         a1.plot(t, e["approximant"][0], "k--", lw=1.1, label="℘ approximant (2.16)")

@@ -20,7 +20,7 @@ import numpy as np
 
 from mbm.approximants.salas2021 import Johannessen, JohannessenTrig, SalasDamped, SalasDampedLinear
 from mbm.problem import Pendulum
-from mbm.reference import reference
+from mbm.references import reference
 
 # The printed Table 1 (first paper), columns Error_Johannessen and Error_Our Solution.
 TWO_EPS = np.round(np.linspace(0.02, 0.4, 11), 3)

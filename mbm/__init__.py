@@ -19,15 +19,16 @@ from .approximants import (
     approximant_names,
     get_approximant,
 )
-from .approximants.belendez2007 import pendulum_flow, period
+from .special.pendulum_flow import pendulum_flow, period
 from .fast import solve, solve_batch
 from .problem import Pendulum, identify_model
-from .reference import reference
+from .references import reference
 
 __version__ = "0.1.0"
 
 __all__ = [
     "MBM",
+    "MBMEventPoints",
     "Anchored",
     "Approximant",
     "ApproximantDomainError",
@@ -46,7 +47,9 @@ __all__ = [
 # name -> (module, attribute or None for the module itself)
 _LAZY = {
     "MBM": ("mbm.solver", "MBM"),
+    "MBMEventPoints": ("mbm.solver", "MBMEventPoints"),
     "events": ("mbm.events", None),
+    "scenes": ("mbm.scenes", None),
     "successive": ("mbm.events", "successive"),
     "solver": ("mbm.solver", None),
 }

@@ -18,7 +18,7 @@ The rule, and the measurements behind it (``docs/convergent.md``,
 __all__ = ["choose_approximant", "auto_name", "auto_reason", "CONVERGENT_DEFAULT", "EXACT_UNDAMPED"]
 
 # The convergent family used by "auto" for β ≠ 0 or γ ≠ 0 (docs/convergent.md: the
-# best accuracy per microsecond over the accuracy issue's scenes).
+# best accuracy per microsecond over its six scenes).
 CONVERGENT_DEFAULT = "taylor"
 # The exact flow used by "auto" for β = γ = 0.
 EXACT_UNDAMPED = "belendez"

@@ -11,16 +11,19 @@ import time
 
 import numpy as np
 
+from . import scenes
+
 __all__ = ["SCENES", "integrate", "run_study", "fit_order", "format_table", "write_csv", "plot_study"]
 
-# name -> (beta, gamma, omega, theta0 [rad], v0, t_end): the papers' scenes, as in
-# examples/convergence_study.py, so that the CLI and the docs measure the same thing.
+# name -> (beta, gamma, omega, theta0 [rad], v0, t_end): scenes of mbm.scenes under the
+# names `mbm study --scene` takes, with the horizons of docs/convergent.md, so that the
+# CLI and the docs measure the same thing.
 SCENES = {
-    "ex1": (0.1, 0.3, 1.0, math.radians(30.0), 0.0, 80.0),   # second paper, Example 1
-    "ex2": (0.1, 0.6, 1.0, math.radians(90.0), 0.0, 80.0),   # second paper, Example 2
-    "paper1": (0.4, 0.0, 1.0, 0.0, 0.25, 20.0),              # first paper, (3.11)
-    "running": (0.1, 1.2, 1.0, 0.0, 0.0, 200.0),             # gamma > omega^2: rotation
-    "free": (0.0, 0.0, 1.0, math.radians(135.0), 0.0, 40.0), # third paper, large amplitude
+    "ex1": scenes.get("ex1").params(),                     # second paper, Example 1 (P2)
+    "ex2": scenes.get("ex2").params(),                     # second paper, Example 2 (P3)
+    "paper1": scenes.get("paper1").params(),               # first paper, (3.11) (P1)
+    "running": scenes.get("running").until(200.0).params(),  # gamma > omega^2: rotation (P5)
+    "free": scenes.get("free").params(),                   # third paper, large amplitude
 }
 # Default τ sweep: halvings from 1 to 1/16 show orders up to ~10 before the
 # reference's accuracy (~1e-12) is reached.
@@ -38,10 +41,10 @@ REF_TOL = 1e-13
 
 def _compiled(name):
     """Whether ``mbm.solve`` (the compiled path) runs approximant ``name``."""
-    from . import kernels
+    from . import loop
     from .approximants import get_approximant
 
-    return name == "auto" or kernels.kind_of(get_approximant(name)) is not None
+    return name == "auto" or loop.kind_of(get_approximant(name)) is not None
 
 
 def integrate(model, t_span, y0, t_eval, approximant="auto", tau=None, rtol=1e-6, atol=1e-9):
@@ -81,7 +84,7 @@ def integrate(model, t_span, y0, t_eval, approximant="auto", tau=None, rtol=1e-6
 
     if tau is None and approximant != "auto":
         ap = get_approximant(approximant)
-        if not getattr(ap, "exact", False) and getattr(ap, "error_kernel", None) is None:
+        if not ap.exact and ap.error_kernel is None:
             # solve_ivp would only warn and pick windows unrelated to rtol; the compiled
             # path refuses.  Refuse on both paths so the CLI's answer does not depend on it.
             raise ValueError(f"approximant {ap.name!r} has no error estimate: pass tau")
@@ -95,8 +98,8 @@ def integrate(model, t_span, y0, t_eval, approximant="auto", tau=None, rtol=1e-6
         opts = {} if tau is None else {"tau": tau}
         sol = solve_ivp(model, t_span, y0, method=MBM, approximant=approximant, rtol=rtol,
                         atol=atol, t_eval=t_eval, **opts)
-        span = abs(t_span[1] - t_span[0])
-        n_windows = math.ceil(span / tau) if tau is not None else int(sol.nfev)
+        # Only approximants without an estimate take this path, and they need tau (above).
+        n_windows = math.ceil(abs(t_span[1] - t_span[0]) / tau)
     if not sol.success:
         raise RuntimeError(sol.message)
     return np.asarray(sol.y), int(n_windows)
@@ -130,9 +133,9 @@ def run_study(scene, approximants, taus=None, rtols=None, n_out=201, show_progre
 
     Parameters
     ----------
-    scene : tuple
+    scene : tuple or mbm.scenes.Scene
         ``(beta, gamma, omega, theta0, v0, t_end)`` (θ₀ in radians), e.g. a value of
-        :data:`SCENES`.
+        :data:`SCENES`, or a catalogue scene (from t = 0).
     approximants : sequence of str
         Approximant names (see :func:`mbm.approximant_names`) or ``"auto"``.
     taus : sequence of float, optional
@@ -155,10 +158,14 @@ def run_study(scene, approximants, taus=None, rtols=None, n_out=201, show_progre
     """
     from .cli_progress import Progress
     from .problem import Pendulum
-    from .reference import reference
+    from .references import reference
 
     if taus is not None and rtols is not None:
         raise ValueError("give taus or rtols, not both")
+    if isinstance(scene, scenes.Scene):
+        if scene.t_span[0] != 0.0:
+            raise ValueError(f"a study runs from t = 0; scene {scene.name} starts at {scene.t_span[0]}")
+        scene = scene.params()
     knob = "rtol" if rtols is not None else "tau"
     values = [float(v) for v in (rtols if rtols is not None else (taus or DEFAULT_TAUS))]
     beta, gamma, omega, th0, v0, t_end = (float(x) for x in scene)

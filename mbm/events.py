@@ -36,8 +36,9 @@ import numpy as np
 from scipy.optimize import brentq
 
 from .approximants.base import ApproximantDomainError, get_approximant
-from .problem import Pendulum, check_state
-from .reference import CVODE_ADAMS_MAX_ORDER, MAX_NUM_STEPS, MIN_RTOL
+from .problem import Pendulum
+from ._validate import check_span, check_state, check_tolerances
+from .references import CVODE_ADAMS_MAX_ORDER, MAX_NUM_STEPS
 
 __all__ = [
     "EVENT_KINDS",
@@ -66,7 +67,7 @@ EVENT_KINDS = ("crossing", "turning")
 # period), so events of one kind are ≥ a quarter period ≈ 16 samples apart and two
 # sign changes of one kind can never fall between neighbouring samples.
 SAMPLES_PER_PERIOD = 64
-# Absolute tolerance on the event time in the Brent refinement (the brief's ~1e-14);
+# Absolute tolerance on the event time in the Brent refinement (~1e-14);
 # the relative part is scipy's minimum 4 eps, so late events are limited by the
 # spacing of doubles near t, not by the iteration.
 ROOT_XTOL = 1e-14
@@ -190,7 +191,8 @@ def hybrid_event_points(model, t_span, y0, d, kinds=("crossing", "turning"), rto
     kinds : sequence of {"crossing", "turning"}, optional
         Which events to track (default both).
     rtol, atol : float, optional
-        CVODE's tolerances (default 1e-10, 1e-12); positive, ``rtol >= 100 eps``.
+        CVODE's tolerances (default 1e-10, 1e-12); positive; rtol below 100 eps is
+        raised to it with a warning (scipy's rule).
 
     Returns
     -------
@@ -223,20 +225,10 @@ def hybrid_event_points(model, t_span, y0, d, kinds=("crossing", "turning"), rto
     from sksundae.cvode import CVODE
 
     _check_model(model)
-    try:
-        t0, tf = (float(v) for v in t_span)
-    except (TypeError, ValueError):
-        raise ValueError(f"t_span must be a pair of real numbers (t0, tf), got {t_span!r}") from None
-    if not (math.isfinite(t0) and math.isfinite(tf)) or t0 == tf:
-        raise ValueError(f"t_span must be finite with t0 != tf, got {t_span!r}")
+    t0, tf = check_span(t_span, allow_empty=False)
     y0 = check_state("y0", y0)
     crossing, turning, d = _kinds_and_d(kinds, d)
-    rtol = _real("rtol", rtol)
-    atol = _real("atol", atol)
-    if not rtol >= MIN_RTOL:
-        raise ValueError(f"rtol must be >= {MIN_RTOL:.3g} (100 machine epsilons), got {rtol!r}")
-    if not atol > 0.0:
-        raise ValueError(f"atol must be positive, got {atol!r}")
+    rtol, atol = check_tolerances(rtol, atol)
 
     beta, gamma, omega = model.params
     w2 = omega * omega

@@ -1,23 +1,54 @@
-"""The compiled path: whole moving-boundary runs in one numba call.
+"""The compiled path: whole moving-boundary runs with no Python per window.
 
-:func:`solve` runs one scene with no Python per window; :func:`solve_batch` runs
-many scenes in parallel (``numba.prange``).  Both use the window control of
-:mod:`mbm.kernels`, the same functions :class:`mbm.MBM` calls, so their answers
-equal the solve_ivp path's bit for bit for the same options.
+:func:`solve` runs one scene, :func:`solve_batch` many in parallel (``numba.prange``).
+Both are thin over the loop of :mod:`mbm.loop`, the one :class:`mbm.MBM` calls, so their
+answers equal the solve_ivp path's bit for bit for the same options.
 """
 
 import functools
 import math
+import threading
 
-import numba
 import numpy as np
 
-from . import kernels as K
-from .approximants import get_approximant
+from . import loop
+from ._validate import (
+    DEFAULT_MAX_WINDOWS,
+    check_max_windows,
+    check_positive,
+    check_span,
+    check_state,
+    check_t_eval,
+    check_tolerances,
+)
+from .approximants import Approximant, get_approximant
 from .choice import auto_name, auto_reason
 from .problem import Pendulum
 
 __all__ = ["solve", "solve_batch", "SolveResult"]
+
+# Stride of solve_batch's scene order, as a fraction of the batch: the golden ratio's
+# (Weyl sequence i·φ mod 1), so every contiguous block of the order samples the whole
+# batch evenly.  Sweeps list scenes by parameter and cost varies ~100x along them
+# (settling vs running); numba splits a prange into contiguous blocks, and in sweep
+# order one thread got all the running scenes (2 threads: 1.16x; in this order 1.95x).
+ORDER_STRIDE = 0.6180339887498949
+# Initial capacity of the window-end record when no t_eval is given (doubled as needed).
+ENDS_CAPACITY = 64
+# Windows one compiled call of solve may take before Python regains control (where
+# Ctrl-C is honoured): 2^15 windows are 10–300 ms (0.3 µs a Taylor window, ~10 µs a
+# splitting's), and a call costs ~1 µs, so the chunking costs nothing measurable.
+CALL_WINDOWS = 2**15
+# How often the thread waiting for a batch wakes to let Ctrl-C in (seconds).
+BATCH_POLL = 0.05
+
+_NO_TIMES = np.empty(0)
+_NO_OUT = np.empty((2, 0))
+_NO_WIN_T = np.empty(0)
+_NO_WIN_Y = np.empty((0, 2))
+_NO_WIN_COEF = np.empty((0, 0))
+# The cancel flag of single-scene runs: never set (they stop between calls instead).
+_NEVER = np.zeros(1, dtype=np.int64)
 
 
 class SolveResult(dict):
@@ -34,191 +65,38 @@ class SolveResult(dict):
     def __repr__(self):
         return "SolveResult(" + ", ".join(f"{k}={v!r}" for k, v in self.items()) + ")"
 
-# Stride of solve_batch's scene order, as a fraction of the batch: the golden ratio's
-# (Weyl sequence i·φ mod 1), so every contiguous block of the order samples the whole
-# batch evenly.  Sweeps list scenes by parameter and cost varies ~100x along them
-# (settling vs running); numba splits a prange into contiguous blocks, and in sweep
-# order one thread got all the running scenes (2 threads: 1.16x; in this order 1.95x).
-ORDER_STRIDE = 0.6180339887498949
-# Initial capacity of the window-end record when no t_eval is given (doubled as needed).
-ENDS_CAPACITY = 64
-_NO_TIMES = np.empty(0)
 
-STATUS_MESSAGES = {
-    K.STATUS_OK: "The solver successfully reached the end of the integration interval.",
-    K.STATUS_TOO_SMALL: "Required window is below the spacing of floating point numbers "
-    "(the tolerance cannot be met).",
-    K.STATUS_ANCHOR: "The approximant cannot be anchored at the state reached (outside its domain).",
-    K.STATUS_NONFINITE: "The approximant produced a non-finite state (outside its domain).",
-}
-
-
-# Layout of the packed scalar arguments of _run (one float64 array: numba's
-# dispatcher costs ~0.5 µs per argument, more than a window of work).
-P_BETA, P_GAMMA, P_OMEGA, P_T0, P_Y0, P_Y1, P_T1, P_H, P_MAXSTEP, P_RTOL, P_ATOL, P_ADAPTIVE = range(12)
-N_PACKED = 12
-
-
-@numba.njit(cache=True)
-def _run(kind, karg, order, p, t_eval, out_th, out_v, record_ends):
-    """One scene.  ``p`` holds the packed scalars (P_* indices).  Fills out_th/out_v
-    at t_eval (monotone in the direction of integration); with ``record_ends``
-    returns the window ends instead.
-
-    Returns (status, n_windows, ends_t, ends_th, ends_v, n_filled).
-    """
-    beta, gamma, omega = p[P_BETA], p[P_GAMMA], p[P_OMEGA]
-    t0, y0, y1, t_bound = p[P_T0], p[P_Y0], p[P_Y1], p[P_T1]
-    h_abs, max_step, rtol, atol = p[P_H], p[P_MAXSTEP], p[P_RTOL], p[P_ATOL]
-    adaptive = p[P_ADAPTIVE] != 0.0
-    direction = 1.0 if t_bound >= t0 else -1.0
-    t = t0
-    n_windows = 0
-    j = 0
-    ne = t_eval.size
-    cap = ENDS_CAPACITY if record_ends else 1
-    ends_t = np.empty(cap)
-    ends_th = np.empty(cap)
-    ends_v = np.empty(cap)
-    n_ends = 0
-    if record_ends:
-        ends_t[0] = t0
-        ends_th[0] = y0
-        ends_v[0] = y1
-        n_ends = 1
-    status = K.STATUS_OK
-    while direction * (t_bound - t) > 0.0:
-        coef = K.anchor(kind, karg, beta, gamma, omega, y0, y1)
-        if coef[0] != 0.0:
-            status = K.STATUS_ANCHOR
-            break
-        if adaptive:
-            if h_abs <= 0.0:
-                h_abs = K.first_window(kind, coef, t, y0, y1, direction, t_bound, omega, max_step, rtol, atol, order)
-            st, t_new, th, v, h_next = K.adaptive_window(
-                kind, coef, t, y0, y1, direction, t_bound, h_abs, max_step, rtol, atol, order
-            )
-        else:
-            st, t_new, th, v = K.fixed_window(kind, coef, t, direction, t_bound, min(h_abs, max_step))
-            h_next = h_abs
-        if st != K.STATUS_OK:
-            status = st
-            break
-        # Outputs inside (t, t_new] (and t0 itself) come from this window's formula;
-        # the window end repeats the evaluation that produced (th, v).
-        while j < ne and (direction * (t_eval[j] - t_new) <= 0.0):
-            if t_eval[j] == t_new:
-                out_th[j] = th
-                out_v[j] = v
-            else:
-                a, b = K.evaluate(kind, coef, t_eval[j] - t)
-                out_th[j] = a
-                out_v[j] = b
-            j += 1
-        t, y0, y1, h_abs = t_new, th, v, h_next
-        n_windows += 1
-        if record_ends:
-            if n_ends == ends_t.size:
-                ends_t = np.concatenate((ends_t, np.empty(ends_t.size)))
-                ends_th = np.concatenate((ends_th, np.empty(ends_th.size)))
-                ends_v = np.concatenate((ends_v, np.empty(ends_v.size)))
-            ends_t[n_ends] = t
-            ends_th[n_ends] = y0
-            ends_v[n_ends] = y1
-            n_ends += 1
-    # t_span of zero length: the outputs are the initial state.
-    while j < ne and t_eval[j] == t0 and n_windows == 0:
-        out_th[j] = y0
-        out_v[j] = y1
-        j += 1
-    return status, n_windows, ends_t[:n_ends], ends_th[:n_ends], ends_v[:n_ends], j
-
-
-@numba.njit(cache=True)
-def _t_eval_problem(t_eval, t0, t1):
-    # 0 ok, 1 non-finite, 2 outside t_span, 3 not sorted in the direction of integration
-    lo, hi = min(t0, t1), max(t0, t1)
-    direction = 1.0 if t1 >= t0 else -1.0
-    for i in range(t_eval.size):
-        x = t_eval[i]
-        if not math.isfinite(x):
-            return 1
-        if x < lo or x > hi:
-            return 2
-        if i > 0 and direction * (x - t_eval[i - 1]) < 0.0:
-            return 3
-    return 0
-
-
-@functools.lru_cache(maxsize=64)
-def _resolve(name, undamped):
-    """Approximant, kernel kind and flags for a registered name (cached: this is
-    per-call overhead of :func:`solve`, paid once per name)."""
-    return _describe(get_approximant(auto_name(undamped) if name == "auto" else name))
-
-
-def _describe(ap):
-    kk = K.kind_of(ap)
+def compiled(ap):
+    """``(approximant, kind, karg)`` of an approximant the compiled loop runs, or a ValueError."""
+    kk = loop.kind_of(ap)
     if kk is None:
         raise ValueError(
             f"approximant {ap.name!r} has no compiled kernel; mbm.solve runs 'auto', 'taylor*', "
             "'split*', 'belendez' and 'salas-torque' (use solve_ivp(method=mbm.MBM) for the others)"
         )
-    exact = bool(getattr(ap, "exact", False))
-    has_estimate = getattr(ap, "error_kernel", None) is not None
-    return ap, kk[0], kk[1], exact, has_estimate
+    return ap, kk[0], kk[1]
 
 
-def _setup(model, t_span, y0, tau, rtol, atol, approximant, t_eval, max_step):
-    """Validate and translate the options of :func:`solve` into kernel arguments."""
-    if not isinstance(model, Pendulum):
-        raise TypeError(f"model must be an mbm.Pendulum, got {type(model).__name__}")
-    try:
-        t0, t1 = float(t_span[0]), float(t_span[1])
-        if len(t_span) != 2:
-            raise ValueError
-    except (TypeError, ValueError, IndexError):
-        raise ValueError(f"t_span must be a pair of real numbers (t0, t_bound), got {t_span!r}") from None
-    if not (math.isfinite(t0) and math.isfinite(t1)):
-        raise ValueError(f"t_span must be finite, got {t_span!r}")
-    y0 = np.asarray(y0, dtype=float)
-    if y0.shape != (2,):
-        raise ValueError(f"y0 must have shape (2,) (theta, theta'), got shape {y0.shape}")
-    if not (math.isfinite(y0[0]) and math.isfinite(y0[1])):
-        raise ValueError(f"y0 must be finite, got {y0!r}")
-    for name, val in (("rtol", rtol), ("atol", atol)):
-        if not (isinstance(val, (int, float, np.floating)) and math.isfinite(val) and val > 0):
-            raise ValueError(f"{name} must be a positive finite number, got {val!r}")
-    if not (max_step > 0):
-        raise ValueError(f"max_step must be > 0, got {max_step!r}")
+@functools.lru_cache(maxsize=64)
+def _resolve(name, undamped):
+    """:func:`compiled` of a registered name (cached: per-call overhead of :func:`solve`)."""
+    return compiled(get_approximant(auto_name(undamped) if name == "auto" else name))
+
+
+def _approximant(approximant, model):
     undamped = model.beta == 0.0 and model.gamma == 0.0
     if isinstance(approximant, str):
-        ap, kind, karg, exact, has_estimate = _resolve(approximant, undamped)
-    else:
-        ap, kind, karg, exact, has_estimate = _describe(get_approximant(approximant))
-    ap.check_model(model)
-    adaptive = tau is None and not exact and has_estimate
+        return _resolve(approximant, undamped)
+    return compiled(get_approximant(approximant))
+
+
+def _plan(ap, tau, max_step, t0, t1):
     if tau is not None:
-        tau = float(tau)
-        if not (math.isfinite(tau) and tau > 0):
-            raise ValueError(f"tau must be a positive finite number, got {tau!r}")
-        h_abs = tau
-    elif exact:
-        h_abs = max_step if math.isfinite(max_step) else (abs(t1 - t0) or 1.0)
-    elif adaptive:
-        h_abs = -1.0
-    else:
+        tau = check_positive("tau", tau)
+    plan = loop.plan_windows(ap, tau, max_step, abs(t1 - t0))
+    if plan is None:
         raise ValueError(f"approximant {ap.name!r} has no error estimate: pass tau")
-    if t_eval is not None:
-        t_eval = np.ascontiguousarray(t_eval, dtype=float).reshape(-1)
-        problem = _t_eval_problem(t_eval, t0, t1)
-        if problem:
-            raise ValueError(
-                ("", "t_eval must be finite", f"t_eval must lie within t_span {(t0, t1)!r}",
-                 "t_eval must be sorted in the direction of integration")[problem]
-            )
-    order = int(ap.order) if adaptive else 1
-    return (ap, kind, karg, order, t0, t1, y0, float(h_abs), adaptive, t_eval)
+    return plan
 
 
 @functools.lru_cache(maxsize=256)
@@ -233,8 +111,31 @@ def _reason(model, rtol, atol, approximant):
     return "chosen by the caller"
 
 
+def _finish(run, p, te, out):
+    """Run ``p`` to its end by the loop entry ``run``, filling ``out`` at ``te``;
+    chunked so Ctrl-C gets in."""
+    while True:
+        run(p, te, out, _NO_WIN_T, _NO_WIN_Y, _NO_WIN_COEF, _NEVER)
+        if p[0]["status"] != loop.STATUS_PAUSED:
+            return
+
+
+def _finish_ends(run, p):
+    """Run ``p`` to its end by the loop entry ``run``, recording the state at every window end."""
+    win_t = np.empty(ENDS_CAPACITY + 1)
+    win_y = np.empty((ENDS_CAPACITY + 1, 2))
+    n = 0
+    while True:
+        n += run(p, _NO_TIMES, _NO_OUT, win_t[n:], win_y[n:], _NO_WIN_COEF, _NEVER)
+        if p[0]["status"] != loop.STATUS_PAUSED:
+            return win_t[: n + 1], win_y[: n + 1].T
+        if n + 1 == win_t.size:
+            win_t = np.concatenate((win_t, np.empty(win_t.size)))
+            win_y = np.concatenate((win_y, np.empty((win_y.shape[0], 2))))
+
+
 def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="auto",
-          t_eval=None, max_step=np.inf):
+          t_eval=None, max_step=np.inf, max_windows=DEFAULT_MAX_WINDOWS):
     """Solve one scene by the moving boundary method, the whole run compiled.
 
     Parameters
@@ -249,7 +150,8 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
         exact flow).
     rtol, atol : float, optional
         Tolerances, with scipy's meaning (local error per window against
-        ``atol + rtol·|y|``).
+        ``atol + rtol·|y|``); rtol below 100 machine epsilons is raised to that
+        floor with a warning, as scipy does.
     approximant : str, optional
         ``"auto"`` (default) or a name with a compiled kernel (``taylor*``,
         ``split*``, ``belendez``, ``salas-torque``).
@@ -257,13 +159,17 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
         Output times, sorted in the direction of integration; default: the window ends.
     max_step : float, optional
         Longest window.
+    max_windows : int, optional
+        Windows the run may take (default 10⁷, seconds of compute); past it the run
+        stops with status 4 and the outputs it reached.
 
     Returns
     -------
     SolveResult
-        ``t``, ``y`` (shape (2, n)), ``success``, ``status`` (0 ok, else a kernel
-        status), ``message``, ``n_windows``, ``approximant`` and ``reason`` (what
-        "auto" chose and why).
+        ``t``, ``y`` (shape (2, n)), ``success``, ``status`` (0 ok, else a
+        :mod:`mbm.loop` status), ``message``, ``n_windows``, ``approximant`` and
+        ``reason`` (what "auto" chose and why).  On a failure ``t``, ``y`` hold the
+        outputs reached before it.
 
     Raises
     ------
@@ -271,37 +177,33 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
         For invalid arguments (naming the argument) or an approximant without a
         compiled kernel.
     """
-    ap, kind, karg, order, t0, t1, y0, h_abs, adaptive, te = _setup(
-        model, t_span, y0, tau, rtol, atol, approximant, t_eval, float(max_step)
-    )
-    record = te is None
-    if record:
-        te = _NO_TIMES
-    y = np.empty((2, te.size))
-    p = np.array([model.beta, model.gamma, model.omega, t0, y0[0], y0[1], t1, h_abs,
-                  float(max_step), float(rtol), float(atol), float(adaptive)])
-    status, n_w, et, eth, ev, n_filled = _run(kind, karg, order, p, te, y[0], y[1], record)
-    if record:
-        t, y = et, np.vstack((eth, ev))
+    if not isinstance(model, Pendulum):
+        raise TypeError(f"model must be an mbm.Pendulum, got {type(model).__name__}")
+    t0, t1 = check_span(t_span)
+    y0 = check_state("y0", y0)
+    rtol, atol = check_tolerances(rtol, atol)
+    max_step = check_positive("max_step", max_step, allow_inf=True)
+    max_windows = check_max_windows(max_windows)
+    ap, kind, karg = _approximant(approximant, model)
+    ap.check_model(model)
+    controller, h_abs, error_order = _plan(ap, tau, max_step, t0, t1)
+    p = loop.new_run(model.beta, model.gamma, model.omega, t0, y0[0], y0[1], t1, kind, karg,
+                     controller, h_abs, max_step, rtol, atol, error_order, max_windows, CALL_WINDOWS)
+    run = loop.RUNNERS[kind]
+    if t_eval is None:
+        t, y = _finish_ends(run, p)
     else:
-        t = te if n_filled == te.size else te[:n_filled]
-        y = y if n_filled == te.size else y[:, :n_filled]
+        te = check_t_eval(t_eval, t0, t1)
+        y = np.empty((2, te.size))
+        _finish(run, p, te, y)
+        n_filled = int(p[0]["j"])
+        t, y = (te, y) if n_filled == te.size else (te[:n_filled], y[:, :n_filled])
+    status = int(p[0]["status"])
     return SolveResult(
-        t=t, y=y, success=status == K.STATUS_OK, status=int(status),
-        message=STATUS_MESSAGES[int(status)], n_windows=int(n_w),
+        t=t, y=y, success=status == loop.STATUS_OK, status=status,
+        message=loop.STATUS_MESSAGES[status], n_windows=int(p[0]["n_windows"]),
         approximant=ap.name, reason=_reason(model, rtol, atol, approximant),
     )
-
-
-@numba.njit(cache=True, parallel=True)
-def _run_batch(kinds, kargs, orders, packed, t_eval, out_th, out_v, status, n_windows, order):
-    n = kinds.size
-    for k in numba.prange(n):
-        i = order[k]
-        st, nw, _, _, _, _ = _run(kinds[i], kargs[i], orders[i], packed[i], t_eval, out_th[i], out_v[i], False)
-        status[i] = st
-        n_windows[i] = nw
-    return n
 
 
 def _balanced_order(n):
@@ -309,21 +211,62 @@ def _balanced_order(n):
     return np.argsort((np.arange(n) * ORDER_STRIDE) % 1.0, kind="stable")
 
 
+def _check_params(beta, gamma, omega):
+    # The rules of Pendulum, over arrays; the first bad scene is named.
+    for name, arr, ok, rule in (
+        ("beta", beta, np.isfinite, "finite"),
+        ("gamma", gamma, np.isfinite, "finite"),
+        ("omega", omega, np.isfinite, "finite"),
+        ("beta", beta, lambda a: a >= 0.0, ">= 0 (damping)"),
+        ("omega", omega, lambda a: a > 0.0, "> 0"),
+    ):
+        bad = np.flatnonzero(~ok(arr))
+        if bad.size:
+            i = int(bad[0])
+            raise ValueError(f"{name} must be {rule}, got {name}[{i}] = {float(arr[i])!r}")
+
+
+def _run_batch_interruptibly(p, te, out, order):
+    # run_batch holds no GIL: run it in a thread and wait in short joins, so that a
+    # KeyboardInterrupt reaches this (main) thread, which sets the cancel flag; every
+    # scene then stops at its next window.
+    cancel = np.zeros(1, dtype=np.int64)
+    failure = []
+
+    def target():
+        try:
+            loop.run_batch(p, te, out, order, cancel)
+        except BaseException as exc:  # pragma: no cover - re-raised below
+            failure.append(exc)
+
+    worker = threading.Thread(target=target, name="mbm-solve-batch", daemon=True)
+    worker.start()
+    try:
+        while worker.is_alive():
+            worker.join(BATCH_POLL)
+    except KeyboardInterrupt:
+        cancel[0] = 1
+        worker.join()
+        raise
+    if failure:
+        raise failure[0]
+
+
 def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
-                approximant="auto", tau=None, max_step=np.inf):
+                approximant="auto", tau=None, max_step=np.inf, max_windows=DEFAULT_MAX_WINDOWS):
     """Solve N scenes at once, in parallel over scenes (numba ``prange``).
 
     Parameters
     ----------
     beta, gamma, omega : array_like
-        Model parameters, broadcast to a common shape (N,).
+        Model parameters, broadcast to a common shape (N,), N ≥ 1.
     y0 : array_like, shape (2,) or (N, 2)
         Initial states.
     t_span : (float, float)
         Common time span.
     t_eval : array_like, shape (m,)
         Common output times.
-    rtol, atol, approximant, tau, max_step
+    rtol, atol, approximant, tau, max_step, max_windows
         As in :func:`solve` (one value for all scenes; "auto" chooses per scene).
 
     Returns
@@ -331,46 +274,76 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
     SolveResult
         ``t`` (m,), ``y`` (N, 2, m), ``status`` (N,) per scene (0 ok), ``success``
         (N,) bool, ``n_windows`` (N,), ``approximant`` (N,) names.  Each scene's
-        answer equals :func:`solve` for that scene.
+        answer equals :func:`solve` for that scene.  A scene that fails at run time
+        (a status other than 0: its approximant's domain, ``max_windows``) keeps the
+        outputs it reached and NaN after them; the other scenes are unaffected.
+
+    Raises
+    ------
+    ValueError
+        For invalid arguments (naming the argument and, for parameter arrays, the
+        first bad scene), or an approximant outside the domain of some scene's model.
+    KeyboardInterrupt
+        Honoured while the batch runs: every scene stops at its next window.
     """
-    beta, gamma, omega = np.broadcast_arrays(
-        np.atleast_1d(np.asarray(beta, dtype=float)),
-        np.atleast_1d(np.asarray(gamma, dtype=float)),
-        np.atleast_1d(np.asarray(omega, dtype=float)),
-    )
+    try:
+        beta, gamma, omega = np.broadcast_arrays(
+            np.atleast_1d(np.asarray(beta, dtype=float)),
+            np.atleast_1d(np.asarray(gamma, dtype=float)),
+            np.atleast_1d(np.asarray(omega, dtype=float)),
+        )
+    except ValueError:
+        raise ValueError(
+            f"beta, gamma, omega must broadcast to one shape (N,), got shapes "
+            f"{np.shape(beta)}, {np.shape(gamma)}, {np.shape(omega)}"
+        ) from None
+    if beta.ndim != 1:
+        raise ValueError(f"beta, gamma, omega must broadcast to shape (N,), got shape {beta.shape}")
     n = beta.size
+    if n == 0:
+        raise ValueError("beta, gamma, omega must hold at least one scene (got empty arrays)")
+    _check_params(beta, gamma, omega)
     y0 = np.asarray(y0, dtype=float)
     if y0.shape == (2,):
         y0 = np.broadcast_to(y0, (n, 2))
     if y0.shape != (n, 2):
         raise ValueError(f"y0 must have shape (2,) or ({n}, 2), got {y0.shape}")
+    if not np.all(np.isfinite(y0)):
+        raise ValueError(f"y0 must be finite, got y0[{int(np.flatnonzero(~np.isfinite(y0).all(axis=1))[0])}]")
     if t_eval is None:
         raise ValueError("t_eval is required for solve_batch (common output times)")
-    kinds = np.empty(n, dtype=np.int64)
-    kargs = np.empty(n, dtype=np.int64)
-    orders = np.empty(n, dtype=np.int64)
-    h_abs = np.empty(n)
-    adaptive = np.empty(n, dtype=np.bool_)
-    names = []
-    te = None
-    t0 = t1 = None
-    for i in range(n):
-        model = Pendulum(beta[i], gamma[i], omega[i])
-        ap, kinds[i], kargs[i], orders[i], t0, t1, _, h_abs[i], adaptive[i], te = _setup(
-            model, t_span, y0[i], tau, rtol, atol, approximant, t_eval, float(max_step)
-        )
-        names.append(ap.name)
-    out_th = np.empty((n, te.size))
-    out_v = np.empty((n, te.size))
-    status = np.empty(n, dtype=np.int64)
-    n_windows = np.empty(n, dtype=np.int64)
-    packed = np.empty((n, N_PACKED))
-    packed[:, P_BETA], packed[:, P_GAMMA], packed[:, P_OMEGA] = beta, gamma, omega
-    packed[:, P_T0], packed[:, P_Y0], packed[:, P_Y1], packed[:, P_T1] = t0, y0[:, 0], y0[:, 1], t1
-    packed[:, P_H], packed[:, P_MAXSTEP] = h_abs, float(max_step)
-    packed[:, P_RTOL], packed[:, P_ATOL], packed[:, P_ADAPTIVE] = float(rtol), float(atol), adaptive
-    _run_batch(kinds, kargs, orders, packed, te, out_th, out_v, status, n_windows, _balanced_order(n))
+    t0, t1 = check_span(t_span)
+    te = check_t_eval(t_eval, t0, t1)
+    rtol, atol = check_tolerances(rtol, atol)
+    max_step = check_positive("max_step", max_step, allow_inf=True)
+    max_windows = check_max_windows(max_windows)
+
+    p = np.zeros(n, dtype=loop.RUN)
+    p["beta"], p["gamma"], p["omega"] = beta, gamma, omega
+    p["t"], p["theta"], p["v"], p["t_bound"] = t0, y0[:, 0], y0[:, 1], t1
+    p["max_step"], p["rtol"], p["atol"], p["max_windows"] = max_step, rtol, atol, max_windows
+    p["max_dtheta"] = np.inf
+    names = np.empty(n, dtype=object)
+    # "auto" resolves to at most two approximants (damped or not); a named one to one.
+    undamped = (beta == 0.0) & (gamma == 0.0)
+    for flag in (False, True):
+        rows = np.flatnonzero(undamped == flag)
+        if rows.size == 0:
+            continue
+        ap, kind, karg = _resolve(approximant, flag) if isinstance(approximant, str) else compiled(
+            get_approximant(approximant))
+        if type(ap).check_model is not Approximant.check_model:
+            # The approximant restricts the model: check each distinct model once.
+            for b, g, w in {(beta[i], gamma[i], omega[i]) for i in rows}:
+                ap.check_model(Pendulum(b, g, w))
+        controller, h_abs, error_order = _plan(ap, tau, max_step, t0, t1)
+        p["kind"][rows], p["karg"][rows] = kind, karg
+        p["controller"][rows], p["h_abs"][rows], p["error_order"][rows] = controller, h_abs, error_order
+        names[rows] = ap.name
+    out = np.full((n, 2, te.size), np.nan)
+    _run_batch_interruptibly(p, te, out, _balanced_order(n))
+    status = p["status"].astype(np.int64)
     return SolveResult(
-        t=te, y=np.stack((out_th, out_v), axis=1), status=status, success=status == 0,
-        n_windows=n_windows, approximant=np.array(names),
+        t=te, y=out, status=status, success=status == 0,
+        n_windows=p["n_windows"].astype(np.int64), approximant=names.astype(str),
     )

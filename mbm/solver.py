@@ -1,36 +1,49 @@
-"""`MBM`: the moving boundary method as a :class:`scipy.integrate.OdeSolver`.
+"""The moving boundary method as :class:`scipy.integrate.OdeSolver` subclasses.
 
-Window control only: the solver knows the model (β, γ, ω), the anchor state at the
-start of each window and an approximant's kernels; it never looks inside a formula.
-Re-anchoring follows (3.29)–(3.31) of the second paper: the approximant anchored at
-the state reached at the end of the previous window.
+:class:`MBM` anchors at window starts, (3.29)–(3.31) of the second paper: the
+approximant anchored at the state reached at the end of the previous window, the
+windows taken by :func:`mbm.loop.run`.  :class:`MBMEventPoints` anchors at event
+points, (3.32): θ = d or θ' = 0, located by CVODE ("hybrid") or by the formula
+itself ("analytic").  Both are ``solve_ivp`` methods; ``MBM(..., anchors="events")``
+builds the second.  The solvers know the model (β, γ, ω), the anchor state and an
+approximant's kernels; they never look inside a formula.
 """
 
 import math
+import sys
 import warnings
 
 import numpy as np
 from scipy.integrate import DenseOutput, OdeSolver
 
 from . import events as _events
-from . import kernels as _kernels
+from . import loop
+from ._validate import (
+    DEFAULT_MAX_WINDOWS,
+    check_max_windows,
+    check_positive,
+    check_tolerances,
+    warn_extraneous,
+)
 from .approximants import get_approximant
 from .choice import choose_approximant
 from .problem import Pendulum, identify_model
 
-__all__ = ["MBM", "MBMDenseOutput", "MBMWindowsDenseOutput"]
+__all__ = ["MBM", "MBMEventPoints", "MBMDenseOutput", "MBMWindowsDenseOutput"]
 
-# scipy's RK methods refuse rtol below 100 eps (round-off dominates the estimate);
-# so does MBM's window control.
-RTOL_FLOOR = 100 * np.finfo(float).eps
-
+# scipy's defaults for rtol and atol (solve_ivp's): MBM uses them when none is given.
+DEFAULT_RTOL = 1e-3
+DEFAULT_ATOL = 1e-6
 # Window length used when neither ``tau`` nor ``first_step`` is given and the
 # approximant has no error estimate: one tenth of the small-oscillation period 2π/ω
 # keeps the paper's |βτ| ≪ 1 assumption (2.10) for β ≲ 1.
 DEFAULT_TAU_PERIODS = 0.1
-# Initial size of the per-step window buffers (grown by doubling when a step holds
-# more windows).
+# Initial size of the per-step window buffers with windows_per_step=None (doubled as
+# needed: amortized linear in the number of windows).
 WINDOW_BUFFER = 16
+# Windows one compiled call may take with windows_per_step=None before Python regains
+# control (where Ctrl-C is honoured); as mbm.fast.CALL_WINDOWS.
+CALL_WINDOWS = 2**15
 # Hybrid event-point mode (3.32): CVODE's tolerances for locating the events and the
 # anchor states; tight, because the anchors carry CVODE's error into every window.
 HYBRID_RTOL = 1e-10
@@ -40,36 +53,111 @@ HYBRID_ATOL = 1e-12
 # a rotation may have none, and then the window ends here).
 EVENT_MAX_WINDOW_PERIODS = 1.0
 
+# solve_ivp looks for events only at step ends, so a sign change inside a step and
+# back is missed.  When it passes events, each step is one window no longer than this
+# fraction of the small-oscillation period 2π/ω and sweeping at most this angle: an
+# event function of the motion (θ mod 2π, θ', their combinations) then changes sign
+# at most once per step, as it would for scipy's own steps.
+EVENTS_WINDOW_PERIODS = 0.125
+EVENTS_MAX_DTHETA = math.pi / 4
+# How far up the stack solve_ivp's frame is looked for (MBM.__init__ and its helpers).
+CALLER_FRAMES = 8
 
-def _warn_extraneous(extraneous):
-    if extraneous:
-        warnings.warn(
-            "The following arguments have no effect for the MBM solver: "
-            + ", ".join(f"`{x}`" for x in extraneous),
-            stacklevel=3,
+_NO_TIMES = np.empty(0)
+_NO_OUT = np.empty((2, 0))
+_NEVER = np.zeros(1, dtype=np.int64)
+
+
+class _MBMBase(OdeSolver):
+    """What both anchorings share: validation, the model, the approximant.
+
+    Attributes
+    ----------
+    model : Pendulum
+        The identified or given model.
+    approximant : Approximant
+        The approximant in use.
+    approximant_choice : (str, str)
+        Its name and why ("auto" records the reason for its choice).
+    max_step, rtol, atol : float
+        As given (rtol raised to 100 eps with a warning, as scipy does).
+    nfev : int
+        Calls of ``fun`` (probing only).
+    njev, nlu : int
+        Always 0.
+    """
+
+    def __init__(self, fun, t0, y0, t_bound, approximant, model, max_step, rtol, atol, vectorized,
+                 extraneous):
+        warn_extraneous(extraneous, stacklevel=4)
+        super().__init__(fun, t0, y0, t_bound, vectorized, support_complex=False)
+        if self.y.shape != (2,):
+            raise ValueError(f"y0 must have shape (2,) (theta, theta'), got shape {self.y.shape}")
+        if not np.all(np.isfinite(self.y)):
+            raise ValueError(f"y0 must be finite, got {self.y!r}")
+        if not (math.isfinite(t0) and math.isfinite(t_bound)):
+            raise ValueError(f"t0 and t_bound must be finite, got {t0!r}, {t_bound!r}")
+        self.max_step = check_positive("max_step", max_step, allow_inf=True)
+        self.rtol, self.atol = check_tolerances(
+            DEFAULT_RTOL if rtol is None else rtol, DEFAULT_ATOL if atol is None else atol, stacklevel=4
         )
+        if model is None:
+            model, nprobe = identify_model(fun, t0=float(t0))
+            self.nfev += nprobe
+        elif not isinstance(model, Pendulum):
+            raise TypeError(f"model must be an mbm.Pendulum, got {type(model).__name__}")
+        self.model = model
+        if isinstance(approximant, str) and approximant == "auto":
+            approximant, reason = choose_approximant(model, self.y, self.rtol, self.atol)
+        else:
+            reason = "chosen by the caller"
+        self.approximant = get_approximant(approximant)
+        self.approximant.check_model(model)
+        self.approximant_choice = (self.approximant.name, reason)
+        # The formula of the last step (its dense output), set by _step_impl.
+        self._coef = None
+
+    def _anchor_at(self, y):
+        """Coefficients anchored at state ``y``, or ``(None, message)``."""
+        ap = self.approximant
+        beta, gamma, omega = self.model.params
+        coef = ap.anchor_kernel(beta, gamma, omega, y[0], y[1])
+        if coef[0] != 0:
+            msg = ap.status_messages.get(int(coef[0]), f"status {int(coef[0])}")
+            return None, f"approximant {ap.name!r} cannot be anchored at t={self.t!r}: {msg}"
+        return coef, None
+
+    def _window_end(self, h_abs):
+        t_new = self.t + self.direction * h_abs
+        if self.direction * (t_new - self.t_bound) > 0:
+            t_new = self.t_bound
+        return t_new
+
+    def _accept_window(self, coef, t, t_new, theta, v):
+        # One Python-driven window: accept it, or fail cleanly (never NaN).
+        if not (math.isfinite(theta) and math.isfinite(v)):
+            return False, (
+                f"approximant {self.approximant.name!r} produced a non-finite state over "
+                f"the window [{t!r}, {t_new!r}]: the motion left its domain"
+            )
+        self._coef = coef
+        self.t = t_new
+        self.y = np.array([theta, v])
+        return True, None
+
+    def _dense_output_impl(self):
+        return MBMDenseOutput(self.t_old, self.t, self.approximant, self._coef)
 
 
-def _positive(name, value, allow_inf=False):
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise TypeError(f"{name} must be a positive real number, got {value!r}") from None
-    if not (v > 0.0) or math.isnan(v) or (math.isinf(v) and not allow_inf):
-        raise ValueError(
-            f"{name} must be a positive {'number' if allow_inf else 'finite number'}, "
-            f"got {value!r}"
-        )
-    return v
-
-
-class MBM(OdeSolver):
+class MBM(_MBMBase):
     """Moving boundary method for θ'' + βθ' + ω² sin θ = γ, a drop-in `solve_ivp` method.
 
-    The solution is advanced over windows of length τ; at each window start an
-    analytic approximant is anchored at the current state (θ, θ'), and the state at
-    the window end is the formula's value there (the second paper's (3.29)–(3.31)).
-    The dense output on a window is that analytic formula.
+    The solution is advanced over windows; at each window start an analytic
+    approximant is anchored at the current state (θ, θ'), and the state at the window
+    end is the formula's value there (the second paper's (3.29)–(3.31)).  The dense
+    output on a window is that analytic formula.  Windows are chosen from rtol/atol
+    by the approximant's error estimate, fixed at ``tau``, or (an exact flow) as long
+    as ``max_step`` allows.
 
     Parameters
     ----------
@@ -85,20 +173,41 @@ class MBM(OdeSolver):
     t_bound : float
         Boundary time; the last window is cut to land on it exactly.
     tau : float, optional
-        Window length τ > 0.  Default: ``first_step`` if given, else
-        ``0.1 · 2π/ω``.  Capped by ``max_step``.
+        Fixed window length τ > 0 (capped by ``max_step``).  Default: windows from
+        rtol/atol when the approximant has an error estimate; one window as long as
+        ``max_step`` allows for an exact flow; otherwise ``first_step`` if given, else
+        ``0.1 · 2π/ω`` (with a warning if rtol/atol were given: they cannot change
+        such windows).
     approximant : str or Approximant, optional
-        Name of a registered approximant (see :func:`mbm.approximant_names`);
-        default ``"salas-torque"``.
+        ``"auto"`` (default: the exact flow when β = γ = 0, else the Taylor series,
+        see :mod:`mbm.choice`) or a registered name (:func:`mbm.approximant_names`).
     model : Pendulum, optional
         The model; skips probing ``fun``.
+    anchors : {"windows", "events"}, optional
+        ``"windows"`` (default): this class.  ``"events"``: anchor at event points
+        (3.32), an :class:`MBMEventPoints` is built instead.
+    events_from : {"cvode", "approximant"}, optional
+        With ``anchors="events"``: see :class:`MBMEventPoints`.
+    windows_per_step : int or None, optional
+        Windows per solve_ivp step (default 1); ``None``: all windows to ``t_bound``
+        in one step (least Python; the dense output covers them all).  solve_ivp
+        looks for ``events`` only at step ends: when it passes events, MBM needs
+        ``windows_per_step=1`` (else ``ValueError``) and keeps every window within
+        1/8 of the period 2π/ω and an angle of π/4, so that an event function of the
+        motion changes sign at most once per step (an exact flow's single window is
+        cut into such steps).
     max_step : float, optional
         Largest window allowed (default inf).
     first_step : float, optional
-        Used as τ when ``tau`` is not given.
+        First adaptive window (default: searched from the estimate), or τ for an
+        approximant without an estimate when ``tau`` is not given.
     rtol, atol : float, optional
-        Accepted for the solve_ivp interface and validated; with a fixed τ they do
-        not change the windows.
+        Tolerances (default 1e-3, 1e-6, scipy's): local error per window against
+        ``atol + rtol·|y|``; rtol below 100 machine epsilons is raised to it with a
+        warning, as scipy does.
+    max_windows : int, optional
+        Windows the whole run may take (default 10⁷); past it the solver fails with
+        a message.
     vectorized : bool, optional
         Accepted for the interface; MBM does not call ``fun`` after probing.
     **extraneous
@@ -106,112 +215,239 @@ class MBM(OdeSolver):
 
     Attributes
     ----------
-    model : Pendulum
-        The identified or given model.
-    approximant : Approximant
-    tau : float
-        The window length in use.
-    nfev : int
-        Calls of ``fun`` (probing only).
-    njev, nlu : int
-        Always 0.
+    model, approximant, approximant_choice, max_step, rtol, atol, nfev, njev, nlu
+        See :class:`_MBMBase`.
+    adaptive : bool
+        Whether windows come from rtol/atol.
+    tau : float or None
+        The fixed window length in use (None when adaptive).
+    windows_per_step : int or None
+    for_events : bool
+        Whether solve_ivp passed ``events`` (windows kept short, see above).
+    n_windows : int
+        Windows taken so far.
     """
 
-    def __init__(
-        self,
-        fun,
-        t0,
-        y0,
-        t_bound,
-        tau=None,
-        approximant="auto",
-        model=None,
-        anchors="windows",
-        events_from="cvode",
-        windows_per_step=1,
-        max_step=np.inf,
-        first_step=None,
-        rtol=None,
-        atol=None,
-        vectorized=False,
-        **extraneous,
-    ):
-        _warn_extraneous(extraneous)
-        super().__init__(fun, t0, y0, t_bound, vectorized, support_complex=False)
-        if self.y.shape != (2,):
-            raise ValueError(f"y0 must have shape (2,) (theta, theta'), got shape {self.y.shape}")
-        if not np.all(np.isfinite(self.y)):
-            raise ValueError(f"y0 must be finite, got {self.y!r}")
-        if not (math.isfinite(t0) and math.isfinite(t_bound)):
-            raise ValueError(f"t0 and t_bound must be finite, got {t0!r}, {t_bound!r}")
-        self.max_step = _positive("max_step", max_step, allow_inf=True)
-        tol_given = rtol is not None or atol is not None
-        self.rtol = _positive("rtol", 1e-3 if rtol is None else rtol)
-        self.atol = _positive("atol", 1e-6 if atol is None else atol)
-        if self.rtol < RTOL_FLOOR:
-            warnings.warn(f"rtol={self.rtol!r} is below {RTOL_FLOOR:.3g}; using {RTOL_FLOOR:.3g}", stacklevel=2)
-            self.rtol = RTOL_FLOOR
-        if model is None:
-            model, nprobe = identify_model(fun, t0=float(t0))
-            self.nfev += nprobe
-        elif not isinstance(model, Pendulum):
-            raise TypeError(f"model must be an mbm.Pendulum, got {type(model).__name__}")
-        self.model = model
-        if isinstance(approximant, str) and approximant == "auto":
-            approximant, reason = choose_approximant(model, self.y, self.rtol, self.atol)
-        else:
-            reason = "chosen by the caller"
-        self.approximant = get_approximant(approximant)
-        self.approximant.check_model(model)
-        #: (name, reason) of the approximant in use; "auto" records why it chose it.
-        self.approximant_choice = (self.approximant.name, reason)
-        self._beta, self._gamma, self._omega = model.params
-        self._coef = None
-        self._run = None
-        self._kind = _kernels.kind_of(self.approximant)
-        exact = bool(getattr(self.approximant, "exact", False))
-        has_estimate = getattr(self.approximant, "error_kernel", None) is not None
-        self.adaptive = tau is None and has_estimate and not exact and self._kind is not None
-        if first_step is not None:
-            first_step = _positive("first_step", first_step)
+    def __new__(cls, *args, anchors="windows", **kwargs):
+        if anchors == "events" and cls is MBM:
+            return MBMEventPoints(*args, **kwargs)
         if anchors not in ("windows", "events"):
             raise ValueError(f"anchors must be 'windows' or 'events', got {anchors!r}")
+        return super().__new__(cls)
+
+    def __init__(self, fun, t0, y0, t_bound, tau=None, approximant="auto", model=None,
+                 anchors="windows", windows_per_step=1, max_step=np.inf, first_step=None,
+                 rtol=None, atol=None, max_windows=DEFAULT_MAX_WINDOWS, vectorized=False,
+                 **extraneous):
+        tol_given = rtol is not None or atol is not None
+        super().__init__(fun, t0, y0, t_bound, approximant, model, max_step, rtol, atol, vectorized,
+                         extraneous)
+        if first_step is not None:
+            first_step = check_positive("first_step", first_step)
+        if tau is not None:
+            tau = min(check_positive("tau", tau), self.max_step)
+        self.windows_per_step = _check_windows_per_step(windows_per_step)
+        self._kind = loop.kind_of(self.approximant)
+        #: Whether solve_ivp passed events: then each step is one short window.
+        self.for_events = _caller_events() is not None
+        max_dtheta, run_max_step = math.inf, self.max_step
+        if self.for_events:
+            if self.windows_per_step != 1:
+                raise ValueError(
+                    f"windows_per_step={windows_per_step!r} with events: solve_ivp looks for "
+                    "events only at step ends and would miss those inside a step of several "
+                    "windows; use windows_per_step=1 (the default) with events"
+                )
+            max_dtheta = EVENTS_MAX_DTHETA
+            run_max_step = min(self.max_step, EVENTS_WINDOW_PERIODS * 2 * math.pi / self.model.omega)
+            if tau is not None:
+                tau = min(tau, run_max_step)
+        plan = loop.plan_windows(self.approximant, tau, run_max_step, abs(t_bound - t0))
+        if plan is None:
+            if tol_given:
+                warnings.warn(
+                    f"approximant {self.approximant.name!r} has no error estimate: rtol and "
+                    "atol do not change its windows; pass tau, or use an error-controlled "
+                    "approximant (see mbm.approximant_names())",
+                    stacklevel=3,
+                )
+            tau = first_step if first_step is not None else DEFAULT_TAU_PERIODS * 2 * math.pi / self.model.omega
+            plan = loop.plan_windows(self.approximant, min(tau, run_max_step), run_max_step, 0.0)
+        controller, h_abs, error_order = plan
+        self.adaptive = controller == loop.CONTROLLER_ADAPTIVE
+        self.tau = None if self.adaptive else h_abs
+        if self.adaptive and first_step is not None:
+            h_abs = min(first_step, run_max_step)
+        self.n_windows = 0
+        # The run record of the compiled loop (None: windows driven from Python, one
+        # per step, for approximants without a compiled kind).
+        self._run = None
+        if self._kind is not None:
+            beta, gamma, omega = self.model.params
+            self._run = loop.new_run(
+                beta, gamma, omega, self.t, self.y[0], self.y[1], self.t_bound, self._kind[0],
+                self._kind[1], controller, h_abs, run_max_step, self.rtol, self.atol, error_order,
+                check_max_windows(max_windows), max_dtheta=max_dtheta,
+            )
+        # Widest coefficient vector of this approximant (the window store's width).
+        self._width = None
+        # The windows of the last step (starts, coefficients, count), for the dense output.
+        self._windows = None
+
+    def _step_impl(self):
+        if self._run is None:
+            return self._python_window()
+        p = self._run
+        run = loop.RUNNERS[self._kind[0]]
+        if self._width is None:
+            beta, gamma, omega = self.model.params
+            self._width = self.approximant.anchor_kernel(beta, gamma, omega, self.y[0], self.y[1]).size
+        cap = self.windows_per_step or WINDOW_BUFFER
+        win_t = np.empty(cap + 1)
+        win_y = np.empty((cap + 1, 2))
+        win_coef = np.empty((cap, self._width))
+        p[0]["call_windows"] = 0 if self.windows_per_step else CALL_WINDOWS
+        n = run(p, _NO_TIMES, _NO_OUT, win_t, win_y, win_coef, _NEVER)
+        # windows_per_step=None: keep going until t_bound, doubling the store.
+        while self.windows_per_step is None and p[0]["status"] == loop.STATUS_PAUSED:
+            if n + cap > win_coef.shape[0]:
+                size = 2 * (n + cap)
+                win_t = np.concatenate((win_t[: n + 1], np.empty(size - n)))
+                win_y = np.concatenate((win_y[: n + 1], np.empty((size - n, 2))))
+                win_coef = np.concatenate((win_coef[:n], np.empty((size - n, self._width))))
+            n += run(p, _NO_TIMES, _NO_OUT, win_t[n:], win_y[n:], win_coef[n:], _NEVER)
+        self.n_windows = int(p[0]["n_windows"])
+        if n == 0:
+            return False, self._failure(int(p[0]["status"]))
+        self._windows = (win_t[: n + 1], win_coef[:n], n)
+        self.t = float(p[0]["t"])
+        self.y = np.array([p[0]["theta"], p[0]["v"]])
+        # A failure after some accepted windows ends this step early; the next step reports it.
+        return True, None
+
+    def _failure(self, status):
+        ap = self.approximant
+        if status == loop.STATUS_ANCHOR:
+            coef, msg = self._anchor_at(self.y)
+            return msg or f"approximant {ap.name!r} cannot be anchored at t={self.t!r}"
+        if status == loop.STATUS_TOO_SMALL:
+            return (
+                f"required window at t={self.t!r} is below the spacing of floating point "
+                f"numbers: approximant {ap.name!r} cannot meet rtol={self.rtol!r}, "
+                f"atol={self.atol!r} here"
+            )
+        if status == loop.STATUS_MAX_WINDOWS:
+            return (
+                f"max_windows={int(self._run[0]['max_windows'])} windows taken at t={self.t!r} "
+                "before t_bound: raise max_windows for a longer run"
+            )
+        return (
+            f"approximant {ap.name!r} produced a non-finite state over the window starting "
+            f"at t={self.t!r}: the motion left its domain"
+        )
+
+    def _python_window(self):
+        # Approximants outside the compiled kinds: one fixed window per step.
+        coef, msg = self._anchor_at(self.y)
+        if coef is None:
+            return False, msg
+        t = self.t
+        t_new = self._window_end(self.tau)
+        theta, v = self.approximant.eval_kernel(coef, t_new - t)
+        self.n_windows += 1
+        return self._accept_window(coef, t, t_new, theta, v)
+
+    def _dense_output_impl(self):
+        if self._run is not None:
+            starts, coefs, n = self._windows
+            return MBMWindowsDenseOutput(self.t_old, self.t, self._kind[0], starts, coefs, n, self.direction)
+        return MBMDenseOutput(self.t_old, self.t, self.approximant, self._coef)
+
+
+def _caller_events():
+    """The ``events`` argument of the scipy ``solve_ivp`` call building this solver, or None.
+
+    solve_ivp does not hand ``events`` to its method; MBM reads it from solve_ivp's
+    frame so that it can keep its steps short enough for events (never dropping one
+    silently).  tests/test_events_mbm.py checks this works on the installed scipy.
+    """
+    frame = sys._getframe(1)
+    for _ in range(CALLER_FRAMES):
+        frame = frame.f_back
+        if frame is None:
+            return None
+        code = frame.f_code
+        if code.co_name == "solve_ivp" and "scipy" in code.co_filename:
+            return frame.f_locals.get("events")
+    return None
+
+
+def _check_windows_per_step(windows_per_step):
+    if windows_per_step is None:
+        return None
+    if (isinstance(windows_per_step, bool) or not isinstance(windows_per_step, (int, np.integer))
+            or windows_per_step < 1):
+        raise ValueError(f"windows_per_step must be an integer >= 1 or None, got {windows_per_step!r}")
+    return int(windows_per_step)
+
+
+class MBMEventPoints(_MBMBase):
+    """The event-point moving boundary method (3.32), a `solve_ivp` method.
+
+    Windows end where θ = d (the approximant's zero-crossing surface,
+    :func:`mbm.events.event_function_d`) or θ' = 0, as the approximant's ``anchors``
+    allow.  ``events_from="cvode"`` (hybrid): the event points and the anchor states
+    there come from CVODE, so each window anchors at the numerical solution's state
+    φ(τ_n) (the dense output jumps there by the previous window's error);
+    ``"approximant"``: each window's formula finds its own next event and the next
+    window anchors at the formula's state there.
+
+    Parameters
+    ----------
+    fun, t0, y0, t_bound, approximant, model, max_step, rtol, atol, vectorized, **extraneous
+        As in :class:`MBM` (rtol and atol are validated; the windows do not depend on
+        them).
+    anchors : {"events"}, optional
+        Accepted so that ``MBM(..., anchors="events")`` and this class take the same
+        options.
+    events_from : {"cvode", "approximant"}, optional
+        Where the event points come from (default ``"cvode"``).
+
+    Attributes
+    ----------
+    model, approximant, approximant_choice, max_step, rtol, atol, nfev, njev, nlu
+        See :class:`MBM`.
+    events_from : str
+    n_windows : int
+        Windows taken so far.
+    """
+
+    def __init__(self, fun, t0, y0, t_bound, approximant="auto", model=None, anchors="events",
+                 events_from="cvode", max_step=np.inf, rtol=None, atol=None, vectorized=False,
+                 **extraneous):
+        if anchors != "events":
+            raise ValueError(f"MBMEventPoints anchors at events, got anchors={anchors!r}")
         if events_from not in ("cvode", "approximant"):
             raise ValueError(f"events_from must be 'cvode' or 'approximant', got {events_from!r}")
-        if windows_per_step is None:
-            self.windows_per_step = None
-        else:
-            if isinstance(windows_per_step, bool) or not isinstance(windows_per_step, (int, np.integer)) or windows_per_step < 1:
-                raise ValueError(f"windows_per_step must be an integer >= 1 or None, got {windows_per_step!r}")
-            self.windows_per_step = int(windows_per_step)
-        self.anchors = anchors
-        self.events_from = events_from if anchors == "events" else None
-        if anchors == "events":
-            self._setup_events(float(t0), float(t_bound))
-            self.adaptive = False
-            self.tau = None
-            return
-        if exact and tau is None:
-            # An exact flow has no truncation error: one window as long as max_step allows.
-            self.tau = self.max_step if math.isfinite(self.max_step) else (abs(t_bound - t0) or 1.0)
-        elif self.adaptive:
-            self.tau = None
-        else:
-            if tau is None:
-                if tol_given:
-                    warnings.warn(
-                        f"approximant {self.approximant.name!r} has no error estimate: rtol and "
-                        "atol do not change its windows; pass tau, or use an error-controlled "
-                        "approximant (see mbm.approximant_names())",
-                        stacklevel=2,
-                    )
-                tau = first_step if first_step is not None else DEFAULT_TAU_PERIODS * 2 * math.pi / model.omega
-            self.tau = min(_positive("tau", tau), self.max_step)
-        # Next window length for the compiled controller (≤ 0: search from the estimate).
-        self._h_abs = self.tau if not self.adaptive else (min(first_step, self.max_step) if first_step else -1.0)
-        self._order = int(self.approximant.order) if self.adaptive else 1
+        super().__init__(fun, t0, y0, t_bound, approximant, model, max_step, rtol, atol, vectorized,
+                         extraneous)
+        self.events_from = events_from
+        self.n_windows = 0
+        self._event_d, self._event_kinds = self._surfaces()
+        # The state the next window anchors at when it is not the last window's end
+        # (hybrid mode: CVODE's state at the event point).
+        self._next_anchor = None
+        self._event_times, self._event_states = [], []
+        self._event_index = 0
+        if events_from == "cvode" and t_bound != t0:
+            te, ye, _ = _events.hybrid_event_points(
+                self.model, (float(t0), float(t_bound)), self.y, self._event_d, kinds=self._event_kinds,
+                rtol=HYBRID_RTOL, atol=HYBRID_ATOL,
+            )
+            self._event_times, self._event_states = list(te), [np.array(y) for y in ye]
 
-    def _setup_events(self, t0, t_bound):
+    def _surfaces(self):
+        """The event surface d and kinds the approximant anchors at; y0 must be one."""
         ap = self.approximant
         kind = ap.anchors
         d = _events.event_function_d(self.model, ap)
@@ -221,7 +457,7 @@ class MBM(OdeSolver):
             if d is None:
                 raise ValueError(
                     f"approximant {ap.name!r} anchors only at zero crossings theta = d, and "
-                    f"d does not exist for gamma/omega**2 = {self._gamma / self._omega**2!r}"
+                    f"d does not exist for gamma/omega**2 = {self.model.gamma / self.model.omega**2!r}"
                 )
             kinds = ("crossing",)
         elif kind == "turning-point":
@@ -240,33 +476,19 @@ class MBM(OdeSolver):
                 f"approximant {ap.name!r} anchors only at turning points theta' = 0; "
                 f"y0[1] = {y0[1]!r} is not one"
             )
-        self._event_d = d
-        self._event_kinds = kinds
-        self._event_queue = None
-        if self.events_from == "cvode" and t_bound != t0:
-            te, ye, _ = _events.hybrid_event_points(
-                self.model, (t0, t_bound), y0, d, kinds=kinds, rtol=HYBRID_RTOL, atol=HYBRID_ATOL
-            )
-            self._event_queue = (list(te), [np.array(y) for y in ye])
-            self._event_index = 0
+        return d, kinds
 
-    def _events_step(self):
+    def _step_impl(self):
         ap = self.approximant
         t = self.t
+        coef, msg = self._anchor_at(self.y if self._next_anchor is None else self._next_anchor)
+        if coef is None:
+            return False, msg
         if self.events_from == "cvode":
-            te, ye = self._event_queue
-            i = self._event_index
-            if i < len(te) and self.direction * (te[i] - t) > 0:
-                t_new = te[i]
-            else:
-                t_new = self.t_bound
+            te, ye, i = self._event_times, self._event_states, self._event_index
+            t_new = te[i] if i < len(te) and self.direction * (te[i] - t) > 0 else self.t_bound
             if self.direction * (t_new - t) > self.max_step:
                 t_new = t + self.direction * self.max_step
-            coef, msg = self._anchor()
-            if coef is None:
-                return False, msg
-            h = t_new - t
-            theta, v = ap.eval_kernel(coef, h)
             if i < len(te) and t_new == te[i]:
                 # (3.32): the next window anchors at the numerical solution's state
                 # φ(τ_n), not at this window's end value — the method's jump.
@@ -275,128 +497,16 @@ class MBM(OdeSolver):
             else:
                 self._next_anchor = None
         else:
-            coef, msg = self._anchor()
-            if coef is None:
-                return False, msg
             span = abs(self.t_bound - t)
-            t_max = min(span, self.max_step, EVENT_MAX_WINDOW_PERIODS * 2 * math.pi / self._omega)
+            t_max = min(span, self.max_step, EVENT_MAX_WINDOW_PERIODS * 2 * math.pi / self.model.omega)
             te, _ = _events.next_event_analytic(
                 ap.eval_kernel, coef, self._event_d, self._event_kinds,
-                self.direction * t_max, int(self.direction), omega=self._omega,
+                self.direction * t_max, int(self.direction), omega=self.model.omega,
             )
-            if math.isfinite(te):
-                t_new = t + te
-            else:
-                t_new = self._window_end(t_max)
-            h = t_new - t
-            theta, v = ap.eval_kernel(coef, h)
+            t_new = t + te if math.isfinite(te) else self._window_end(t_max)
+        theta, v = ap.eval_kernel(coef, t_new - t)
+        self.n_windows += 1
         return self._accept_window(coef, t, t_new, theta, v)
-
-    def _accept_window(self, coef, t, t_new, theta, v):
-        # One window of a Python-driven mode: accept it, or fail cleanly (never NaN).
-        if not (math.isfinite(theta) and math.isfinite(v)):
-            return False, (
-                f"approximant {self.approximant.name!r} produced a non-finite state over "
-                f"the window [{t!r}, {t_new!r}]: the motion left its domain"
-            )
-        self._coef = coef
-        self.t = t_new
-        self.y = np.array([theta, v])
-        return True, None
-
-    def _anchor(self):
-        ap = self.approximant
-        y = self.y
-        nxt = getattr(self, "_next_anchor", None)
-        if nxt is not None:
-            y = nxt
-        coef = ap.anchor_kernel(self._beta, self._gamma, self._omega, y[0], y[1])
-        if coef[0] != 0:
-            msg = ap.status_messages.get(int(coef[0]), f"status {int(coef[0])}")
-            return None, f"approximant {ap.name!r} cannot be anchored at t={self.t!r}: {msg}"
-        return coef, None
-
-    def _window_end(self, h_abs):
-        t_new = self.t + self.direction * h_abs
-        if self.direction * (t_new - self.t_bound) > 0:
-            t_new = self.t_bound
-        return t_new
-
-    def _step_impl(self):
-        if self.anchors == "events":
-            return self._events_step()
-        if self._kind is None:
-            return self._python_window()
-        kind, karg = self._kind
-        nmax = self.windows_per_step or WINDOW_BUFFER
-        starts = np.empty(nmax + 1)
-        coefs = np.empty((nmax, self._coef_width()))
-        st, n, t, th, v, h_abs = _kernels.advance(
-            kind, karg, self._order, self._beta, self._gamma, self._omega, self.t, self.y[0],
-            self.y[1], float(self.direction), float(self.t_bound), float(self._h_abs),
-            self.max_step, self.rtol, self.atol, self.adaptive, float(self.t_bound), nmax,
-            starts, coefs,
-        )
-        # windows_per_step=None: keep going in compiled chunks until t_bound, doubling
-        # the buffers (amortized linear in the number of windows).
-        while st == 0 and self.windows_per_step is None and t != self.t_bound:
-            if n + nmax > coefs.shape[0]:
-                cap = 2 * (n + nmax)
-                starts = np.concatenate((starts[: n + 1], np.empty(cap - n)))
-                coefs = np.concatenate((coefs[:n], np.empty((cap - n, coefs.shape[1]))))
-            st, m, t, th, v, h_abs = _kernels.advance(
-                kind, karg, self._order, self._beta, self._gamma, self._omega, t, th, v,
-                float(self.direction), float(self.t_bound), h_abs, self.max_step, self.rtol,
-                self.atol, self.adaptive, float(self.t_bound), nmax, starts[n:], coefs[n:],
-            )
-            n += m
-        if n == 0:
-            return False, self._failure(st)
-        self._run = (starts[: n + 1], coefs[:n], n)
-        self._h_abs = h_abs
-        self.t = t
-        self.y = np.array([th, v])
-        # A failure after some accepted windows ends this step early; the next step reports it.
-        return True, None
-
-    def _coef_width(self):
-        # Widest coefficient vector of this approximant: anchor once at the current state.
-        kind, karg = self._kind
-        if not hasattr(self, "_width"):
-            self._width = _kernels.anchor(kind, karg, self._beta, self._gamma, self._omega, self.y[0], self.y[1]).size
-        return self._width
-
-    def _failure(self, st):
-        ap = self.approximant
-        if st == _kernels.STATUS_ANCHOR:
-            coef, msg = self._anchor()
-            return msg or f"approximant {ap.name!r} cannot be anchored at t={self.t!r}"
-        if st == _kernels.STATUS_TOO_SMALL:
-            return (
-                f"required window at t={self.t!r} is below the spacing of floating point "
-                f"numbers: approximant {ap.name!r} cannot meet rtol={self.rtol!r}, "
-                f"atol={self.atol!r} here"
-            )
-        return (
-            f"approximant {ap.name!r} produced a non-finite state over the window starting "
-            f"at t={self.t!r}: the motion left its domain"
-        )
-
-    def _python_window(self):
-        # Approximants outside the compiled kinds: one fixed window per step.
-        coef, msg = self._anchor()
-        if coef is None:
-            return False, msg
-        t = self.t
-        t_new = self._window_end(self.tau)
-        theta, v = self.approximant.eval_kernel(coef, t_new - t)
-        return self._accept_window(coef, t, t_new, theta, v)
-
-    def _dense_output_impl(self):
-        if self._run is not None and self.anchors == "windows":
-            starts, coefs, n = self._run
-            return MBMWindowsDenseOutput(self.t_old, self.t, self._kind[0], starts, coefs, n, self.direction)
-        return MBMDenseOutput(self.t_old, self.t, self.approximant, self._coef)
 
 
 class MBMDenseOutput(DenseOutput):
@@ -443,7 +553,7 @@ class MBMWindowsDenseOutput(DenseOutput):
         tt = np.ascontiguousarray(np.atleast_1d(np.asarray(t, dtype=np.float64)))
         th = np.empty_like(tt)
         v = np.empty_like(tt)
-        _kernels.evaluate_windows(self.kind, self.starts, self.coefs, self.n, self.direction, tt, th, v)
+        loop.evaluate_windows(self.kind, self.starts, self.coefs, self.n, self.direction, tt, th, v)
         if np.ndim(t) == 0:
             return np.array([th[0], v[0]])
         return np.vstack((th, v))

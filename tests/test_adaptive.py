@@ -1,4 +1,5 @@
-"""Error-controlled windows: rtol/atol with scipy's meaning, over the accuracy issue's scenes.
+"""Error-controlled windows: rtol/atol with scipy's meaning, over the convergence
+study's six scenes (docs/convergent.md).
 
 For each scene and rtol = atol from 1e-3 to 1e-10 the achieved max error of MBM must
 fall monotonically with rtol and stay within 10× of scipy's DOP853 at the same
@@ -12,15 +13,19 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import mbm
+import mbm.scenes
 
-SCENES = {
-    "example1": (mbm.Pendulum(0.1, 0.3), [math.radians(30.0), 0.0], 80.0),
-    "example2": (mbm.Pendulum(0.1, 0.6), [math.radians(90.0), 0.0], 80.0),
-    "salas2021": (mbm.Pendulum(0.4, 0.0), [0.0, 0.25], 20.0),
-    "running": (mbm.Pendulum(0.1, 1.2), [0.0, 0.0], 200.0),
-    "separatrix": (mbm.Pendulum(0.0, 0.0), [0.0, 1.999], 200.0),
-    "longweak": (mbm.Pendulum(0.01, 0.3), [1.0, 0.0], 1e4),
+# name -> (model, y0, t_end): scenes of mbm.scenes (catalogue name, horizon here).
+_SCENES = {
+    "example1": ("ex1", 80.0),
+    "example2": ("ex2", 80.0),
+    "salas2021": ("paper1", 20.0),
+    "running": ("running", 200.0),
+    "separatrix": ("separatrix", 200.0),
+    "longweak": ("longweak", 1e4),
 }
+SCENES = {key: (mbm.scenes.get(name).model, list(mbm.scenes.get(name).y0), t_end)
+          for key, (name, t_end) in _SCENES.items()}
 RTOLS = [1e-3, 1e-5, 1e-7, 1e-10]
 _REFS = {}
 

@@ -140,7 +140,7 @@ def test_non_finite_t_eval(t_eval):
 
 
 def test_empty_t_span_reference():
-    with pytest.raises(ValueError, match=r"t_span must have t0 != tf"):
+    with pytest.raises(ValueError, match=r"t_span must have t0 != t_bound"):
         mbm.reference(MODEL, (1.0, 1.0), [0.1, 0.0])
 
 

@@ -1,6 +1,8 @@
-"""Tests of mbm.approximants.belendez2007: the exact pendulum flow (third paper, Beléndez
-et al. 2007, Eqs. (23), (26), (31)) generalized to any state, the period (26), and the
-harmonic approximation (32)-(33).
+"""Tests of the exact pendulum flow (third paper, Beléndez et al. 2007, Eqs. (23), (26),
+(31)) generalized to any state (mbm.special.pendulum_flow), the period (26), and the
+approximants of mbm.approximants.belendez2007: "belendez" and the harmonic approximation
+(32)-(33).  The double-double K and sin/cos the flow relies on are tested in
+tests/test_special.py.
 
 References come from ``tests/data/belendez2007_mpmath.py`` (mpmath at 60 digits from
 the exact binary inputs, cross-checked there against a Taylor integration of the ODE)
@@ -18,24 +20,22 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from mbm.approximants import ApproximantDomainError, get_approximant
-from mbm.approximants.belendez2007 import (
+from mbm.problem import Pendulum
+from mbm.special.pendulum_flow import (
     REGIME_LIBRATION,
     REGIME_ROTATION,
     REGIME_SEPARATRIX,
-    _dd_sincos,
-    ellipk_dd_kernel,
     flow_setup_kernel,
     pendulum_flow,
     pendulum_flow_kernel,
     period,
     period_kernel,
 )
-from mbm.problem import Pendulum
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "data"))
 import belendez2007_mpmath as refmod  # noqa: E402
 
-# Goal of the brief for t <= 100 against mpmath (θ and θ').
+# Accuracy target for t <= 100 against mpmath (θ and θ').
 GOAL_ATOL = 1e-12
 # Long horizon: phase error <= 1e-9 at t = 1e6 (θ error <= 1e-9 is stricter for |θ'| >= 1).
 LONG_ATOL = 1e-9
@@ -439,26 +439,22 @@ def test_period_validation():
             period(Pendulum(), bad)
 
 
-# --------------------------------------------------------------------------- double-double
-
-
-def test_dd_building_blocks():
-    with mp.workdps(360):  # 1 − mc must be exact for mc = 1e-300
-        # 3e-281 and 1e-275: between the shared _dd_sqrt's rescale threshold (1e-270) and
-        # the one belendez2007 used to apply itself (1e-280)
-        for mc in (1.0, 0.5, 1e-3, 3.7e-33, 1e-275, 3e-281, 1e-300, 4.0):
-            hi, lo = ellipk_dd_kernel(mc, 0.0)
-            K = mp.ellipk(1 - mp.mpf(mc))
-            assert abs((mp.mpf(hi) + lo) / K - 1) < 1e-30, mc
-    with mp.workdps(50):
-        for x in (1e-9, 0.3, 1.0, 1.5707963267948966, -1.2):
-            sh, sl, ch, cl = _dd_sincos(x, 0.0)
-            assert abs(mp.mpf(sh) + sl - mp.sin(mp.mpf(x))) < 1e-31
-            assert abs(mp.mpf(ch) + cl - mp.cos(mp.mpf(x))) < 1e-31
-    assert ellipk_dd_kernel(0.0, 0.0) == (math.inf, 0.0)
-
-
 # --------------------------------------------------------------------------- approximants
+
+
+def test_flow_names_reexported_from_the_paper_module():
+    # mbm.approximants.belendez2007 keeps the names it had before the flow moved to
+    # mbm.special.pendulum_flow; the top-level faces are the same objects.
+    import mbm
+    import mbm.approximants.belendez2007 as B
+    import mbm.special.pendulum_flow as PF
+
+    for name in ("pendulum_flow", "period", "pendulum_flow_kernel", "flow_setup_kernel",
+                 "flow_eval_kernel", "period_kernel", "REGIME_LIBRATION", "REGIME_ROTATION",
+                 "REGIME_SEPARATRIX", "REGIME_REST"):
+        assert getattr(B, name) is getattr(PF, name), name
+    assert mbm.pendulum_flow is PF.pendulum_flow and mbm.period is PF.period
+    assert get_approximant("belendez").param_names() == PF.FLOW_PARAM_NAMES
 
 
 def test_belendez_approximant():

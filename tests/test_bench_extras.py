@@ -1,19 +1,30 @@
-"""Tests of mbm/bench_extras.py (undamped t = 1e6 and the I–V ensemble), on short runs."""
+"""Tests of benchmarks/extras.py (undamped t = 1e6, the I–V ensemble, fixed costs), on short runs."""
 
 import math
 
 import numpy as np
+import pytest
 
 import mbm
-from mbm import bench
-from mbm import bench_extras as bx
+from benchmarks import extras as bx
+from benchmarks import harness
+from benchmarks.__main__ import main
+from benchmarks.registry import RTOL_SWEEP
+from benchmarks.report import extract_blocks
+
+
+def test_undamped_scene_is_the_catalogues():
+    sc = mbm.scenes.get("undamped-long")
+    assert bx.UNDAMPED is sc
+    assert (sc.beta, sc.gamma, sc.omega, sc.theta0, sc.v0, sc.t_end) == (0.0, 0.0, 1.0, 1.0, 0.0, 1e6)
 
 
 def test_exact_undamped_matches_exact_flow():
     # mpmath's cd formula and the package's exact flow are independent implementations.
+    theta0 = bx.UNDAMPED.theta0
     for t in (0.0, 1.3, 50.0, 1234.5):
-        th = mbm.pendulum_flow(mbm.Pendulum(), [bx.THETA0_LONG, 0.0], t)[0]
-        assert abs(bx.exact_undamped(bx.THETA0_LONG, t) - th) <= 1e-13
+        th = mbm.pendulum_flow(mbm.Pendulum(), [theta0, 0.0], t)[0]
+        assert abs(bx.exact_undamped(theta0, t) - th) <= 1e-13
 
 
 def test_undamped_quick_rows_and_mbm_most_accurate():
@@ -21,6 +32,8 @@ def test_undamped_quick_rows_and_mbm_most_accurate():
     names = [r["solver"] for r in res["rows"]]
     assert names[:2] == ["MBM auto, solve_ivp", "MBM auto, mbm.solve"]
     assert "scipy DOP853" in names and names.count("numba DOP853") == len(bx.NUMBA_DOP853_RTOLS)
+    assert names.count("heyoka (prepared)") == len(bx.HEYOKA_LONG_TOLS)
+    assert sorted(res["builds"]) == sorted(bx.HEYOKA_LONG_TOLS)
     mbm_err = max(r["error"] for r in res["rows"][:2])
     assert mbm_err <= 1e-12
     # MBM's error is below every peer's: the report's ratios are lower bounds at equal error
@@ -32,19 +45,36 @@ def test_ensemble_quick_picks_knobs_meeting_targets(monkeypatch):
     monkeypatch.setattr(bx, "IV_TARGETS", (1e-3,))
     res = bx.ensemble_iv(n=12, quick=True)
     rows = res["rows"]
-    assert {r["solver"] for r in rows} == {"mbm.solve_batch", "numba DOP853, looped", "numba RK4, looped"}
+    names = {r["solver"] for r in rows}
+    batch = next(n for n in names if n.startswith("heyoka batch"))
+    assert names == {"mbm.solve_batch", "numba DOP853, looped", "numba RK4, looped",
+                     "heyoka scalar, looped", batch}
     for r in rows:
         if r["seconds"] is not None:
             assert r["error"] <= r["target"] and r["per_core"] > 0 and math.isfinite(r["seconds"])
+    # heyoka's integrators were built before the timed runs, one per tolerance tried
+    assert set(res["builds"]) == {"heyoka scalar, looped", batch}
+    assert all(v > 0 for b in res["builds"].values() for v in b.values())
+    # scalar and batch heyoka give the same subset errors (same steps per lane)
+    sc, bt = res["sweeps"]["heyoka scalar, looped"], res["sweeps"][batch]
+    assert [k for k, _ in sc] == [k for k, _ in bt]
+    assert all(abs(a - b) <= 1e-9 + 1e-6 * a for (_, a), (_, b) in zip(sc, bt))
     text = bx.format_report(bx.undamped_long_horizon(repeats=1, quick=True), res, {"cpu": "x"}, "cmd")
     assert "## Ensemble" in text and "| 0.001 | mbm.solve_batch |" in text and "cmd" in text
+    assert f"| 0.001 | {batch} |" in text and "heyoka integrator builds" in text
+    blocks = extract_blocks(text)
+    assert {"extras-undamped", "extras-ensemble"} <= set(blocks)
 
 
 def test_subset_reference_samples_the_right_times():
-    ref = bx._subset_reference(np.array([0.3]), 10.0)
     sol = mbm.solve(mbm.Pendulum(beta=bx.BETA_IV, gamma=0.3), (0.0, 10.0), [0.0, 0.0],
                     rtol=1e-12, atol=1e-12, t_eval=[0.0, 5.0, 10.0])
-    np.testing.assert_allclose(ref[0], sol.y[0], atol=1e-10)
+    for method in ("fixed-point", "heyoka-ld"):
+        ref = bx._subset_reference(np.array([0.3]), 10.0, method)
+        np.testing.assert_allclose(ref[0], sol.y[0], atol=1e-10)
+    a = bx._subset_reference(np.array([0.3, 1.5]), 10.0, "fixed-point")
+    b = bx._subset_reference(np.array([0.3, 1.5]), 10.0, "heyoka-ld")
+    assert np.max(np.abs(a - b)) < 1e-15  # two independent references
 
 
 def test_parallel_baseline_reports_speedup():
@@ -54,16 +84,19 @@ def test_parallel_baseline_reports_speedup():
 
 def test_overheads_section():
     ov = bx.overheads(repeats=2)
-    assert len(ov["fixed"]) == 5 and all(v > 0 for v in ov["fixed"].values())
-    # the two parts of mbm.solve's fixed cost are parts of it
-    total = ov["fixed"]["mbm.solve, empty span"]
-    parts = [v for k, v in ov["fixed"].items() if k.strip().startswith("of which")]
-    assert len(parts) == 2
+    # public calls only: no window, one window, a whole run without and with outputs
+    names = list(ov["fixed"]) + list(ov["unavailable"])
+    assert len(names) == 6 and all(v > 0 for v in ov["fixed"].values())
+    assert not any("mbm.fast" in n or "._" in n for n in names)  # no internals timed
+    assert "mbm.solve, one window" in ov["fixed"]
+    assert any(k.startswith("mbm.solve, P1 without outputs") for k in ov["fixed"])
+    # the split of the fixed cost: differences of those calls
+    assert any(k.startswith("each further window") for k in ov["derived"])
+    assert any(k.startswith("each output") for k in ov["derived"])
     # kernel costs: one row per degree; an anchor costs more at a higher degree
     ks = ov["kernels"]
     assert [r["degree"] for r in ks] == list(bx.OVERHEAD_DEGREES)
     assert ks[-1]["anchor_ns"] > ks[0]["anchor_ns"] > 0 and all(r["output_ns"] > 0 for r in ks)
-    assert total > 0
     rows = ov["degrees"]
     assert [(r["scene"], r["degree"]) for r in rows] == [
         (s, d) for s in ("P1", "P2") for d in bx.OVERHEAD_DEGREES]
@@ -71,13 +104,15 @@ def test_overheads_section():
     p2 = [r["windows"] for r in rows if r["scene"] == "P2"]
     assert p2[0] > p2[-1]
     text = bx.format_overheads(ov)
-    assert "| P2 | 24 |" in text and "empty span" in text and "| 24 |" in text
+    assert "| P2 | 24 |" in text and "one window" in text and "| 24 |" in text
+    assert "derived: each further window" in text
+    assert {"overheads-fixed", "overheads-kernels"} <= set(extract_blocks(text))
 
 
 def test_round_robin_medians_times_each_call_in_turns():
     order = []
     calls = {"a": lambda: order.append("a"), "b": lambda: order.append("b")}
-    med = bx._round_robin_medians(calls, 5, block=2)
+    med = harness.round_robin_medians(calls, 5, block=2)
     # per turn: one untimed call, then up to `block` timed ones; turns alternate a, b
     # until each has 5 timings
     assert order == ["a"] * 3 + ["b"] * 3 + ["a"] * 3 + ["b"] * 3 + ["a"] * 2 + ["b"] * 2
@@ -90,9 +125,17 @@ def test_degrees_at_equal_error_section():
     for r in rows:
         for target in (1e-3, 1e-6):
             seconds, rtol = r[target]  # every degree reaches both targets on P1
-            assert seconds > 0 and rtol in bench.RTOL_SWEEP
+            assert seconds > 0 and rtol in RTOL_SWEEP
         # every point meeting 1e-6 also meets 1e-3, so 1e-3 is never dearer
         assert r[1e-3][0] <= r[1e-6][0]
     ov = {"fixed": {"x": 1e-6}, "degrees": [], "equal_error": rows}
     text = bx.format_overheads(ov)
     assert "At equal error" in text and "| P1 | 8 |" in text
+
+
+def test_extras_command_line():
+    # `python -m benchmarks extras` is benchmarks.extras.main; its parser rejects bad options.
+    with pytest.raises(SystemExit):
+        main(["extras", "--repeats", "0"])
+    with pytest.raises(SystemExit):
+        main(["extras", "--reference", "cvode"])

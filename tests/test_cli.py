@@ -149,13 +149,26 @@ def test_study_rtol_sweep_records_failures(capsys):
     assert "rtol" in text and "failed" in text and "order taylor8" in text
 
 
-def test_bench_delegates_to_mbm_bench(monkeypatch):
-    import mbm.bench
+def test_bench_says_it_runs_from_a_checkout(capsys):
+    # The benchmark left the package (benchmarks/ at the repository root): `mbm bench`
+    # runs nothing and says where it went, whatever options follow it.
+    for args in (["bench"], ["bench", "--quick", "--scenes", "P1"]):
+        assert main(args) == 2
+        err = capsys.readouterr().err
+        assert "python -m benchmarks" in err and "checkout" in err
+    import importlib.util
 
-    seen = []
-    monkeypatch.setattr(mbm.bench, "main", lambda argv: seen.append(argv) or 0)
-    assert main(["bench", "--quick", "--scenes", "P1"]) == 0
-    assert seen == [["--quick", "--scenes", "P1"]]
+    assert importlib.util.find_spec("mbm.bench") is None  # no benchmark inside mbm
+
+
+def test_mbm_does_not_import_the_benchmark():
+    # Nothing in the package imports the root `benchmarks` package.
+    import pathlib
+    import re
+
+    pkg = pathlib.Path(mbm.__file__).resolve().parent
+    pattern = re.compile(r"^\s*(from|import)\s+benchmarks\b", re.M)
+    assert not [p.name for p in pkg.rglob("*.py") if pattern.search(p.read_text(encoding="utf-8"))]
 
 
 def test_progress_silent_unless_terminal():

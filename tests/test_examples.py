@@ -7,15 +7,11 @@ computed them.
 
 import importlib
 import math
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 import mbm
-
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
 
 @pytest.fixture(scope="module", autouse=True)
@@ -26,8 +22,7 @@ def _agg_backend():
 
 
 def _load(name):
-    if str(EXAMPLES) not in sys.path:
-        sys.path.insert(0, str(EXAMPLES))
+    # examples/ is on pytest's pythonpath (pyproject.toml), as it is on a script's own path.
     return importlib.import_module(name)
 
 

@@ -12,6 +12,34 @@ EX1 = mbm.Pendulum(0.1, 0.3)
 EX1_Y0 = [math.radians(30.0), 0.0]
 
 
+# The benchmark's six scenes (benchmarks/, docs/benchmark.md) and a few more options.
+BENCH_SCENES = {
+    "P1": (mbm.Pendulum(0.4, 0.0), [0.0, 0.25], 20.0),
+    "P2": (mbm.Pendulum(0.1, 0.3), [math.radians(30.0), 0.0], 80.0),
+    "P3": (mbm.Pendulum(0.1, 0.6), [math.radians(90.0), 0.0], 80.0),
+    "P4": (mbm.Pendulum(0.01, 0.3), [1.0, 0.0], 1.0e4),
+    "P5": (mbm.Pendulum(0.1, 1.2), [0.0, 0.0], 1000.0),
+    "P6": (mbm.Pendulum(0.0, 0.0), [0.0, 1.999], 200.0),
+}
+
+
+@pytest.mark.parametrize("name", sorted(BENCH_SCENES))
+@pytest.mark.parametrize("tol", [1e-3, 1e-6, 1e-9])
+def test_solve_equals_solve_ivp_on_benchmark_scenes(name, tol):
+    # One loop (mbm.loop.run) behind both paths: equal bit for bit, outputs and windows.
+    model, y0, T = BENCH_SCENES[name]
+    t = np.linspace(0.0, T, 201)
+    fast = mbm.solve(model, (0.0, T), y0, t_eval=t, rtol=tol, atol=tol)
+    ivp = solve_ivp(model, (0.0, T), y0, method=mbm.MBM, t_eval=t, rtol=tol, atol=tol,
+                    windows_per_step=None)
+    assert fast.success and ivp.success
+    np.testing.assert_array_equal(fast.y, ivp.y)
+    ends = mbm.solve(model, (0.0, T), y0, rtol=tol, atol=tol)
+    one = solve_ivp(model, (0.0, T), y0, method=mbm.MBM, rtol=tol, atol=tol)
+    np.testing.assert_array_equal(ends.t, one.t)
+    np.testing.assert_array_equal(ends.y, one.y)
+
+
 @pytest.mark.parametrize(
     "model,y0,T,kw",
     [
@@ -30,12 +58,12 @@ def test_solve_equals_solve_ivp_path(model, y0, T, kw):
     ivp = solve_ivp(model, (0.0, T), y0, method=mbm.MBM, t_eval=t, **kw)
     assert fast.success and ivp.success
     np.testing.assert_array_equal(fast.t, t)
-    np.testing.assert_allclose(fast.y, ivp.y, rtol=0, atol=1e-12)
+    np.testing.assert_array_equal(fast.y, ivp.y)
     # without t_eval: the window ends, as solve_ivp returns its steps
     ends = mbm.solve(model, (0.0, T), y0, **kw)
     ivp_ends = solve_ivp(model, (0.0, T), y0, method=mbm.MBM, **kw)
     np.testing.assert_array_equal(ends.t, ivp_ends.t)
-    np.testing.assert_allclose(ends.y, ivp_ends.y, rtol=0, atol=1e-12)
+    np.testing.assert_array_equal(ends.y, ivp_ends.y)
     assert ends.n_windows == ends.t.size - 1
 
 
@@ -107,3 +135,84 @@ def test_batch_order_balances_contiguous_blocks():
     order = _balanced_order(10_000)
     for block in np.array_split(order, 4):
         assert abs(block.mean() / 10_000 - 0.5) < 0.02
+
+
+def test_max_windows_is_a_status_on_every_path():
+    model, y0, T = BENCH_SCENES["P5"]
+    t = np.linspace(0.0, T, 11)
+    r = mbm.solve(model, (0.0, T), y0, t_eval=t, max_windows=50)
+    assert r.status == mbm.loop.STATUS_MAX_WINDOWS and not r.success
+    assert r.n_windows == 50 and "max_windows" in r.message
+    assert 0 < r.t.size < t.size and np.all(np.isfinite(r.y))
+    ends = mbm.solve(model, (0.0, T), y0, max_windows=50)
+    assert ends.status == mbm.loop.STATUS_MAX_WINDOWS and ends.t.size == 51
+    b = mbm.solve_batch([0.1, 0.1], [1.2, 0.0], 1.0, [0.0, 0.0], (0.0, T), t, max_windows=50)
+    assert list(b.status) == [mbm.loop.STATUS_MAX_WINDOWS, 0]
+    # the failed scene keeps what it reached and says so; NaN only after it
+    np.testing.assert_array_equal(b.y[0][:, : r.t.size], r.y)
+    assert np.isnan(b.y[0][:, r.t.size:]).all()
+    sol = solve_ivp(model, (0.0, T), y0, method=mbm.MBM, max_windows=50)
+    assert sol.status == -1 and "max_windows" in sol.message
+    with pytest.raises(ValueError, match="max_windows"):
+        mbm.solve(model, (0.0, T), y0, max_windows=0)
+
+
+def test_long_run_is_chunked_and_resumes_bit_for_bit(monkeypatch):
+    # mbm.solve returns to Python every CALL_WINDOWS windows (where Ctrl-C gets in);
+    # resuming from the record must not change a bit.
+    model, y0, T = BENCH_SCENES["P5"]
+    t = np.linspace(0.0, T, 201)
+    whole = mbm.solve(model, (0.0, T), y0, t_eval=t, rtol=1e-9, atol=1e-9)
+    ends = mbm.solve(model, (0.0, T), y0, rtol=1e-9, atol=1e-9)
+    monkeypatch.setattr(mbm.fast, "CALL_WINDOWS", 7)
+    monkeypatch.setattr(mbm.fast, "ENDS_CAPACITY", 3)
+    np.testing.assert_array_equal(mbm.solve(model, (0.0, T), y0, t_eval=t, rtol=1e-9, atol=1e-9).y, whole.y)
+    chunked = mbm.solve(model, (0.0, T), y0, rtol=1e-9, atol=1e-9)
+    np.testing.assert_array_equal(chunked.t, ends.t)
+    np.testing.assert_array_equal(chunked.y, ends.y)
+
+
+def test_batch_cancel_flag_stops_every_scene():
+    # The flag solve_batch's waiting thread sets on Ctrl-C: every scene stops at its
+    # next window with STATUS_INTERRUPTED.
+    p = np.zeros(3, dtype=mbm.loop.RUN)
+    p["beta"], p["gamma"], p["omega"], p["t_bound"] = 0.1, 1.2, 1.0, 100.0
+    p["kind"], p["karg"] = mbm.loop.kind_of(mbm.get_approximant("taylor"))
+    p["controller"], p["h_abs"], p["error_order"] = mbm.loop.CONTROLLER_ADAPTIVE, -1.0, 24
+    p["max_step"], p["rtol"], p["atol"], p["max_windows"] = np.inf, 1e-8, 1e-8, 10**7
+    p["max_dtheta"] = np.inf
+    out = np.full((3, 2, 5), np.nan)
+    mbm.loop.run_batch(p, np.linspace(0.0, 100.0, 5), out, np.arange(3), np.ones(1, dtype=np.int64))
+    assert list(p["status"]) == [mbm.loop.STATUS_INTERRUPTED] * 3 and list(p["n_windows"]) == [0] * 3
+
+
+def test_batch_bad_input_names_the_argument():
+    with pytest.raises(ValueError, match="at least one scene"):
+        mbm.solve_batch([], [], [], [0.0, 0.0], (0.0, 1.0), [1.0])
+    with pytest.raises(ValueError, match=r"beta\[1\]"):
+        mbm.solve_batch([0.1, -1.0], 0.3, 1.0, [0.0, 0.0], (0.0, 1.0), [1.0])
+    with pytest.raises(ValueError, match=r"omega\[0\]"):
+        mbm.solve_batch(0.1, 0.3, [0.0, 1.0], [0.0, 0.0], (0.0, 1.0), [1.0])
+    with pytest.raises(ValueError, match="broadcast"):
+        mbm.solve_batch([0.1, 0.2], [0.3, 0.3, 0.3], 1.0, [0.0, 0.0], (0.0, 1.0), [1.0])
+    with pytest.raises(ValueError, match="t_eval"):
+        mbm.solve_batch(0.1, 0.3, 1.0, [0.0, 0.0], (0.0, 1.0), [2.0])
+
+
+def test_one_rtol_policy_on_every_path():
+    # Below 100 eps: warn and raise to the floor, as scipy; then all paths agree.
+    model, y0, T = BENCH_SCENES["P1"]
+    t = np.linspace(0.0, T, 11)
+    with pytest.warns(UserWarning, match="rtol"):
+        a = mbm.solve(model, (0.0, T), y0, t_eval=t, rtol=1e-20, atol=1e-12)
+    with pytest.warns(UserWarning, match="rtol"):
+        b = solve_ivp(model, (0.0, T), y0, method=mbm.MBM, t_eval=t, rtol=1e-20, atol=1e-12,
+                      windows_per_step=None)
+    with pytest.warns(UserWarning, match="rtol"):
+        c = mbm.solve_batch(0.4, 0.0, 1.0, y0, (0.0, T), t, rtol=1e-20, atol=1e-12)
+    floor = mbm.solve(model, (0.0, T), y0, t_eval=t, rtol=100 * np.finfo(float).eps, atol=1e-12)
+    np.testing.assert_array_equal(a.y, floor.y)
+    np.testing.assert_array_equal(b.y, floor.y)
+    np.testing.assert_array_equal(c.y[0], floor.y)
+    with pytest.warns(UserWarning, match="rtol"):
+        mbm.reference(model, (0.0, T), y0, rtol=1e-20)

@@ -15,7 +15,7 @@ from scipy.special import ellipj
 from mbm.approximants import ApproximantDomainError, get_approximant
 from mbm.approximants import salas2021 as S
 from mbm.problem import Pendulum
-from mbm.reference import reference
+from mbm.references import reference
 
 NAMES = ("salas-damped", "salas-damped-linear", "johannessen", "johannessen-trig")
 # The classes themselves (independent of the catalogue, which imports every paper);

@@ -1,7 +1,7 @@
 """The second paper's ℘ approximant "salas-torque": constants, anchors, domain.
 
 Reference values are the numbers printed in Salas, Martínez, Ocampo (2022),
-Example 1 (4.33) and Example 2 (4.37) (``shared/seeds/001_9fb3f89e72cef176.txt``).
+Example 1 (4.33) and Example 2 (4.37).
 """
 
 import math

@@ -11,6 +11,7 @@ import math
 import os
 import pathlib
 
+import mpmath as mp
 import numba
 import numpy as np
 import pytest
@@ -21,6 +22,7 @@ import mbm.special as S
 from mbm.special import (
     ellipf_kernel,
     ellipj_kernel,
+    ellipk_dd_kernel,
     ellipk_kernel,
     wp_eval_kernel,
     wp_half_period_kernel,
@@ -29,6 +31,8 @@ from mbm.special import (
     wp_lattice_kernel,
     wp_roots_kernel,
 )
+from mbm.special.dd import DD_TINY, PI_HI, TWO_PI_HI, TWO_PI_LO, dd_sincos, dd_sqrt, reduce_2pi
+from mbm.special.jacobi import ellipk_kc_dd_kernel
 
 EPS = np.finfo(float).eps
 TOL = 1e-13  # the accuracy target
@@ -426,6 +430,58 @@ def test_wp_lattice_split_is_bit_identical():
         lat = wp_lattice_kernel(g2, g3)
         for z in (0.0, 1e-3, 0.7, -2.9, 41.0):
             assert wp_eval_kernel(z, lat) == wp_kernel(z, g2, g3)
+
+
+# ---------------------------------------------------------------------------
+# Double-double building blocks: the one K(m), sin/cos, the 2π reduction
+# ---------------------------------------------------------------------------
+
+
+def test_ellipk_dd_kernel():
+    with mp.workdps(360):  # 1 − mc must be exact for mc = 1e-300
+        # 3e-281 and 1e-275: between dd_sqrt's rescale threshold (DD_TINY = 1e-270) and
+        # the 1e-280 the exact flow used to apply itself before it shared this K
+        assert DD_TINY == 1e-270
+        for mc in (1.0, 0.5, 1e-3, 3.7e-33, 1e-275, 3e-281, 1e-300, 4.0):
+            hi, lo = ellipk_dd_kernel(mc, 0.0)
+            K = mp.ellipk(1 - mp.mpf(mc))
+            assert abs((mp.mpf(hi) + lo) / K - 1) < 1e-30, mc
+            # one K: the double kernel is its high part, the k' entry point the same bits
+            assert ellipk_kernel(1.0 - mc, mc) == hi
+            assert ellipk_kc_dd_kernel(*dd_sqrt(mc, 0.0)) == (hi, lo)
+        # the low part of mc counts (the flow passes 1 − m as a double-double)
+        hi, lo = ellipk_dd_kernel(1e-20, 3e-37)
+        K = mp.ellipk(1 - (mp.mpf(1e-20) + mp.mpf(3e-37)))
+        assert abs((mp.mpf(hi) + lo) / K - 1) < 1e-30
+    assert ellipk_dd_kernel(0.0, 0.0) == (math.inf, 0.0)
+    assert all(math.isnan(x) for x in ellipk_dd_kernel(-1.0, 0.0))
+    assert all(math.isnan(x) for x in ellipk_dd_kernel(math.nan, 0.0))
+
+
+def test_dd_sincos():
+    with mp.workdps(50):
+        for x in (1e-9, 0.3, 1.0, 1.5707963267948966, -1.2):
+            sh, sl, ch, cl = dd_sincos(x, 0.0)
+            assert abs(mp.mpf(sh) + sl - mp.sin(mp.mpf(x))) < 1e-31
+            assert abs(mp.mpf(ch) + cl - mp.cos(mp.mpf(x))) < 1e-31
+
+
+def test_reduce_2pi():
+    with mp.workdps(60):
+        two_pi = 2 * mp.pi
+        for x in (0.5, -3.0, 3.2, -7.0, 100.0, 12345.678, -9.87e6, 1e12, -1e15):
+            j, hi, lo = reduce_2pi(x)
+            assert j == float(j) and abs(hi + lo) <= math.pi
+            exact = mp.mpf(x) - j * two_pi
+            # ~1e-32 relative to |x| (j·2π's double-double error), far below ulp(hi)
+            assert abs(mp.mpf(hi) + lo - exact) <= 1e-31 * max(1.0, abs(x)), x
+    assert reduce_2pi(0.25) == (0.0, 0.25, 0.0)
+    # fl(π) < π: the rounded quotient says j = 1, the remainder is brought back into
+    # [−π, π]: the state stays in its own well
+    j, hi, lo = reduce_2pi(PI_HI)
+    assert j == 0.0 and hi == PI_HI and abs(lo) < 1e-31
+    j, hi, lo = reduce_2pi(TWO_PI_HI)
+    assert j == 1.0 and hi == -TWO_PI_LO and lo == 0.0
 
 
 # ---------------------------------------------------------------------------

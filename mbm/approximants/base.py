@@ -48,7 +48,6 @@ def register(cls):
 
 def approximant_names():
     """Names of all registered approximants, sorted."""
-    _load_all()
     return sorted(_REGISTRY)
 
 
@@ -67,7 +66,6 @@ def get_approximant(name):
     """
     if isinstance(name, Approximant):
         return name
-    _load_all()
     if not isinstance(name, str) or name not in _REGISTRY:
         raise ValueError(
             f"approximant must be one of {sorted(_REGISTRY)}, got {name!r}"
@@ -75,16 +73,11 @@ def get_approximant(name):
     return _REGISTRY[name]()
 
 
-def _load_all():
-    # Import the paper modules so that their @register decorators run.
-    from . import _catalogue  # noqa: F401
-
-
 class Approximant:
-    """Base class of all approximants.
+    """Base class of all approximants: every attribute a solver reads is declared here.
 
-    Subclasses set the class attributes and the two kernels (as staticmethods
-    holding numba dispatchers).
+    Subclasses set the class attributes and the kernels (as staticmethods holding
+    numba dispatchers); nothing is read with a default elsewhere.
 
     Attributes
     ----------
@@ -97,6 +90,30 @@ class Approximant:
         ``"turning-point"`` (θ' = 0).
     status_messages : dict
         Maps non-zero status codes of ``anchor_kernel`` to error messages.
+    anchor_kernel : numba dispatcher
+        ``anchor_kernel(beta, gamma, omega, theta0, v0) -> coef`` (see the module docstring).
+    eval_kernel : numba dispatcher
+        ``eval_kernel(coef, t) -> (theta, theta_dot)``, exact at ``t == 0``.
+    eval_array_kernel : numba dispatcher
+        ``eval_array_kernel(coef, t, out_theta, out_v)`` over a float64 array.
+    error_kernel : numba dispatcher or None
+        ``error_kernel(coef, h) -> (err_theta, err_v)``, the local error estimate of the
+        window [0, h]; None where the formula has none (then windows need a fixed τ).
+    error_order : int or None
+        The estimate scales as h^(error_order + 1): the controller's step factor is
+        ``err**(-1/(error_order + 1))`` (scipy's ``error_estimator_order``).  None
+        exactly when ``error_kernel`` is None.
+    measured_order : float or None
+        Global order fitted from τ sweeps by the tests (informational; for the
+        papers' approximants it refers to their own model equation).
+    exact : bool
+        True for an exact flow (no truncation error: one window as long as
+        ``max_step`` allows).
+    compiled_kind : str or None
+        Name of the kind the compiled window loop dispatches to (:data:`COMPILED_KINDS`
+        in :mod:`mbm.loop`); None: windows are driven from Python, one per step.
+    kind_arg : int
+        The kind's integer argument (the Taylor degree, the splitting method id).
     """
 
     name = None
@@ -106,6 +123,12 @@ class Approximant:
     anchor_kernel = None
     eval_kernel = None
     eval_array_kernel = None
+    error_kernel = None
+    error_order = None
+    measured_order = None
+    exact = False
+    compiled_kind = None
+    kind_arg = 0
 
     def check_model(self, model):
         """Raise :class:`ApproximantDomainError` if the model is outside the approximant's scope."""

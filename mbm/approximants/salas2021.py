@@ -1,7 +1,7 @@
 r"""The first paper: elementary and Johannessen approximants of the damped pendulum.
 
 A. H. Salas, "Elementary Solution to the Damped Pendulum", Int. J. Math. Comput.
-Sci. 16(4) (2021) 1647–1652 (``shared/seeds/000_0f8e94b3d68ba8ee.txt``), for
+Sci. 16(4) (2021) 1647–1652, for
 
     θ'' + 2εθ' + ω² sin θ = 0,   θ(0) = 0,  θ'(0) = θ̇₀                       (1.1)
 
@@ -152,10 +152,12 @@ that as leaving the domain).
 
 import math
 
+import numba
 import numpy as np
-from numba import njit
 
+from ..special.dd import TWO_PI_HI, nearest_2pi_multiple
 from ..special.jacobi import ellipf_kernel, ellipj_kernel
+from ..special.jit import NJIT_OPTIONS
 from ..special.trig import sin_m_dm_kernel, trig_m_kernel
 from .base import Approximant, ApproximantDomainError, register
 
@@ -231,15 +233,13 @@ CARLSON_TOL = 1e-4
 # Safety cap on Carlson duplication steps (each divides the spread by 4).
 CARLSON_MAXITER = 64
 
-TWO_PI = 2.0 * math.pi
-
 
 # ---------------------------------------------------------------------------
 # Small stable helpers
 # ---------------------------------------------------------------------------
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def _exprel(y):
     """expm1(y)/y, 1 at y = 0."""
     if abs(y) < EXPREL_SERIES_MAX:
@@ -247,7 +247,7 @@ def _exprel(y):
     return math.expm1(y) / y
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def _rlog1p(x):
     """log1p(x)/x, 1 at x = 0 (log1p is relatively accurate for small x)."""
     if x == 0.0:
@@ -255,7 +255,7 @@ def _rlog1p(x):
     return math.log1p(x) / x
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def _ratan(x):
     """atan(x)/x, 1 at x = 0."""
     if x == 0.0:
@@ -263,7 +263,7 @@ def _ratan(x):
     return math.atan(x) / x
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def _q(y):
     """q(y) = (1 − (1 + y) e^{−y}) / y = y/2 − y²/3 + y³/8 − …, 0 at y = 0."""
     if abs(y) <= Q_SERIES_MAX:
@@ -280,11 +280,15 @@ def _q(y):
     return (-math.expm1(-y) - y * math.exp(-y)) / y
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def _reduce_angle(theta0):
-    """(offset, θr): θ0 = offset + θr with offset a multiple of 2π and θr ∈ [−π, π]."""
-    n = math.floor(theta0 / TWO_PI + 0.5)
-    off = n * TWO_PI
+    """(offset, θr): θ0 = offset + θr with offset a multiple of 2π and θr ∈ [−π, π].
+
+    The offset is added back to the formula's angle in double ((2.2): θ = offset +
+    2 arctan(…)), so θr is the plain remainder θ0 − offset, not the double-double
+    one of :func:`mbm.special.dd.reduce_2pi` (whose j it shares).
+    """
+    off = nearest_2pi_multiple(theta0) * TWO_PI_HI
     return off, theta0 - off
 
 
@@ -293,7 +297,7 @@ def _reduce_angle(theta0):
 # ---------------------------------------------------------------------------
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def _rf(x, y, z):
     """Carlson's R_F(x, y, z), x, y, z ≥ 0, at most one zero (duplication, DLMF 19.36.1)."""
     for _ in range(CARLSON_MAXITER):
@@ -321,7 +325,7 @@ def _rf(x, y, z):
     ) / math.sqrt(mu)
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def _rd(x, y, z):
     """Carlson's R_D(x, y, z), x, y ≥ 0 (not both 0), z > 0 (DLMF 19.36.2)."""
     s = 0.0
@@ -357,7 +361,7 @@ def _rd(x, y, z):
     return 3.0 * s + fac * ser / (mu * math.sqrt(mu))
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def ellipe_kernel(phi, m, mc):
     """E(φ|m) for real φ and m < 1 (mc = 1 − m > 0), numba kernel.
 
@@ -390,7 +394,7 @@ _S_PARAM_NAMES = (
 )
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def _common_status(beta, gamma, omega, theta0, v0):
     """Status shared by all four approximants, and the reduced anchor."""
     eps = 0.5 * beta
@@ -406,7 +410,7 @@ def _common_status(beta, gamma, omega, theta0, v0):
     return STATUS_OK, eps, off, thr
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def salas_anchor(beta, gamma, omega, theta0, v0):
     """Anchor kernel of "salas-damped" and "salas-damped-linear" (see module docstring)."""
     coef = np.zeros(_S_NCOEF)
@@ -467,7 +471,7 @@ def salas_anchor(beta, gamma, omega, theta0, v0):
     return coef
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def salas_f_kernel(eps, sqc, P, Q, QmP, rr, u0, t):
     """F(t) = ∫₀ᵗ f′ (2.6) in closed form, and f′(t) (2.5); stable as ε → 0.
 
@@ -509,7 +513,7 @@ def salas_f_kernel(eps, sqc, P, Q, QmP, rr, u0, t):
     return sqc * term, sqc * u1
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def _salas_state(coef, F, fp, t):
     eps = coef[_S_EPS]
     a = coef[_S_A]
@@ -523,7 +527,7 @@ def _salas_state(coef, F, fp, t):
     return theta, v
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def salas_eval_formula(coef, t):
     """(2.2) with (2.6) at t, without the exact-anchor shortcut at t = 0 (for tests)."""
     F, fp = salas_f_kernel(
@@ -533,7 +537,7 @@ def salas_eval_formula(coef, t):
     return _salas_state(coef, F, fp, t)
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def salas_eval(coef, t):
     """Evaluate θ(t), θ′(t) of an anchored "salas-damped" approximant."""
     if t == 0.0:
@@ -541,7 +545,7 @@ def salas_eval(coef, t):
     return salas_eval_formula(coef, t)
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def salas_eval_array(coef, t, out_theta, out_v):
     """:func:`salas_eval` over an array of times."""
     for i in range(t.size):
@@ -550,14 +554,14 @@ def salas_eval_array(coef, t, out_theta, out_v):
         out_v[i] = b
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def salas_linear_eval_formula(coef, t):
     """(2.2) with the paper's f ≈ f′(0)t, without the t = 0 shortcut (for tests)."""
     fp = coef[_S_SQRTC] * coef[_S_U0]
     return _salas_state(coef, fp * t, fp, t)
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def salas_linear_eval(coef, t):
     """Evaluate θ(t), θ′(t) of an anchored "salas-damped-linear" approximant."""
     if t == 0.0:
@@ -565,7 +569,7 @@ def salas_linear_eval(coef, t):
     return salas_linear_eval_formula(coef, t)
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def salas_linear_eval_array(coef, t, out_theta, out_v):
     """:func:`salas_linear_eval` over an array of times."""
     for i in range(t.size):
@@ -619,7 +623,7 @@ _J_PARAM_NAMES = (
 )
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def johannessen_xi_kernel(eps, Om, M, t):
     """ξ(t) of (3.9) (with κ² = M) and ξ′(t); regular at ε = 0 where ξ = Ωt."""
     k1 = 9.0 * Om * M * M / 256.0  # 9θ̇₀⁴/(4096 Ω³) with θ̇₀² = 4Ω²M (θ̇₀⁴, not the printed θ̇₀²)
@@ -630,7 +634,7 @@ def johannessen_xi_kernel(eps, Om, M, t):
     return xi, dxi
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def _j_theta_v(sgn, M, mcM, u0, eps, Om, t, trig):
     """θ − offset and θ′ of the (generalized) Johannessen form at t."""
     y2 = 2.0 * eps * t
@@ -660,7 +664,7 @@ def _j_theta_v(sgn, M, mcM, u0, eps, Om, t, trig):
     return 2.0 * math.asin(z), v
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def _j_u0(sgn, S, y, M, mcM, trig):
     """Phase u₀ with σ√M sn(u₀|M) = S (or sin_m), cn(u₀) ≥ 0."""
     if trig == 0:
@@ -671,7 +675,7 @@ def _j_u0(sgn, S, y, M, mcM, trig):
     return w0 / math.sqrt(L / 14.0)
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def _j_residual(y, sgn, S, C, eps, Om, v0, trig):
     """θ′(0)/2 − θ̇₀/2 of the form with amplitude M = S² + y²."""
     M = S * S + y * y
@@ -687,7 +691,7 @@ def _j_residual(y, sgn, S, C, eps, Om, v0, trig):
     return 0.5 * v - 0.5 * v0
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def _johannessen_anchor(beta, gamma, omega, theta0, v0, trig):
     coef = np.zeros(_J_NCOEF)
     status, eps, off, thr = _common_status(beta, gamma, omega, theta0, v0)
@@ -769,19 +773,19 @@ def _johannessen_anchor(beta, gamma, omega, theta0, v0, trig):
     return coef
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def johannessen_anchor(beta, gamma, omega, theta0, v0):
     """Anchor kernel of "johannessen" (3.9), any anchor (see module docstring)."""
     return _johannessen_anchor(beta, gamma, omega, theta0, v0, 0)
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def johannessen_trig_anchor(beta, gamma, omega, theta0, v0):
     """Anchor kernel of "johannessen-trig": (3.9) with sin_m of (3.12)–(3.13)."""
     return _johannessen_anchor(beta, gamma, omega, theta0, v0, 1)
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def _j_eval_formula(coef, t, trig):
     M = coef[_J_M]
     if M == 0.0:
@@ -792,13 +796,13 @@ def _j_eval_formula(coef, t, trig):
     return coef[_J_OFF] + th, v
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def johannessen_eval_formula(coef, t):
     """(3.9) at t without the exact-anchor shortcut at t = 0 (for tests)."""
     return _j_eval_formula(coef, t, 0)
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def johannessen_eval(coef, t):
     """Evaluate θ(t), θ′(t) of an anchored "johannessen" approximant."""
     if t == 0.0:
@@ -806,7 +810,7 @@ def johannessen_eval(coef, t):
     return _j_eval_formula(coef, t, 0)
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def johannessen_eval_array(coef, t, out_theta, out_v):
     """:func:`johannessen_eval` over an array of times."""
     for i in range(t.size):
@@ -815,13 +819,13 @@ def johannessen_eval_array(coef, t, out_theta, out_v):
         out_v[i] = b
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def johannessen_trig_eval_formula(coef, t):
     """(3.9) with sin_m at t without the exact-anchor shortcut at t = 0 (for tests)."""
     return _j_eval_formula(coef, t, 1)
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def johannessen_trig_eval(coef, t):
     """Evaluate θ(t), θ′(t) of an anchored "johannessen-trig" approximant."""
     if t == 0.0:
@@ -829,7 +833,7 @@ def johannessen_trig_eval(coef, t):
     return _j_eval_formula(coef, t, 1)
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def johannessen_trig_eval_array(coef, t, out_theta, out_v):
     """:func:`johannessen_trig_eval` over an array of times."""
     for i in range(t.size):

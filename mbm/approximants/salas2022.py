@@ -1,8 +1,7 @@
 r"""The second paper: the Weierstrass ℘ approximant for the damped, torqued pendulum.
 
 A. H. Salas, L. J. Martínez, D. L. Ocampo, "Analytical Approximant to a Damped
-Pendulum Forced with a Constant Torque", Int. J. Math. Comput. Sci. (2022)
-(``shared/seeds/001_9fb3f89e72cef176.txt``).
+Pendulum Forced with a Constant Torque", Int. J. Math. Comput. Sci. (2022).
 
 The paper solves θ'' + βθ' + sin θ = γ (ω = 1).  mbm's ω ≠ 1 is reduced to it by
 the time scale s = ωt: θ_ss + (β/ω) θ_s + sin θ = γ/ω², θ_s = θ'/ω.  Everything
@@ -63,8 +62,9 @@ import numba
 import numpy as np
 
 from ..special.jacobi import ellipf_kernel, ellipj_kernel
+from ..special.jit import NJIT_OPTIONS
 from ..special.trig import trig_m_kernel
-from ..special.weierstrass import _wp_setup, wp_kernel
+from ..special.weierstrass import wp_kernel, wp_lattice_kernel
 from .base import Approximant, ApproximantDomainError, register
 
 __all__ = ["SalasTorque", "cubic_equilibrium", "G_CUBIC_MAX"]
@@ -91,7 +91,7 @@ STATUS_UNBOUNDED = 2
 STATUS_NONFINITE = 3
 
 
-@numba.njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def cubic_equilibrium(gamma_s):
     """Root d of θ − 2θ³/13 = γ nearest arcsin γ (2.6); nan when |γ| > G_CUBIC_MAX."""
     if abs(gamma_s) > G_CUBIC_MAX:
@@ -120,7 +120,7 @@ def cubic_equilibrium(gamma_s):
     return x
 
 
-@numba.njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def _f(y, y0, f0, p, q, r):
     # f(y) − f(y0) factored by (y0 − y) so that f is accurate near the turning points.
     g = p * (y0 + y) + (2.0 * q / 3.0) * (y0 * y0 + y0 * y + y * y) + 0.5 * r * (y0 + y) * (
@@ -129,12 +129,12 @@ def _f(y, y0, f0, p, q, r):
     return f0 + (y0 - y) * g
 
 
-@numba.njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def _fprime(y, p, q, r):
     return -2.0 * y * (p + q * y + r * y * y)
 
 
-@numba.njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def _root_between(a, b, y0, f0, p, q, r):
     # f is monotone on [a, b] with a sign change (f(a) > 0 ≥ f(b) or the reverse):
     # safeguarded Newton.
@@ -160,7 +160,7 @@ def _root_between(a, b, y0, f0, p, q, r):
     return x
 
 
-@numba.njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def _turning_points(y0, f0, p, q, r):
     """Turning points (lo, hi) of y'² = f(y) around y0; ok=False if the motion is unbounded."""
     # Critical points of f: 0 and the roots of r y² + q y + p = 0 (r < 0).
@@ -218,7 +218,7 @@ def _turning_points(y0, f0, p, q, r):
 NCOEF = 20
 
 
-@numba.njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def salas_torque_anchor(beta, gamma, omega, theta0, v0):
     """Anchor kernel of "salas-torque": coefficient vector (see module docstring)."""
     coef = np.zeros(NCOEF)
@@ -279,7 +279,7 @@ def salas_torque_anchor(beta, gamma, omega, theta0, v0):
     return coef
 
 
-@numba.njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def _ww(s, y0, yd0, f1, c, k0, k1, g2, g3):
     """Whittaker–Watson solution of y'² = f(y) anchored at y0: returns (y, y')."""
     wp, wpp = wp_kernel(s, g2, g3)
@@ -303,7 +303,7 @@ def _ww(s, y0, yd0, f1, c, k0, k1, g2, g3):
     return y, dy
 
 
-@numba.njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def salas_torque_eval(coef, t):
     """Evaluate θ(t), θ'(t) of an anchored "salas-torque" approximant (2.13) with (2.7)."""
     if t == 0.0:
@@ -318,7 +318,7 @@ def salas_torque_eval(coef, t):
     return theta, omega * vs
 
 
-@numba.njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def salas_torque_eval_array(coef, t, out_theta, out_v):
     """:func:`salas_torque_eval` over an array of times."""
     for i in range(t.size):
@@ -347,7 +347,8 @@ class SalasTorque(Approximant):
     # Re-anchoring converges to the cubic model (2.4), whose distance from the
     # pendulum is the model error: the order refers to the cubic model, measured 1.0
     # (the residual (2.9) − (2.10) is O(βt); tests/test_solver.py's τ sweep).
-    order = 1
+    measured_order = 1
+    compiled_kind = "salas-torque"
     status_messages = {
         STATUS_NO_D: (
             f"|gamma|/omega**2 exceeds {G_CUBIC_MAX:.6f}, the maximum of the Chebyshev cubic "
@@ -482,7 +483,7 @@ _CN_PARAM_NAMES = (
 )
 
 
-@numba.njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def cn_from_wp_kernel(t, m, mc):
     """cn(t | m) through ℘, the relation (2.22), numba kernel.
 
@@ -512,7 +513,7 @@ def cn_from_wp_kernel(t, m, mc):
     return 1.0 - 6.0 / (4.0 * m + 1.0 + 12.0 * w)
 
 
-@numba.njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def wp_from_cn_kernel(g2, g3):
     """a, b, ω, m, mc with ℘(t; g₂, g₃) = a + b/(1 − cn(ωt | m)), (2.23)–(2.24), numba kernel.
 
@@ -551,7 +552,7 @@ def wp_from_cn_kernel(g2, g3):
       Δ < 0 (the m < 0 form would need m = −∞).
     """
     nan = math.nan
-    kind, r1, r2, r3, ds, base, lam2, lh, ll, ms, mcs, kch, kcl = _wp_setup(g2, g3)
+    kind, r1, r2, r3, ds, base, lam2, lh, ll, ms, mcs, kch, kcl = wp_lattice_kernel(g2, g3)
     if not (kind == kind) or kind == 0.0:
         return nan, nan, nan, nan, nan
     if kind < 0.0:
@@ -571,13 +572,13 @@ def wp_from_cn_kernel(g2, g3):
     return a, b, w, m, mc
 
 
-@numba.njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def _cn_from_wp_loop(t, m, mc, out):
     for i in range(t.shape[0]):
         out[i] = cn_from_wp_kernel(t[i], m[i], mc[i])
 
 
-@numba.njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def _wp_from_cn_loop(g2, g3, oa, ob, ow, om, omc):
     for i in range(g2.shape[0]):
         a, b, w, m, mc = wp_from_cn_kernel(g2[i], g3[i])
@@ -681,8 +682,8 @@ def wp_from_cn(g2, g3):
     return tuple(float(o[0]) if scalar else o.reshape(shape) for o in outs)
 
 
-# error_model="numpy": R = 0 (Abar, Bbar of (2.17) infinite) must give inf, not raise.
-@numba.njit(cache=True, error_model="numpy")
+# R = 0 (Abar, Bbar of (2.17) infinite) must give inf, not raise: NJIT_OPTIONS' error model.
+@numba.njit(**NJIT_OPTIONS)
 def _cn_anchor(beta, gamma, omega, theta0, v0):
     """Anchor of the cn form (2.17) from the ℘ anchor of "salas-torque" and (2.23)."""
     coef = np.zeros(NCOEF_CN)
@@ -755,13 +756,13 @@ def _cn_anchor(beta, gamma, omega, theta0, v0):
     return coef
 
 
-@numba.njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def salas_torque_cn_anchor(beta, gamma, omega, theta0, v0):
     """Anchor kernel of "salas-torque-cn": the cn form (2.17) of the ℘ approximant."""
     return _cn_anchor(beta, gamma, omega, theta0, v0)
 
 
-@numba.njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def _cn_theta(coef, s, X, dXds):
     """θ, θ' from X = cn(φ) (or cos_m(φ)) and dX/ds through (*), (2.7) and s = ωt."""
     A = coef[_CN_A]
@@ -778,7 +779,7 @@ def _cn_theta(coef, s, X, dXds):
     return coef[_CN_D] + e * y, omega * e * (dy - 0.5 * bs * y)
 
 
-@numba.njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def salas_torque_cn_eval(coef, t):
     """θ(t), θ'(t) of an anchored "salas-torque-cn": (2.17) with cn(√ω̄ s + c₂ | m), s = ωt."""
     if t == 0.0:
@@ -789,7 +790,7 @@ def salas_torque_cn_eval(coef, t):
     return _cn_theta(coef, s, cn, -w * sn * dn)
 
 
-@numba.njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def salas_torque_cn_eval_array(coef, t, out_theta, out_v):
     """:func:`salas_torque_cn_eval` over an array of times."""
     for i in range(t.size):
@@ -798,7 +799,7 @@ def salas_torque_cn_eval_array(coef, t, out_theta, out_v):
         out_v[i] = b
 
 
-@numba.njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def salas_torque_trig_anchor(beta, gamma, omega, theta0, v0):
     """Anchor kernel of "salas-torque-trig": the cn anchor, m restricted to (2.25)'s range."""
     coef = _cn_anchor(beta, gamma, omega, theta0, v0)
@@ -807,7 +808,7 @@ def salas_torque_trig_anchor(beta, gamma, omega, theta0, v0):
     return coef
 
 
-@numba.njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def salas_torque_trig_eval(coef, t):
     """θ(t), θ'(t) of "salas-torque-trig": (2.28), cn of (2.17) replaced by cos_m (2.25)."""
     if t == 0.0:
@@ -819,7 +820,7 @@ def salas_torque_trig_eval(coef, t):
     return _cn_theta(coef, s, cm, -w * sm * dm)
 
 
-@numba.njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def salas_torque_trig_eval_array(coef, t, out_theta, out_v):
     """:func:`salas_torque_trig_eval` over an array of times."""
     for i in range(t.size):
@@ -858,7 +859,7 @@ class SalasTorqueCn(Approximant):
     anchors = "any"
     # Measured order of the moving boundary method against the cubic model (2.4),
     # the same function as "salas-torque" (see tests/test_salas2022_cn.py).
-    order = 1
+    measured_order = 1
     status_messages = _CN_STATUS_MESSAGES
     anchor_kernel = staticmethod(salas_torque_cn_anchor)
     eval_kernel = staticmethod(salas_torque_cn_eval)
@@ -909,7 +910,7 @@ class SalasTorqueTrig(Approximant):
     # 0: the moving boundary method with this approximant does not converge; its
     # error grows like ε_m T/τ (cos_m misses the anchor by ε_m at each window), see the
     # class docstring and tests/test_salas2022_cn.py.
-    order = 0
+    measured_order = 0
     status_messages = dict(_CN_STATUS_MESSAGES)
     status_messages[STATUS_TRIG_M] = (
         f"the cn parameter m of (2.23) is outside [{TRIG_M_MIN}, {TRIG_M_MAX}], the range of "

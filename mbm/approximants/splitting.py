@@ -9,7 +9,7 @@ Both flows are known in closed form:
 
 * e^{tA}: the exact elliptic flow of θ'' + ω² sin θ = 0 from any state
   (libration sn/cn/dn, rotation am, the separatrix, rest):
-  :func:`mbm.approximants.belendez2007.pendulum_flow_kernel`.
+  :func:`mbm.special.pendulum_flow.pendulum_flow_kernel`.
 * e^{tB}: θ(t) = θ₀, v(t) = v₀ e^{−βt} + γ φ₁(t) with φ₁(t) = (1 − e^{−βt})/β,
   summed as the power series t Σ (−βt)^k/(k+1)! for |βt| ≤ B_SERIES_MAX (so
   β → 0 gives φ₁ = t without cancellation) and by expm1 beyond.
@@ -65,11 +65,13 @@ evaluates anyway, but the interface does not pass it in).
 
 import math
 
+import numba
 import numpy as np
-from numba import njit
 
+from ..special.dd import reduce_2pi
+from ..special.jit import NJIT_OPTIONS
+from ..special.pendulum_flow import pendulum_flow_kernel
 from .base import Approximant, register
-from .belendez2007 import pendulum_flow_kernel
 from .taylor import taylor_coefficients, taylor_eval_kernel, taylor_radius_kernel
 
 __all__ = [
@@ -78,7 +80,6 @@ __all__ = [
     "split_eval_kernel",
     "split_eval_array_kernel",
     "split_error_kernel",
-    "split_fixed_window_run",
     "SPLIT_METHODS",
     "Splitting",
 ]
@@ -99,11 +100,6 @@ SPLIT_ERROR_RADIUS_FRACTION = 1.0 / 3.0
 # Substep cap (a window 64 radii long is no window for a splitting either):
 # beyond it the estimate is inf, i.e. "shrink the window".
 SPLIT_ERROR_MAX_SUBSTEPS = 64
-
-# 2π as hi + lo and Veltkamp's splitter 2^27 + 1, for the exact reduction of θ₀.
-TWO_PI_HI = 6.283185307179586
-TWO_PI_LO = 2.4492935982947064e-16
-SPLITTER = 134217729.0
 
 # Coefficients of the registered compositions (see the module docstring).
 _CBRT2 = 2.0 ** (1.0 / 3.0)
@@ -171,8 +167,8 @@ def _sbab(n):
     raise ValueError(n)
 
 
-# name -> (order, a weights (elliptic flows), b weights (drift flows)).  The sbab
-# entries are for docs/convergent.md's measurements and are not registered.
+# name -> (order, a weights (elliptic flows), b weights (drift flows)); each is a
+# registered approximant (docs/convergent.md measures them all).
 SPLIT_METHODS = {
     "split2": (2,) + _strang_composition([1.0]),
     "split4": (4,) + _strang_composition([_YX1, _YX0, _YX1]),
@@ -205,7 +201,7 @@ STATUS_OK = 0
 STATUS_BAD_STATE = 1  # non-finite anchor or parameters
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def drift_flow_kernel(theta0, v0, beta, gamma, t):
     """Exact flow of the B part, θ' = 0, v' = γ − βv: the state at time t.
 
@@ -239,25 +235,7 @@ def drift_flow_kernel(theta0, v0, beta, gamma, t):
     return theta0, v0 * decay + gamma * phi1
 
 
-@njit(cache=True)
-def _reduce_2pi(x):
-    """x − 2πj with j = round(x/2π), to ~1e-16 absolute (Dekker product, 2π in two parts)."""
-    j = math.floor(x / TWO_PI_HI + 0.5)
-    if j == 0.0:
-        return x
-    # p + e = j·TWO_PI_HI exactly (Veltkamp split, Dekker two-product).
-    p = j * TWO_PI_HI
-    c = SPLITTER * j
-    jh = c - (c - j)
-    jl = j - jh
-    c = SPLITTER * TWO_PI_HI
-    ph = c - (c - TWO_PI_HI)
-    pl = TWO_PI_HI - ph
-    e = ((jh * ph - p) + jh * pl + jl * ph) + jl * pl
-    return (x - p) - e - j * TWO_PI_LO
-
-
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def compose_kernel(theta0, v0, beta, gamma, omega, t, a_w, b_w, n_stages):
     """The composition e^{b₀tB} e^{a₁tA} ⋯ e^{a_s tA} e^{b_s tB} applied to (θ₀, θ̇₀).
 
@@ -283,7 +261,7 @@ def compose_kernel(theta0, v0, beta, gamma, omega, t, a_w, b_w, n_stages):
     # Work with θ₀ − 2πj, |θ₀ − 2πj| ≤ π, and add the increment to θ₀ once at the
     # end: a running pendulum reaches |θ| ~ 1e3, where every one of the 2s + 1
     # intermediate roundings would cost ulp(θ) ~ 1e-13 and accumulate over windows.
-    th = _reduce_2pi(theta0)
+    th = reduce_2pi(theta0)[1]
     start = th
     v = v0
     if beta == 0.0 and gamma == 0.0:
@@ -300,7 +278,7 @@ def compose_kernel(theta0, v0, beta, gamma, omega, t, a_w, b_w, n_stages):
     return theta0 + (th - start), v
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def split_eval_kernel(coef, t):
     """θ(t), θ'(t) of an anchored splitting approximant: the composition with step t,
     applied n times with step t/n when β·|t| exceeds :data:`SPLIT_MAX_SUBSTEP_BETA`."""
@@ -320,7 +298,7 @@ def split_eval_kernel(coef, t):
     return th, v
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def split_eval_array_kernel(coef, t, out_theta, out_v):
     """:func:`split_eval_kernel` over a float64 array ``t``."""
     for i in range(t.shape[0]):
@@ -329,7 +307,7 @@ def split_eval_array_kernel(coef, t, out_theta, out_v):
         out_v[i] = b
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def split_error_kernel(coef, h):
     """Estimated local error of the window [0, h]: distance to the anchor's Taylor polynomial.
 
@@ -371,8 +349,8 @@ def split_error_kernel(coef, h):
     return math.inf, math.inf
 
 
-@njit(cache=True)
-def _split_anchor(method_id, beta, gamma, omega, theta0, v0):
+@numba.njit(**NJIT_OPTIONS)
+def split_anchor(method_id, beta, gamma, omega, theta0, v0):
     coef = np.empty(N_COEF)
     coef[0] = STATUS_OK
     coef[1] = method_id
@@ -387,78 +365,40 @@ def _split_anchor(method_id, beta, gamma, omega, theta0, v0):
     return coef
 
 
-@njit(cache=True)
-def split_fixed_window_run(beta, gamma, omega, theta0, v0, method_id, tau, n_windows,
-                           sample_every):
-    """A moving-boundary run with fixed window τ (see ``taylor_fixed_window_run``).
-
-    Parameters
-    ----------
-    beta, gamma, omega, theta0, v0 : float
-        Model and initial state.
-    method_id : int
-        Index of the method in :data:`SPLIT_METHODS` (its insertion order).
-    tau : float
-        Window length.
-    n_windows, sample_every : int
-        Number of windows; sampling interval in windows.
-
-    Returns
-    -------
-    out : ndarray, shape (n_windows // sample_every + 1, 2)
-        States after every ``sample_every`` windows, ``out[0]`` the initial state.
-    """
-    out = np.full((n_windows // sample_every + 1, 2), np.nan)
-    out[0, 0] = theta0
-    out[0, 1] = v0
-    th, v = theta0, v0
-    a_w = _A_TABLE[method_id]
-    b_w = _B_TABLE[method_id]
-    ns = _N_STAGES[method_id]
-    for i in range(1, n_windows + 1):
-        th, v = compose_kernel(th, v, beta, gamma, omega, tau, a_w, b_w, ns)
-        if not (math.isfinite(th) and math.isfinite(v)):
-            break
-        if i % sample_every == 0:
-            out[i // sample_every, 0] = th
-            out[i // sample_every, 1] = v
-    return out
-
-
 # One anchor kernel per method: the kernel signature has no room for the method id.
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def split2_anchor_kernel(beta, gamma, omega, theta0, v0):
-    return _split_anchor(0, beta, gamma, omega, theta0, v0)
+    return split_anchor(0, beta, gamma, omega, theta0, v0)
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def split4_anchor_kernel(beta, gamma, omega, theta0, v0):
-    return _split_anchor(1, beta, gamma, omega, theta0, v0)
+    return split_anchor(1, beta, gamma, omega, theta0, v0)
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def split4bm_anchor_kernel(beta, gamma, omega, theta0, v0):
-    return _split_anchor(2, beta, gamma, omega, theta0, v0)
+    return split_anchor(2, beta, gamma, omega, theta0, v0)
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def split6_anchor_kernel(beta, gamma, omega, theta0, v0):
-    return _split_anchor(3, beta, gamma, omega, theta0, v0)
+    return split_anchor(3, beta, gamma, omega, theta0, v0)
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def split8_anchor_kernel(beta, gamma, omega, theta0, v0):
-    return _split_anchor(4, beta, gamma, omega, theta0, v0)
+    return split_anchor(4, beta, gamma, omega, theta0, v0)
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def sbab2_anchor_kernel(beta, gamma, omega, theta0, v0):
-    return _split_anchor(5, beta, gamma, omega, theta0, v0)
+    return split_anchor(5, beta, gamma, omega, theta0, v0)
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def sbab3_anchor_kernel(beta, gamma, omega, theta0, v0):
-    return _split_anchor(6, beta, gamma, omega, theta0, v0)
+    return split_anchor(6, beta, gamma, omega, theta0, v0)
 
 
 _ANCHOR_KERNELS = {
@@ -481,22 +421,23 @@ class Splitting(Approximant):
 
     Attributes
     ----------
-    order : int
+    error_order : int
+        Order p: the estimate of :func:`split_error_kernel` scales as h^(p+1).
+    measured_order : int
         Convergence order p: global error O(τ^p) for a fixed window τ.
     n_elliptic : int
         Elliptic flows per evaluation (the dominant cost).
-    error_kernel : numba dispatcher
-        ``error_kernel(coef, h) -> (err_theta, err_v)``, see :func:`split_error_kernel`.
+    kind_arg : int
+        The method's row in the composition tables (kind ``"split"``).
     """
 
-    order = None
     n_elliptic = None
+    compiled_kind = "split"
     anchors = "any"
     status_messages = {STATUS_BAD_STATE: "the anchor state and parameters must be finite"}
     eval_kernel = staticmethod(split_eval_kernel)
     eval_array_kernel = staticmethod(split_eval_array_kernel)
     error_kernel = staticmethod(split_error_kernel)
-    needs = "any beta >= 0, gamma, omega > 0 and any state"
 
     def param_names(self):
         return ("method", "beta", "gamma", "omega", "theta0", "v0")
@@ -508,17 +449,21 @@ _CITATIONS = {
     "split4bm": "Blanes & Moan (2002) S6 order-4 composition; exact elliptic and drift flows",
     "split6": "Kahan & Li (1997) s9odr6a composition of Strang; exact elliptic and drift flows",
     "split8": "Kahan & Li (1997) s17odr8a composition of Strang; exact elliptic and drift flows",
+    "sbab2": "Laskar & Robutel (2001) SBAB2; exact elliptic and drift flows",
+    "sbab3": "Laskar & Robutel (2001) SBAB3; exact elliptic and drift flows",
 }
 
 
 def _make(name):
     order, a, _b = SPLIT_METHODS[name]
     cls = type(
-        "Split" + name[5:].upper(),
+        "Split" + name[5:].upper() if name.startswith("split") else name.upper(),
         (Splitting,),
         {
             "name": name,
-            "order": order,
+            "error_order": order,
+            "measured_order": order,
+            "kind_arg": _METHOD_IDS[name],
             "n_elliptic": len(a),
             "citation": _CITATIONS[name],
             "anchor_kernel": staticmethod(_ANCHOR_KERNELS[name]),

@@ -77,7 +77,6 @@ __all__ = [
     "taylor_eval_kernel",
     "taylor_eval_array_kernel",
     "taylor_error_kernel",
-    "taylor_fixed_window_run",
     "radius_estimate",
     "taylor_radius_kernel",
     "TAYLOR_ORDERS",
@@ -322,13 +321,15 @@ class Taylor(Approximant):
 
     Attributes
     ----------
-    order : int
+    error_order : int
+        N: the two-term estimate of :func:`taylor_error_kernel` scales as h^(N+1).
+    measured_order : int
         Convergence order N: global error O(τ^N) for a fixed window τ.
-    error_kernel : numba dispatcher
-        ``error_kernel(coef, h) -> (err_theta, err_v)``, see :func:`taylor_error_kernel`.
+    kind_arg : int
+        The degree N, the compiled loop's argument of kind ``"taylor"``.
     """
 
-    order = None
+    compiled_kind = "taylor"
     citation = (
         "Taylor series of the exact solution, coefficients by automatic differentiation "
         "(s' = c θ', c' = −s θ'); not from the papers"
@@ -341,7 +342,6 @@ class Taylor(Approximant):
     eval_kernel = staticmethod(taylor_eval_kernel)
     eval_array_kernel = staticmethod(taylor_eval_array_kernel)
     error_kernel = staticmethod(taylor_error_kernel)
-    needs = "any beta >= 0, gamma, omega > 0 and any state"
 
     def param_names(self):
         return ("order", "beta", "gamma", "omega")
@@ -378,7 +378,9 @@ def _make(n, name):
         (Taylor,),
         {
             "name": name,
-            "order": n,
+            "error_order": n,
+            "measured_order": n,
+            "kind_arg": n,
             "anchor_kernel": staticmethod(_ANCHOR_KERNELS[n]),
             "__doc__": f"Degree-{n} anchored Taylor polynomial (order {n}); see :class:`Taylor`.",
         },
@@ -391,46 +393,3 @@ for _n in TAYLOR_ORDERS:
     globals()[_c.__name__] = _c
 TaylorDefault = _make(TAYLOR_DEFAULT_ORDER, "taylor")
 del _n, _c
-
-
-@njit(cache=True)
-def taylor_fixed_window_run(beta, gamma, omega, theta0, v0, n_order, tau, n_windows,
-                            sample_every):
-    """A moving-boundary run with fixed window τ, without solve_ivp's per-step overhead.
-
-    Anchor → evaluate at τ → re-anchor, ``n_windows`` times; the state after every
-    ``sample_every`` windows is recorded.  For measurements and benchmarks
-    (``examples/convergence_study.py``); :class:`mbm.MBM` does the same steps.
-
-    Parameters
-    ----------
-    beta, gamma, omega : float
-        Model.
-    theta0, v0 : float
-        Initial state.
-    n_order : int
-        Taylor degree N.
-    tau : float
-        Window length.
-    n_windows, sample_every : int
-        Number of windows; sampling interval in windows.
-
-    Returns
-    -------
-    out : ndarray, shape (n_windows // sample_every + 1, 2)
-        ``out[j]`` is the state after ``j * sample_every`` windows (``out[0]`` the
-        initial state); rows after a non-finite state are NaN.
-    """
-    out = np.full((n_windows // sample_every + 1, 2), np.nan)
-    out[0, 0] = theta0
-    out[0, 1] = v0
-    th, v = theta0, v0
-    for i in range(1, n_windows + 1):
-        c = taylor_coefficients(beta, gamma, omega, th, v, n_order)
-        th, v = taylor_eval_kernel(c, tau)
-        if not (math.isfinite(th) and math.isfinite(v)):
-            break
-        if i % sample_every == 0:
-            out[i // sample_every, 0] = th
-            out[i // sample_every, 1] = v
-    return out

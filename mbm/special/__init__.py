@@ -1,5 +1,6 @@
 """Special functions for the pendulum approximants: Jacobi elliptic functions,
-elliptic integrals of the first kind and the Weierstrass ℘ function.
+elliptic integrals of the first kind, the Weierstrass ℘ function, and the exact
+flow of the undamped pendulum built on them.
 
 Numpy-level functions (broadcasting, validated, never a silent NaN):
 
@@ -22,6 +23,16 @@ with float64 arguments so that a single signature is compiled):
   bits without recomputing the roots and the period each time
 * ``wp_half_period_kernel(g2, g3) -> omega``
 * ``wp_inverse_kernel(w, g2, g3) -> z``
+* ``ellipk_dd_kernel(mc, mc_lo) -> (K_hi, K_lo)``: the one double-double K
+* ``pendulum_flow_kernel(theta0, v0, omega, t) -> (theta, theta_dot)``: the exact
+  flow of θ'' + ω² sin θ = 0 from any state; ``period_kernel(theta0, v0, omega)``
+
+Modules: :mod:`~mbm.special.jacobi`, :mod:`~mbm.special.weierstrass`,
+:mod:`~mbm.special.trig`, :mod:`~mbm.special.pendulum_flow` (also the Python-level
+``pendulum_flow`` and ``period``, exported as ``mbm.pendulum_flow``, ``mbm.period``),
+:mod:`~mbm.special.dd` (double-double arithmetic and the one 2π reduction,
+``reduce_2pi``) and :mod:`~mbm.special.jit` (``NJIT_OPTIONS``, the kernels' numba
+options).
 
 See :mod:`mbm.special.jacobi` and :mod:`mbm.special.weierstrass` for the
 conventions (in particular the Δ < 0 convention of ``wp_roots_kernel``) and
@@ -37,9 +48,11 @@ from .jacobi import (
     ellipj,
     ellipj_kernel,
     ellipk,
+    ellipk_dd_kernel,
     ellipk_kernel,
     sn,
 )
+from .pendulum_flow import pendulum_flow_kernel, period_kernel
 from .trig import (
     M_MAX as TRIG_M_MAX,
     cos_m,
@@ -87,6 +100,7 @@ __all__ = [
     # numba kernels
     "ellipj_kernel",
     "ellipk_kernel",
+    "ellipk_dd_kernel",
     "ellipf_kernel",
     "wp_roots_kernel",
     "wp_kernel",
@@ -98,4 +112,6 @@ __all__ = [
     "sin_m_kernel",
     "cos_m_kernel",
     "sin_m_dm_kernel",
+    "pendulum_flow_kernel",
+    "period_kernel",
 ]

@@ -35,6 +35,10 @@ Method
   stay accurate.
 * F(φ|m) through Carlson's R_F with ``1 - m sin^2 = cos^2 + mc sin^2`` and
   quasi-periodicity ``F(φ + jπ) = F(φ) + 2jK`` (reduction in double-double).
+
+Double-double building blocks for other kernels: :func:`ellipk_dd_kernel` (K
+from 1 - m), :func:`ellipk_kc_dd_kernel` (K from k'), :func:`ellipj_kc_dd_kernel`
+(sn, cn, dn at a double-double argument) and :func:`carlson_rf_kernel`.
 """
 
 import math
@@ -45,20 +49,34 @@ from numba import types
 from numba.core import cgutils
 from numba.extending import intrinsic
 
-from ._dd import (
-    _two_prod,
-    _dd_add,
-    _dd_add_pos,
-    _dd_mul,
-    _dd_mul_safe,
-    _dd_div,
-    _dd_gt,
-    _dd_sqrt,
+from ._arrays import finite_f64, flat, nan_guard, unflat
+from .dd import (
+    EPS,
+    PI_HI,
+    PI_LO,
+    PIO2_HI,
+    PIO2_LO,
+    PIO4,
+    TWO_PI_HI,
+    TWO_PI_LO,
+    dd_add,
+    dd_add_pos,
+    dd_div,
+    dd_gt,
+    dd_mul,
+    dd_mul_safe,
+    dd_sqrt,
+    two_prod,
 )
+from .jit import NJIT_OPTIONS
 
 __all__ = [
     "ellipj_kernel",
+    "ellipj_kc_dd_kernel",
     "ellipk_kernel",
+    "ellipk_dd_kernel",
+    "ellipk_kc_dd_kernel",
+    "carlson_rf_kernel",
     "ellipf_kernel",
     "sn",
     "cn",
@@ -112,21 +130,6 @@ MC_CONSISTENCY_ULPS = 8.0
 REDUCE_MAX_PERIODS = 2.0**52
 
 
-
-_EPS = 2.220446049250313e-16
-
-# pi, pi/2, 2 pi as double-double (hi + lo).
-PI_HI = 3.141592653589793
-PI_LO = 1.2246467991473532e-16
-PIO2_HI = 1.5707963267948966
-PIO2_LO = 6.123233995736766e-17
-TWO_PI_HI = 6.283185307179586
-TWO_PI_LO = 2.4492935982947064e-16
-PIO4 = 0.7853981633974483
-
-_jit = numba.njit(cache=True, error_model="numpy")
-
-
 # ---------------------------------------------------------------------------
 # Stack scratch space
 # ---------------------------------------------------------------------------
@@ -155,11 +158,26 @@ def _stack_f64(typingctx, n):
 # ---------------------------------------------------------------------------
 
 
-@_jit
-def _ellipk_dd(kch, kcl):
-    """K = pi / (2 AGM(1, k')) in double-double, k' = kch + kcl >= 0.
+@numba.njit(**NJIT_OPTIONS)
+def ellipk_kc_dd_kernel(kch, kcl):
+    """K(m) in double-double from the complementary modulus k' = sqrt(1 - m).
 
-    Valid for any m < 1 (k' > 1 for m < 0).  Returns (inf, 0) for k' == 0.
+    K = pi / (2 AGM(1, k')) (A&S 17.6.1) with the AGM in double-double; it stops
+    at a relative gap AGM_DD_RTOL and finishes with AGM(A + d/2, A - d/2) =
+    A (1 - x^2/4 - ...), x = d/(2A), so the result carries ~1e-32 relative
+    error.  This is the package's one double-double K: the argument
+    reductions of :func:`ellipj_kernel`, :func:`ellipf_kernel`,
+    :mod:`mbm.special.weierstrass` and :mod:`mbm.special.pendulum_flow` use it.
+
+    Parameters
+    ----------
+    kch, kcl : float
+        k' = kch + kcl >= 0 as a double-double (k' > 1 for m < 0).
+
+    Returns
+    -------
+    hi, lo : float
+        K = hi + lo; ``(inf, 0)`` for k' == 0.
     """
     if kch == 0.0:
         return math.inf, 0.0
@@ -170,23 +188,50 @@ def _ellipk_dd(kch, kcl):
     for _ in range(AGM_MAX_ITER):
         if abs(ah - bh) <= AGM_DD_RTOL * ah:
             break
-        sh, sl = _dd_add_pos(ah, al, bh, bl)
-        ph, pl = _dd_mul(ah, al, bh, bl)
-        bh, bl = _dd_sqrt(ph, pl)
+        sh, sl = dd_add_pos(ah, al, bh, bl)
+        ph, pl = dd_mul(ah, al, bh, bl)
+        bh, bl = dd_sqrt(ph, pl)
         ah = 0.5 * sh
         al = 0.5 * sl
     d = (ah - bh) + (al - bl)  # ah - bh is exact (Sterbenz)
-    Ah, Al = _dd_add_pos(ah, al, bh, bl)
+    Ah, Al = dd_add_pos(ah, al, bh, bl)
     Ah *= 0.5
     Al *= 0.5
     x = d / (2.0 * Ah)
     x2 = x * x
     # AGM(A + d/2, A - d/2) = A pi / (2 K(x)) = A (1 - x^2/4 - 5 x^4/64 - ...)
-    Mh, Ml = _dd_add(Ah, Al, -0.25 * Ah * x2, 0.0)
-    return _dd_div(PIO2_HI, PIO2_LO, Mh, Ml)
+    Mh, Ml = dd_add(Ah, Al, -0.25 * Ah * x2, 0.0)
+    return dd_div(PIO2_HI, PIO2_LO, Mh, Ml)
 
 
-@_jit
+@numba.njit(**NJIT_OPTIONS)
+def ellipk_dd_kernel(mc, mc_lo):
+    """K(m) in double-double from the complementary parameter mc = 1 - m.
+
+    :func:`ellipk_kc_dd_kernel` at k' = sqrt(mc) (square root in double-double,
+    rescaled for a tiny mc), for callers that hold 1 - m itself, possibly as a
+    double-double (the exact pendulum flow next to the separatrix).
+
+    Parameters
+    ----------
+    mc, mc_lo : float
+        1 - m = mc + mc_lo (double-double); mc > 1 (m < 0) is allowed.
+
+    Returns
+    -------
+    hi, lo : float
+        K = hi + lo, ~1e-30 relative down to mc = 1e-308.  ``(inf, 0)`` for
+        mc == 0 (m = 1); ``(nan, nan)`` for mc < 0 (K not real) or NaN.
+    """
+    if mc > 0.0:
+        kch, kcl = dd_sqrt(mc, mc_lo)
+        return ellipk_kc_dd_kernel(kch, kcl)
+    if mc == 0.0:
+        return math.inf, 0.0
+    return math.nan, math.nan
+
+
+@numba.njit(**NJIT_OPTIONS)
 def _ellipk_rough(kc):
     """K to ~8 digits in plain double (used only to pick the fast path)."""
     if kc == 0.0:
@@ -200,7 +245,7 @@ def _ellipk_rough(kc):
     return PIO2_HI / (0.5 * (a + b))
 
 
-@_jit
+@numba.njit(**NJIT_OPTIONS)
 def ellipk_kernel(m, mc):
     """Complete elliptic integral of the first kind K(m), numba kernel.
 
@@ -218,8 +263,7 @@ def ellipk_kernel(m, mc):
         ``mc == 0``; ``nan`` for ``mc < 0`` (m > 1, K not real) or NaN input.
     """
     if mc > 0.0:
-        kch, kcl = _dd_sqrt(mc, 0.0)
-        kh, kl = _ellipk_dd(kch, kcl)
+        kh, kl = ellipk_dd_kernel(mc, 0.0)
         return kh
     if mc == 0.0:
         return math.inf
@@ -231,7 +275,7 @@ def ellipk_kernel(m, mc):
 # ---------------------------------------------------------------------------
 
 
-@_jit
+@numba.njit(**NJIT_OPTIONS)
 def _landen(z, m, mc):
     """(sn, cn, dn)(z | m) for 0 <= z <= K(m)/2, |m| small or 0 <= m < 1.
 
@@ -288,14 +332,29 @@ def _landen(z, m, mc):
     return s, c, d
 
 
-@_jit
-def _reduce_eval(vh, vl, m, mc, kch, kcl):
-    """(sn, cn, dn, n, am_local) at v = vh + vl for 0 <= m < 1 (mc > 0).
+@numba.njit(**NJIT_OPTIONS)
+def ellipj_kc_dd_kernel(vh, vl, m, mc, kch, kcl):
+    """sn, cn, dn at a double-double argument with the period fixed by k', numba kernel.
 
-    ``kch + kcl`` is k' = sqrt(mc) in double-double (it fixes the period used
-    for the reduction).  n is the number of whole periods 4K removed, and
-    am_local in [-pi, pi] the amplitude of the reduced argument, so that
-    am(v) = am_local + 2 pi n.
+    For 0 <= m < 1 (mc > 0), reduced by 4K with K from
+    :func:`ellipk_kc_dd_kernel` (the workhorse of :func:`ellipj_kernel`, also
+    used by :mod:`mbm.special.weierstrass`, whose lattice fixes k' itself).
+
+    Parameters
+    ----------
+    vh, vl : float
+        Argument v = vh + vl (double-double).
+    m, mc : float
+        Parameter and its accurate complement.
+    kch, kcl : float
+        k' = sqrt(mc) in double-double (it fixes the period used for the
+        reduction).
+
+    Returns
+    -------
+    sn, cn, dn, n, am_local : float
+        n is the number of whole periods 4K removed, and am_local in [-pi, pi]
+        the amplitude of the reduced argument, so that am(v) = am_local + 2 pi n.
     """
     av = abs(vh)
     if av <= PIO4 or av <= FAST_PATH_FRACTION * _ellipk_rough(kch):
@@ -303,14 +362,14 @@ def _reduce_eval(vh, vl, m, mc, kch, kcl):
         s, c, d = _landen(av, m, mc)
         s = math.copysign(s, vh)
         return s, c, d, 0.0, math.atan2(s, c)
-    Kh, Kl = _ellipk_dd(kch, kcl)
+    Kh, Kl = ellipk_kc_dd_kernel(kch, kcl)
     K4h = 4.0 * Kh
     K4l = 4.0 * Kl
     n = np.floor(vh / K4h + 0.5)
     if abs(n) < REDUCE_MAX_PERIODS:
-        ph, pl = _two_prod(n, K4h)
+        ph, pl = two_prod(n, K4h)
         pl += n * K4l
-        rh, rl = _dd_add(vh, vl, -ph, -pl)
+        rh, rl = dd_add(vh, vl, -ph, -pl)
     else:
         # Beyond 2**52 periods the ulp of v exceeds the period: no accuracy
         # is possible; reduce by the double 4K to return something finite.
@@ -319,26 +378,26 @@ def _reduce_eval(vh, vl, m, mc, kch, kcl):
         n = (vh - rh) / K4h
     # The quotient was rounded in double: fix a reduced argument that landed
     # just outside [-2K, 2K].
-    if _dd_gt(rh, rl, 2.0 * Kh, 2.0 * Kl):
-        rh, rl = _dd_add(rh, rl, -K4h, -K4l)
+    if dd_gt(rh, rl, 2.0 * Kh, 2.0 * Kl):
+        rh, rl = dd_add(rh, rl, -K4h, -K4l)
         n += 1.0
-    elif _dd_gt(-2.0 * Kh, -2.0 * Kl, rh, rl):
-        rh, rl = _dd_add(rh, rl, K4h, K4l)
+    elif dd_gt(-2.0 * Kh, -2.0 * Kl, rh, rl):
+        rh, rl = dd_add(rh, rl, K4h, K4l)
         n -= 1.0
     neg = rh < 0.0 or (rh == 0.0 and math.copysign(1.0, rh) < 0.0)
     if neg:
         rh = -rh
         rl = -rl
-    flip = _dd_gt(rh, rl, Kh, Kl)
+    flip = dd_gt(rh, rl, Kh, Kl)
     if flip:
         # sn(2K - r) = sn r, cn(2K - r) = -cn r, dn(2K - r) = dn r.
-        rh, rl = _dd_add(2.0 * Kh, 2.0 * Kl, -rh, -rl)
+        rh, rl = dd_add(2.0 * Kh, 2.0 * Kl, -rh, -rl)
         if rh < 0.0:
             rh = 0.0
             rl = 0.0
     if rh > 0.5 * Kh:
         # Quarter-period shift: cn and dn near K computed from sn(t), dn(t).
-        th, tl = _dd_add(Kh, Kl, -rh, -rl)
+        th, tl = dd_add(Kh, Kl, -rh, -rl)
         if th < 0.0:
             th = 0.0
         s, c, d = _landen(th, m, mc)
@@ -357,7 +416,7 @@ def _reduce_eval(vh, vl, m, mc, kch, kcl):
     return sn_, cn_, dn_, n, a
 
 
-@_jit
+@numba.njit(**NJIT_OPTIONS)
 def _ellipj_dd(uh, ul, m, mc):
     """(sn, cn, dn, am)(u | m) for u = uh + ul given in double-double."""
     if mc == 0.0:
@@ -368,32 +427,32 @@ def _ellipj_dd(uh, ul, m, mc):
     if mc < 0.0:
         # m > 1, reciprocal modulus (DLMF §22.17) with mu = 1/m:
         # sn(u|m) = sn(k u|mu)/k, cn(u|m) = dn(k u|mu), dn(u|m) = cn(k u|mu).
-        kh, kl = _dd_sqrt(m, 0.0)
-        vh, vl = _dd_mul_safe(uh, ul, kh, kl)
-        qh, ql = _dd_div(-mc, 0.0, m, 0.0)  # mu_c = (m - 1)/m
-        kch, kcl = _dd_sqrt(qh, ql)
-        s, c, d, n, a = _reduce_eval(vh, vl, 1.0 / m, qh, kch, kcl)
+        kh, kl = dd_sqrt(m, 0.0)
+        vh, vl = dd_mul_safe(uh, ul, kh, kl)
+        qh, ql = dd_div(-mc, 0.0, m, 0.0)  # mu_c = (m - 1)/m
+        kch, kcl = dd_sqrt(qh, ql)
+        s, c, d, n, a = ellipj_kc_dd_kernel(vh, vl, 1.0 / m, qh, kch, kcl)
         sn_ = s / kh
         return sn_, d, c, math.atan2(sn_, d)
     if mc > 1.0:
         # m < 0, imaginary modulus (DLMF §22.17) with mu = -m/mc:
         # sn(u|m) = sd(v|mu)/sqrt(mc), cn = cd(v|mu), dn = nd(v|mu),
         # v = u sqrt(mc).  The period 4K(m) in u is 4K(mu) in v.
-        sh, sl = _dd_sqrt(mc, 0.0)
-        vh, vl = _dd_mul_safe(uh, ul, sh, sl)
-        kch, kcl = _dd_div(1.0, 0.0, sh, sl)  # sqrt(mu_c) = 1/sqrt(mc)
-        s, c, d, n, a = _reduce_eval(vh, vl, -m / mc, 1.0 / mc, kch, kcl)
+        sh, sl = dd_sqrt(mc, 0.0)
+        vh, vl = dd_mul_safe(uh, ul, sh, sl)
+        kch, kcl = dd_div(1.0, 0.0, sh, sl)  # sqrt(mu_c) = 1/sqrt(mc)
+        s, c, d, n, a = ellipj_kc_dd_kernel(vh, vl, -m / mc, 1.0 / mc, kch, kcl)
         sn_ = s / (d * sh)
         cn_ = c / d
         a = math.atan2(sn_, cn_)
         return sn_, cn_, 1.0 / d, n * TWO_PI_HI + (a + n * TWO_PI_LO)
     # 0 <= m < 1 (m may be a few ulps negative when mc rounds to 1).
-    kch, kcl = _dd_sqrt(mc, 0.0)
-    s, c, d, n, a = _reduce_eval(uh, ul, m, mc, kch, kcl)
+    kch, kcl = dd_sqrt(mc, 0.0)
+    s, c, d, n, a = ellipj_kc_dd_kernel(uh, ul, m, mc, kch, kcl)
     return s, c, d, n * TWO_PI_HI + (a + n * TWO_PI_LO)
 
 
-@_jit
+@numba.njit(**NJIT_OPTIONS)
 def ellipj_kernel(u, m, mc):
     """Jacobi elliptic functions and amplitude, numba kernel.
 
@@ -428,8 +487,8 @@ def ellipj_kernel(u, m, mc):
 # ---------------------------------------------------------------------------
 
 
-@_jit
-def _carlson_rf(x, y, z):
+@numba.njit(**NJIT_OPTIONS)
+def carlson_rf_kernel(x, y, z):
     """Carlson's R_F(x, y, z) for x, y, z >= 0, at most one of them zero.
 
     Duplication (Carlson 1995) with Boost's 7th-order series; relative
@@ -470,7 +529,7 @@ def _carlson_rf(x, y, z):
     ) / math.sqrt(an)
 
 
-@_jit
+@numba.njit(**NJIT_OPTIONS)
 def ellipf_kernel(phi, m, mc):
     """Incomplete elliptic integral of the first kind F(phi | m), numba kernel.
 
@@ -501,11 +560,11 @@ def ellipf_kernel(phi, m, mc):
         t = mc * s * s
         y = c2 + t
         if y < 0.0:
-            if y >= -EDGE_CLAMP_ULPS * _EPS * (c2 - t):
+            if y >= -EDGE_CLAMP_ULPS * EPS * (c2 - t):
                 y = 0.0
             else:
                 return math.nan
-        return s * _carlson_rf(c2, y, 1.0)
+        return s * carlson_rf_kernel(c2, y, 1.0)
     if not (abs(phi) < math.inf and mc >= 0.0):
         return math.nan
     j = np.floor(phi / PI_HI + 0.5)
@@ -519,9 +578,9 @@ def ellipf_kernel(phi, m, mc):
         s = math.sin(rh)
         c = math.cos(rh)
     else:
-        ph, pl = _two_prod(j, PI_HI)
+        ph, pl = two_prod(j, PI_HI)
         pl += j * PI_LO
-        rh, rl = _dd_add(phi, 0.0, -ph, -pl)
+        rh, rl = dd_add(phi, 0.0, -ph, -pl)
         sh = math.sin(rh)
         ch = math.cos(rh)
         s = sh + ch * rl
@@ -533,13 +592,12 @@ def ellipf_kernel(phi, m, mc):
         s = -s
         c = -c
     c2 = c * c
-    f = s * _carlson_rf(c2, c2 + mc * s * s, 1.0)
+    f = s * carlson_rf_kernel(c2, c2 + mc * s * s, 1.0)
     if j == 0.0:
         return f
     if mc == 0.0:
         return math.nan  # F(phi | 1) diverges at |phi| = pi/2
-    kch, kcl = _dd_sqrt(mc, 0.0)
-    Kh, Kl = _ellipk_dd(kch, kcl)
+    Kh, Kl = ellipk_dd_kernel(mc, 0.0)
     return 2.0 * j * Kh + (2.0 * j * Kl + f)
 
 
@@ -548,7 +606,7 @@ def ellipf_kernel(phi, m, mc):
 # ---------------------------------------------------------------------------
 
 
-@numba.njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def _ellipj_loop(u, m, mc, out_sn, out_cn, out_dn, out_am):
     for i in range(u.shape[0]):
         s, c, d, a = ellipj_kernel(u[i], m[i], mc[i])
@@ -558,13 +616,13 @@ def _ellipj_loop(u, m, mc, out_sn, out_cn, out_dn, out_am):
         out_am[i] = a
 
 
-@numba.njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def _ellipk_loop(m, mc, out):
     for i in range(m.shape[0]):
         out[i] = ellipk_kernel(m[i], mc[i])
 
 
-@numba.njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def _ellipf_loop(phi, m, mc, out):
     for i in range(phi.shape[0]):
         out[i] = ellipf_kernel(phi[i], m[i], mc[i])
@@ -575,27 +633,16 @@ def _ellipf_loop(phi, m, mc, out):
 # ---------------------------------------------------------------------------
 
 
-def _finite_f64(name, x):
-    try:
-        a = np.asarray(x, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise TypeError(f"{name} must be real (float64-convertible), got {x!r}") from None
-    if not np.all(np.isfinite(a)):
-        bad = a[~np.isfinite(a)].ravel()[0] if a.ndim else a
-        raise ValueError(f"{name} must be finite, got {float(bad)!r}")
-    return a
-
-
 def _param(m, mc):
     """Validated float64 arrays (m, mc); mc defaults to 1 - m."""
-    ma = _finite_f64("m", m)
+    ma = finite_f64("m", m)
     if mc is None:
         return ma, 1.0 - ma
-    mca = _finite_f64("mc", mc)
+    mca = finite_f64("mc", mc)
     ma, mca = np.broadcast_arrays(ma, mca)
     mismatch = np.abs((ma - 1.0) + mca)
     scale = np.maximum(1.0, np.maximum(np.abs(ma), np.abs(mca)))
-    bad = mismatch > MC_CONSISTENCY_ULPS * _EPS * scale
+    bad = mismatch > MC_CONSISTENCY_ULPS * EPS * scale
     if np.any(bad):
         i = np.flatnonzero(bad.ravel())[0]
         raise ValueError(
@@ -603,25 +650,6 @@ def _param(m, mc):
             f"m={ma.ravel()[i]!r}, mc={mca.ravel()[i]!r}"
         )
     return ma, mca
-
-
-def _flat(*arrays):
-    """Broadcast, then contiguous 1-D float64 copies plus the common shape."""
-    b = np.broadcast_arrays(*arrays)
-    shape = b[0].shape
-    return shape, [np.ascontiguousarray(x, dtype=np.float64).reshape(-1) for x in b]
-
-
-def _out(a, shape, scalar):
-    if scalar:
-        return float(a[0])
-    return a.reshape(shape)
-
-
-def _nan_guard(name, *outs):
-    for o in outs:
-        if np.isnan(o).any():
-            raise FloatingPointError(f"{name}: internal error, NaN produced from finite input")
 
 
 def ellipj(u, m, mc=None):
@@ -651,14 +679,14 @@ def ellipj(u, m, mc=None):
     ValueError
         Non-finite input, or m and mc inconsistent.
     """
-    ua = _finite_f64("u", u)
+    ua = finite_f64("u", u)
     ma, mca = _param(m, mc)
     scalar = ua.ndim == 0 and ma.ndim == 0
-    shape, (uf, mf, mcf) = _flat(ua, ma, mca)
+    shape, (uf, mf, mcf) = flat(ua, ma, mca)
     outs = [np.empty(uf.shape[0]) for _ in range(4)]
     _ellipj_loop(uf, mf, mcf, *outs)
-    _nan_guard("ellipj", *outs)
-    return tuple(_out(o, shape, scalar) for o in outs)
+    nan_guard("ellipj", *outs)
+    return tuple(unflat(o, shape, scalar) for o in outs)
 
 
 def sn(u, m, mc=None):
@@ -726,11 +754,11 @@ def ellipk(m, mc=None):
         bad = ma[mca <= 0.0].ravel()[0] if ma.ndim else ma
         raise ValueError(f"m must be < 1 (mc = 1 - m > 0) for ellipk, got m={float(bad)!r}")
     scalar = ma.ndim == 0
-    shape, (mf, mcf) = _flat(ma, mca)
+    shape, (mf, mcf) = flat(ma, mca)
     out = np.empty(mf.shape[0])
     _ellipk_loop(mf, mcf, out)
-    _nan_guard("ellipk", out)
-    return _out(out, shape, scalar)
+    nan_guard("ellipk", out)
+    return unflat(out, shape, scalar)
 
 
 def ellipf(phi, m, mc=None):
@@ -757,10 +785,10 @@ def ellipf(phi, m, mc=None):
         Non-finite input, inconsistent m/mc, or phi outside the real domain
         described above.
     """
-    pa = _finite_f64("phi", phi)
+    pa = finite_f64("phi", phi)
     ma, mca = _param(m, mc)
     scalar = pa.ndim == 0 and ma.ndim == 0
-    shape, (pf, mf, mcf) = _flat(pa, ma, mca)
+    shape, (pf, mf, mcf) = flat(pa, ma, mca)
     out = np.empty(pf.shape[0])
     _ellipf_loop(pf, mf, mcf, out)
     bad = np.isnan(out)
@@ -771,4 +799,4 @@ def ellipf(phi, m, mc=None):
             "|phi| <= arcsin(1/sqrt(m)) for m > 1; "
             f"got phi={pf[i]!r}, m={mf[i]!r}"
         )
-    return _out(out, shape, scalar)
+    return unflat(out, shape, scalar)

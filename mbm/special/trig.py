@@ -1,8 +1,7 @@
 r"""Trigonometric approximants sin_m, cos_m of the Jacobi functions sn(t|m), cn(t|m).
 
-First paper (Salas 2021, ``shared/seeds/000_0f8e94b3d68ba8ee.txt``), (3.12)–(3.14), and
-second paper (Salas, Martínez, Ocampo 2022, ``shared/seeds/001_9fb3f89e72cef176.txt``),
-(2.25)–(2.26):
+First paper (Salas 2021), (3.12)–(3.14), and second paper (Salas, Martínez, Ocampo
+2022), (2.25)–(2.26):
 
 .. math::
 
@@ -44,8 +43,10 @@ phase error against sn grows linearly in t (use one period, as the papers do).
 
 import math
 
+import numba
 import numpy as np
-from numba import njit
+
+from .jit import NJIT_OPTIONS
 
 __all__ = [
     "M_MAX",
@@ -63,7 +64,7 @@ __all__ = [
 M_MAX = 1.0
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def _setup(m):
     """A (3.13), L = A − m + 2, N = A − m − 12 and the frequency ν = √(L/14) of (2.26)."""
     A = math.sqrt(m * m - 144.0 * m + 144.0)
@@ -72,7 +73,7 @@ def _setup(m):
     return A, L, N, math.sqrt(L / 14.0)
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def trig_m_kernel(t, m):
     """sin_m(t), cos_m(t), dn_m(t) of (3.12)–(3.14); nan when m > M_MAX or m is nan.
 
@@ -89,19 +90,19 @@ def trig_m_kernel(t, m):
     return math.sqrt(14.0) * sw * rD, math.sqrt(L) * cw * rD, L / D
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def sin_m_kernel(t, m):
     """sin_m(t) ≈ sn(t|m), (3.12) reconstructed (see module docstring)."""
     return trig_m_kernel(t, m)[0]
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def cos_m_kernel(t, m):
     """cos_m(t) ≈ cn(t|m), (3.14) = (2.25)–(2.26)."""
     return trig_m_kernel(t, m)[1]
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def sin_m_dm_kernel(t, m):
     """∂sin_m(t)/∂m at fixed t; nan when m > M_MAX (or at m = 72 − √5040, A = 0)."""
     if not (m <= M_MAX):
@@ -120,7 +121,7 @@ def sin_m_dm_kernel(t, m):
     return math.sqrt(14.0) * (cw * dw / math.sqrt(D) - 0.5 * sw * dD / (D * math.sqrt(D)))
 
 
-@njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def _trig_array(t, m, which, out):
     for i in range(t.size):
         out[i] = trig_m_kernel(t[i], m[i])[which]

@@ -46,26 +46,25 @@ import math
 import numba
 import numpy as np
 
-from ._dd import (
-    _dd_add,
-    _dd_div,
-    _dd_mul,
-    _dd_mul_d,
-    _dd_mul_safe,
-    _dd_sqrt,
-    _fast_two_sum,
-    _two_prod,
+from ._arrays import finite_f64, flat, unflat
+from .dd import (
+    EPS,
+    dd_add,
+    dd_div,
+    dd_mul,
+    dd_mul_d,
+    dd_mul_safe,
+    dd_sqrt,
+    fast_two_sum,
+    two_prod,
 )
 from .jacobi import (
-    _EPS,
-    _carlson_rf,
-    _ellipk_dd,
-    _finite_f64,
-    _flat,
-    _out,
-    _reduce_eval,
+    carlson_rf_kernel,
     ellipf_kernel,
+    ellipj_kc_dd_kernel,
+    ellipk_kc_dd_kernel,
 )
+from .jit import NJIT_OPTIONS
 
 __all__ = [
     "wp_roots_kernel",
@@ -101,7 +100,6 @@ _SQRT1728 = 41.569219381653056
 _PI_3 = 1.0471975511965979
 _LOG4 = 1.3862943611198906
 
-_jit = numba.njit(cache=True, error_model="numpy")
 
 
 # ---------------------------------------------------------------------------
@@ -109,17 +107,17 @@ _jit = numba.njit(cache=True, error_model="numpy")
 # ---------------------------------------------------------------------------
 
 
-@_jit
+@numba.njit(**NJIT_OPTIONS)
 def _delta_dd(g2, g3):
     """Δ = g2³ − 27 g3² in double-double."""
-    sh, sl = _two_prod(g2, g2)
-    ch, cl = _dd_mul_d(sh, sl, g2)
-    th, tl = _two_prod(g3, g3)
-    th, tl = _dd_mul_d(th, tl, 27.0)
-    return _dd_add(ch, cl, -th, -tl)
+    sh, sl = two_prod(g2, g2)
+    ch, cl = dd_mul_d(sh, sl, g2)
+    th, tl = two_prod(g3, g3)
+    th, tl = dd_mul_d(th, tl, 27.0)
+    return dd_add(ch, cl, -th, -tl)
 
 
-@_jit
+@numba.njit(**NJIT_OPTIONS)
 def _newton(x, g2, g3):
     """One guarded Newton step on 4x³ − g2 x − g3 (double)."""
     fp = 12.0 * x * x - g2
@@ -131,42 +129,46 @@ def _newton(x, g2, g3):
     return x
 
 
-@_jit
+@numba.njit(**NJIT_OPTIONS)
 def _newton_dd(x, g2, g3):
     """x + correction as a double-double: Newton with the cubic in double-double."""
     fp = 12.0 * x * x - g2
     if fp == 0.0:
         return x, 0.0
-    x2h, x2l = _two_prod(x, x)
-    x3h, x3l = _dd_mul_d(x2h, x2l, x)
-    bh, bl = _two_prod(g2, x)
-    fh, fl = _dd_add(4.0 * x3h, 4.0 * x3l, -bh, -bl)
-    fh, fl = _dd_add(fh, fl, -g3, 0.0)
+    x2h, x2l = two_prod(x, x)
+    x3h, x3l = dd_mul_d(x2h, x2l, x)
+    bh, bl = two_prod(g2, x)
+    fh, fl = dd_add(4.0 * x3h, 4.0 * x3l, -bh, -bl)
+    fh, fl = dd_add(fh, fl, -g3, 0.0)
     dx = fh / fp
     if abs(dx) <= NEWTON_MAX_STEP * max(1.0, abs(x)):
-        return _fast_two_sum(x, -dx)
+        return fast_two_sum(x, -dx)
     return x, 0.0
 
 
-@_jit
-def _wp_setup(g2, g3):
-    """Everything ℘ needs, from the invariants.
+@numba.njit(**NJIT_OPTIONS)
+def wp_lattice_kernel(g2, g3):
+    """Lattice data of ℘(·; g2, g3): everything ℘ needs, from the invariants.
+
+    ``wp_kernel(z, g2, g3)`` spends roughly half of its time deriving the
+    roots and the period from (g2, g3); a caller evaluating many z for the
+    same invariants can do that once and pass the tuple to ``wp_eval_kernel``.
+    Callers that need the roots' normal form itself (the cn form of
+    :mod:`mbm.approximants.salas2022`) unpack it.
 
     Returns
     -------
-    kind : float
-        1.0 (Δ ≥ 0), -1.0 (Δ < 0) or 0.0 (g2 = g3 = 0).
-    r1, r2, r3, dsign : float
-        What ``wp_roots_kernel`` returns.
-    base, lam2 : float
-        ℘ = base + lam2 * X with X = cn²/sn² (kind 1) or cn²/(sn² dn²)
-        (kind −1) at v = lam * z.
-    lamh, laml : float
-        lam = sqrt(lam2) as a double-double.
-    m, mc : float
-        The parameter of the Jacobi functions and its complement.
-    kch, kcl : float
-        k' = sqrt(mc) as a double-double (fixes the period).
+    kind, r1, r2, r3, dsign, base, lam2, lamh, laml, m, mc, kch, kcl : float
+        A 13-tuple:
+
+        * ``kind``: 1.0 (Δ ≥ 0), -1.0 (Δ < 0) or 0.0 (g2 = g3 = 0); NaNs for
+          non-finite invariants;
+        * ``r1, r2, r3, dsign``: what ``wp_roots_kernel`` returns;
+        * ``base, lam2``: ℘ = base + lam2 * X with X = cn²/sn² (kind 1) or
+          cn²/(sn² dn²) (kind −1) at v = lam * z;
+        * ``lamh, laml``: lam = sqrt(lam2) as a double-double;
+        * ``m, mc``: the parameter of the Jacobi functions and its complement;
+        * ``kch, kcl``: k' = sqrt(mc) as a double-double (fixes the period).
     """
     nan = math.nan
     if not (abs(g2) < math.inf and abs(g3) < math.inf):
@@ -225,8 +227,8 @@ def _wp_setup(g2, g3):
             e1h, e1l = _newton_dd(e1, G2, G3)
             e2h, e2l = _newton_dd(e2, G2, G3)
             e3h, e3l = _newton_dd(e3, G2, G3)
-            D13h, D13l = _dd_add(e1h, e1l, -e3h, -e3l)
-            D12h, D12l = _dd_add(e1h, e1l, -e2h, -e2l)
+            D13h, D13l = dd_add(e1h, e1l, -e3h, -e3l)
+            D12h, D12l = dd_add(e1h, e1l, -e2h, -e2l)
             e1 = e1h
             e2 = e2h
             e3 = e3h
@@ -234,23 +236,23 @@ def _wp_setup(g2, g3):
             # e2 ~ e3: e1 is simple and well separated; e2 + e3 = -e1 gives
             # D13 = 3 e1/2 + d23/2 and D12 = 3 e1/2 - d23/2 (d23 tiny).
             e1h, e1l = _newton_dd(e1, G2, G3)
-            fh, fl = _dd_mul_d(e1h, e1l, 1.5)
-            D13h, D13l = _dd_add(fh, fl, 0.5 * d23, 0.0)
-            D12h, D12l = _dd_add(fh, fl, -0.5 * d23, 0.0)
+            fh, fl = dd_mul_d(e1h, e1l, 1.5)
+            D13h, D13l = dd_add(fh, fl, 0.5 * d23, 0.0)
+            D12h, D12l = dd_add(fh, fl, -0.5 * d23, 0.0)
             e1 = e1h
         else:
             # e1 ~ e2: e3 is simple; D13 = -3 e3/2 + d12/2, D12 = d12 (tiny,
             # it enters K only logarithmically).
             e3h, e3l = _newton_dd(e3, G2, G3)
-            fh, fl = _dd_mul_d(e3h, e3l, -1.5)
-            D13h, D13l = _dd_add(fh, fl, 0.5 * d12, 0.0)
+            fh, fl = dd_mul_d(e3h, e3l, -1.5)
+            D13h, D13l = dd_add(fh, fl, 0.5 * d12, 0.0)
             D12h, D12l = d12, 0.0
             e3 = e3h
-        mch, mcl = _dd_div(D12h, D12l, D13h, D13l)
+        mch, mcl = dd_div(D12h, D12l, D13h, D13l)
         m = d23 / d13
         mc = mch
-        kch, kcl = _dd_sqrt(mch, mcl)
-        lh, ll = _dd_sqrt(D13h, D13l)
+        kch, kcl = dd_sqrt(mch, mcl)
+        lh, ll = dd_sqrt(D13h, D13l)
         return (1.0, e1 * t, e2 * t, e3 * t, dsign, e1 * t, d13 * t,
                 lh * rt, ll * rt, m, mc, kch, kcl)
     # Δ < 0: Cardano for x³ + p x + q, p = −G2/4, q = −G3/4, with the cube
@@ -271,39 +273,39 @@ def _wp_setup(g2, g3):
     e2 = _newton(e2, G2, G3)
     e2h, e2l = _newton_dd(e2, G2, G3)
     # H² = |e1 − e2|² = 3 e2² − G2/4 = (3 e2/2)² + b² (>= 9 e2²/4: mild cancellation at most).
-    sqh, sql = _dd_mul(e2h, e2l, e2h, e2l)
-    s3h, s3l = _dd_mul_d(sqh, sql, 3.0)  # (scaling by 3 is not exact: use the dd product)
-    H2h, H2l = _dd_add(s3h, s3l, -0.25 * G2, 0.0)
+    sqh, sql = dd_mul(e2h, e2l, e2h, e2l)
+    s3h, s3l = dd_mul_d(sqh, sql, 3.0)  # (scaling by 3 is not exact: use the dd product)
+    H2h, H2l = dd_add(s3h, s3l, -0.25 * G2, 0.0)
     if G2 <= 0.0:
         # b² = (3 e2² − G2)/4: a sum of non-negative terms.
-        b2h, b2l = _dd_add(0.25 * s3h, 0.25 * s3l, -0.25 * G2, 0.0)
+        b2h, b2l = dd_add(0.25 * s3h, 0.25 * s3l, -0.25 * G2, 0.0)
     else:
         # b² = −Δ / (64 H⁴) (the discriminant is −4 b² H⁴ · 16): exact in
         # relative terms even as b -> 0 (Δ -> 0−), where 3 e2² − G2 cancels.
-        h4h, h4l = _dd_mul(H2h, H2l, H2h, H2l)
-        b2h, b2l = _dd_div(-dh, -dl, 64.0 * h4h, 64.0 * h4l)
-    Hh, Hl = _dd_sqrt(H2h, H2l)
+        h4h, h4l = dd_mul(H2h, H2l, H2h, H2l)
+        b2h, b2l = dd_div(-dh, -dl, 64.0 * h4h, 64.0 * h4l)
+    Hh, Hl = dd_sqrt(H2h, H2l)
     # m = 1/2 − 3e2/(4H), mc = 1/2 + 3e2/(4H); the one that would cancel is
     # rewritten with (2H − 3e2)(2H + 3e2) = 4 b².
-    t3h, t3l = _dd_mul_d(e2h, e2l, 3.0)
+    t3h, t3l = dd_mul_d(e2h, e2l, 3.0)
     if e2h >= 0.0:
-        Dh, Dl = _dd_add(2.0 * Hh, 2.0 * Hl, t3h, t3l)  # 2H + 3 e2
-        xh, xl = _dd_mul(Hh, Hl, Dh, Dl)
-        m_h, m_l = _dd_div(b2h, b2l, xh, xl)
-        mch, mcl = _dd_div(Dh, Dl, 4.0 * Hh, 4.0 * Hl)
+        Dh, Dl = dd_add(2.0 * Hh, 2.0 * Hl, t3h, t3l)  # 2H + 3 e2
+        xh, xl = dd_mul(Hh, Hl, Dh, Dl)
+        m_h, m_l = dd_div(b2h, b2l, xh, xl)
+        mch, mcl = dd_div(Dh, Dl, 4.0 * Hh, 4.0 * Hl)
     else:
-        Dh, Dl = _dd_add(2.0 * Hh, 2.0 * Hl, -t3h, -t3l)  # 2H − 3 e2
-        xh, xl = _dd_mul(Hh, Hl, Dh, Dl)
-        mch, mcl = _dd_div(b2h, b2l, xh, xl)
-        m_h, m_l = _dd_div(Dh, Dl, 4.0 * Hh, 4.0 * Hl)
-    kch, kcl = _dd_sqrt(mch, mcl)
-    lh, ll = _dd_sqrt(Hh, Hl)  # the argument scale is sqrt(H)
+        Dh, Dl = dd_add(2.0 * Hh, 2.0 * Hl, -t3h, -t3l)  # 2H − 3 e2
+        xh, xl = dd_mul(Hh, Hl, Dh, Dl)
+        mch, mcl = dd_div(b2h, b2l, xh, xl)
+        m_h, m_l = dd_div(Dh, Dl, 4.0 * Hh, 4.0 * Hl)
+    kch, kcl = dd_sqrt(mch, mcl)
+    lh, ll = dd_sqrt(Hh, Hl)  # the argument scale is sqrt(H)
     b = math.sqrt(b2h)
     return (-1.0, -0.5 * e2 * t, e2 * t, b * t, -1.0, e2 * t, Hh * t,
             lh * rt, ll * rt, m_h, mch, kch, kcl)
 
 
-@_jit
+@numba.njit(**NJIT_OPTIONS)
 def wp_roots_kernel(g2, g3):
     """Roots of 4x³ − g2 x − g3, numba kernel.
 
@@ -324,27 +326,11 @@ def wp_roots_kernel(g2, g3):
         * g2 = g3 = 0: ``(0.0, 0.0, 0.0, 0.0)``.
         Non-finite input gives NaNs.
     """
-    kind, r1, r2, r3, ds, base, lam2, lh, ll, m, mc, kch, kcl = _wp_setup(g2, g3)
+    kind, r1, r2, r3, ds, base, lam2, lh, ll, m, mc, kch, kcl = wp_lattice_kernel(g2, g3)
     return r1, r2, r3, ds
 
 
-@_jit
-def wp_lattice_kernel(g2, g3):
-    """Lattice data of ℘(·; g2, g3) for repeated ``wp_eval_kernel`` calls.
-
-    ``wp_kernel(z, g2, g3)`` spends roughly half of its time deriving the
-    roots and the period from (g2, g3); a caller evaluating many z for the
-    same invariants can do that once.
-
-    Returns
-    -------
-    tuple of 13 floats
-        Opaque (its layout may change); pass it to ``wp_eval_kernel``.
-    """
-    return _wp_setup(g2, g3)
-
-
-@_jit
+@numba.njit(**NJIT_OPTIONS)
 def wp_eval_kernel(z, lattice):
     """``wp_kernel`` with the lattice data precomputed by ``wp_lattice_kernel``.
 
@@ -363,7 +349,7 @@ def wp_eval_kernel(z, lattice):
         return math.nan, math.nan
     if z == 0.0:
         return math.inf, -math.copysign(math.inf, z)
-    vh, vl = _dd_mul_safe(lh, ll, z, 0.0)
+    vh, vl = dd_mul_safe(lh, ll, z, 0.0)
     if mc == 0.0:
         # Δ = 0 with g3 < 0: m = 1, sn = tanh, cn = dn = sech.
         # First order in the low part keeps sech(v) ~ 2 exp(-v) relatively
@@ -373,7 +359,7 @@ def wp_eval_kernel(z, lattice):
         sn = th + cn * cn * vl
         dn = cn
     else:
-        sn, cn, dn, n, a = _reduce_eval(vh, vl, m, mc, kch, kcl)
+        sn, cn, dn, n, a = ellipj_kc_dd_kernel(vh, vl, m, mc, kch, kcl)
     if sn == 0.0:
         return math.inf, -math.copysign(math.inf, sn)
     lam3 = lam2 * lh
@@ -392,7 +378,7 @@ def wp_eval_kernel(z, lattice):
     return wp_, wpp_
 
 
-@_jit
+@numba.njit(**NJIT_OPTIONS)
 def wp_kernel(z, g2, g3):
     """Weierstrass ℘(z; g2, g3) and ℘′ for real z, numba kernel.
 
@@ -414,10 +400,10 @@ def wp_kernel(z, g2, g3):
         of ℘; relative to |z ℘″| eps next to the zero of ℘′ at z = ω),
         including next to the poles and for |z| up to ~1e3 ω and beyond.
     """
-    return wp_eval_kernel(z, _wp_setup(g2, g3))
+    return wp_eval_kernel(z, wp_lattice_kernel(g2, g3))
 
 
-@_jit
+@numba.njit(**NJIT_OPTIONS)
 def wp_half_period_kernel(g2, g3):
     """Real half-period ω of ℘(·; g2, g3), numba kernel.
 
@@ -428,19 +414,19 @@ def wp_half_period_kernel(g2, g3):
         Δ > 0, K(m)/sqrt(H) for Δ < 0; ``inf`` when there is no real period
         (g2 = g3 = 0, or Δ = 0 with g3 < 0).
     """
-    kind, r1, r2, r3, ds, base, lam2, lh, ll, m, mc, kch, kcl = _wp_setup(g2, g3)
+    kind, r1, r2, r3, ds, base, lam2, lh, ll, m, mc, kch, kcl = wp_lattice_kernel(g2, g3)
     if kind == 0.0:
         return math.inf
     if not kind == kind:
         return math.nan
-    Kh, Kl = _ellipk_dd(kch, kcl)
+    Kh, Kl = ellipk_kc_dd_kernel(kch, kcl)
     if Kh == math.inf:
         return math.inf
-    oh, ol = _dd_div(Kh, Kl, lh, ll)
+    oh, ol = dd_div(Kh, Kl, lh, ll)
     return oh
 
 
-@_jit
+@numba.njit(**NJIT_OPTIONS)
 def wp_inverse_kernel(w, g2, g3):
     """The z in (0, ω] with ℘(z) = w, numba kernel.
 
@@ -466,7 +452,7 @@ def wp_inverse_kernel(w, g2, g3):
     ℘ = e2 + H (1 + cn 2v)/(1 − cn 2v) through
     am(2v) = atan2(2 sqrt(X), X − 1), X = (w − e2)/H, and F.
     """
-    kind, r1, r2, r3, ds, base, lam2, lh, ll, m, mc, kch, kcl = _wp_setup(g2, g3)
+    kind, r1, r2, r3, ds, base, lam2, lh, ll, m, mc, kch, kcl = wp_lattice_kernel(g2, g3)
     if not (abs(w) < math.inf and kind == kind):
         return math.nan
     if kind == 0.0:
@@ -475,12 +461,12 @@ def wp_inverse_kernel(w, g2, g3):
         return math.nan
     x = w - base
     if x < 0.0:
-        if x >= -INVERSE_CLAMP_ULPS * _EPS * (abs(base) + lam2):
+        if x >= -INVERSE_CLAMP_ULPS * EPS * (abs(base) + lam2):
             x = 0.0
         else:
             return math.nan
     if kind > 0.0:
-        return _carlson_rf(x, x + mc * lam2, x + lam2)
+        return carlson_rf_kernel(x, x + mc * lam2, x + lam2)
     X = x / lam2
     phi2 = math.atan2(2.0 * math.sqrt(X), (x - lam2) / lam2)
     return ellipf_kernel(phi2, m, mc) / (2.0 * (lh + ll))
@@ -491,7 +477,7 @@ def wp_inverse_kernel(w, g2, g3):
 # ---------------------------------------------------------------------------
 
 
-@numba.njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def _wp_loop(z, g2, g3, out_wp, out_wpp):
     for i in range(z.shape[0]):
         a, b = wp_kernel(z[i], g2[i], g3[i])
@@ -499,7 +485,7 @@ def _wp_loop(z, g2, g3, out_wp, out_wpp):
         out_wpp[i] = b
 
 
-@numba.njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def _wp_roots_loop(g2, g3, o1, o2, o3, o4):
     for i in range(g2.shape[0]):
         a, b, c, d = wp_roots_kernel(g2[i], g3[i])
@@ -509,13 +495,13 @@ def _wp_roots_loop(g2, g3, o1, o2, o3, o4):
         o4[i] = d
 
 
-@numba.njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def _wp_half_period_loop(g2, g3, out):
     for i in range(g2.shape[0]):
         out[i] = wp_half_period_kernel(g2[i], g3[i])
 
 
-@numba.njit(cache=True)
+@numba.njit(**NJIT_OPTIONS)
 def _wp_inverse_loop(w, g2, g3, out):
     for i in range(w.shape[0]):
         out[i] = wp_inverse_kernel(w[i], g2[i], g3[i])
@@ -527,11 +513,11 @@ def _wp_inverse_loop(w, g2, g3, out):
 
 
 def _wp_eval(z, g2, g3):
-    za = _finite_f64("z", z)
-    g2a = _finite_f64("g2", g2)
-    g3a = _finite_f64("g3", g3)
+    za = finite_f64("z", z)
+    g2a = finite_f64("g2", g2)
+    g3a = finite_f64("g3", g3)
     scalar = za.ndim == 0 and g2a.ndim == 0 and g3a.ndim == 0
-    shape, (zf, g2f, g3f) = _flat(za, g2a, g3a)
+    shape, (zf, g2f, g3f) = flat(za, g2a, g3a)
     o1 = np.empty(zf.shape[0])
     o2 = np.empty(zf.shape[0])
     _wp_loop(zf, g2f, g3f, o1, o2)
@@ -561,7 +547,7 @@ def wp(z, g2, g3):
         Non-finite input.
     """
     o1, o2, shape, scalar = _wp_eval(z, g2, g3)
-    return _out(o1, shape, scalar)
+    return unflat(o1, shape, scalar)
 
 
 def wpp(z, g2, g3):
@@ -585,7 +571,7 @@ def wpp(z, g2, g3):
         Non-finite input.
     """
     o1, o2, shape, scalar = _wp_eval(z, g2, g3)
-    return _out(o2, shape, scalar)
+    return unflat(o2, shape, scalar)
 
 
 def wp_roots(g2, g3):
@@ -608,13 +594,13 @@ def wp_roots(g2, g3):
     ValueError
         Non-finite input.
     """
-    g2a = _finite_f64("g2", g2)
-    g3a = _finite_f64("g3", g3)
+    g2a = finite_f64("g2", g2)
+    g3a = finite_f64("g3", g3)
     scalar = g2a.ndim == 0 and g3a.ndim == 0
-    shape, (g2f, g3f) = _flat(g2a, g3a)
+    shape, (g2f, g3f) = flat(g2a, g3a)
     outs = [np.empty(g2f.shape[0]) for _ in range(4)]
     _wp_roots_loop(g2f, g3f, *outs)
-    return tuple(_out(o, shape, scalar) for o in outs)
+    return tuple(unflat(o, shape, scalar) for o in outs)
 
 
 def wp_half_period(g2, g3):
@@ -636,15 +622,15 @@ def wp_half_period(g2, g3):
     ValueError
         Non-finite input.
     """
-    g2a = _finite_f64("g2", g2)
-    g3a = _finite_f64("g3", g3)
+    g2a = finite_f64("g2", g2)
+    g3a = finite_f64("g3", g3)
     scalar = g2a.ndim == 0 and g3a.ndim == 0
-    shape, (g2f, g3f) = _flat(g2a, g3a)
+    shape, (g2f, g3f) = flat(g2a, g3a)
     out = np.empty(g2f.shape[0])
     _wp_half_period_loop(g2f, g3f, out)
     if np.isnan(out).any():
         raise FloatingPointError("wp_half_period: internal error, NaN produced from finite input")
-    return _out(out, shape, scalar)
+    return unflat(out, shape, scalar)
 
 
 def wp_inverse(w, g2, g3):
@@ -668,11 +654,11 @@ def wp_inverse(w, g2, g3):
     ValueError
         Non-finite input, or w below the minimum of ℘ on the real axis.
     """
-    wa = _finite_f64("w", w)
-    g2a = _finite_f64("g2", g2)
-    g3a = _finite_f64("g3", g3)
+    wa = finite_f64("w", w)
+    g2a = finite_f64("g2", g2)
+    g3a = finite_f64("g3", g3)
     scalar = wa.ndim == 0 and g2a.ndim == 0 and g3a.ndim == 0
-    shape, (wf, g2f, g3f) = _flat(wa, g2a, g3a)
+    shape, (wf, g2f, g3f) = flat(wa, g2a, g3a)
     out = np.empty(wf.shape[0])
     _wp_inverse_loop(wf, g2f, g3f, out)
     bad = np.isnan(out)
@@ -684,4 +670,4 @@ def wp_inverse(w, g2, g3):
             f"w must be >= min of wp on the real axis ({lo!r} for g2={g2f[i]!r}, "
             f"g3={g3f[i]!r}); got w={wf[i]!r}"
         )
-    return _out(out, shape, scalar)
+    return unflat(out, shape, scalar)

@@ -1,4 +1,5 @@
-"""mpmath references for mbm.approximants.belendez2007 (the third paper, Beléndez et al. 2007).
+"""mpmath references for the exact pendulum flow, mbm.special.pendulum_flow, and the
+approximants of mbm.approximants.belendez2007 (the third paper, Beléndez et al. 2007).
 
 Everything is computed from the *exact* binary values of the float inputs at
 high precision (``DPS`` digits), independently of the numba code: the libration
@@ -136,7 +137,7 @@ def harmonic_error_mp(amplitude, npts=400, dps=30):
 
 # --- reference cases (θ₀, θ̇₀, ω) and their time grids ----------------------------
 
-# Goal 1 of the brief: libration at 0.99π, rotation at 2.5ω, near-separatrix
+# The accuracy-target cases: libration at 0.99π, rotation at 2.5ω, near-separatrix
 # libration at 2ω(1 − 1e-6), ω ∈ {1, 3}; 0 ≤ t ≤ 100.
 GOAL_CASES = [
     (0.99 * np.pi, 0.0, 1.0),

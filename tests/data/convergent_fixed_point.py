@@ -1,7 +1,7 @@
 """Reference solutions of θ'' + βθ' + ω² sin θ = γ to ~1e-30, in fixed-point integer arithmetic.
 
-Independent of mbm's kernels (pure Python integers, mpmath's fixed-point
-sine/cosine): a Taylor integrator of degree REF_DEGREE with step REF_STEP, every
+Independent of mbm's kernels and of the benchmark (pure Python integers, mpmath's
+fixed-point sine/cosine): a Taylor integrator of degree REF_DEGREE with step REF_STEP, every
 quantity an integer scaled by 2^REF_BITS.  ``examples/convergence_study.py``
 writes ``tests/data/convergent_reference.npz`` with it, and
 ``tests/test_convergent.py`` uses :func:`local_step` for true local errors.
@@ -17,8 +17,6 @@ radius of convergence), so the fixed-point scale never under- or overflows:
 """
 
 from fractions import Fraction
-
-from mbm import bench as _bench
 
 # 2^-128 ≈ 3e-39 per operation: 1.6e5 steps of ~1e3 operations stay below 1e-30.
 REF_BITS = 128
@@ -47,11 +45,36 @@ def _to_hi_lo(X):
 def _step(X, V, h, cst, degree):
     """One Taylor step of length h (Fraction) from fixed-point (X, V).
 
-    The recurrence is the benchmark's (:func:`mbm.bench._fp_step`: plain integer
-    arithmetic and mpmath's fixed-point sine, no code of the kernels it checks).
+    ``cst`` = (βh, γh², ω²h², h) scaled by 2^REF_BITS (:func:`_constants`); the
+    recurrence is the one in this module's docstring, in plain integer arithmetic
+    with mpmath's fixed-point sine and cosine (no code of the kernels it checks).
+    The benchmark's reference (``benchmarks/references.py``) has its own copy;
+    ``tests/test_bench.py`` checks that the two give the same integers.
     """
-    assert REF_BITS == _bench.REF_BITS
-    return _bench._fp_step(X, V, cst, degree)
+    from mpmath.libmp import from_man_exp, mpf_cos_sin, to_fixed
+
+    P = REF_BITS
+    bh, gh2, wh2, H = cst
+    A = [0] * (degree + 1)
+    JA = [0] * (degree + 1)  # j A_j
+    A[0] = X
+    A[1] = JA[1] = (V * H) >> P
+    c0, s0 = mpf_cos_sin(from_man_exp(X, -P), P + 16)
+    S = [to_fixed(s0, P)]
+    C = [to_fixed(c0, P)]
+    A[2] = (gh2 - ((bh * A[1] + wh2 * S[0]) >> P)) // 2
+    JA[2] = 2 * A[2]
+    for k in range(1, degree - 1):
+        ss = 0
+        cc = 0
+        for j in range(1, k + 1):
+            ss += JA[j] * C[k - j]
+            cc += JA[j] * S[k - j]
+        S.append((ss >> P) // k)
+        C.append(-((cc >> P) // k))
+        A[k + 2] = (-((bh * (k + 1) * A[k + 1] + wh2 * S[k]) >> P)) // ((k + 1) * (k + 2))
+        JA[k + 2] = (k + 2) * A[k + 2]
+    return sum(A), (sum(JA) << P) // H
 
 
 def _constants(beta, gamma, omega, h):

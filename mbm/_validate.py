@@ -1,0 +1,163 @@
+"""Argument checks shared by every entry point: one rule for each argument.
+
+:class:`mbm.MBM`, :func:`mbm.solve`, :func:`mbm.solve_batch`, :func:`mbm.reference`
+and the event-point functions validate through these, so a span, a state or a
+tolerance is accepted or refused in the same way everywhere.  Each failure is a
+``ValueError`` (``TypeError`` for a value of the wrong kind) naming the argument and
+the allowed range.  A leaf module: it imports nothing of mbm.
+"""
+
+import math
+import warnings
+
+import numba
+import numpy as np
+
+__all__ = [
+    "RTOL_FLOOR",
+    "DEFAULT_MAX_WINDOWS",
+    "check_real",
+    "check_positive",
+    "check_span",
+    "check_state",
+    "check_tolerances",
+    "check_t_eval",
+    "check_max_windows",
+    "warn_extraneous",
+]
+
+# scipy's rule for rtol (OdeSolver.validate_tol): below 100 machine epsilons the
+# round-off of a window's end state is as large as the tolerance, so the tolerance is
+# raised to this floor with a warning.  One policy for every entry point.
+RTOL_FLOOR = 100 * np.finfo(float).eps
+
+# Windows a run may take before it stops with a failure status: 10⁷ windows are
+# 2–10 s of compute (0.3–1 µs a Taylor window), far past any run of the benchmark
+# (≤ 10⁵), so only a runaway (e.g. a backward run of a damped scene, which grows like
+# e^{β|t|}) reaches it.
+DEFAULT_MAX_WINDOWS = 10**7
+
+def check_real(name, value):
+    """``value`` as a finite float, or an error naming ``name``."""
+    if isinstance(value, (bool, np.bool_)):
+        raise TypeError(f"{name} must be a real number, got {value!r}")
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name} must be a real number, got {value!r}") from None
+    if not math.isfinite(v):
+        raise ValueError(f"{name} must be finite, got {value!r}")
+    return v
+
+
+def check_positive(name, value, allow_inf=False):
+    """``value`` as a float > 0 (finite unless ``allow_inf``), or an error naming ``name``."""
+    if isinstance(value, (bool, np.bool_)):
+        raise TypeError(f"{name} must be a positive real number, got {value!r}")
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name} must be a positive real number, got {value!r}") from None
+    if not (v > 0.0) or math.isnan(v) or (math.isinf(v) and not allow_inf):
+        raise ValueError(
+            f"{name} must be a positive {'number' if allow_inf else 'finite number'}, got {value!r}"
+        )
+    return v
+
+
+def check_span(t_span, allow_empty=True):
+    """``(t0, t_bound)`` as finite floats; ``allow_empty=False`` refuses t0 == t_bound."""
+    try:
+        if len(t_span) != 2:
+            raise ValueError
+        t0, t1 = float(t_span[0]), float(t_span[1])
+    except (TypeError, ValueError, IndexError):
+        raise ValueError(f"t_span must be a pair of real numbers (t0, t_bound), got {t_span!r}") from None
+    if not (math.isfinite(t0) and math.isfinite(t1)):
+        raise ValueError(f"t_span must be finite, got {t_span!r}")
+    if not allow_empty and t0 == t1:
+        raise ValueError(f"t_span must have t0 != t_bound, got {t_span!r}")
+    return t0, t1
+
+
+def check_state(name, y0):
+    """``y0`` as a finite float array of shape (2,), or a ValueError naming ``name``."""
+    try:
+        y = np.asarray(y0, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be array_like of 2 real numbers [theta, theta'], got {y0!r}") from None
+    if y.shape != (2,):
+        raise ValueError(f"{name} must have shape (2,) ([theta, theta']), got shape {y.shape}")
+    if not np.all(np.isfinite(y)):
+        raise ValueError(f"{name} must be finite, got {y0!r}")
+    return y
+
+
+def check_tolerances(rtol, atol, stacklevel=3):
+    """``(rtol, atol)`` as floats: positive and finite; rtol below :data:`RTOL_FLOOR`
+    is raised to it with a warning (scipy's rule)."""
+    rtol = check_positive("rtol", rtol)
+    atol = check_positive("atol", atol)
+    if rtol < RTOL_FLOOR:
+        warnings.warn(
+            f"rtol={rtol!r} is below 100 machine epsilons; using rtol={RTOL_FLOOR:.3g}",
+            stacklevel=stacklevel,
+        )
+        rtol = RTOL_FLOOR
+    return rtol, atol
+
+
+@numba.njit(cache=True)
+def _t_eval_problem(t_eval, t0, t1, strict):
+    # 0 ok, 1 non-finite, 2 outside t_span, 3 not sorted in the direction of
+    # integration.  Compiled: on a short run this check is a visible part of the
+    # per-call cost.
+    lo, hi = min(t0, t1), max(t0, t1)
+    direction = 1.0 if t1 >= t0 else -1.0
+    for i in range(t_eval.size):
+        x = t_eval[i]
+        if not math.isfinite(x):
+            return 1
+        if x < lo or x > hi:
+            return 2
+        if i > 0:
+            d = direction * (x - t_eval[i - 1])
+            if d < 0.0 or (strict and d == 0.0):
+                return 3
+    return 0
+
+
+def check_t_eval(t_eval, t0, t1, strict=False):
+    """``t_eval`` as a contiguous float array within the span, sorted in the direction
+    of integration (``strict``: strictly), or a ValueError."""
+    te = np.ascontiguousarray(t_eval, dtype=float).reshape(-1)
+    problem = _t_eval_problem(te, t0, t1, strict)
+    if problem == 1:
+        raise ValueError("t_eval must be finite")
+    if problem == 2:
+        raise ValueError(f"t_eval must lie within t_span {(t0, t1)!r}")
+    if problem == 3:
+        raise ValueError(
+            f"t_eval must be {'strictly monotonic' if strict else 'sorted'} in the direction of "
+            f"integration ({'increasing' if t1 >= t0 else 'decreasing'})"
+        )
+    return te
+
+
+def check_max_windows(max_windows):
+    """``max_windows`` as an int ≥ 1, or a ValueError."""
+    if isinstance(max_windows, (bool, np.bool_)) or not isinstance(max_windows, (int, np.integer)):
+        raise ValueError(f"max_windows must be an integer >= 1, got {max_windows!r}")
+    if max_windows < 1:
+        raise ValueError(f"max_windows must be an integer >= 1, got {max_windows!r}")
+    return int(max_windows)
+
+
+def warn_extraneous(extraneous, stacklevel=3):
+    """Warn that options in ``extraneous`` have no effect (scipy's ``warn_extraneous``)."""
+    if extraneous:
+        warnings.warn(
+            "The following arguments have no effect for the MBM solver: "
+            + ", ".join(f"`{x}`" for x in extraneous),
+            stacklevel=stacklevel,
+        )

@@ -1,0 +1,610 @@
+"""THE compiled window loop of the moving boundary method, and its two controllers.
+
+Every path runs a scene through :func:`_run`: :class:`mbm.MBM` (a step of one or
+more windows, their formulas stored for the dense output), :func:`mbm.solve`
+(outputs at ``t_eval`` or the window ends) and :func:`mbm.solve_batch` (one run
+per scene under ``prange``).  So the paths take the same windows and give the same
+answers bit for bit.
+
+A window, as (3.29)–(3.31) of the second paper: the approximant is anchored at the
+state reached (:func:`anchor`), and the state at the window end is the formula's
+value there.  The approximant's *step* (:func:`step`) returns that value and its
+local error estimate; a *controller* decides: :func:`fixed_window` (τ, cut at the
+span's end) or :func:`adaptive_window` (the controller of scipy's RK methods,
+Hairer–Nørsett–Wanner II.4, on the approximant's estimate).  A rejected window
+re-evaluates the same anchored formula at a shorter length.
+
+The scalars of a run live in one record of dtype :data:`RUN` (a numpy structured
+array of length 1, or one row per scene in a batch): model, state, controller
+options, budget and progress.  :func:`run` reads it, advances, and writes the state
+reached back, so a caller may resume a run where it stopped.
+
+Compiled dispatch: numba cannot cache a kernel that takes another kernel as an
+argument, so the approximants the loop runs are chosen by an integer kind
+(:data:`COMPILED_KINDS`, from the approximant's declared ``compiled_kind``) in
+:func:`anchor`, :func:`evaluate` and :func:`estimate`.  The loop is compiled once
+per kind (:func:`run_taylor`, ...: :func:`_run` with the kind a constant, the
+other kinds' branches pruned), so a first run compiles only the kernels it uses.
+Adding a compiled approximant means, all in this file: one entry in
+:data:`COMPILED_KINDS`, one branch in each of those three functions, and its
+entries in :data:`RUNNERS` and the evaluators.
+"""
+
+import math
+
+import numba
+import numpy as np
+
+from .approximants.belendez2007 import belendez_anchor_kernel, belendez_eval_kernel
+from .approximants.salas2022 import salas_torque_anchor, salas_torque_eval
+from .approximants.splitting import split_anchor, split_error_kernel, split_eval_kernel
+from .approximants.taylor import taylor_coefficients, taylor_error_kernel, taylor_eval_kernel
+
+__all__ = [
+    "RUN",
+    "COMPILED_KINDS",
+    "CONTROLLER_FIXED",
+    "CONTROLLER_ADAPTIVE",
+    "STATUS_OK",
+    "STATUS_TOO_SMALL",
+    "STATUS_ANCHOR",
+    "STATUS_NONFINITE",
+    "STATUS_MAX_WINDOWS",
+    "STATUS_INTERRUPTED",
+    "STATUS_PAUSED",
+    "STATUS_MESSAGES",
+    "kind_of",
+    "plan_windows",
+    "new_run",
+    "anchor",
+    "evaluate",
+    "estimate",
+    "step",
+    "fixed_window",
+    "adaptive_window",
+    "first_window",
+    "run",
+    "run_taylor",
+    "run_exact",
+    "run_salas_torque",
+    "run_split",
+    "RUNNERS",
+    "run_batch",
+    "evaluate_windows",
+]
+
+# Kinds of the compiled dispatch: ``compiled_kind`` name -> (id, the approximant's
+# eval kernel).  The kernel is checked against the approximant's own, so a subclass
+# that overrides its formula never runs the parent's compiled kernels.
+KIND_TAYLOR = 0
+KIND_EXACT = 1
+KIND_SALAS_TORQUE = 2
+KIND_SPLIT = 3
+COMPILED_KINDS = {
+    "taylor": (KIND_TAYLOR, taylor_eval_kernel),
+    "exact": (KIND_EXACT, belendez_eval_kernel),
+    "salas-torque": (KIND_SALAS_TORQUE, salas_torque_eval),
+    "split": (KIND_SPLIT, split_eval_kernel),
+}
+
+CONTROLLER_FIXED = 0
+CONTROLLER_ADAPTIVE = 1
+
+# Adaptive controller, as scipy's RK controller (Hairer–Nørsett–Wanner II.4): a
+# safety factor below 1 keeps most windows accepted, the growth cap keeps one lucky
+# estimate from jumping past the region the estimate describes (scipy caps at 10; 5
+# because an estimate near the series' radius is least reliable), and the shrink
+# floor keeps a bad estimate from collapsing the window.
+SAFETY = 0.9
+MAX_FACTOR = 5.0
+MIN_FACTOR = 0.2
+# First-window search: start from a quarter of the small-oscillation period and
+# correct it by the estimate's own h^(p+1) scaling this many times (the anchor is
+# computed once; each correction costs one evaluation and one estimate).
+FIRST_WINDOW_PERIODS = 0.25
+FIRST_WINDOW_ITERS = 4
+# A window shorter than this many ulps of t cannot advance t: fail instead of looping.
+MIN_WINDOW_ULPS = 10.0
+_EPS = 2.220446049250313e-16
+
+# The per-window pieces are inlined into each kind's entry (run_taylor, ...): with
+# the kind a constant there, numba prunes the other kinds' branches before compiling.
+_INLINE = dict(cache=True, inline="always")
+
+STATUS_OK = 0
+STATUS_TOO_SMALL = 1
+STATUS_ANCHOR = 2
+STATUS_NONFINITE = 3
+STATUS_MAX_WINDOWS = 4
+STATUS_INTERRUPTED = 5
+# Not a failure: the call stopped at its window budget or a full window store and
+# the run may be resumed (the caller's loop, which is where Ctrl-C is honoured).
+STATUS_PAUSED = -1
+
+#: What each status means (the ``message`` of a result).
+STATUS_MESSAGES = {
+    STATUS_OK: "The solver successfully reached the end of the integration interval.",
+    STATUS_TOO_SMALL: "Required window is below the spacing of floating point numbers "
+    "(the tolerance cannot be met).",
+    STATUS_ANCHOR: "The approximant cannot be anchored at the state reached (outside its domain).",
+    STATUS_NONFINITE: "The approximant produced a non-finite state (outside its domain).",
+    STATUS_MAX_WINDOWS: "The run took max_windows windows without reaching the end of the "
+    "interval (raise max_windows for a longer run).",
+    STATUS_INTERRUPTED: "Interrupted (KeyboardInterrupt) before the end of the interval.",
+}
+
+
+#: The run record.  One row per scene; :func:`run` reads every field and writes the
+#: state fields back.
+RUN = np.dtype(
+    [
+        # model θ'' + βθ' + ω² sin θ = γ
+        ("beta", np.float64),
+        ("gamma", np.float64),
+        ("omega", np.float64),
+        # state: the run's position on entry, the state reached on return
+        ("t", np.float64),
+        ("theta", np.float64),
+        ("v", np.float64),
+        ("t_bound", np.float64),
+        # approximant: COMPILED_KINDS id and its integer argument
+        ("kind", np.int64),
+        ("karg", np.int64),
+        # controller: CONTROLLER_FIXED or CONTROLLER_ADAPTIVE; h_abs is the next window
+        # length (τ when fixed; the adaptive proposal, ≤ 0 to search it from the
+        # estimate); error_order sets the adaptive exponent −1/(error_order + 1)
+        ("controller", np.int64),
+        ("h_abs", np.float64),
+        ("max_step", np.float64),
+        # longest angle a window may sweep: a window starting at speed θ' is at most
+        # max_dtheta/|θ'| long (inf: no limit; set when solve_ivp looks for events)
+        ("max_dtheta", np.float64),
+        ("rtol", np.float64),
+        ("atol", np.float64),
+        ("error_order", np.int64),
+        # budget and progress
+        ("max_windows", np.int64),  # windows the whole run may take (STATUS_MAX_WINDOWS past it)
+        ("call_windows", np.int64),  # windows one call may take before pausing (≤ 0: no limit)
+        ("n_windows", np.int64),  # windows taken so far
+        ("j", np.int64),  # next index of t_eval to fill
+        ("status", np.int64),
+    ],
+    align=True,
+)
+
+
+def kind_of(approximant):
+    """``(kind id, kind argument)`` of an approximant the compiled loop runs, or None.
+
+    None when the approximant declares no ``compiled_kind``, or when its eval kernel
+    is not the one the kind dispatches to (a subclass with its own formula).
+    """
+    entry = COMPILED_KINDS.get(approximant.compiled_kind)
+    if entry is None or approximant.eval_kernel is not entry[1]:
+        return None
+    return entry[0], int(approximant.kind_arg)
+
+
+def plan_windows(approximant, tau, max_step, span):
+    """The controller for an approximant: ``(controller, h_abs, error_order)`` or None.
+
+    A given ``tau`` means fixed windows of that length; an exact flow has no
+    truncation error, so one fixed window as long as ``max_step`` allows (the whole
+    ``span`` when it is infinite); an approximant with an error estimate and a
+    compiled kind runs under the adaptive controller (h_abs = −1: the first window is
+    searched from the estimate).  None: the approximant needs a τ from the caller.
+    """
+    if tau is not None:
+        return CONTROLLER_FIXED, float(tau), 0
+    if approximant.exact:
+        return CONTROLLER_FIXED, (max_step if math.isfinite(max_step) else (span or 1.0)), 0
+    if approximant.error_kernel is not None and kind_of(approximant) is not None:
+        return CONTROLLER_ADAPTIVE, -1.0, int(approximant.error_order)
+    return None
+
+
+def new_run(beta, gamma, omega, t0, theta0, v0, t_bound, kind, karg, controller, h_abs,
+            max_step, rtol, atol, error_order, max_windows, call_windows=0, max_dtheta=math.inf):
+    """A run record array of one row, at the start of its run (n_windows = j = status = 0)."""
+    return np.array(
+        [(beta, gamma, omega, t0, theta0, v0, t_bound, kind, karg, controller, h_abs,
+          max_step, max_dtheta, rtol, atol, error_order, max_windows, call_windows, 0, 0, 0)],
+        dtype=RUN,
+    )
+
+
+# ---------------------------------------------------------------------------
+# The approximant's step (compiled dispatch)
+# ---------------------------------------------------------------------------
+
+
+@numba.njit(**_INLINE)
+def anchor(kind, karg, beta, gamma, omega, theta0, v0):
+    """Coefficient vector of approximant ``kind`` anchored at (θ₀, θ̇₀); coef[0] = status."""
+    if kind == KIND_TAYLOR:
+        return taylor_coefficients(beta, gamma, omega, theta0, v0, karg)
+    elif kind == KIND_EXACT:
+        return belendez_anchor_kernel(beta, gamma, omega, theta0, v0)
+    elif kind == KIND_SPLIT:
+        return split_anchor(karg, beta, gamma, omega, theta0, v0)
+    elif kind == KIND_SALAS_TORQUE:
+        return salas_torque_anchor(beta, gamma, omega, theta0, v0)
+    # An unknown kind cannot be anchored: a status, never a formula of another kind.
+    bad = np.full(1, np.nan)
+    bad[0] = -1.0
+    return bad
+
+
+@numba.njit(**_INLINE)
+def evaluate(kind, coef, t):
+    """(θ, θ') of an anchored approximant at time ``t`` from its anchor."""
+    if kind == KIND_TAYLOR:
+        return taylor_eval_kernel(coef, t)
+    elif kind == KIND_EXACT:
+        return belendez_eval_kernel(coef, t)
+    elif kind == KIND_SPLIT:
+        return split_eval_kernel(coef, t)
+    elif kind == KIND_SALAS_TORQUE:
+        return salas_torque_eval(coef, t)
+    return math.nan, math.nan
+
+
+@numba.njit(**_INLINE)
+def estimate(kind, coef, h):
+    """Local error estimate (err_θ, err_θ') of the window [0, h].
+
+    0 for the exact flow and for kinds without an estimate (those run under the
+    fixed controller only).
+    """
+    if kind == KIND_TAYLOR:
+        return taylor_error_kernel(coef, h)
+    elif kind == KIND_SPLIT:
+        return split_error_kernel(coef, h)
+    return 0.0, 0.0
+
+
+@numba.njit(**_INLINE)
+def step(kind, coef, h, with_error):
+    """The approximant's step over [0, h]: ``(theta, v, err_theta, err_v)``.
+
+    The estimate is computed only ``with_error`` (the fixed controller does not read
+    it, and a splitting's estimate costs as much as the step).
+    """
+    theta, v = evaluate(kind, coef, h)
+    if with_error:
+        et, ev = estimate(kind, coef, h)
+        return theta, v, et, ev
+    return theta, v, 0.0, 0.0
+
+
+# ---------------------------------------------------------------------------
+# Controllers
+# ---------------------------------------------------------------------------
+
+
+@numba.njit(**_INLINE)
+def _window_end(t, direction, t_bound, h_abs):
+    t_new = t + direction * h_abs
+    if direction * (t_new - t_bound) > 0.0:
+        t_new = t_bound
+    return t_new
+
+
+@numba.njit(**_INLINE)
+def _error_norm(et, ev, y0, y1, theta, v, rtol, atol):
+    # scipy's RMS norm of the estimate scaled by atol + rtol·max(|y_start|, |y_end|).
+    st = atol + rtol * max(abs(y0), abs(theta))
+    sv = atol + rtol * max(abs(y1), abs(v))
+    return math.sqrt(0.5 * ((et / st) ** 2 + (ev / sv) ** 2))
+
+
+@numba.njit(**_INLINE)
+def fixed_window(kind, coef, t, direction, t_bound, tau):
+    """Fixed controller: one window of length τ (cut at t_bound).
+
+    Returns ``(status, t_new, theta, v)``; a non-finite state fails the window.
+    """
+    t_new = _window_end(t, direction, t_bound, tau)
+    theta, v, _, _ = step(kind, coef, t_new - t, False)
+    if not (math.isfinite(theta) and math.isfinite(v)):
+        return STATUS_NONFINITE, t_new, theta, v
+    return STATUS_OK, t_new, theta, v
+
+
+@numba.njit(**_INLINE)
+def first_window(kind, coef, t, y0, y1, direction, t_bound, omega, max_step, rtol, atol, error_order):
+    """Initial adaptive window length from the anchored formula's own error estimate."""
+    h_abs = min(FIRST_WINDOW_PERIODS * 2.0 * math.pi / omega, max_step)
+    inv = -1.0 / (error_order + 1.0)
+    for _ in range(FIRST_WINDOW_ITERS):
+        h = _window_end(t, direction, t_bound, h_abs) - t
+        theta, v, et, ev = step(kind, coef, h, True)
+        err = _error_norm(et, ev, y0, y1, theta, v, rtol, atol)
+        if not (math.isfinite(err) and math.isfinite(theta) and math.isfinite(v)):
+            h_abs *= MIN_FACTOR
+            continue
+        fac = MAX_FACTOR if err == 0.0 else SAFETY * err**inv
+        h_abs = min(h_abs * min(MAX_FACTOR, max(MIN_FACTOR, fac)), max_step)
+    return h_abs
+
+
+@numba.njit(**_INLINE)
+def adaptive_window(kind, coef, t, y0, y1, direction, t_bound, h_abs, max_step, rtol, atol, error_order):
+    """Adaptive controller: one accepted window under rtol/atol.
+
+    Returns ``(status, t_new, theta, v, h_next)``: the window is accepted when the
+    scaled estimate is ≤ 1, else shortened by the estimate's h^(p+1) scaling and
+    retried (no longer than the rejected one after a rejection).
+    """
+    min_h = MIN_WINDOW_ULPS * _EPS * max(abs(t), 1e-300)
+    h_abs = min(h_abs, max_step)
+    rejected = False
+    inv = -1.0 / (error_order + 1.0)
+    while True:
+        if h_abs < min_h:
+            return STATUS_TOO_SMALL, t, y0, y1, h_abs
+        t_new = _window_end(t, direction, t_bound, h_abs)
+        theta, v, et, ev = step(kind, coef, t_new - t, True)
+        err = _error_norm(et, ev, y0, y1, theta, v, rtol, atol)
+        if math.isfinite(err) and err <= 1.0 and math.isfinite(theta) and math.isfinite(v):
+            fac = MAX_FACTOR if err == 0.0 else min(MAX_FACTOR, SAFETY * err**inv)
+            if rejected:
+                fac = min(1.0, fac)
+            return STATUS_OK, t_new, theta, v, h_abs * fac
+        if math.isfinite(err):
+            h_abs *= max(MIN_FACTOR, SAFETY * err**inv)
+        else:
+            h_abs *= MIN_FACTOR
+        rejected = True
+
+
+# ---------------------------------------------------------------------------
+# The loop
+# ---------------------------------------------------------------------------
+
+
+@numba.njit(**_INLINE)
+def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
+    """Advance the run ``p[0]`` (a :data:`RUN` record) window by window (kind ``kind``).
+
+    Stops at ``t_bound`` (status 0), at a failure (a ``STATUS_*`` code), at
+    ``max_windows`` (:data:`STATUS_MAX_WINDOWS`), or paused
+    (:data:`STATUS_PAUSED`) after ``call_windows`` windows or when the window store
+    is full, or :data:`STATUS_INTERRUPTED` once ``cancel[0]`` is set (by another
+    thread: how a batch running without the GIL honours Ctrl-C).  The state reached, the next window length, the window count and the
+    next output index are written back to ``p[0]``, so a paused run resumes where it
+    stopped.
+
+    Parameters
+    ----------
+    p : ndarray of RUN, shape (1,)
+        The run record.
+    t_eval : ndarray, shape (m,)
+        Output times, monotone in the direction of integration, within the span.
+    out : ndarray, shape (2, m)
+        θ, θ' at ``t_eval``, filled from index ``p[0].j`` on: an output in
+        (t, t_new] comes from that window's formula (the window end repeats the
+        evaluation that produced the state).
+    win_t : ndarray, shape (cap + 1,) or (0,)
+        Window store (empty: none).  ``win_t[i]`` is the start of the call's window
+        i, ``win_t[n]`` the end of its last.
+    win_y : ndarray, shape (cap + 1, 2) or (0, 2)
+        The states at ``win_t``.
+    win_coef : ndarray, shape (cap, width) or (0, width)
+        The windows' coefficient vectors (cut or zero-padded to ``width``; width 0
+        stores none).
+    cancel : ndarray of int64, shape (1,)
+        Checked before each window; non-zero stops the run.
+
+    Returns
+    -------
+    n : int
+        Windows this call took.
+    """
+    r = p[0]
+    karg = r.karg
+    beta, gamma, omega = r.beta, r.gamma, r.omega
+    t, y0, y1, t_bound = r.t, r.theta, r.v, r.t_bound
+    h_abs, max_step, rtol, atol = r.h_abs, r.max_step, r.rtol, r.atol
+    adaptive = r.controller == CONTROLLER_ADAPTIVE
+    error_order = r.error_order
+    direction = 1.0 if t_bound >= t else -1.0
+    budget = r.call_windows
+    store = win_t.size > 0
+    cap = win_t.size - 1
+    width = win_coef.shape[1]
+    ne = t_eval.size
+    j = r.j
+    n = 0
+    n_total = r.n_windows
+    status = STATUS_OK
+    if store:
+        win_t[0] = t
+        win_y[0, 0] = y0
+        win_y[0, 1] = y1
+    while direction * (t_bound - t) > 0.0:
+        if n_total >= r.max_windows:
+            status = STATUS_MAX_WINDOWS
+            break
+        if (budget > 0 and n >= budget) or (store and n >= cap):
+            status = STATUS_PAUSED
+            break
+        if cancel[0] != 0:
+            status = STATUS_INTERRUPTED
+            break
+        coef = anchor(kind, karg, beta, gamma, omega, y0, y1)
+        if coef[0] != 0.0:
+            status = STATUS_ANCHOR
+            break
+        max_step = r.max_step
+        if r.max_dtheta < math.inf and y1 != 0.0:
+            max_step = min(max_step, r.max_dtheta / abs(y1))
+        if adaptive:
+            if h_abs <= 0.0:
+                h_abs = first_window(kind, coef, t, y0, y1, direction, t_bound, omega, max_step, rtol, atol,
+                                     error_order)
+            st, t_new, th, v, h_next = adaptive_window(
+                kind, coef, t, y0, y1, direction, t_bound, h_abs, max_step, rtol, atol, error_order
+            )
+        else:
+            st, t_new, th, v = fixed_window(kind, coef, t, direction, t_bound, min(h_abs, max_step))
+            h_next = h_abs
+        if st != STATUS_OK:
+            status = st
+            break
+        while j < ne and (direction * (t_eval[j] - t_new) <= 0.0):
+            if t_eval[j] == t_new:
+                out[0, j] = th
+                out[1, j] = v
+            else:
+                a, b = evaluate(kind, coef, t_eval[j] - t)
+                out[0, j] = a
+                out[1, j] = b
+            j += 1
+        if store:
+            if width > 0:
+                m = min(coef.size, width)
+                win_coef[n, :m] = coef[:m]
+                win_coef[n, m:] = 0.0
+            win_t[n + 1] = t_new
+            win_y[n + 1, 0] = th
+            win_y[n + 1, 1] = v
+        t, y0, y1, h_abs = t_new, th, v, h_next
+        n += 1
+        n_total += 1
+    # A span of zero length: the outputs are the initial state.
+    while j < ne and n_total == 0 and t_eval[j] == t:
+        out[0, j] = y0
+        out[1, j] = y1
+        j += 1
+    r.t, r.theta, r.v, r.h_abs = t, y0, y1, h_abs
+    r.n_windows = n_total
+    r.j = j
+    r.status = status
+    return n
+
+
+# One entry per kind: the kind is a constant in each, so numba's dead-branch pruning
+# keeps that kind's kernels only (a first run compiles what it uses; measured in the
+# README's cold-start figure).
+@numba.njit(cache=True)
+def run_taylor(p, t_eval, out, win_t, win_y, win_coef, cancel):
+    """:func:`_run` for kind ``"taylor"``; returns the windows taken."""
+    return _run(KIND_TAYLOR, p, t_eval, out, win_t, win_y, win_coef, cancel)
+
+
+@numba.njit(cache=True)
+def run_exact(p, t_eval, out, win_t, win_y, win_coef, cancel):
+    """:func:`_run` for kind ``"exact"``; returns the windows taken."""
+    return _run(KIND_EXACT, p, t_eval, out, win_t, win_y, win_coef, cancel)
+
+
+@numba.njit(cache=True)
+def run_salas_torque(p, t_eval, out, win_t, win_y, win_coef, cancel):
+    """:func:`_run` for kind ``"salas-torque"``; returns the windows taken."""
+    return _run(KIND_SALAS_TORQUE, p, t_eval, out, win_t, win_y, win_coef, cancel)
+
+
+@numba.njit(cache=True)
+def run_split(p, t_eval, out, win_t, win_y, win_coef, cancel):
+    """:func:`_run` for kind ``"split"``; returns the windows taken."""
+    return _run(KIND_SPLIT, p, t_eval, out, win_t, win_y, win_coef, cancel)
+
+
+#: The loop's entry for each kind id.
+RUNNERS = {KIND_TAYLOR: run_taylor, KIND_EXACT: run_exact, KIND_SALAS_TORQUE: run_salas_torque,
+           KIND_SPLIT: run_split}
+
+
+def run(p, t_eval, out, win_t, win_y, win_coef, cancel):
+    """Advance the run ``p[0]``: :func:`_run` through its kind's entry (:data:`RUNNERS`).
+
+    Callers on a hot path fetch ``RUNNERS[kind]`` once and call it directly.
+    """
+    return RUNNERS[int(p[0]["kind"])](p, t_eval, out, win_t, win_y, win_coef, cancel)
+
+
+@numba.njit(cache=True)
+def _run_any(p, t_eval, out, win_t, win_y, win_coef, cancel):
+    # The kind read from the record, for a batch of mixed kinds: calls the entries.
+    kind = p[0].kind
+    if kind == KIND_TAYLOR:
+        return run_taylor(p, t_eval, out, win_t, win_y, win_coef, cancel)
+    elif kind == KIND_EXACT:
+        return run_exact(p, t_eval, out, win_t, win_y, win_coef, cancel)
+    elif kind == KIND_SALAS_TORQUE:
+        return run_salas_torque(p, t_eval, out, win_t, win_y, win_coef, cancel)
+    elif kind == KIND_SPLIT:
+        return run_split(p, t_eval, out, win_t, win_y, win_coef, cancel)
+    p[0].status = STATUS_ANCHOR
+    return 0
+
+
+@numba.njit(cache=True, parallel=True, nogil=True)
+def run_batch(p, t_eval, out, order, cancel):
+    """:func:`run` for every row of ``p`` in parallel (``prange``), in the order ``order``.
+
+    ``out`` has shape (N, 2, m).  Runs without the GIL, so a caller may run it in a
+    thread and set ``cancel[0]`` to stop every scene at its next window.
+    """
+    win_t = np.empty(0)
+    win_y = np.empty((0, 2))
+    win_coef = np.empty((0, 0))
+    for k in numba.prange(order.size):
+        i = order[k]
+        _run_any(p[i:i + 1], t_eval, out[i], win_t, win_y, win_coef, cancel)
+
+
+@numba.njit(**_INLINE)
+def _evaluate_windows(kind, starts, coefs, n, direction, t, out_theta, out_v):
+    """Evaluate a run of ``n`` stored windows (``win_t``, ``win_coef`` of :func:`run`) at ``t``.
+
+    Window i covers [starts[i], starts[i+1]]; a time on an interior boundary takes the
+    later window (whose anchor is the earlier window's end value), the run's end the
+    last window.  Times outside the run are extrapolated by the nearest window.
+    """
+    for j in range(t.size):
+        tj = t[j]
+        # The last window whose start is not after tj (bisection: windows_per_step=None
+        # stores a whole run).
+        lo, hi = 0, n - 1
+        while lo < hi:
+            mid = (lo + hi + 1) // 2
+            if direction * (tj - starts[mid]) >= 0.0:
+                lo = mid
+            else:
+                hi = mid - 1
+        i = lo
+        a, b = evaluate(kind, coefs[i], tj - starts[i])
+        out_theta[j] = a
+        out_v[j] = b
+
+
+@numba.njit(cache=True)
+def _evaluate_windows_taylor(starts, coefs, n, direction, t, out_theta, out_v):
+    _evaluate_windows(KIND_TAYLOR, starts, coefs, n, direction, t, out_theta, out_v)
+
+
+@numba.njit(cache=True)
+def _evaluate_windows_exact(starts, coefs, n, direction, t, out_theta, out_v):
+    _evaluate_windows(KIND_EXACT, starts, coefs, n, direction, t, out_theta, out_v)
+
+
+@numba.njit(cache=True)
+def _evaluate_windows_salas_torque(starts, coefs, n, direction, t, out_theta, out_v):
+    _evaluate_windows(KIND_SALAS_TORQUE, starts, coefs, n, direction, t, out_theta, out_v)
+
+
+@numba.njit(cache=True)
+def _evaluate_windows_split(starts, coefs, n, direction, t, out_theta, out_v):
+    _evaluate_windows(KIND_SPLIT, starts, coefs, n, direction, t, out_theta, out_v)
+
+
+_EVALUATORS = {KIND_TAYLOR: _evaluate_windows_taylor, KIND_EXACT: _evaluate_windows_exact,
+               KIND_SALAS_TORQUE: _evaluate_windows_salas_torque, KIND_SPLIT: _evaluate_windows_split}
+
+
+def evaluate_windows(kind, starts, coefs, n, direction, t, out_theta, out_v):
+    """Evaluate ``n`` stored windows (``win_t``, ``win_coef`` of :func:`run`) of kind
+    ``kind`` at times ``t`` (see :func:`_evaluate_windows`)."""
+    _EVALUATORS[kind](starts, coefs, n, direction, t, out_theta, out_v)
