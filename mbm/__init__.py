@@ -20,7 +20,7 @@ from .approximants import (
     get_approximant,
 )
 from .special.pendulum_flow import pendulum_flow, period
-from .fast import solve, solve_batch
+from .fast import Integrator, solve, solve_batch, solve_njit
 from .problem import Pendulum, identify_model
 from .references import reference
 
@@ -32,6 +32,7 @@ __all__ = [
     "Anchored",
     "Approximant",
     "ApproximantDomainError",
+    "Integrator",
     "Pendulum",
     "approximant_names",
     "get_approximant",
@@ -41,6 +42,7 @@ __all__ = [
     "reference",
     "solve",
     "solve_batch",
+    "solve_njit",
     "successive",
 ]
 

@@ -39,8 +39,6 @@ DEFAULT_MAX_WINDOWS = 10**7
 
 def check_real(name, value):
     """``value`` as a finite float, or an error naming ``name``."""
-    if isinstance(value, (bool, np.bool_)):
-        raise TypeError(f"{name} must be a real number, got {value!r}")
     try:
         v = float(value)
     except (TypeError, ValueError):
@@ -130,7 +128,9 @@ def _t_eval_problem(t_eval, t0, t1, strict):
 def check_t_eval(t_eval, t0, t1, strict=False):
     """``t_eval`` as a contiguous float array within the span, sorted in the direction
     of integration (``strict``: strictly), or a ValueError."""
-    te = np.ascontiguousarray(t_eval, dtype=float).reshape(-1)
+    te = t_eval
+    if not (type(te) is np.ndarray and te.ndim == 1 and te.dtype == np.float64 and te.flags.c_contiguous):
+        te = np.ascontiguousarray(t_eval, dtype=float).reshape(-1)
     problem = _t_eval_problem(te, t0, t1, strict)
     if problem == 1:
         raise ValueError("t_eval must be finite")

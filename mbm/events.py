@@ -230,22 +230,8 @@ def hybrid_event_points(model, t_span, y0, d, kinds=("crossing", "turning"), rto
     crossing, turning, d = _kinds_and_d(kinds, d)
     rtol, atol = check_tolerances(rtol, atol)
 
-    beta, gamma, omega = model.params
-    w2 = omega * omega
-    sin, cos = math.sin, math.cos
-
-    # Callbacks unpack y with tolist(): indexing a numpy array yields numpy scalars,
-    # whose arithmetic is several times slower than float's (these run ~1e5 times).
-    def rhs(t, y, yp):
-        th, v = y.tolist()
-        yp[0] = v
-        yp[1] = gamma - beta * v - w2 * sin(th)
-
-    def jac(t, y, yp, jj):
-        jj[0, 0] = 0.0
-        jj[0, 1] = 1.0
-        jj[1, 0] = -w2 * cos(y[0])
-        jj[1, 1] = -beta
+    rhs, jac = model.sundials_callbacks()
+    # The event callback unpacks y with tolist(), as the model's (numpy scalars are slow).
 
     if crossing and turning:
         def events(t, y, g):

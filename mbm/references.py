@@ -106,28 +106,10 @@ def _sundials_result(res, t_eval, idx):
     )
 
 
-def _rhs_and_jac(model):
-    """Scalar closures of the right-hand side and its Jacobian for SUNDIALS."""
-    beta, gamma, omega = model.params
-    w2 = omega * omega
-
-    def rhs(t, y, yp):
-        yp[0] = y[1]
-        yp[1] = gamma - beta * y[1] - w2 * math.sin(y[0])
-
-    def jac(t, y, yp, jj):
-        jj[0, 0] = 0.0
-        jj[0, 1] = 1.0
-        jj[1, 0] = -w2 * math.cos(y[0])
-        jj[1, 1] = -beta
-
-    return rhs, jac
-
-
 def _solve_cvode(model, t0, tf, y0, t_eval, rtol, atol):
     from sksundae.cvode import CVODE
 
-    rhs, jac = _rhs_and_jac(model)
+    rhs, jac = model.sundials_callbacks()
     solver = CVODE(
         rhs,
         method="Adams",
@@ -146,7 +128,7 @@ def _solve_cvode(model, t0, tf, y0, t_eval, rtol, atol):
 def _solve_ida(model, t0, tf, y0, t_eval, rtol, atol):
     from sksundae.ida import IDA
 
-    rhs, jac = _rhs_and_jac(model)
+    rhs, jac = model.sundials_callbacks()
     f = np.empty(2)
     jf = np.empty((2, 2))
 

@@ -6,8 +6,6 @@ fall monotonically with rtol and stay within 10× of scipy's DOP853 at the same
 rtol/atol (errors against CVODE at 1e-13 on 201 times).
 """
 
-import math
-
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp

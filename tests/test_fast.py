@@ -216,3 +216,62 @@ def test_one_rtol_policy_on_every_path():
     np.testing.assert_array_equal(c.y[0], floor.y)
     with pytest.warns(UserWarning, match="rtol"):
         mbm.reference(model, (0.0, T), y0, rtol=1e-20)
+
+
+@pytest.mark.parametrize("name", ["P1", "P5", "P6"])
+def test_integrator_and_njit_entry_equal_solve(name):
+    model, y0, T = BENCH_SCENES[name]
+    t = np.linspace(0.0, T, 101)
+    ref = mbm.solve(model, (0.0, T), y0, t_eval=t, rtol=1e-8, atol=1e-8)
+    ig = mbm.Integrator(model, rtol=1e-8, atol=1e-8)
+    for _ in range(2):  # reusable: a second solve is the same
+        r = ig.solve((0.0, T), y0, t_eval=t)
+        np.testing.assert_array_equal(r.y, ref.y)
+        assert r.n_windows == ref.n_windows and r.approximant == ref.approximant
+    ends = ig.solve((0.0, T), y0)
+    np.testing.assert_array_equal(ends.y, mbm.solve(model, (0.0, T), y0, rtol=1e-8, atol=1e-8).y)
+    out = np.empty((2, t.size))
+    status, n = mbm.solve_njit(model.beta, model.gamma, model.omega, 0.0, y0[0], y0[1], T, t, out,
+                               1e-8, 1e-8, 10**7)
+    assert status == 0 and n == ref.n_windows
+    np.testing.assert_array_equal(out, ref.y)
+
+
+def test_njit_entry_callable_from_numba():
+    import numba
+
+    @numba.njit
+    def final_angles(gammas, t_end):
+        t = np.array([t_end])
+        out = np.empty((2, 1))
+        res = np.empty(gammas.size)
+        for i in range(gammas.size):
+            mbm.solve_njit(0.1, gammas[i], 1.0, 0.0, 0.0, 0.0, t_end, t, out, 1e-8, 1e-8, 10**7)
+            res[i] = out[0, 0]
+        return res
+
+    gammas = np.array([0.3, 1.2])
+    got = final_angles(gammas, 50.0)
+    for g, th in zip(gammas, got):
+        assert th == mbm.solve(mbm.Pendulum(0.1, g), (0.0, 50.0), [0.0, 0.0], t_eval=[50.0],
+                               rtol=1e-8, atol=1e-8).y[0, 0]
+
+
+def test_integrator_validates_once_and_per_call():
+    with pytest.raises(TypeError, match="Pendulum"):
+        mbm.Integrator(lambda t, y: y)
+    with pytest.raises(ValueError, match="rtol"):
+        mbm.Integrator(EX1, rtol=0.0)
+    with pytest.raises(ValueError, match="compiled"):
+        mbm.Integrator(mbm.Pendulum(0.1, 0.0), approximant="johannessen")
+    ig = mbm.Integrator(EX1)
+    with pytest.raises(ValueError, match="t_span"):
+        ig.solve((0.0, math.nan), EX1_Y0)
+    with pytest.raises(ValueError, match="y0"):
+        ig.solve((0.0, 1.0), [0.0])
+    with pytest.raises(ValueError, match="t_eval"):
+        ig.solve((0.0, 1.0), EX1_Y0, t_eval=[2.0])
+    # the exact flow's one window follows each call's span
+    ex = mbm.Integrator(mbm.Pendulum(0.0, 0.0))
+    for T in (1.0, 1e3):
+        assert ex.solve((0.0, T), [0.3, 0.0]).n_windows == 1

@@ -43,7 +43,8 @@ import math
 import numba
 import numpy as np
 
-from ..problem import Pendulum, check_state
+from .._validate import check_state
+from ..problem import Pendulum
 from .dd import (
     TWO_PI_HI,
     TWO_PI_LO,
