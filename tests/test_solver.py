@@ -317,3 +317,62 @@ def test_many_windows_per_step_same_answer(wps, kw):
 def test_windows_per_step_validated():
     with pytest.raises(ValueError, match="windows_per_step"):
         mbm.MBM(EX1, 0.0, EX1_Y0, 1.0, windows_per_step=0)
+
+
+# ------------------------------------------------------------------ events
+
+
+def _slip(t, y):
+    return np.cos(y[0] / 2.0)
+
+
+def test_events_found_in_every_window():
+    # A running junction (β = 0.2, γ = 0.8, θ'(0) = 4): 127 phase slips by t = 200,
+    # each a zero of cos(θ/2), as DOP853 at 1e-11 finds them.
+    model = mbm.Pendulum(0.2, 0.8)
+    sol = solve_ivp(model, (0.0, 200.0), [0.0, 4.0], method=mbm.MBM, events=_slip, rtol=1e-9, atol=1e-9)
+    dop = solve_ivp(model, (0.0, 200.0), [0.0, 4.0], method="DOP853", events=_slip, rtol=1e-11, atol=1e-11)
+    assert sol.success and len(dop.t_events[0]) == 127
+    assert len(sol.t_events[0]) == 127
+    np.testing.assert_allclose(sol.t_events[0], dop.t_events[0], atol=1e-7)
+
+
+def test_events_with_several_windows_per_step_refused():
+    # solve_ivp looks for events at step ends only: several windows per step would
+    # drop events silently (1 slip of 127), so MBM refuses.
+    with pytest.raises(ValueError, match="windows_per_step"):
+        solve_ivp(mbm.Pendulum(0.2, 0.8), (0.0, 200.0), [0.0, 4.0], method=mbm.MBM, events=_slip,
+                  windows_per_step=None)
+
+
+def test_events_on_the_exact_flow_cut_its_single_window():
+    # β = γ = 0: one window spans the whole run unless events are asked for.
+    model = mbm.Pendulum(0.0, 0.0)
+
+    def turning(t, y):
+        return y[1]
+
+    sol = solve_ivp(model, (0.0, 100.0), [0.0, 1.5], method=mbm.MBM, events=turning)
+    dop = solve_ivp(model, (0.0, 100.0), [0.0, 1.5], method="DOP853", events=turning, rtol=1e-12, atol=1e-12)
+    assert len(dop.t_events[0]) == 26
+    assert len(sol.t_events[0]) == 26
+    np.testing.assert_allclose(sol.t_events[0], dop.t_events[0], atol=1e-8)
+    plain = solve_ivp(model, (0.0, 100.0), [0.0, 1.5], method=mbm.MBM)
+    assert plain.t.size == 2  # no events: the one exact window
+
+
+def test_solve_ivp_events_are_seen_by_the_solver():
+    # MBM reads solve_ivp's `events` argument from its frame (solve_ivp does not pass
+    # it on): check that this still works on the installed scipy.
+    seen = {}
+
+    class Spy(mbm.MBM):
+        def __init__(self, *args, **kwargs):
+            super().__init__(*args, **kwargs)
+            seen["for_events"] = self.for_events
+
+    solve_ivp(EX1, (0.0, 1.0), EX1_Y0, method=Spy, events=_slip)
+    assert seen["for_events"] is True
+    solve_ivp(EX1, (0.0, 1.0), EX1_Y0, method=Spy)
+    assert seen["for_events"] is False
+    assert mbm.MBM(EX1, 0.0, EX1_Y0, 1.0).for_events is False
