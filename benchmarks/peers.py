@@ -64,6 +64,7 @@ DOP_ERROR_EXPONENT = -1.0 / 8.0
 # cache=False on purpose: the compile time of these peers is part of what the
 # benchmark reports, so each process compiles them afresh.
 
+
 @njit(cache=False)
 def _pend_rhs(beta, gamma, w2, th, v):
     return v, gamma - beta * v - w2 * math.sin(th)
@@ -389,8 +390,6 @@ def dop853_run(beta, gamma, w2, theta0, v0, t_eval, rtol, atol, max_steps):
     return out
 
 
-# First-call (JIT compile) seconds of this module's numba peers, filled by
-# _compile_numba_peers: one compile per process, whoever calls first.
 # First-call (JIT compile) seconds of this module's numba peers, filled by
 # compile_numba_peers: one compile per process, whoever calls first.
 _COMPILE_SECONDS = {}

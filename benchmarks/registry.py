@@ -16,6 +16,7 @@ from . import peers
 __all__ = [
     "Solver",
     "RTOL_SWEEP",
+    "HEYOKA_TOL_SWEEP",
     "TAU_SWEEP",
     "H_SWEEP",
     "QUICK_RTOLS",
@@ -30,6 +31,12 @@ __all__ = [
 # error between points, so "cheapest point below the target" wastes at most ~3x
 # in error); atol = rtol because the error is measured absolutely on θ = O(1).
 RTOL_SWEEP = tuple(10.0 ** (-k / 2) for k in range(4, 25))
+
+# heyoka's knob: its one tolerance (relative where |y| > 1, absolute below), from 1e-2
+# down to 1e-15 in half decades: on the running scene (|θ| up to 1.2e4) an absolute
+# error of 1e-9 needs a relative tolerance near 1e-14.  The sweep stops once the error
+# is below the harness's STOP_ERROR, so the extra points cost little elsewhere.
+HEYOKA_TOL_SWEEP = tuple(10.0 ** (-k / 2) for k in range(4, 31))
 
 # MBM fixed windows τ (solve_ivp and mbm.solve), coarse to fine in steps of √2 from
 # 2 (a third of the small-oscillation period; past the Taylor radius of a fast
@@ -169,7 +176,7 @@ def _peer_entries():
     if peers.heyoka_module() is not None:
         hy = peers.HeyokaPeer()
         solvers.append(Solver(
-            "heyoka", "peer", True, "tol", hy.run, rt, qrt,
+            "heyoka", "peer", True, "tol", hy.run, HEYOKA_TOL_SWEEP, qrt,
             "taylor_adaptive (adaptive order and step, LLVM JIT), β, γ, ω² as "
             "runtime parameters; one integrator per tol built once and reused (ta.time, "
             "ta.state, ta.pars set per run, outputs by propagate_grid); build time apart",

@@ -10,8 +10,6 @@ and are stored in ``tests/data/belendez2007_reference.npz``.
 """
 
 import math
-import os
-import sys
 
 import mpmath as mp
 import numpy as np
@@ -32,8 +30,7 @@ from mbm.special.pendulum_flow import (
     period_kernel,
 )
 
-sys.path.insert(0, os.path.join(os.path.dirname(__file__), "data"))
-import belendez2007_mpmath as refmod  # noqa: E402
+import belendez2007_mpmath as refmod  # noqa: E402  tests/data, on pytest's pythonpath
 
 # Accuracy target for t <= 100 against mpmath (θ and θ').
 GOAL_ATOL = 1e-12

@@ -38,11 +38,7 @@ def _reference(model, th0, v0, t):
     bounds its error where the problem amplifies it).
     """
     if model.beta == 0.0 and model.gamma == 0.0:
-        import os
-        import sys
-
-        sys.path.insert(0, os.path.join(os.path.dirname(__file__), "data"))
-        from belendez2007_mpmath import flow_mp
+        from belendez2007_mpmath import flow_mp  # tests/data, on pytest's pythonpath
 
         y = np.array([[float(c) for c in flow_mp(th0, v0, model.omega, tk)] for tk in t]).T
         return y, 0.0
