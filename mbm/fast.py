@@ -15,6 +15,7 @@ import numpy as np
 from . import loop
 from ._validate import (
     DEFAULT_MAX_WINDOWS,
+    RTOL_FLOOR,
     check_max_windows,
     check_positive,
     check_span,
@@ -40,15 +41,15 @@ ENDS_CAPACITY = 64
 # Ctrl-C is honoured): 2^15 windows are 10–300 ms (0.3 µs a Taylor window, ~10 µs a
 # splitting's), and a call costs ~1 µs, so the chunking costs nothing measurable.
 CALL_WINDOWS = 2**15
+# Integrators mbm.solve keeps for repeated option sets (models × tolerances of a
+# sweep or a benchmark loop): building one is most of a short run's fixed cost.
+INTEGRATOR_CACHE = 256
 # How often the thread waiting for a batch wakes to let Ctrl-C in (seconds).
 BATCH_POLL = 0.05
 
-# Word index of each field in a RUN record (all fields are 8 bytes, aligned), for
-# setting and reading them through float64/int64 views of one record: a field access
-# through the record costs ~0.3 µs, a copy of a structured array ~3.5 µs, a view ~0.1.
-_WORD = {name: loop.RUN.fields[name][1] // 8 for name in loop.RUN.names}
-_W_T, _W_THETA, _W_V, _W_TBOUND, _W_H = (_WORD[k] for k in ("t", "theta", "v", "t_bound", "h_abs"))
-_W_STATUS, _W_J, _W_NW = (_WORD[k] for k in ("status", "j", "n_windows"))
+_W = loop.WORD
+_W_T, _W_THETA, _W_V, _W_TBOUND, _W_H = _W["t"], _W["theta"], _W["v"], _W["t_bound"], _W["h_abs"]
+_W_STATUS, _W_J, _W_NW = _W["status"], _W["j"], _W["n_windows"]
 
 _NO_TIMES = np.empty(0)
 _NO_OUT = np.empty((2, 0))
@@ -322,10 +323,23 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
     if not isinstance(model, Pendulum):
         raise TypeError(f"model must be an mbm.Pendulum, got {type(model).__name__}")
     t_span = check_span(t_span)
-    y0 = check_state("y0", y0)
-    ig = Integrator(model, rtol=rtol, atol=atol, approximant=approximant, tau=tau, max_step=max_step,
-                    max_windows=max_windows)
+    y0 = _state(y0)
+    if (type(approximant) is str and type(rtol) is float and type(atol) is float
+            and rtol >= RTOL_FLOOR and (tau is None or type(tau) is float)):
+        # The common call: an Integrator per option set, cached (an Integrator is not
+        # changed by solving; a warning-raising rtol is never cached, so it warns each time).
+        ig = _integrator(model, rtol, atol, approximant, tau, max_step, max_windows)
+    else:
+        ig = Integrator(model, rtol=rtol, atol=atol, approximant=approximant, tau=tau,
+                        max_step=max_step, max_windows=max_windows)
     return ig.solve(t_span, y0, t_eval)
+
+
+@functools.lru_cache(maxsize=INTEGRATOR_CACHE)
+def _integrator(model, rtol, atol, approximant, tau, max_step, max_windows):
+    # Arguments are hashable here; a call that raises is not cached (lru_cache).
+    return Integrator(model, rtol=rtol, atol=atol, approximant=approximant, tau=tau,
+                      max_step=max_step, max_windows=max_windows)
 
 
 _AUTO_TAYLOR = loop.kind_of(get_approximant(auto_name(False)))

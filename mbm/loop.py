@@ -54,6 +54,7 @@ __all__ = [
     "STATUS_PAUSED",
     "STATUS_MESSAGES",
     "kind_of",
+    "WORD",
     "plan_windows",
     "new_run",
     "anchor",
@@ -171,6 +172,13 @@ RUN = np.dtype(
     ],
     align=True,
 )
+
+
+#: Word index of each field of a RUN record (every field is 8 bytes, aligned), for
+#: setting and reading fields through float64/int64 views of a record: a field access
+#: through the record costs ~0.3 µs, a copy of a structured array ~3.5 µs, a view ~0.1.
+WORD = {name: RUN.fields[name][1] // 8 for name in RUN.names}
+assert RUN.itemsize == 8 * len(RUN.names)
 
 
 def kind_of(approximant):

@@ -63,6 +63,9 @@ EVENTS_MAX_DTHETA = math.pi / 4
 # How far up the stack solve_ivp's frame is looked for (MBM.__init__ and its helpers).
 CALLER_FRAMES = 8
 
+_W_T, _W_THETA, _W_STATUS, _W_NW = (loop.WORD[k] for k in ("t", "theta", "status", "n_windows"))
+assert loop.WORD["v"] == _W_THETA + 1  # θ, θ' adjacent: the state is one slice of the record
+
 _NO_TIMES = np.empty(0)
 _NO_OUT = np.empty((2, 0))
 _NEVER = np.zeros(1, dtype=np.int64)
@@ -280,15 +283,19 @@ class MBM(_MBMBase):
             h_abs = min(first_step, run_max_step)
         self.n_windows = 0
         # The run record of the compiled loop (None: windows driven from Python, one
-        # per step, for approximants without a compiled kind).
-        self._run = None
+        # per step, for approximants without a compiled kind), and its words as float64
+        # and int64 (fast field access).
+        self._run = self._words = self._ints = None
         if self._kind is not None:
             beta, gamma, omega = self.model.params
             self._run = loop.new_run(
                 beta, gamma, omega, self.t, self.y[0], self.y[1], self.t_bound, self._kind[0],
                 self._kind[1], controller, h_abs, run_max_step, self.rtol, self.atol, error_order,
                 check_max_windows(max_windows), max_dtheta=max_dtheta,
+                call_windows=0 if self.windows_per_step else CALL_WINDOWS,
             )
+            self._words = self._run.view(np.float64)
+            self._ints = self._run.view(np.int64)
         # Widest coefficient vector of this approximant (the window store's width).
         self._width = None
         # The windows of the last step (starts, coefficients, count), for the dense output.
@@ -297,7 +304,7 @@ class MBM(_MBMBase):
     def _step_impl(self):
         if self._run is None:
             return self._python_window()
-        p = self._run
+        p, words, ints = self._run, self._words, self._ints
         run = loop.RUNNERS[self._kind[0]]
         if self._width is None:
             beta, gamma, omega = self.model.params
@@ -306,22 +313,21 @@ class MBM(_MBMBase):
         win_t = np.empty(cap + 1)
         win_y = np.empty((cap + 1, 2))
         win_coef = np.empty((cap, self._width))
-        p[0]["call_windows"] = 0 if self.windows_per_step else CALL_WINDOWS
         n = run(p, _NO_TIMES, _NO_OUT, win_t, win_y, win_coef, _NEVER)
         # windows_per_step=None: keep going until t_bound, doubling the store.
-        while self.windows_per_step is None and p[0]["status"] == loop.STATUS_PAUSED:
+        while self.windows_per_step is None and ints[_W_STATUS] == loop.STATUS_PAUSED:
             if n + cap > win_coef.shape[0]:
                 size = 2 * (n + cap)
                 win_t = np.concatenate((win_t[: n + 1], np.empty(size - n)))
                 win_y = np.concatenate((win_y[: n + 1], np.empty((size - n, 2))))
                 win_coef = np.concatenate((win_coef[:n], np.empty((size - n, self._width))))
             n += run(p, _NO_TIMES, _NO_OUT, win_t[n:], win_y[n:], win_coef[n:], _NEVER)
-        self.n_windows = int(p[0]["n_windows"])
+        self.n_windows = int(ints[_W_NW])
         if n == 0:
-            return False, self._failure(int(p[0]["status"]))
+            return False, self._failure(int(ints[_W_STATUS]))
         self._windows = (win_t[: n + 1], win_coef[:n], n)
-        self.t = float(p[0]["t"])
-        self.y = np.array([p[0]["theta"], p[0]["v"]])
+        self.t = float(words[_W_T])
+        self.y = words[_W_THETA:_W_THETA + 2].copy()
         # A failure after some accepted windows ends this step early; the next step reports it.
         return True, None
 

@@ -1,0 +1,605 @@
+"""Parameter sweeps: outer-product grids of scenes as labelled ``xarray.Dataset`` results.
+
+:func:`sweep` runs every scene of a grid over (β, γ, ω, θ₀, θ'₀) through the compiled
+batch solver (:func:`mbm.solve_batch`) and returns an ``xarray.Dataset``: each
+parameter given as a 1-D array is a dimension with its coordinate, the scalars are
+attributes, and every scene carries its ``status``.  ``reduce=`` keeps only a few
+numbers per scene (final state, mean velocity, winding count, regime), computed from
+a batch call with only the two output times they need, so a large grid never holds
+an (N, 2, m) array.
+
+With ``chunks=`` the Dataset is dask-backed, each chunk one :func:`mbm.solve_batch`
+call, and computes on whatever Dask scheduler is active: threads in this process or
+a ``dask.distributed`` cluster.  The function shipped to the workers,
+:func:`_solve_block`, is a module-level function of this module, so a worker imports
+``mbm`` and loads the cached (``cache=True``) kernels instead of compiling them.
+Every scene is an independent run, so chunked and unchunked sweeps are identical bit
+for bit.
+
+xarray is needed (``pip install "mbm[dask]"``); Dask only for ``chunks=``.
+"""
+
+import math
+import sys
+import threading
+
+import numpy as np
+
+from . import loop
+from ._validate import (
+    DEFAULT_MAX_WINDOWS,
+    check_max_windows,
+    check_positive,
+    check_span,
+    check_t_eval,
+    check_tolerances,
+)
+from .approximants import Approximant, get_approximant
+from .fast import solve_batch
+from .problem import Pendulum
+
+try:
+    import xarray as xr
+except ImportError as exc:  # pragma: no cover - exercised only without the extra
+    raise ImportError(
+        'mbm.sweep needs xarray (and dask for chunks=): pip install "mbm[dask]"'
+    ) from exc
+
+__all__ = [
+    "sweep",
+    "PARAMETERS",
+    "REDUCTIONS",
+    "LOCAL_BATCH",
+    "REGIME_TURNS",
+    "STATUS_FLAGS",
+    "status_message",
+]
+
+#: The sweep's parameters, in the order their dimensions take.
+PARAMETERS = ("beta", "gamma", "omega", "theta0", "theta_dot0")
+
+#: The names ``reduce=`` accepts, and the variables each adds to the Dataset.
+REDUCTIONS = {
+    "final_state": ("theta_final", "theta_dot_final"),
+    "mean_velocity": ("mean_velocity",),
+    "winding": ("winding",),
+    "regime": ("regime",),
+}
+
+# Scenes per solve_batch call on the local (unchunked) path: the progress bar moves
+# once a batch, and the run records (168 bytes a scene) and outputs of one call stay
+# bounded by the batch.  4096 scenes of t ≤ 1000 are ~0.1–0.5 s on 2 cores (so the bar
+# moves), while a call's fixed cost (~0.2 ms) stays below 0.1 % of it.
+LOCAL_BATCH = 4096
+
+# Turns of θ over the second half of the span that make a scene "running": a scene
+# locked in one well of the tilted washboard stays between two neighbouring maxima of
+# the potential, so its θ moves less than 2π; on a running cycle θ' > 0 and θ gains
+# 2π every period, so the second half gains ≥ 2π once the period is ≤ half the span.
+REGIME_TURNS = 1.0
+
+# The regime labels (fixed-width strings; "failed" where the scene's status ≠ 0).
+REGIME_LOCKED = "locked"
+REGIME_RUNNING = "running"
+REGIME_FAILED = "failed"
+_REGIME_DTYPE = np.dtype("<U7")
+
+# Short CF flag_meanings words for the statuses of mbm.loop (one word each, CF style).
+STATUS_FLAGS = {
+    loop.STATUS_OK: "ok",
+    loop.STATUS_TOO_SMALL: "window_too_small",
+    loop.STATUS_ANCHOR: "anchor_outside_domain",
+    loop.STATUS_NONFINITE: "non_finite_state",
+    loop.STATUS_MAX_WINDOWS: "max_windows_reached",
+    loop.STATUS_INTERRUPTED: "interrupted",
+}
+
+# status as int32: the netCDF-3 classic format (scipy's writer, no extra package)
+# has no 64-bit integers, and the codes are small.
+_STATUS_DTYPE = np.dtype(np.int32)
+
+# One solve_batch at a time per process: each call already runs on every core (numba's
+# threads), two at once only oversubscribe them, and numba's "workqueue" threading
+# layer (its fallback without OpenMP or TBB) aborts on concurrent parallel launches.
+_BATCH_LOCK = threading.Lock()
+
+_TWO_PI = 2.0 * math.pi
+
+
+def status_message(code):
+    """The message of a ``status`` code (``mbm.loop.STATUS_MESSAGES``).
+
+    Parameters
+    ----------
+    code : int
+        A value of a sweep's ``status`` variable.
+
+    Returns
+    -------
+    str
+    """
+    return loop.STATUS_MESSAGES[int(code)]
+
+
+# --------------------------------------------------------------------------- validation
+
+
+def _check_parameter(name, value):
+    """A parameter as a float scalar or a non-empty finite 1-D float array."""
+    arr = np.asarray(value)
+    if arr.dtype == bool:
+        raise ValueError(f"{name} must be real numbers, got booleans {value!r}")
+    try:
+        arr = arr.astype(float)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a real number or a 1-D array of real numbers, got {value!r}") from None
+    if arr.ndim > 1:
+        raise ValueError(f"{name} must be a scalar or a 1-D array (one dimension of the grid), got shape {arr.shape}")
+    if arr.ndim == 1 and arr.size == 0:
+        raise ValueError(f"{name} must not be an empty array")
+    flat = arr.reshape(-1)
+    bad = np.flatnonzero(~np.isfinite(flat))
+    rule = None
+    if bad.size:
+        rule = "finite"
+    elif name == "beta" and np.any(flat < 0.0):
+        rule, bad = ">= 0 (damping)", np.flatnonzero(flat < 0.0)
+    elif name == "omega" and np.any(flat <= 0.0):
+        rule, bad = "> 0", np.flatnonzero(flat <= 0.0)
+    if rule is not None:
+        where = f"{name}[{int(bad[0])}]" if arr.ndim else name
+        raise ValueError(f"{name} must be {rule}, got {where} = {float(flat[bad[0]])!r}")
+    return float(arr) if arr.ndim == 0 else np.ascontiguousarray(arr)
+
+
+def _check_reduce(reduce):
+    """``reduce`` as a tuple of unique names of :data:`REDUCTIONS`, or None."""
+    if reduce is None:
+        return None
+    names = [reduce] if isinstance(reduce, str) else reduce
+    try:
+        names = list(names)
+    except TypeError:
+        raise ValueError(f"reduce must be a name or a list of names of {sorted(REDUCTIONS)}, got {reduce!r}") from None
+    if not names:
+        raise ValueError(f"reduce must name at least one of {sorted(REDUCTIONS)} (or be None), got {reduce!r}")
+    for r in names:
+        if not isinstance(r, str) or r not in REDUCTIONS:
+            raise ValueError(f"reduce must name reductions of {sorted(REDUCTIONS)}, got {r!r}")
+    return tuple(dict.fromkeys(names))
+
+
+def _check_chunks(chunks, dims):
+    """``chunks`` as {dim: chunk length} over the parameter dimensions, or None."""
+    if chunks is None:
+        return None
+    if not dims:
+        raise ValueError("chunks needs a parameter given as a 1-D array (no dimension to chunk)")
+    if isinstance(chunks, dict):
+        unknown = set(chunks) - set(dims)
+        if unknown:
+            raise ValueError(f"chunks names {sorted(unknown)}, not parameter dimensions of this sweep {list(dims)}")
+        spec = {d: chunks.get(d, -1) for d in dims}
+    else:
+        spec = {d: chunks for d in dims}
+    for d, c in spec.items():
+        if isinstance(c, (bool, np.bool_)) or not isinstance(c, (int, np.integer)) or not (c >= 1 or c == -1):
+            raise ValueError(f"chunks must be an int >= 1 (or -1: the whole dimension) per dimension, got {d}: {c!r}")
+        spec[d] = int(c)
+    return spec
+
+
+def _check_approximant(approximant, tau, t_span, rtol, atol, max_windows, models):
+    """Validate the run options now (not on a worker at compute time).
+
+    A zero-length probe run of one scene checks the name, the compiled kernel, ``tau``,
+    the tolerances and ``max_windows`` exactly as :func:`mbm.solve_batch` will; an
+    approximant that restricts its model (e.g. ``"belendez"``: β = γ = 0) is checked
+    against every distinct (β, γ, ω) of the grid.
+    """
+    if not isinstance(approximant, str):
+        raise ValueError(f"approximant must be the name of a compiled approximant or 'auto', got {approximant!r}")
+    b, g, w = (np.atleast_1d(m)[:1] for m in models)
+    solve_batch(b, g, w, [0.0, 0.0], (t_span[0], t_span[0]), [t_span[0]], rtol=rtol, atol=atol,
+                approximant=approximant, tau=tau, max_windows=max_windows)
+    if approximant != "auto":
+        ap = get_approximant(approximant)
+        if type(ap).check_model is not Approximant.check_model:
+            for bb in np.unique(np.atleast_1d(models[0])):
+                for gg in np.unique(np.atleast_1d(models[1])):
+                    for ww in np.unique(np.atleast_1d(models[2])):
+                        ap.check_model(Pendulum(float(bb), float(gg), float(ww)))
+
+
+# ------------------------------------------------------------------------ the kernel call
+
+
+def _variables(reduce):
+    """The Dataset variables of a sweep, ``status`` last."""
+    if reduce is None:
+        names = ["theta", "theta_dot"]
+    else:
+        names = [v for r in reduce for v in REDUCTIONS[r]]
+    return tuple(names) + ("status",)
+
+
+def _output_times(reduce, t_span, t_eval):
+    """The output times of the batch call: ``t_eval``, or the reductions' [t_mid, t1] / [t1]."""
+    if reduce is None:
+        return t_eval
+    t0, t1 = t_span
+    if "mean_velocity" in reduce or "regime" in reduce:
+        return np.array([t0 + 0.5 * (t1 - t0), t1])
+    return np.array([t1])
+
+
+def _dtype(var):
+    if var == "status":
+        return _STATUS_DTYPE
+    if var == "regime":
+        return _REGIME_DTYPE
+    return np.dtype(float)
+
+
+def _solve_block(*arrays, names, fixed, t_span, times, variables, options):
+    """Solve one block of scenes with one :func:`mbm.solve_batch` call.
+
+    The function Dask ships to its workers (module-level, so a worker imports it and
+    loads the cached kernels), and the one the local path calls once per batch: the
+    same code for every path, hence identical results.
+
+    Parameters
+    ----------
+    *arrays : ndarray
+        The parameters given as arrays, in the order of ``names``, broadcastable to the
+        block's shape (xarray passes size-1 axes for the dimensions an array lacks).
+    names : tuple of str
+        The parameter each of ``arrays`` is.
+    fixed : dict
+        The scalar parameters, name → float.
+    t_span : (float, float)
+        The time span.
+    times : ndarray, shape (m,)
+        The output times of the batch call.
+    variables : tuple of str
+        The variables to return (see :func:`_variables`), ``status`` last.
+    options : dict
+        ``rtol``, ``atol``, ``approximant``, ``tau``, ``max_windows`` of solve_batch.
+
+    Returns
+    -------
+    tuple of ndarray
+        One per variable, of the block's shape (time series: plus (m,)).
+    """
+    arrays = [np.asarray(a, dtype=float) for a in arrays]
+    shape = np.broadcast_shapes(*(a.shape for a in arrays)) if arrays else ()
+    n = math.prod(shape)
+    m = times.size
+    if n == 0:  # an empty block (e.g. a meta probe): nothing to solve
+        return tuple(np.empty(shape + ((m,) if v in ("theta", "theta_dot") else ()), dtype=_dtype(v))
+                     for v in variables)
+    given = dict(zip(names, (np.broadcast_to(a, shape).reshape(-1) for a in arrays)))
+    p = {k: given[k] if k in given else np.full(n, fixed[k]) for k in PARAMETERS}
+    y0 = np.stack([p["theta0"], p["theta_dot0"]], axis=1)
+    with _BATCH_LOCK:
+        res = solve_batch(p["beta"], p["gamma"], p["omega"], y0, t_span, times, **options)
+    status = res.status
+    ok = status == loop.STATUS_OK
+    y = res.y
+    t0, t1 = t_span
+    found = {}
+    if "theta" in variables:
+        found["theta"], found["theta_dot"] = y[:, 0, :], y[:, 1, :]
+    else:
+        theta1 = np.where(ok, y[:, 0, -1], np.nan)
+        if "theta_final" in variables:
+            found["theta_final"] = theta1
+            found["theta_dot_final"] = np.where(ok, y[:, 1, -1], np.nan)
+        if "mean_velocity" in variables or "regime" in variables:
+            t_mid = times[0]
+            advance = theta1 - y[:, 0, 0]
+            if "mean_velocity" in variables:
+                found["mean_velocity"] = advance / (t1 - t_mid)
+            if "regime" in variables:
+                running = np.abs(advance) >= REGIME_TURNS * _TWO_PI
+                regime = np.where(running, REGIME_RUNNING, REGIME_LOCKED).astype(_REGIME_DTYPE)
+                regime[~ok] = REGIME_FAILED
+                found["regime"] = regime
+        if "winding" in variables:
+            found["winding"] = np.rint((theta1 - p["theta0"]) / _TWO_PI) + 0.0  # + 0.0: no -0.0
+    found["status"] = status.astype(_STATUS_DTYPE)
+    return tuple(
+        found[v].reshape(shape + ((m,) if v in ("theta", "theta_dot") else ())) for v in variables
+    )
+
+
+# ------------------------------------------------------------------------------ progress
+
+
+class _StderrBar:
+    """A minimal progress line on stderr (used when tqdm is not installed)."""
+
+    def __init__(self, total):
+        self.total, self.done = total, 0
+        self._write()
+
+    def _write(self):
+        pct = 100.0 * self.done / self.total if self.total else 100.0
+        sys.stderr.write(f"\rsweep: {pct:3.0f}% ({self.done}/{self.total} scenes)")
+        sys.stderr.flush()
+
+    def update(self, k):
+        self.done += k
+        self._write()
+
+    def close(self):
+        sys.stderr.write("\n")
+        sys.stderr.flush()
+
+
+def _progress_bar(total):
+    try:
+        from tqdm.auto import tqdm
+    except ImportError:
+        return _StderrBar(total)
+    return tqdm(total=total, unit="scene", desc="sweep")
+
+
+# ------------------------------------------------------------------------------- paths
+
+
+def _local(values, dims, kw, progress):
+    """All scenes in this process, LOCAL_BATCH scenes per solve_batch call."""
+    shape = tuple(values[d].size for d in dims)
+    n = math.prod(shape)
+    m = kw["times"].size
+    variables = kw["variables"]
+    flat = {v: np.empty((n, m) if v in ("theta", "theta_dot") else (n,), dtype=_dtype(v)) for v in variables}
+    bar = _progress_bar(n) if progress else None
+    try:
+        for start in range(0, n, LOCAL_BATCH):
+            stop = min(start + LOCAL_BATCH, n)
+            idx = np.unravel_index(np.arange(start, stop), shape) if dims else ()
+            cols = [values[d][i] for d, i in zip(dims, idx)]
+            block = _solve_block(*cols, **kw)
+            for v, a in zip(variables, block):
+                flat[v][start:stop] = a.reshape(flat[v][start:stop].shape)
+            if bar is not None:
+                bar.update(stop - start)
+    finally:
+        if bar is not None:
+            bar.close()
+    return {
+        v: (dims + (("time",) if v in ("theta", "theta_dot") else ()),
+            a.reshape(shape + ((m,) if v in ("theta", "theta_dot") else ())))
+        for v, a in flat.items()
+    }
+
+
+def _chunked(values, dims, kw, chunks):
+    """A lazy dask-backed computation: one _solve_block task per chunk."""
+    try:
+        import dask.array  # noqa: F401  (xarray's dask backend)
+    except ImportError as exc:  # pragma: no cover - exercised only without the extra
+        raise ImportError('chunks= needs dask: pip install "mbm[dask]"') from exc
+    inputs = [xr.DataArray(values[d], dims=(d,)).chunk({d: chunks[d]}) for d in dims]
+    variables = kw["variables"]
+    m = kw["times"].size
+    core = [["time"] if v in ("theta", "theta_dot") else [] for v in variables]
+    outs = xr.apply_ufunc(
+        _solve_block, *inputs,
+        kwargs=kw,
+        input_core_dims=[[] for _ in dims],
+        output_core_dims=core,
+        dask="parallelized",
+        output_dtypes=[_dtype(v) for v in variables],
+        dask_gufunc_kwargs={"output_sizes": {"time": m}} if any(core) else {},
+    )
+    return {v: (dims + tuple(c), o.transpose(*dims, *c).data) for v, o, c in zip(variables, outs, core)}
+
+
+def _show_dask_progress(ds):
+    """Compute (persist) ``ds`` now, with dask's progress bar; still dask-backed after."""
+    client = None
+    try:
+        import distributed
+
+        client = distributed.default_client()
+    except (ImportError, ValueError):
+        pass
+    if client is not None:
+        ds = ds.persist()
+        distributed.progress(ds)
+        return ds
+    from dask.diagnostics import ProgressBar
+
+    with ProgressBar():
+        return ds.persist()
+
+
+# ----------------------------------------------------------------------------- attrs
+
+
+_VARIABLE_ATTRS = {
+    "theta": {"long_name": "angle θ at the output times", "units": "rad"},
+    "theta_dot": {"long_name": "angular velocity θ' at the output times", "units": "rad per unit time"},
+    "theta_final": {"long_name": "angle θ(t1) at the end of the span", "units": "rad"},
+    "theta_dot_final": {"long_name": "angular velocity θ'(t1) at the end of the span",
+                        "units": "rad per unit time"},
+    "mean_velocity": {
+        "long_name": "mean angular velocity over the second half of the span",
+        "description": "(theta(t1) - theta(tm)) / (t1 - tm), tm = t0 + (t1 - t0)/2 "
+        "(t0 = 0: (theta(T) - theta(T/2)) / (T/2)); NaN where status != 0",
+        "units": "rad per unit time",
+    },
+    "winding": {
+        "long_name": "net 2*pi turns at the end of the span",
+        "description": "rint((theta(t1) - theta0) / (2 pi)): the nearest integer (ties to even); "
+        "NaN where status != 0",
+    },
+    "regime": {
+        "long_name": "locked or running",
+        "description": "'running' where |theta(t1) - theta(tm)| >= REGIME_TURNS * 2 pi "
+        "(tm = t0 + (t1 - t0)/2), else 'locked'; 'failed' where status != 0",
+    },
+}
+
+
+def _status_attrs():
+    codes = sorted(STATUS_FLAGS)
+    return {
+        "long_name": "run status per scene (0: reached the end of the span)",
+        "flag_values": np.array(codes, dtype=_STATUS_DTYPE),
+        "flag_meanings": " ".join(STATUS_FLAGS[c] for c in codes),
+        "flag_messages": "\n".join(f"{c}: {loop.STATUS_MESSAGES[c]}" for c in codes),
+    }
+
+
+def _mbm_version():
+    import mbm  # at call time: mbm/__init__ may import this module before defining it
+
+    return str(mbm.__version__)
+
+
+# ------------------------------------------------------------------------------- sweep
+
+
+def sweep(*, beta, gamma, omega=1.0, theta0=0.0, theta_dot0=0.0, t_span, t_eval=None, reduce=None,
+          rtol=1e-6, atol=1e-9, approximant="auto", tau=None, chunks=None, progress=False,
+          max_windows=DEFAULT_MAX_WINDOWS):
+    """Solve θ'' + βθ' + ω² sin θ = γ over an outer-product grid of parameters.
+
+    Parameters
+    ----------
+    beta, gamma, omega, theta0, theta_dot0 : float or array_like, shape (k,)
+        The parameters (θ₀ = ``theta0``, θ'₀ = ``theta_dot0``).  Each 1-D array is a
+        dimension of the grid, with the values as its coordinate, in this argument
+        order; each scalar is an attribute of the Dataset.  Finite; β ≥ 0; ω > 0.
+    t_span : (float, float)
+        ``(t0, t1)`` with t1 > t0, common to every scene.
+    t_eval : array_like, shape (m,), optional
+        Output times within ``t_span`` (sorted): the Dataset has θ and θ' there, as a
+        ``time`` dimension.  Exclusive with ``reduce``; one of the two is required.
+    reduce : str or list of str, optional
+        Keep only these reductions per scene (no ``time`` dimension; the batch call
+        outputs at most two times, t_m = t0 + (t1 − t0)/2 and t1):
+
+        ``"final_state"``
+            ``theta_final``, ``theta_dot_final``: θ(t1), θ'(t1).
+        ``"mean_velocity"``
+            ``mean_velocity`` = (θ(t1) − θ(t_m)) / (t1 − t_m); for t0 = 0,
+            (θ(T) − θ(T/2)) / (T/2).  Two samples, not an average over a cycle: on a
+            running cycle of period P it is off by at most 2·(swing of θ − ⟨θ'⟩t) /
+            (t1 − t_m), i.e. O(P/T).
+        ``"winding"``
+            ``winding`` = rint((θ(t1) − θ₀) / 2π): the net number of 2π turns at the end,
+            rounded to the nearest integer (a locked scene: the wells it moved by).
+            Float (integer values), so that failed scenes can be NaN.
+        ``"regime"``
+            ``regime``: ``"running"`` where |θ(t1) − θ(t_m)| ≥ :data:`REGIME_TURNS` · 2π
+            (the mean velocity ≥ 2π/(t1 − t_m) in magnitude), else ``"locked"``;
+            ``"failed"`` where the status is not 0.  Misreads a running scene whose
+            period exceeds (t1 − t0)/2 and a scene still slipping wells after t_m.
+    rtol, atol, approximant, tau, max_windows
+        As in :func:`mbm.solve_batch` (one value for every scene; ``"auto"`` chooses
+        per scene).  Checked before anything runs.
+    chunks : int or dict, optional
+        Make the Dataset dask-backed (lazy): chunks along the parameter dimensions,
+        an int for every dimension (xarray's convention: the chunk length) or
+        {dimension: length} (-1 or missing: the whole dimension).  Each chunk is one
+        :func:`mbm.solve_batch` call, computed by the active Dask scheduler (threads
+        here, or a ``dask.distributed`` Client's cluster).
+    progress : bool
+        Show progress: without ``chunks``, a tqdm bar (a plain stderr line when tqdm
+        is not installed) moving once per :data:`LOCAL_BATCH` scenes; with ``chunks``,
+        the Dataset is computed now (``persist``: still dask-backed, its chunks held in
+        memory or on the cluster) under ``dask.diagnostics.ProgressBar`` or, with a
+        distributed Client, ``distributed.progress``.
+
+    Returns
+    -------
+    xarray.Dataset
+        Coordinates: the array parameters (and ``time`` = ``t_eval``).  Variables:
+        ``theta``, ``theta_dot`` over (parameters..., time), or the reductions'
+        variables over (parameters...); ``status`` (int32) per scene: 0 where the run
+        reached t1, else a code of ``mbm.loop`` whose words are in the
+        ``flag_meanings`` attribute and whose messages are in ``flag_messages``
+        (:func:`status_message`).  A failed scene is never a silent NaN: its
+        reductions are NaN (``regime``: ``"failed"``) and its status says why; its
+        time series keeps the outputs it reached (exactly as
+        :func:`mbm.solve_batch`) and is NaN after.  Attributes: the scalar parameters,
+        ``t_span``, ``rtol``, ``atol``, ``approximant``, ``max_windows``, ``tau``
+        (where given), ``reduce`` (comma-separated, where given),
+        ``regime_turns`` (with ``"regime"``) and ``mbm_version``.
+
+    Raises
+    ------
+    ValueError
+        For an invalid argument, naming it (empty, 2-D or non-finite parameter
+        arrays, β < 0, ω ≤ 0, an unknown reduction, a bad span, ``t_eval`` or option),
+        or an approximant outside the domain of some scene's model.
+    KeyboardInterrupt
+        Without ``chunks``: Ctrl-C stops the running batch at every scene's next
+        window (:func:`mbm.solve_batch`) and the sweep at once, within a second.
+
+    Notes
+    -----
+    Each scene is an independent run with the same options, so results do not depend
+    on how the grid is split: chunked, unchunked and a single :func:`mbm.solve_batch`
+    over all scenes agree bit for bit.
+    """
+    values, fixed = {}, {}
+    for name, value in zip(PARAMETERS, (beta, gamma, omega, theta0, theta_dot0)):
+        v = _check_parameter(name, value)
+        (fixed if isinstance(v, float) else values)[name] = v
+    dims = tuple(d for d in PARAMETERS if d in values)
+    t0, t1 = check_span(t_span)
+    if not t1 > t0:
+        raise ValueError(f"t_span must be increasing (t0 < t1), got {t_span!r}")
+    reduce = _check_reduce(reduce)
+    if reduce is None and t_eval is None:
+        raise ValueError("give t_eval (output times of theta, theta_dot) or reduce (per-scene reductions)")
+    if reduce is not None and t_eval is not None:
+        raise ValueError("t_eval and reduce exclude each other (reduce picks its own output times)")
+    if t_eval is not None:
+        if np.ndim(t_eval) != 1 or np.size(t_eval) == 0:
+            raise ValueError(f"t_eval must be a non-empty 1-D array, got shape {np.shape(t_eval)}")
+        t_eval = check_t_eval(t_eval, t0, t1)
+    elif not t0 < t0 + 0.5 * (t1 - t0) < t1:
+        raise ValueError(f"t_span is too short to split in halves, got {t_span!r}")
+    rtol, atol = check_tolerances(rtol, atol)  # the floor (and its warning) once, here
+    max_windows = check_max_windows(max_windows)
+    if tau is not None:
+        tau = check_positive("tau", tau)
+    if progress not in (True, False):
+        raise ValueError(f"progress must be True or False, got {progress!r}")
+    models = [values.get(k, fixed.get(k)) for k in ("beta", "gamma", "omega")]
+    _check_approximant(approximant, tau, (t0, t1), rtol, atol, max_windows, models)
+    chunks = _check_chunks(chunks, dims)
+
+    times = _output_times(reduce, (t0, t1), t_eval)
+    kw = dict(
+        names=dims, fixed=fixed, t_span=(t0, t1), times=times, variables=_variables(reduce),
+        options=dict(rtol=rtol, atol=atol, approximant=approximant, tau=tau, max_windows=max_windows),
+    )
+    data = _local(values, dims, kw, progress) if chunks is None else _chunked(values, dims, kw, chunks)
+
+    coords = {d: (d, values[d]) for d in dims}
+    if reduce is None:
+        coords["time"] = ("time", t_eval, {"long_name": "output time"})
+    attrs = dict(fixed)
+    attrs.update(t_span=np.array([t0, t1]), rtol=rtol, atol=atol, approximant=approximant,
+                 max_windows=max_windows, mbm_version=_mbm_version())
+    if tau is not None:
+        attrs["tau"] = tau
+    if reduce is not None:
+        attrs["reduce"] = ",".join(reduce)
+        if "regime" in reduce:
+            attrs["regime_turns"] = REGIME_TURNS
+    ds = xr.Dataset(
+        {v: (dv, a, _status_attrs() if v == "status" else _VARIABLE_ATTRS[v]) for v, (dv, a) in data.items()},
+        coords=coords, attrs=attrs,
+    )
+    if chunks is not None and progress:
+        ds = _show_dask_progress(ds)
+    return ds
