@@ -119,7 +119,7 @@ STATUS_BAD_ORDER = 2  # degree outside 1 .. MAX_ORDER
 COEF_FASTMATH = {"reassoc", "contract"}
 # Fused multiply-add in the Horner chains: each output is a chain of N dependent
 # steps, and an FMA is one rounding and one latency instead of two (per-output cost:
-# the kernel table of ``python -m mbm.bench_extras --overheads``).  At t = 0 the
+# the kernel table of ``python -m benchmarks extras --overheads``).  At t = 0 the
 # result is still a₀, a₁ exactly (fma(0, p, a) = a).
 EVAL_FASTMATH = {"contract"}
 
@@ -165,7 +165,7 @@ def taylor_coefficients(beta, gamma, omega, theta0, v0, n_order):
     # backwards (sr[nt − k] = s_k) so that both convolution sums run forward through
     # memory: s_{k−j} = sr[nt − k + j].  Forward dot products vectorize; the reversed
     # index did not, and was slower (per-anchor cost: the kernel table of
-    # ``python -m mbm.bench_extras --overheads``).
+    # ``python -m benchmarks extras --overheads``).
     scratch = np.empty(3 * (nt + 1))
     b = scratch[: nt + 1]
     sr = scratch[nt + 1 : 2 * nt + 2]
