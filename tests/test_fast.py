@@ -275,3 +275,38 @@ def test_integrator_validates_once_and_per_call():
     ex = mbm.Integrator(mbm.Pendulum(0.0, 0.0))
     for T in (1.0, 1e3):
         assert ex.solve((0.0, T), [0.3, 0.0]).n_windows == 1
+
+
+def _interrupt_after(seconds):
+    # Ctrl-C as a user sends it: SIGINT to this process, from a timer thread.
+    import os
+    import signal
+    import threading
+
+    timer = threading.Timer(seconds, os.kill, (os.getpid(), signal.SIGINT))
+    timer.start()
+    return timer
+
+
+@pytest.mark.parametrize("path", ["solve", "solve_batch", "solve_ivp"])
+def test_ctrl_c_stops_a_long_run_within_a_second(path):
+    # A running scene over 10⁶ time units takes ~10 s here; Ctrl-C after 0.3 s must
+    # raise KeyboardInterrupt well within a second of it.
+    import time
+
+    model = mbm.Pendulum(0.1, 1.2)
+    calls = {
+        "solve": lambda T: mbm.solve(model, (0.0, T), [0.0, 0.0], t_eval=[T], rtol=1e-10, atol=1e-10),
+        "solve_batch": lambda T: mbm.solve_batch([0.1, 0.1], 1.2, 1.0, [0.0, 0.0], (0.0, T), [T],
+                                                 rtol=1e-10, atol=1e-10),
+        "solve_ivp": lambda T: solve_ivp(model, (0.0, T), [0.0, 0.0], method=mbm.MBM, rtol=1e-10,
+                                         atol=1e-10, windows_per_step=None, t_eval=[T]),
+    }
+    calls[path](1.0)  # compiled before the interrupt is armed (never interrupt numba's compiler)
+    timer = _interrupt_after(0.3)
+    t0 = time.perf_counter()
+    with pytest.raises(KeyboardInterrupt):
+        calls[path](1e6)
+    elapsed = time.perf_counter() - t0
+    timer.cancel()
+    assert elapsed < 1.3, elapsed
