@@ -21,6 +21,7 @@ from .approximants import (
 )
 from .special.pendulum_flow import pendulum_flow, period
 from .fast import Integrator, solve, solve_batch, solve_njit
+from .junction import IVCurve, iv_curve
 from .problem import Pendulum, identify_model
 from .references import reference
 
@@ -32,11 +33,13 @@ __all__ = [
     "Anchored",
     "Approximant",
     "ApproximantDomainError",
+    "IVCurve",
     "Integrator",
     "Pendulum",
     "approximant_names",
     "get_approximant",
     "identify_model",
+    "iv_curve",
     "pendulum_flow",
     "period",
     "reference",

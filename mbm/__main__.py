@@ -2,7 +2,8 @@
 
 Subcommands: ``demo`` (the second paper's Example 1, error and time), ``solve`` (one
 scene to CSV/NPZ, optional PNG), ``study`` (a step-size / accuracy study with fitted
-orders).  ``bench`` only says where the work-precision benchmark went: it runs from a
+orders), ``iv`` (a Josephson-junction I–V sweep with its switching and retrapping
+currents).  ``bench`` only says where the work-precision benchmark went: it runs from a
 checkout, ``python -m benchmarks``.
 """
 
@@ -13,7 +14,7 @@ import time
 
 import numpy as np
 
-__all__ = ["main", "demo", "solve_command", "study_command", "parse_angle"]
+__all__ = ["main", "demo", "solve_command", "study_command", "iv_command", "parse_angle"]
 
 # Repetitions of each timed solve in the demo: the median of a few runs keeps one
 # slow run (page faults, another process) out of the figure.
@@ -312,6 +313,37 @@ BENCH_MOVED = (
 )
 
 
+def iv_command(beta, gamma_max, points, omega=1.0, current_tol=1e-4, csv=None, plot=None, out=None):
+    """``mbm iv``: an up-and-down I–V sweep 0 → gamma_max → 0; print the currents, write CSV/PNG.
+
+    Returns
+    -------
+    mbm.IVCurve
+    """
+    import mbm
+
+    out = sys.stdout if out is None else out
+
+    up = np.linspace(0.0, gamma_max, points)
+    curve = mbm.iv_curve(beta, np.r_[up, up[::-1]], omega=omega, current_tol=current_tol)
+    print(f"beta = {beta:g}, omega = {omega:g}, {2 * points} bias points", file=out)
+    print(f"switching current  {curve.switching_current:.6g}", file=out)
+    print(f"retrapping current {curve.retrapping_current:.6g}", file=out)
+    if csv:
+        curve.to_csv(csv)
+    if plot:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        ax = curve.plot()
+        ax.figure.tight_layout()
+        ax.figure.savefig(plot, dpi=110)
+        plt.close(ax.figure)
+    return curve
+
+
 def _bench(argv):
     """``mbm bench ARGS``: say where the benchmark went; exit status 2."""
     print(BENCH_MOVED, file=sys.stderr)
@@ -366,6 +398,17 @@ def _build_parser():
     q.add_argument("--csv", default=None, help="write the rows to this CSV file")
     q.add_argument("--plot", default=None, metavar="PNG", help="save error-vs-h and error-vs-time plots")
 
+    r = sub.add_parser("iv", help="Josephson-junction I-V curve (up and down sweep), switching and "
+                                  "retrapping currents; CSV and PNG")
+    r.add_argument("--beta", type=_positive, required=True, help="damping beta > 0 (1/sqrt(beta_c))")
+    r.add_argument("--gamma-max", type=_positive, default=1.5, help="top of the bias sweep (default 1.5)")
+    r.add_argument("--points", type=_count, default=151, help="bias points each way (default 151)")
+    r.add_argument("--omega", type=_positive, default=1.0, help="omega (default 1)")
+    r.add_argument("--current-tol", type=_positive, default=1e-4,
+                   help="bisection width of the currents (default 1e-4)")
+    r.add_argument("--csv", default=None, help="write gamma, mean velocity, regime, period")
+    r.add_argument("--plot", default=None, metavar="PNG", help="save the I-V plot")
+
     sub.add_parser("bench", help="moved: run `python -m benchmarks` from a checkout",
                    add_help=False)
     return parser
@@ -417,6 +460,11 @@ def main(argv=None):
 
         study_command(SCENES[args.scene], args.approximants, taus=args.taus, rtols=args.rtols,
                       n_out=args.n_out, csv=args.csv, plot=args.plot)
+    elif args.command == "iv":
+        if args.plot is not None:
+            _require_matplotlib(parser, "--plot")
+        iv_command(args.beta, args.gamma_max, args.points, omega=args.omega,
+                   current_tol=args.current_tol, csv=args.csv, plot=args.plot)
     elif args.command == "bench":  # reached only via an unusual argv order
         return _bench([])
     return 0

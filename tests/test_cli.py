@@ -196,3 +196,13 @@ def test_progress_message_goes_above_the_bar():
     off, log = Progress(4, "bench", stream=io.StringIO(), enabled=False), io.StringIO()
     off.message("hello", stream=log)
     assert log.getvalue() == "hello\n"
+
+
+def test_iv_command(tmp_path, capsys):
+    from mbm.__main__ import main
+
+    csv, png = tmp_path / "iv.csv", tmp_path / "iv.png"
+    assert main(["iv", "--beta", "2", "--points", "6", "--csv", str(csv), "--plot", str(png)]) == 0
+    out = capsys.readouterr().out
+    assert "switching current" in out and "retrapping current" in out
+    assert png.exists() and csv.read_text().splitlines()[1] == "gamma,mean_velocity,regime,period"

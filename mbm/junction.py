@@ -1,0 +1,350 @@
+r"""Josephson-junction tools: the I–V curve of the RCSJ model, with hysteresis.
+
+In reduced units the resistively and capacitively shunted junction is the damped,
+torqued pendulum θ'' + βθ' + ω² sin θ = γ: θ is the phase difference, θ' the voltage
+(in units of ω_p Φ₀/2π with time in units of 1/ω_p and ω = 1), γ = I/I_c the bias
+current and β = 1/√β_c the damping (β_c the Stewart–McCumber parameter).  The dc
+voltage is the mean velocity ⟨θ'⟩.
+
+:func:`iv_curve` visits the bias points in the order given, each starting from the
+state where the previous one ended (so an up-and-down sweep shows the hysteresis),
+and classifies the motion it settles to:
+
+* **locked** (zero voltage): at rest at a stable equilibrium θ* = arcsin(γ/ω²) + 2πk,
+  ⟨θ'⟩ = 0;
+* **running**: on the running limit cycle θ(t + T_c) = θ(t) ± 2π, and ⟨θ'⟩ = ±2π/T_c
+  exactly, T_c the time between two successive passages through θ ≡ θ_s (mod 2π),
+  located on the windows' own formulas (the dense output of :class:`mbm.MBM`) after
+  the cycle has converged (two successive periods agreeing to :data:`PERIOD_RTOL`).
+
+Between two visited points of different regimes the transition current is located by
+bisection, each probe started from the settled state of the point before the
+transition (an adiabatic sweep), to ``current_tol``: going from locked to running is
+the switching current (ω² for any β: where the equilibrium disappears), from running
+to locked the retrapping current (≈ 4β/π·ω² for small β, Melnikov's energy balance).
+
+What is not modelled: thermal noise (no premature switching), non-sinusoidal
+current–phase relations, arrays of junctions, a capacitance that depends on the
+voltage.
+"""
+
+import dataclasses
+import math
+
+import numpy as np
+
+from ._validate import check_positive, check_real, check_state
+from .problem import Pendulum
+
+__all__ = ["iv_curve", "IVCurve", "mean_velocity", "LOCKED", "RUNNING"]
+
+LOCKED = "locked"
+RUNNING = "running"
+
+# Settling before a point is classified, in units of the slowest decay time 1/λ of the
+# locked state's linearization (λ = β/2 underdamped, β/2 − √(β²/4 − ω_l²) overdamped):
+# e^{−30} ≈ 1e-13 of the transient is left, below the tolerances used here.
+SETTLE_DECAYS = 30.0
+# ... but never less than this many small-oscillation periods 2π/ω, nor more than this
+# time in units of 1/ω (near the switching current λ → 0: the point then continues in
+# measured chunks, see MAX_CHUNKS; a chunk grows up to it for slow cycles: 5e-5 past
+# the saddle-node of β = 2 the period is ~900).
+SETTLE_MIN_PERIODS = 4.0
+SETTLE_MAX_TIME = 2.0e4
+# A state within this distance of a stable equilibrium (|θ − θ*| + |θ'|/ω_l, relative
+# to ω-units) after settling is locked: the linearization's energy only decays there.
+LOCK_DISTANCE = 1e-6
+# Without a revolution over a whole chunk, a state this close to an equilibrium and
+# closing in is locked (the saddle-node γ = ω² is approached algebraically, ~1/t).
+LOCK_NEAR = 0.05
+# Two successive cycle periods agreeing to this relative difference: the cycle has
+# converged (a decaying transient changes the period by far more per revolution: 1e-3
+# at 1e-4 below the retrapping current).  The runs' own noise in a period is 1e-12 on
+# ordinary cycles and up to 4e-9 within 1e-4 of the retrapping current (β = 0.2),
+# where the cycle passes the saddle so closely that a passage time amplifies the error.
+PERIOD_RTOL = 1e-8
+# Chunks of settling a point may take before it is reported undecided (a state that
+# neither locks nor converges to a cycle: near a bifurcation or with β tiny).
+MAX_CHUNKS = 40
+# MBM's tolerances for the runs (the mean velocity is good to ~1e-12 at these).
+RUN_RTOL = 1e-11
+RUN_ATOL = 1e-11
+# Passage times are located to this relative accuracy on the windows' formulas.
+PASSAGE_XTOL = 1e-14
+
+
+@dataclasses.dataclass(frozen=True)
+class IVCurve:
+    """An I–V curve: the mean velocity at each bias point, in the order visited.
+
+    Attributes
+    ----------
+    gamma : ndarray
+        Bias points, in the order visited.
+    mean_velocity : ndarray
+        ⟨θ'⟩ at each point (the dc voltage): 0 when locked, ±2π/T_c when running.
+    regime : ndarray of str
+        ``"locked"`` or ``"running"`` at each point.
+    period : ndarray
+        T_c of the running cycle (NaN where locked).
+    start_state : ndarray, shape (n, 2)
+        The state each point started from (the previous point's settled state).
+    switching_current : float
+        The first locked → running transition located by bisection (NaN if none).
+    retrapping_current : float
+        The first running → locked transition located by bisection (NaN if none).
+    beta, omega, current_tol : float
+        The junction and the bisection tolerance.
+    """
+
+    gamma: np.ndarray
+    mean_velocity: np.ndarray
+    regime: np.ndarray
+    period: np.ndarray
+    start_state: np.ndarray
+    switching_current: float
+    retrapping_current: float
+    beta: float
+    omega: float
+    current_tol: float
+
+    def branches(self):
+        """Index arrays of the up (γ increasing) and down (γ decreasing) parts of the sweep."""
+        d = np.diff(self.gamma)
+        step = np.concatenate(([d[0] if d.size else 0.0], d))
+        return np.flatnonzero(step >= 0.0), np.flatnonzero(step < 0.0)
+
+    def to_csv(self, path):
+        """Write gamma, mean_velocity, regime, period as CSV (the currents in a header comment)."""
+        with open(path, "w") as f:
+            f.write(f"# beta={self.beta!r}, omega={self.omega!r}, switching_current={self.switching_current!r}, "
+                    f"retrapping_current={self.retrapping_current!r}, current_tol={self.current_tol!r}\n")
+            f.write("gamma,mean_velocity,regime,period\n")
+            for g, v, r, p in zip(self.gamma, self.mean_velocity, self.regime, self.period):
+                f.write(f"{float(g)!r},{float(v)!r},{r},{float(p)!r}\n")
+
+    def plot(self, ax=None):
+        """Draw the curve (voltage ⟨θ'⟩ across, bias γ up), up and down branches marked.
+
+        Returns
+        -------
+        matplotlib.axes.Axes
+        """
+        if ax is None:
+            import matplotlib.pyplot as plt
+
+            ax = plt.subplots(figsize=(7, 5))[1]
+        up, down = self.branches()
+        ax.plot(self.mean_velocity[up], self.gamma[up], "b.-", ms=3, lw=0.8, label="bias up")
+        if down.size:
+            ax.plot(self.mean_velocity[down], self.gamma[down], "r.-", ms=3, lw=0.8, label="bias down")
+        for cur, name, style in ((self.switching_current, "switching", "k--"),
+                                 (self.retrapping_current, "retrapping", "g--")):
+            if math.isfinite(cur):
+                ax.axhline(cur, color=style[0], ls="--", lw=0.7, label=f"{name} {cur:.5g}")
+        ax.set_xlabel(r"voltage $\langle\theta'\rangle$")
+        ax.set_ylabel(r"bias current $\gamma$")
+        ax.set_title(rf"RCSJ I–V, $\beta$ = {self.beta:g}")
+        ax.legend(fontsize=8, loc="lower right")
+        return ax
+
+
+def _settle_time(beta, gamma, omega):
+    # The slowest decay time of the locked linearization (or the cycle's 1/β).
+    s = gamma / omega**2
+    wl2 = omega**2 * math.sqrt(max(1.0 - s * s, 0.0))
+    disc = 0.25 * beta * beta - wl2
+    rate = 0.5 * beta - math.sqrt(disc) if disc > 0.0 else 0.5 * beta
+    t = SETTLE_DECAYS / max(rate, 1e-300)
+    return min(max(t, SETTLE_MIN_PERIODS * 2.0 * math.pi / omega), SETTLE_MAX_TIME / omega)
+
+
+def _lock_distance(model, y):
+    # Distance to the nearest stable equilibrium, or inf when there is none.
+    d = model.equilibrium
+    if d is None:
+        return math.inf
+    k = round((y[0] - d) / (2.0 * math.pi))
+    wl = model.omega * math.sqrt(max(math.cos(d), 1e-300))
+    return abs(y[0] - d - 2.0 * math.pi * k) + abs(y[1]) / wl
+
+
+def _fast_angle(model):
+    # The bottom of the tilted potential, arcsin(γ/ω²) (±π/2 past the critical
+    # current): where the running cycle moves fastest.
+    s = model.gamma / model.omega**2
+    return math.asin(max(-1.0, min(1.0, s)))
+
+
+def _run(model, y, span):
+    from scipy.integrate import solve_ivp
+
+    from .solver import MBM
+
+    sol = solve_ivp(model, (0.0, span), y, method=MBM, rtol=RUN_RTOL, atol=RUN_ATOL,
+                    windows_per_step=None, dense_output=True, model=model)
+    if not sol.success:
+        raise RuntimeError(f"gamma={model.gamma!r}: {sol.message}")
+    return sol
+
+
+def _passages(sol, theta_s, direction, count):
+    """The first ``count`` times where θ passes θ_s + direction·2πk (k = 0, 1, ...) after
+    the start, located on the windows' formulas (the dense output)."""
+    from scipy.optimize import brentq
+
+    t = sol.t
+    th0 = sol.y[0, 0]
+    # the first target strictly ahead of the start
+    k0 = math.floor(direction * (th0 - theta_s) / (2.0 * math.pi)) + 1
+    ahead = direction * (sol.y[0] - theta_s)
+    out = []
+    for k in range(k0, k0 + count):
+        reached = np.flatnonzero(ahead >= 2.0 * math.pi * k)
+        if reached.size == 0 or reached[0] == 0:
+            break
+        i = reached[0]
+        target = theta_s + direction * 2.0 * math.pi * k
+        out.append(brentq(lambda s: sol.sol(s)[0] - target, t[i - 1], t[i],
+                          xtol=PASSAGE_XTOL * max(1.0, t[i]), rtol=4 * np.finfo(float).eps))
+    return out
+
+
+def mean_velocity(model, y0):
+    """The motion a state settles to under ``model``: regime, ⟨θ'⟩, period, settled state.
+
+    Parameters
+    ----------
+    model : Pendulum
+        β > 0.
+    y0 : array_like, shape (2,)
+
+    Returns
+    -------
+    regime : str
+        ``"locked"`` or ``"running"``.
+    mean_velocity : float
+        0 when locked; ±2π/T_c on the running cycle.
+    period : float
+        T_c (NaN when locked).
+    y : ndarray, shape (2,)
+        The settled state (θ reduced to (−π, π]).
+
+    Raises
+    ------
+    RuntimeError
+        If the state neither locks nor converges to a cycle within :data:`MAX_CHUNKS`
+        settling chunks.
+    """
+    y = np.array(y0, dtype=float)
+    span = _settle_time(model.beta, model.gamma, model.omega)
+    for _ in range(MAX_CHUNKS):
+        sol = _run(model, y, span)
+        y = sol.y[:, -1].copy()
+        y[0] = math.remainder(y[0], 2.0 * math.pi)
+        before = _lock_distance(model, y)
+        if before <= LOCK_DISTANCE:
+            return LOCKED, 0.0, math.nan, y
+        direction = 1.0 if y[1] > 0.0 else -1.0
+        # Passages through θ ≡ arcsin(γ/ω²) where the cycle is fastest: the time of a
+        # passage is least sensitive to the state's error there.
+        probe = _run(model, y, span)
+        times = _passages(probe, _fast_angle(model), direction, 3)
+        if len(times) == 3:
+            p1, p2 = times[1] - times[0], times[2] - times[1]
+            if abs(p2 - p1) <= PERIOD_RTOL * p2:
+                y = probe.y[:, -1].copy()
+                y[0] = math.remainder(y[0], 2.0 * math.pi)
+                period = 0.5 * (times[2] - times[0])  # two periods: half the noise of one
+                return RUNNING, direction * 2.0 * math.pi / period, period, y
+        else:
+            if not times:
+                # No revolution over a whole chunk: still closing in on an equilibrium
+                # (slowly at the saddle-node γ = ω², algebraically) is locked.
+                end = probe.y[:, -1].copy()
+                end[0] = math.remainder(end[0], 2.0 * math.pi)
+                if _lock_distance(model, end) < min(before, LOCK_NEAR):
+                    return LOCKED, 0.0, math.nan, end
+            # Fewer than three passages: a slow cycle (just past the saddle-node, where
+            # the period grows like (γ − ω²)^{-1/2}) gets a longer chunk.
+            span = min(2.0 * span, SETTLE_MAX_TIME / model.omega)
+        y = probe.y[:, -1].copy()
+        y[0] = math.remainder(y[0], 2.0 * math.pi)
+    raise RuntimeError(
+        f"gamma={model.gamma!r}, beta={model.beta!r}: the state neither locks nor converges to a "
+        f"running cycle within {MAX_CHUNKS} settling chunks (near a bifurcation?)"
+    )
+
+
+def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0=0.0):
+    """The I–V curve of the RCSJ junction over the bias points ``gamma``, in the order given.
+
+    Parameters
+    ----------
+    beta : float
+        Damping β > 0 (hysteretic for small β, overdamped for large).
+    gamma : array_like
+        Bias points in the order visited, e.g. an up-and-down sweep
+        ``np.r_[np.linspace(0, 1.5, 151), np.linspace(1.5, 0, 151)]``.
+    omega : float, optional
+        ω > 0 (1 in the junction's reduced units).
+    current_tol : float, optional
+        Width to which the switching and retrapping currents are bisected.
+    theta0, theta_dot0 : float, optional
+        The state the first point starts from.
+
+    Returns
+    -------
+    IVCurve
+
+    Raises
+    ------
+    ValueError
+        For β ≤ 0 (no dissipation: no limit cycle to settle on), an empty or
+        non-finite ``gamma``, ω ≤ 0 or ``current_tol`` ≤ 0.
+    """
+    beta = check_positive("beta", beta)
+    omega = check_positive("omega", omega)
+    current_tol = check_positive("current_tol", current_tol)
+    g = np.asarray(gamma, dtype=float).reshape(-1)
+    if g.size == 0:
+        raise ValueError("gamma must hold at least one bias point")
+    if not np.all(np.isfinite(g)):
+        raise ValueError("gamma must be finite")
+    y = check_state("(theta0, theta_dot0)", [check_real("theta0", theta0), check_real("theta_dot0", theta_dot0)])
+    regimes, velocities, periods, states, starts = [], [], [], [], []
+    for gi in g:
+        starts.append(y.copy())
+        regime, v, period, y = mean_velocity(Pendulum(beta, gi, omega), y)
+        regimes.append(regime)
+        velocities.append(v)
+        periods.append(period)
+        states.append(y.copy())
+    switching = retrapping = math.nan
+    for i in range(1, g.size):
+        a, b = regimes[i - 1], regimes[i]
+        if a == b:
+            continue
+        if a == LOCKED and math.isnan(switching):
+            switching = _bisect(beta, omega, g[i - 1], g[i], states[i - 1], LOCKED, current_tol)
+        elif a == RUNNING and math.isnan(retrapping):
+            retrapping = _bisect(beta, omega, g[i - 1], g[i], states[i - 1], RUNNING, current_tol)
+    return IVCurve(gamma=g, mean_velocity=np.array(velocities), regime=np.array(regimes),
+                   period=np.array(periods), start_state=np.array(starts),
+                   switching_current=float(switching), retrapping_current=float(retrapping),
+                   beta=beta, omega=omega, current_tol=current_tol)
+
+
+def _bisect(beta, omega, g_a, g_b, y_a, regime_a, tol):
+    # [g_a, g_b]: regime_a at g_a (settled state y_a), the other regime at g_b.  A probe
+    # that keeps regime_a becomes the new g_a with its settled state: the bias steps
+    # shrink as the interval does, an adiabatic sweep in the limit (a finite step from
+    # a locked state can kick it over the saddle below the switching current ω²).
+    while abs(g_b - g_a) > tol:
+        mid = 0.5 * (g_a + g_b)
+        regime, _, _, y = mean_velocity(Pendulum(beta, mid, omega), y_a)
+        if regime == regime_a:
+            g_a, y_a = mid, y
+        else:
+            g_b = mid
+    return 0.5 * (g_a + g_b)
