@@ -47,6 +47,7 @@ __all__ = [
     "solve_batch",
     "solve_njit",
     "successive",
+    "sweep",
 ]
 
 # name -> (module, attribute or None for the module itself)
@@ -57,6 +58,8 @@ _LAZY = {
     "scenes": ("mbm.scenes", None),
     "successive": ("mbm.events", "successive"),
     "solver": ("mbm.solver", None),
+    # xarray and dask are optional (pip install "mbm[dask]"): loaded on first use
+    "sweep": ("mbm.sweeps", "sweep"),
 }
 
 

@@ -26,6 +26,7 @@ from ._validate import (
 from .approximants import Approximant, get_approximant
 from .choice import auto_name, auto_reason
 from .problem import Pendulum
+from .regimes import REGIME_NAMES, REGIME_RUNNING, cycle_summary
 
 __all__ = ["Integrator", "solve", "solve_batch", "SolveResult", "solve_njit"]
 
@@ -50,6 +51,8 @@ BATCH_POLL = 0.05
 _W = loop.WORD
 _W_T, _W_THETA, _W_V, _W_TBOUND, _W_H = _W["t"], _W["theta"], _W["v"], _W["t_bound"], _W["h_abs"]
 _W_STATUS, _W_J, _W_NW = _W["status"], _W["j"], _W["n_windows"]
+_W_REGIME, _W_T_REGIME, _W_CYC_T, _W_CYC_SIGN = (_W[k] for k in ("regime", "t_regime", "cyc_T",
+                                                                 "cyc_sign"))
 
 _NO_TIMES = np.empty(0)
 _NO_OUT = np.empty((2, 0))
@@ -267,10 +270,14 @@ class Integrator:
             n_filled = int(ints[_W_J])
             t, y = (te, y) if n_filled == te.size else (te[:n_filled], y[:, :n_filled])
         status = int(ints[_W_STATUS])
+        regime = int(ints[_W_REGIME])
+        period, mean_velocity = cycle_summary(regime, words[_W_CYC_T], words[_W_CYC_SIGN])
         return SolveResult(
             t=t, y=y, success=status == loop.STATUS_OK, status=status,
             message=loop.STATUS_MESSAGES[status], n_windows=int(ints[_W_NW]),
             approximant=self.approximant.name, reason=self.reason,
+            regime=REGIME_NAMES[regime], t_regime=float(words[_W_T_REGIME]), period=period,
+            mean_velocity=mean_velocity,
         )
 
 
@@ -311,8 +318,11 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
     SolveResult
         ``t``, ``y`` (shape (2, n)), ``success``, ``status`` (0 ok, else a
         :mod:`mbm.loop` status), ``message``, ``n_windows``, ``approximant`` and
-        ``reason`` (what "auto" chose and why).  On a failure ``t``, ``y`` hold the
-        outputs reached before it.
+        ``reason`` (what "auto" chose and why), ``regime`` (``"locked"`` when the run
+        switched to the closed form of its equilibrium, ``"running"`` to its limit
+        cycle, :mod:`mbm.regimes`; else None), ``t_regime`` (when; nan if never),
+        ``period`` and ``mean_velocity`` (the cycle's T_c and ±2π/T_c; nan unless
+        running).  On a failure ``t``, ``y`` hold the outputs reached before it.
 
     Raises
     ------
@@ -398,6 +408,7 @@ def solve_njit(beta, gamma, omega, t0, theta0, v0, t_bound, t_eval, out, rtol, a
     r.t, r.theta, r.v, r.t_bound = t0, theta0, v0, t_bound
     r.max_step, r.max_dtheta, r.rtol, r.atol = math.inf, math.inf, rtol, atol
     r.max_windows = max_windows
+    r.regimes, r.t_regime = 1, math.nan  # as loop.new_run: regime switching on
     win_t = np.empty(0)
     win_y = np.empty((0, 2))
     win_coef = np.empty((0, 0))
@@ -485,7 +496,8 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
     -------
     SolveResult
         ``t`` (m,), ``y`` (N, 2, m), ``status`` (N,) per scene (0 ok), ``success``
-        (N,) bool, ``n_windows`` (N,), ``approximant`` (N,) names.  Each scene's
+        (N,) bool, ``n_windows`` (N,), ``approximant`` (N,) names, ``regime``,
+        ``t_regime``, ``period``, ``mean_velocity`` (N,) as in :func:`solve`.  Each scene's
         answer equals :func:`solve` for that scene.  A scene that fails at run time
         (a status other than 0: its approximant's domain, ``max_windows``) keeps the
         outputs it reached and NaN after them; the other scenes are unaffected.
@@ -535,6 +547,7 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
     p["t"], p["theta"], p["v"], p["t_bound"] = t0, y0[:, 0], y0[:, 1], t1
     p["max_step"], p["rtol"], p["atol"], p["max_windows"] = max_step, rtol, atol, max_windows
     p["max_dtheta"] = np.inf
+    p["regimes"], p["t_regime"] = 1, np.nan  # as loop.new_run: regime switching on
     names = np.empty(n, dtype=object)
     # "auto" resolves to at most two approximants (damped or not); a named one to one.
     undamped = (beta == 0.0) & (gamma == 0.0)
@@ -558,4 +571,9 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
     return SolveResult(
         t=te, y=out, status=status, success=status == 0,
         n_windows=p["n_windows"].astype(np.int64), approximant=names.astype(str),
+        regime=np.array([REGIME_NAMES[int(k)] for k in p["regime"]], dtype=object),
+        t_regime=p["t_regime"].astype(np.float64),
+        period=np.where(p["regime"] == REGIME_RUNNING, p["cyc_T"], np.nan),
+        mean_velocity=np.divide(p["cyc_sign"] * 2.0 * np.pi, p["cyc_T"], out=np.full(n, np.nan),
+                                where=p["regime"] == REGIME_RUNNING),
     )

@@ -36,7 +36,7 @@ import numpy as np
 from ._validate import check_positive, check_real, check_state
 from .problem import Pendulum
 
-__all__ = ["iv_curve", "IVCurve", "mean_velocity", "LOCKED", "RUNNING"]
+__all__ = ["iv_curve", "IVCurve", "mean_velocity", "integrate_mbm", "LOCKED", "RUNNING"]
 
 LOCKED = "locked"
 RUNNING = "running"
@@ -176,7 +176,9 @@ def _fast_angle(model):
     return math.asin(max(-1.0, min(1.0, s)))
 
 
-def _run(model, y, span):
+def integrate_mbm(model, y, span):
+    """The runs behind :func:`iv_curve`: ``solve_ivp(method=mbm.MBM)`` over (0, span)
+    from ``y`` with dense output (the windows' formulas), all windows in one step."""
     from scipy.integrate import solve_ivp
 
     from .solver import MBM
@@ -210,7 +212,7 @@ def _passages(sol, theta_s, direction, count):
     return out
 
 
-def mean_velocity(model, y0):
+def mean_velocity(model, y0, integrate=integrate_mbm):
     """The motion a state settles to under ``model``: regime, ⟨θ'⟩, period, settled state.
 
     Parameters
@@ -218,6 +220,10 @@ def mean_velocity(model, y0):
     model : Pendulum
         β > 0.
     y0 : array_like, shape (2,)
+    integrate : callable, optional
+        ``integrate(model, y, span)`` returning a ``solve_ivp`` result with dense
+        output over (0, span); default :func:`integrate_mbm` (another integrator may be
+        put in to compare, as the junction benchmark does).
 
     Returns
     -------
@@ -239,7 +245,7 @@ def mean_velocity(model, y0):
     y = np.array(y0, dtype=float)
     span = _settle_time(model.beta, model.gamma, model.omega)
     for _ in range(MAX_CHUNKS):
-        sol = _run(model, y, span)
+        sol = integrate(model, y, span)
         y = sol.y[:, -1].copy()
         y[0] = math.remainder(y[0], 2.0 * math.pi)
         before = _lock_distance(model, y)
@@ -248,7 +254,7 @@ def mean_velocity(model, y0):
         direction = 1.0 if y[1] > 0.0 else -1.0
         # Passages through θ ≡ arcsin(γ/ω²) where the cycle is fastest: the time of a
         # passage is least sensitive to the state's error there.
-        probe = _run(model, y, span)
+        probe = integrate(model, y, span)
         times = _passages(probe, _fast_angle(model), direction, 3)
         if len(times) == 3:
             p1, p2 = times[1] - times[0], times[2] - times[1]
@@ -276,7 +282,8 @@ def mean_velocity(model, y0):
     )
 
 
-def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0=0.0):
+def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0=0.0,
+             integrate=integrate_mbm):
     """The I–V curve of the RCSJ junction over the bias points ``gamma``, in the order given.
 
     Parameters
@@ -292,6 +299,8 @@ def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0
         Width to which the switching and retrapping currents are bisected.
     theta0, theta_dot0 : float, optional
         The state the first point starts from.
+    integrate : callable, optional
+        The runs' integrator (see :func:`mean_velocity`); default MBM.
 
     Returns
     -------
@@ -315,7 +324,7 @@ def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0
     regimes, velocities, periods, states, starts = [], [], [], [], []
     for gi in g:
         starts.append(y.copy())
-        regime, v, period, y = mean_velocity(Pendulum(beta, gi, omega), y)
+        regime, v, period, y = mean_velocity(Pendulum(beta, gi, omega), y, integrate)
         regimes.append(regime)
         velocities.append(v)
         periods.append(period)
@@ -326,23 +335,23 @@ def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0
         if a == b:
             continue
         if a == LOCKED and math.isnan(switching):
-            switching = _bisect(beta, omega, g[i - 1], g[i], states[i - 1], LOCKED, current_tol)
+            switching = _bisect(beta, omega, g[i - 1], g[i], states[i - 1], LOCKED, current_tol, integrate)
         elif a == RUNNING and math.isnan(retrapping):
-            retrapping = _bisect(beta, omega, g[i - 1], g[i], states[i - 1], RUNNING, current_tol)
+            retrapping = _bisect(beta, omega, g[i - 1], g[i], states[i - 1], RUNNING, current_tol, integrate)
     return IVCurve(gamma=g, mean_velocity=np.array(velocities), regime=np.array(regimes),
                    period=np.array(periods), start_state=np.array(starts),
                    switching_current=float(switching), retrapping_current=float(retrapping),
                    beta=beta, omega=omega, current_tol=current_tol)
 
 
-def _bisect(beta, omega, g_a, g_b, y_a, regime_a, tol):
+def _bisect(beta, omega, g_a, g_b, y_a, regime_a, tol, integrate):
     # [g_a, g_b]: regime_a at g_a (settled state y_a), the other regime at g_b.  A probe
     # that keeps regime_a becomes the new g_a with its settled state: the bias steps
     # shrink as the interval does, an adiabatic sweep in the limit (a finite step from
     # a locked state can kick it over the saddle below the switching current ω²).
     while abs(g_b - g_a) > tol:
         mid = 0.5 * (g_a + g_b)
-        regime, _, _, y = mean_velocity(Pendulum(beta, mid, omega), y_a)
+        regime, _, _, y = mean_velocity(Pendulum(beta, mid, omega), y_a, integrate)
         if regime == regime_a:
             g_a, y_a = mid, y
         else:

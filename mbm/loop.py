@@ -10,9 +10,11 @@ A window, as (3.29)–(3.31) of the second paper: the approximant is anchored at
 state reached (:func:`anchor`), and the state at the window end is the formula's
 value there.  The approximant's *step* (:func:`step`) returns that value and its
 local error estimate; a *controller* decides: :func:`fixed_window` (τ, cut at the
-span's end) or :func:`adaptive_window` (the controller of scipy's RK methods,
-Hairer–Nørsett–Wanner II.4, on the approximant's estimate).  A rejected window
-re-evaluates the same anchored formula at a shorter length.
+span's end) or :func:`adaptive_window` (scipy's acceptance test on the approximant's
+estimate; the window tried is the kind's a-priori window from its anchored coefficients
+where it has one, :func:`prior_window`, else scipy's RK step factor,
+Hairer–Nørsett–Wanner II.4).  A rejected window re-evaluates the same anchored formula
+at a shorter length.
 
 The scalars of a run live in one record of dtype :data:`RUN` (a numpy structured
 array of length 1, or one row per scene in a batch): model, state, controller
@@ -38,7 +40,32 @@ import numpy as np
 from .approximants.belendez2007 import belendez_anchor_kernel, belendez_eval_kernel
 from .approximants.salas2022 import salas_torque_anchor, salas_torque_eval
 from .approximants.splitting import split_anchor, split_error_kernel, split_eval_kernel
-from .approximants.taylor import taylor_coefficients, taylor_error_kernel, taylor_eval_kernel
+from .approximants.taylor import (
+    taylor_coefficients,
+    taylor_error_kernel,
+    taylor_eval_kernel,
+    taylor_window_kernel,
+)
+from .regimes import (
+    CROSSING_ITERATIONS,
+    CYCLE_AVERAGE_PERIODS,
+    CYCLE_MAX_WINDOWS,
+    CYCLE_TAG,
+    CYCLE_WIDTH,
+    LOCKED_TAG,
+    LOCKED_WIDTH,
+    REGIME_LOCKED,
+    REGIME_NONE,
+    REGIME_RUNNING,
+    SWITCH_SAFETY,
+    cycle_coef,
+    cycle_switch,
+    locked_bound,
+    locked_coef,
+    locked_constants,
+    locked_eval,
+    locked_quick_reject,
+)
 
 __all__ = [
     "RUN",
@@ -61,6 +88,7 @@ __all__ = [
     "evaluate",
     "estimate",
     "step",
+    "prior_window",
     "fixed_window",
     "adaptive_window",
     "first_window",
@@ -104,6 +132,16 @@ MIN_FACTOR = 0.2
 # computed once; each correction costs one evaluation and one estimate).
 FIRST_WINDOW_PERIODS = 0.25
 FIRST_WINDOW_ITERS = 4
+# Taylor windows are chosen a priori from the anchored coefficients
+# (:func:`prior_window`, heyoka's radius rule per component) with the neglected terms
+# at 1/TAYLOR_WINDOW_MARGIN of the tolerance per window.  Why so far below it: along a
+# conservative (β = 0) orbit the local errors share a sign and add up over the
+# 10³–10⁴ windows of a run, and the energy error they leave turns into a phase error
+# growing with t; at a margin of 1 the global error reached 1e5× tol on issue 16's
+# random scenes (heyoka's own rule is ~15–100 below tol).  Measured, docs/oracle.md:
+# 1e3 leaves 20–50× tol on the worst of 1000 scenes, 1e4 ≤ 8× (round-off aside) for
+# 10 % more windows.
+TAYLOR_WINDOW_MARGIN = 1e4
 # A window shorter than this many ulps of t cannot advance t: fail instead of looping.
 MIN_WINDOW_ULPS = 10.0
 _EPS = 2.220446049250313e-16
@@ -169,6 +207,29 @@ RUN = np.dtype(
         ("n_windows", np.int64),  # windows taken so far
         ("j", np.int64),  # next index of t_eval to fill
         ("status", np.int64),
+        # long-horizon regimes (mbm.regimes): regimes ≠ 0 lets the run switch to a
+        # regime's closed form (adaptive controller, forwards only); regime is the one
+        # reached (REGIME_NONE, REGIME_LOCKED) and t_regime when (nan before)
+        ("regimes", np.int64),
+        ("regime", np.int64),
+        ("t_regime", np.float64),
+        # running cycle (mbm.regimes, R1-R3): the return map so far (crossings of
+        # θ = 2πm in one direction: count, sign, last time, θ', return time, change
+        # of θ', largest |θ'| since) and, once switched, the cycle (anchor crossing
+        # θ, θ', period, time, winding sign)
+        ("sec_n", np.int64),
+        ("sec_sign", np.float64),
+        ("sec_t", np.float64),
+        ("sec_v", np.float64),
+        ("sec_T", np.float64),
+        ("sec_dv", np.float64),
+        ("sec_vmax", np.float64),
+        ("cyc_theta", np.float64),
+        ("cyc_v", np.float64),
+        ("cyc_T", np.float64),
+        ("cyc_t", np.float64),
+        ("cyc_sign", np.float64),
+        ("cyc_k", np.int64),  # returns since the map converged (0: not yet)
     ],
     align=True,
 )
@@ -212,11 +273,15 @@ def plan_windows(approximant, tau, max_step, span):
 
 
 def new_run(beta, gamma, omega, t0, theta0, v0, t_bound, kind, karg, controller, h_abs,
-            max_step, rtol, atol, error_order, max_windows, call_windows=0, max_dtheta=math.inf):
-    """A run record array of one row, at the start of its run (n_windows = j = status = 0)."""
+            max_step, rtol, atol, error_order, max_windows, call_windows=0, max_dtheta=math.inf,
+            regimes=1):
+    """A run record array of one row, at the start of its run (n_windows = j = status = 0;
+    regime switching on unless ``regimes=0``)."""
     return np.array(
         [(beta, gamma, omega, t0, theta0, v0, t_bound, kind, karg, controller, h_abs,
-          max_step, max_dtheta, rtol, atol, error_order, max_windows, call_windows, 0, 0, 0)],
+          max_step, max_dtheta, rtol, atol, error_order, max_windows, call_windows, 0, 0, 0,
+          regimes, REGIME_NONE, math.nan, 0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
+          math.nan, 0.0, 0.0, 0)],
         dtype=RUN,
     )
 
@@ -272,6 +337,19 @@ def estimate(kind, coef, h):
 
 
 @numba.njit(**_INLINE)
+def prior_window(kind, coef, y0, y1, rtol, atol):
+    """A-priori window length of an anchored approximant, or inf where it has none.
+
+    Kind "taylor": :func:`mbm.approximants.taylor.taylor_window_kernel` with the
+    neglected terms at rtol/:data:`TAYLOR_WINDOW_MARGIN` of scipy's scale.  Other kinds:
+    inf (their windows come from the estimate's h^(p+1) scaling alone).
+    """
+    if kind == KIND_TAYLOR:
+        return taylor_window_kernel(coef, y0, y1, rtol, atol, rtol / TAYLOR_WINDOW_MARGIN)
+    return math.inf
+
+
+@numba.njit(**_INLINE)
 def step(kind, coef, h, with_error):
     """The approximant's step over [0, h]: ``(theta, v, err_theta, err_v)``.
 
@@ -321,7 +399,11 @@ def fixed_window(kind, coef, t, direction, t_bound, tau):
 
 @numba.njit(**_INLINE)
 def first_window(kind, coef, t, y0, y1, direction, t_bound, omega, max_step, rtol, atol, error_order):
-    """Initial adaptive window length from the anchored formula's own error estimate."""
+    """Initial adaptive window length: the a-priori window (:func:`prior_window`) where
+    the kind has one, else searched from the anchored formula's own error estimate."""
+    prior = prior_window(kind, coef, y0, y1, rtol, atol)
+    if prior < math.inf:
+        return min(prior, max_step)
     h_abs = min(FIRST_WINDOW_PERIODS * 2.0 * math.pi / omega, max_step)
     inv = -1.0 / (error_order + 1.0)
     for _ in range(FIRST_WINDOW_ITERS):
@@ -340,12 +422,18 @@ def first_window(kind, coef, t, y0, y1, direction, t_bound, omega, max_step, rto
 def adaptive_window(kind, coef, t, y0, y1, direction, t_bound, h_abs, max_step, rtol, atol, error_order):
     """Adaptive controller: one accepted window under rtol/atol.
 
-    Returns ``(status, t_new, theta, v, h_next)``: the window is accepted when the
-    scaled estimate is ≤ 1, else shortened by the estimate's h^(p+1) scaling and
-    retried (no longer than the rejected one after a rejection).
+    The window tried is ``h_abs`` (the previous proposal, or ``first_step``), no longer
+    than ``max_step`` nor than the kind's a-priori window (:func:`prior_window`).  It
+    is accepted when the scaled estimate is ≤ 1 (scipy's test), else shortened by the
+    estimate's h^(p+1) scaling and retried.  Returns ``(status, t_new, theta, v,
+    h_next)``.  The proposal h_next: with an a-priori window, MAX_FACTOR × this window
+    (the next anchor's own prior decides; the cap only lets a ``first_step`` grow);
+    without, scipy's factor from the estimate.  After a rejection, no longer than the
+    window accepted.
     """
     min_h = MIN_WINDOW_ULPS * _EPS * max(abs(t), 1e-300)
-    h_abs = min(h_abs, max_step)
+    prior = prior_window(kind, coef, y0, y1, rtol, atol)
+    h_abs = min(h_abs, max_step, prior)
     rejected = False
     inv = -1.0 / (error_order + 1.0)
     while True:
@@ -355,7 +443,10 @@ def adaptive_window(kind, coef, t, y0, y1, direction, t_bound, h_abs, max_step, 
         theta, v, et, ev = step(kind, coef, t_new - t, True)
         err = _error_norm(et, ev, y0, y1, theta, v, rtol, atol)
         if math.isfinite(err) and err <= 1.0 and math.isfinite(theta) and math.isfinite(v):
-            fac = MAX_FACTOR if err == 0.0 else min(MAX_FACTOR, SAFETY * err**inv)
+            if prior < math.inf:
+                fac = MAX_FACTOR
+            else:
+                fac = MAX_FACTOR if err == 0.0 else min(MAX_FACTOR, SAFETY * err**inv)
             if rejected:
                 fac = min(1.0, fac)
             return STATUS_OK, t_new, theta, v, h_abs * fac
@@ -364,6 +455,72 @@ def adaptive_window(kind, coef, t, y0, y1, direction, t_bound, h_abs, max_step, 
         else:
             h_abs *= MIN_FACTOR
         rejected = True
+
+
+# ---------------------------------------------------------------------------
+# Running cycle (mbm.regimes, R1-R3)
+# ---------------------------------------------------------------------------
+
+_TWO_PI = 2.0 * math.pi
+
+
+@numba.njit(**_INLINE)
+def _crossing(kind, coef, h, f0, f1, level):
+    """Where the window's θ(s) crosses ``level`` in (0, h] (f0, f1: θ − level at 0, h).
+
+    Safeguarded Newton (θ' from the formula) inside the sign bracket (R1).
+    Returns ``(s, θ'(s))``.
+    """
+    lo, hi, flo = 0.0, h, f0
+    s = h * f0 / (f0 - f1) if f0 != f1 else h
+    v = 0.0
+    for _ in range(CROSSING_ITERATIONS):
+        a, v = evaluate(kind, coef, s)
+        fa = a - level
+        if fa == 0.0:
+            break
+        if (fa > 0.0) == (flo > 0.0):
+            lo, flo = s, fa
+        else:
+            hi = s
+        s_new = s - fa / v if v != 0.0 else 0.5 * (lo + hi)
+        if not (lo < s_new < hi):
+            s_new = 0.5 * (lo + hi)
+        if abs(s_new - s) <= 4.0 * _EPS * max(abs(s), 1e-300):
+            s = s_new
+            a, v = evaluate(kind, coef, s)
+            break
+        s = s_new
+    return s, v
+
+
+@numba.njit(**_INLINE)
+def _cycle_eval(kind, c, t):
+    """(θ, θ') of a running-cycle window (coefficients: regimes.cycle_coef) at ``t`` (R3)."""
+    theta_c, v_c, period, t_off = c[1], c[2], c[3], c[4]
+    beta, gamma, omega, rtol, atol, sign = c[5], c[6], c[7], c[8], c[9], c[10]
+    karg = int(c[11])
+    error_order = int(c[12])
+    tau = t + t_off
+    n = math.floor(tau / period)
+    s = min(max(tau - n * period, 0.0), period)
+    tt, a0, a1, h = 0.0, theta_c, v_c, -1.0
+    for _ in range(CYCLE_MAX_WINDOWS):
+        coef = anchor(kind, karg, beta, gamma, omega, a0, a1)
+        if coef[0] != 0.0:
+            break
+        if h <= 0.0:
+            h = first_window(kind, coef, tt, a0, a1, 1.0, period, omega, math.inf, rtol, atol, error_order)
+        st, t_new, th, v, h_next = adaptive_window(kind, coef, tt, a0, a1, 1.0, period, h, math.inf, rtol,
+                                                   atol, error_order)
+        if st != STATUS_OK:
+            break
+        if t_new >= s:
+            if t_new != s:
+                th, v = evaluate(kind, coef, s - tt)
+            return th + _TWO_PI * sign * n, v
+        tt, a0, a1, h = t_new, th, v, h_next
+    return math.nan, math.nan
 
 
 # ---------------------------------------------------------------------------
@@ -382,6 +539,16 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
     thread: how a batch running without the GIL honours Ctrl-C).  The state reached, the next window length, the window count and the
     next output index are written back to ``p[0]``, so a paused run resumes where it
     stopped.
+
+    Long horizons (:mod:`mbm.regimes`): with ``regimes`` set, before each window the
+    state is tested for the locked regime; once the bound on the neglected
+    nonlinearity over the rest of the horizon is within the tolerance (L5 there),
+    the window (to ``t_bound``, or ``max_step`` long) is the linearized closed form,
+    stored with coefficient layout ``regimes.LOCKED_TAG``, and ``regime``,
+    ``t_regime`` record the switch.  After each window the return map of θ ≡ 0
+    (mod 2π) is watched (R1, R2 there); once it has converged for the rest of the
+    horizon, the windows are the stored period shifted (``regimes.CYCLE_TAG``, R3),
+    each evaluation re-taking at most one period of windows from the cycle's anchor.
 
     Parameters
     ----------
@@ -430,6 +597,18 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
         win_t[0] = t
         win_y[0, 0] = y0
         win_y[0, 1] = y1
+    # Locked regime (mbm.regimes, L5): tested before each window where it may apply
+    # (windows from rtol/atol, forwards, β > 0, |γ| < ω², room for its formula in the
+    # window store); the test depends on the state only, so a resumed run repeats it.
+    can_lock = (r.regimes != 0 and adaptive and direction > 0.0 and beta > 0.0
+                and abs(gamma) < omega * omega and (width == 0 or width >= LOCKED_WIDTH))
+    lk_d, lk_wl2, lk_g0, lk_g1 = 0.0, 1.0, 0.0, 0.0
+    lk_ts, lk_bt, lk_bv = 0.0, math.inf, math.inf
+    if can_lock:
+        lk_d, lk_wl2, lk_g0, lk_g1 = locked_constants(beta, gamma, omega)
+    # Running cycle (mbm.regimes, R1-R3): the return map watched after each window.
+    can_cycle = (r.regimes != 0 and adaptive and direction > 0.0 and beta > 0.0
+                 and (width == 0 or width >= CYCLE_WIDTH))
     while direction * (t_bound - t) > 0.0:
         if n_total >= r.max_windows:
             status = STATUS_MAX_WINDOWS
@@ -440,14 +619,43 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
         if cancel[0] != 0:
             status = STATUS_INTERRUPTED
             break
-        coef = anchor(kind, karg, beta, gamma, omega, y0, y1)
-        if coef[0] != 0.0:
-            status = STATUS_ANCHOR
-            break
         max_step = r.max_step
         if r.max_dtheta < math.inf and y1 != 0.0:
             max_step = min(max_step, r.max_dtheta / abs(y1))
-        if adaptive:
+        is_locked = False
+        is_cycle = r.regime == REGIME_RUNNING
+        if is_cycle:
+            pass
+        elif can_lock and (r.regime == REGIME_LOCKED or not locked_quick_reject(
+                y0, y1, lk_d, lk_wl2, lk_g0, omega, rtol, atol)):
+            lk_ts, lk_bt, lk_bv = locked_bound(beta, gamma, omega, y0, y1, lk_d, lk_wl2, lk_g0, lk_g1)
+            is_locked = lk_bt <= SWITCH_SAFETY * (atol + rtol * abs(lk_ts)) and lk_bv <= SWITCH_SAFETY * atol
+        if is_cycle:
+            # The rest of the run is the stored period, shifted (mbm.regimes, R3).
+            coef = cycle_coef(r.cyc_theta, r.cyc_v, r.cyc_T, t - r.cyc_t, beta, gamma, omega, rtol, atol,
+                              r.cyc_sign, karg, error_order)
+            t_new = _window_end(t, direction, t_bound, max_step)
+            th, v = _cycle_eval(kind, coef, t_new - t)
+            st, h_next = STATUS_OK, h_abs
+            if not (math.isfinite(th) and math.isfinite(v)):
+                st = STATUS_NONFINITE
+        elif is_locked:
+            # The rest of the run is the linearized closed form (mbm.regimes, L2, L5).
+            coef = locked_coef(beta, lk_wl2, lk_ts, y0, y1)
+            t_new = _window_end(t, direction, t_bound, max_step)
+            th, v = locked_eval(coef, t_new - t)
+            st, h_next = STATUS_OK, h_abs
+            if r.regime != REGIME_LOCKED:
+                r.regime = REGIME_LOCKED
+                r.t_regime = t
+        else:
+            coef = anchor(kind, karg, beta, gamma, omega, y0, y1)
+            if coef[0] != 0.0:
+                status = STATUS_ANCHOR
+                break
+        if is_locked or is_cycle:
+            pass
+        elif adaptive:
             if h_abs <= 0.0:
                 h_abs = first_window(kind, coef, t, y0, y1, direction, t_bound, omega, max_step, rtol, atol,
                                      error_order)
@@ -464,11 +672,52 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
             if t_eval[j] == t_new:
                 out[0, j] = th
                 out[1, j] = v
+            elif is_locked:
+                a, b = locked_eval(coef, t_eval[j] - t)
+                out[0, j] = a
+                out[1, j] = b
+            elif is_cycle:
+                a, b = _cycle_eval(kind, coef, t_eval[j] - t)
+                out[0, j] = a
+                out[1, j] = b
             else:
                 a, b = evaluate(kind, coef, t_eval[j] - t)
                 out[0, j] = a
                 out[1, j] = b
             j += 1
+        if can_cycle and r.regime == REGIME_NONE:
+            # The return map (mbm.regimes, R1, R2): a crossing of θ = 2πm in this window.
+            m0 = math.floor(y0 / _TWO_PI)
+            m1 = math.floor(th / _TWO_PI)
+            r.sec_vmax = max(r.sec_vmax, abs(v))
+            if abs(m1 - m0) == 1.0:
+                sgn = 1.0 if m1 > m0 else -1.0
+                level = _TWO_PI * max(m0, m1)
+                sx, vx = _crossing(kind, coef, t_new - t, y0 - level, th - level, level)
+                tx = t + sx
+                if r.sec_n > 0 and r.sec_sign == sgn:
+                    period = tx - r.sec_t
+                    dv = vx - r.sec_v
+                    if r.cyc_k > 0:
+                        # Converged: the period averaged over CYCLE_AVERAGE_PERIODS returns (R2).
+                        r.cyc_k += 1
+                        if r.cyc_k > CYCLE_AVERAGE_PERIODS:
+                            r.regime = REGIME_RUNNING
+                            r.t_regime = t_new
+                            r.cyc_T = (tx - r.cyc_t) / CYCLE_AVERAGE_PERIODS
+                            r.cyc_theta, r.cyc_v, r.cyc_t, r.cyc_sign = level, vx, tx, sgn
+                    elif r.sec_n >= 2 and cycle_switch(
+                            dv, r.sec_dv, period - r.sec_T, vx, level, r.sec_vmax,
+                            abs(gamma) + beta * r.sec_vmax + omega * omega, (t_bound - t_new) / period, rtol,
+                            atol):
+                        r.cyc_k, r.cyc_t = 1, tx
+                    r.sec_dv, r.sec_T = dv, period
+                    r.sec_n += 1
+                else:
+                    r.sec_n, r.sec_sign, r.cyc_k = 1, sgn, 0
+                r.sec_t, r.sec_v, r.sec_vmax = tx, vx, max(abs(vx), abs(v))
+            elif m1 != m0:
+                r.sec_n, r.cyc_k = 0, 0
         if store:
             if width > 0:
                 m = min(coef.size, width)
@@ -583,7 +832,14 @@ def _evaluate_windows(kind, starts, coefs, n, direction, t, out_theta, out_v):
             else:
                 hi = mid - 1
         i = lo
-        a, b = evaluate(kind, coefs[i], tj - starts[i])
+        if coefs.shape[1] >= LOCKED_WIDTH and coefs[i, 0] == LOCKED_TAG:
+            # A locked window (mbm.regimes): the closed form, cheap at any t.
+            a, b = locked_eval(coefs[i], tj - starts[i])
+        elif coefs.shape[1] >= CYCLE_WIDTH and coefs[i, 0] == CYCLE_TAG:
+            # A running-cycle window: the stored period, shifted (at most a period of windows).
+            a, b = _cycle_eval(kind, coefs[i], tj - starts[i])
+        else:
+            a, b = evaluate(kind, coefs[i], tj - starts[i])
         out_theta[j] = a
         out_v[j] = b
 

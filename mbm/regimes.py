@@ -31,7 +31,7 @@ cancellation) as E·C = (e^{λ₁t} + e^{λ₂t})/2 and E·S = e^{λ₁t}·(−e
 neither overflow nor cancel near critical damping.
 
 (L3) Trapping and amplitude.  H = x'²/2 + U(x), U(x) = ω²(cos d − cos(d + x)) − γx
-= 2ω² sin(d + x/2) sin(x/2) − γx, is non-increasing along the exact motion
+= ω²(2 cos d sin²(x/2) − sin d (x − sin x)) (the form evaluated), is non-increasing along the exact motion
 (dH/dt = −βx'²).  The well of θ* is bounded by the saddles x_r = π − 2d and
 x_l = −π − 2d, with U(x_r) = 2ω² cos d − γ(π − 2d), U(x_l) = 2ω² cos d + γ(π + 2d); U
 increases on [0, x_r] and decreases on [x_l, 0].  If x₀ ∈ (x_l, x_r) and
@@ -49,13 +49,44 @@ Green's function (g'' + βg' + ω_l² g = δ), and for every t ≥ 0
 Under-damped, g = E sin(st)/s, |sin(st)/s| ≤ min(t, 1/s):
 G₀ ≤ min(4/β², 2/(βs)), and g' = E (cos st − (β/2) sin(st)/s) gives
 G₁ ≤ 2/β + min(2/β, 1/s).  Over-damped or critical, g ≥ 0, so G₀ = ∫g = 1/ω_l²
-exactly, and g rises once and decays, so G₁ = 2 max g ≤ 2/(e|λ₁|) (g ≤ t e^{λ₁t}).
+exactly, and g rises once and decays, so G₁ = 2 max g; g = e^{λ₁t}(1 − e^{−2μt})/(2μ)
+≤ min(t, 1/(2μ)) e^{λ₁t} gives G₁ ≤ 2 min(1/(e|λ₁|), 1/(2μ)) (critical: 4/(eβ), exact).
 
 (L5) Switch rule.  The run switches when ω² ρ(A) G₀ ≤ SWITCH_SAFETY · (atol + rtol·|θ*|)
 and ω² ρ(A) G₁ ≤ SWITCH_SAFETY · atol: after the switch every output differs from the
 exact motion through the state reached by at most that, for any horizon (the error
 the run carried into the switch is then propagated by a contracting linear flow).
 Rounding in H₀ and U is covered by the margin AMPLITUDE_MARGIN on A.
+
+RUNNING cycle (β > 0; a rotation settling on the limit cycle θ(t + T_c) = θ(t) ± 2π):
+
+(R1) Section.  After each window the loop looks for a crossing of a level θ = 2πm
+inside it (the window's formula, safeguarded Newton on θ(s) − 2πm): the crossings
+(t_n, v_n) of successive levels in one direction are the return map of the section
+θ ≡ 0 (mod 2π).
+
+(R2) Convergence.  Near the cycle the return map contracts geometrically: the flow's
+divergence is −β, so the cycle's non-trivial Floquet multiplier, the slope of the
+return map there, is μ = e^{−βT_c} (Liouville); the loop measures it as
+μ = |v_n − v_{n−1}| / |v_{n−1} − v_{n−2}|.  The deviations still to come sum to at
+most |Δv|·μ/(1 − μ) in v and |ΔT|·μ/(1 − μ) in the period; the period's error repeats
+in each of the N periods left to t_bound, so it shifts the phase by up to
+N·|ΔT|/(1 − μ).  The run switches when μ ≤ CYCLE_MAX_MULTIPLIER,
+|Δv|/(1 − μ) ≤ SWITCH_SAFETY · (atol + rtol·|v_n|), N|ΔT|/(1 − μ) · max|θ''| within the
+same, and N|ΔT|/(1 − μ) · max|θ'| ≤ SWITCH_SAFETY · (atol + rtol·|θ_n|)
+(:func:`cycle_switch`): the longer the horizon, the later (by log N periods) the switch.
+From there the period is averaged over CYCLE_AVERAGE_PERIODS more returns, and the
+last crossing is the cycle's anchor.
+
+(R3) Extension.  After the switch the motion is the last period's, shifted: with
+τ = t − t_n = nT_c + s (0 ≤ s < T_c), θ(t) = θ_p(s) ± 2πn, where θ_p is the run
+re-taken from the anchor (2πm, v_n) by the same approximant and controller (the
+windows of one period, a function of the anchor only, so every path and the dense
+output give the same value; each evaluation costs at most one period of windows,
+whatever the horizon).  Its error per period is the ordinary windows' (one period
+of them), and its phase error grows with n·ΔT as the ordinary run's would: the
+extension is the ordinary run without the windows between outputs, not a bound
+tighter than it (the phase of a limit cycle is neutral).
 """
 
 import math
@@ -77,6 +108,12 @@ __all__ = [
     "locked_eval",
     "locked_eval_array",
     "green_integrals",
+    "REGIME_RUNNING",
+    "CYCLE_TAG",
+    "CYCLE_WIDTH",
+    "cycle_coef",
+    "cycle_switch",
+    "cycle_summary",
 ]
 
 # (L5): the remainder bound must be this fraction of the tolerance, so the switch adds
@@ -87,41 +124,89 @@ SWITCH_SAFETY = 0.1
 AMPLITUDE_MARGIN = 1e-8
 # (L3): bisection steps for A± (each halves a bracket of length ≤ 2π: 60 reach ulps).
 AMPLITUDE_BISECTIONS = 60
+# Below this |x|, x − sin x by its series to x¹¹ (the next term is below 1e-15 of it).
+X_MINUS_SIN_SERIES = 0.25
 # Quick rejection before the rigorous test (it only delays a switch, never allows
 # one): the linear estimate sqrt(2H/ω_l²) of A times this factor must already pass.
 QUICK_FACTOR = 0.5
 
 REGIME_NONE = 0
 REGIME_LOCKED = 1
+REGIME_RUNNING = 2
 #: The name of each regime (``regime`` of a result).
-REGIME_NAMES = {REGIME_NONE: None, REGIME_LOCKED: "locked"}
+REGIME_NAMES = {REGIME_NONE: None, REGIME_LOCKED: "locked", REGIME_RUNNING: "running"}
 
 # A locked window's coefficient vector, as stored in a run's window store:
-# [LOCKED_TAG, θ*, x₀, v₀, β/2, s², ω_l²].  coef[0] of an approximant's window is its
+# [LOCKED_TAG, θ₀, x₀ = θ₀ − θ*, v₀, β/2, s², ω_l²], θ = θ₀ + (x − x₀) so that the
+# window's start is its anchor bit for bit.  coef[0] of an approximant's window is its
 # anchor status, 0.0, so the tag tells a locked window from any other.
 LOCKED_TAG = 101.0
 LOCKED_WIDTH = 7
+# A running-cycle window's coefficient vector (R3): [CYCLE_TAG, θ_c, v_c, T_c, t_off,
+# β, γ, ω, rtol, atol, winding sign, kind argument, error order]; t_off is the time
+# from the cycle's anchor crossing to the window's start.
+CYCLE_TAG = 102.0
+CYCLE_WIDTH = 13
+# (R2): a return map whose contraction measured over two periods is above this is not
+# (yet) converging geometrically: no switch.
+CYCLE_MAX_MULTIPLIER = 0.9
+# (R2): once the map has converged, the period is averaged over this many more
+# returns: the crossing times carry the run's global error, which a single
+# difference would repeat in every later period; averaged, the stored period's
+# drift is the run's own mean drift per period.
+CYCLE_AVERAGE_PERIODS = 32
+# (R1): safeguarded Newton steps for a section crossing inside a window (quadratic
+# convergence from the bracket's secant start: a handful suffice; bisection backs it up).
+CROSSING_ITERATIONS = 60
+# (R3): most windows one evaluation of the stored period may take (a period takes
+# ~10-100 at the tolerances in use); past it the evaluation is NaN (a failure).
+CYCLE_MAX_WINDOWS = 100000
 
 
 @numba.njit(cache=True)
 def green_integrals(beta, wl2):
-    """Upper bounds (G₀, G₁) on ∫₀^∞|g| and ∫₀^∞|g'| of x'' + βx' + ω_l² x (item L4)."""
+    """Upper bounds on the L¹ norms of the oscillator's Green's function (item L4).
+
+    Parameters
+    ----------
+    beta : float
+        Damping, > 0.
+    wl2 : float
+        ω_l², > 0.
+
+    Returns
+    -------
+    g0, g1 : float
+        G₀ ≥ ∫₀^∞ |g| and G₁ ≥ ∫₀^∞ |g'| for g'' + βg' + ω_l² g = δ.
+    """
     s2 = wl2 - 0.25 * beta * beta
     if s2 > 0.0:
         s = math.sqrt(s2)
-        g0 = min(4.0 / (beta * beta), 2.0 / (beta * s))
+        # Divided one at a time: β² may underflow (β = 1e-270), 4/β/β is then inf.
+        g0 = min(4.0 / beta / beta, 2.0 / beta / s)
         g1 = 2.0 / beta + min(2.0 / beta, 1.0 / s)
     else:
         mu = math.sqrt(-s2)
         lam1 = wl2 / (0.5 * beta + mu)  # |λ₁|
         g0 = 1.0 / wl2
-        g1 = 2.0 / (math.e * lam1)
+        g1 = 2.0 / (math.e * lam1) if mu == 0.0 else 2.0 * min(1.0 / (math.e * lam1), 0.5 / mu)
     return g0, g1
 
 
 @numba.njit(cache=True)
 def locked_constants(beta, gamma, omega):
-    """Per-run constants of the locked test: ``(d, ω_l², G₀, G₁)`` (items L1, L4)."""
+    """Per-run constants of the locked test (items L1, L4).
+
+    Parameters
+    ----------
+    beta, gamma, omega : float
+        The model, β > 0 and |γ| < ω².
+
+    Returns
+    -------
+    d, wl2, g0, g1 : float
+        d = arcsin(γ/ω²), ω_l² = ω² cos d and :func:`green_integrals`.
+    """
     w2 = omega * omega
     d = math.asin(gamma / w2)
     wl2 = w2 * math.cos(d)
@@ -136,9 +221,21 @@ def _rho(sd, a):
 
 
 @numba.njit(cache=True, inline="always")
+def _x_minus_sin(x):
+    # x − sin x without cancellation: its Taylor series below X_MINUS_SIN_SERIES.
+    if abs(x) < X_MINUS_SIN_SERIES:
+        x2 = x * x
+        return x * x2 * (1.0 / 6.0 - x2 * (1.0 / 120.0 - x2 * (1.0 / 5040.0 - x2 * (
+            1.0 / 362880.0 - x2 / 39916800.0))))
+    return x - math.sin(x)
+
+
+@numba.njit(cache=True, inline="always")
 def _potential(w2, gamma, d, x):
-    # (L3): U(x) = 2ω² sin(d + x/2) sin(x/2) − γx (no cancellation at small x).
-    return 2.0 * w2 * math.sin(d + 0.5 * x) * math.sin(0.5 * x) - gamma * x
+    # (L3): U(x) = ω²(2 cos d sin²(x/2) − sin d (x − sin x)), sin d = γ/ω²: both terms
+    # carry their leading order, so U keeps its relative precision at any small x.
+    h = math.sin(0.5 * x)
+    return w2 * (2.0 * math.cos(d) * h * h) - gamma * _x_minus_sin(x)
 
 
 @numba.njit(cache=True, inline="always")
@@ -148,7 +245,24 @@ def _nearest_k(theta, d):
 
 @numba.njit(cache=True, inline="always")
 def locked_quick_reject(theta, v, d, wl2, g0, omega, rtol, atol):
-    """True when the locked test surely fails (cheap; run before every window)."""
+    """True when the locked test surely fails (cheap; run before every window).
+
+    A necessary condition only (the linear amplitude estimate times QUICK_FACTOR must
+    already pass L5): a True delays a switch, a False leads to :func:`locked_bound`.
+
+    Parameters
+    ----------
+    theta, v : float
+        The state.
+    d, wl2, g0 : float
+        From :func:`locked_constants`.
+    omega, rtol, atol : float
+        The model's ω and the run's tolerances.
+
+    Returns
+    -------
+    bool
+    """
     k = _nearest_k(theta, d)
     ts = d + 2.0 * math.pi * k
     x = theta - ts
@@ -160,8 +274,23 @@ def locked_quick_reject(theta, v, d, wl2, g0, omega, rtol, atol):
 def locked_bound(beta, gamma, omega, theta, v, d, wl2, g0, g1):
     """Rigorous bounds on the locked closed form's deviation over any horizon (L3, L4).
 
-    Returns ``(θ*, bound_θ, bound_θ')``; the bounds are inf when the state is not
-    trapped in the well of its nearest equilibrium θ*.
+    Parameters
+    ----------
+    beta, gamma, omega : float
+        The model, β > 0 and |γ| < ω².
+    theta, v : float
+        The state the closed form is anchored at.
+    d, wl2, g0, g1 : float
+        From :func:`locked_constants`.
+
+    Returns
+    -------
+    theta_star : float
+        The nearest stable equilibrium d + 2πk.
+    bound_theta, bound_v : float
+        sup over t ≥ 0 of |θ − θ_lin| and |θ' − θ_lin'| between the exact motion and
+        :func:`locked_eval` from this state; inf when the state is not trapped in the
+        well of θ* (on or above its lower saddle).
     """
     w2 = omega * omega
     k = _nearest_k(theta, d)
@@ -193,10 +322,25 @@ def locked_bound(beta, gamma, omega, theta, v, d, wl2, g0, g1):
 
 @numba.njit(cache=True)
 def locked_coef(beta, wl2, theta_star, theta, v):
-    """The locked window's coefficient vector anchored at (θ, θ') (layout: LOCKED_TAG)."""
+    """The locked window's coefficient vector anchored at (θ, θ').
+
+    Parameters
+    ----------
+    beta, wl2 : float
+        β and ω_l².
+    theta_star : float
+        The equilibrium (from :func:`locked_bound`).
+    theta, v : float
+        The anchor state.
+
+    Returns
+    -------
+    ndarray, shape (LOCKED_WIDTH,)
+        [LOCKED_TAG, θ₀, x₀, v₀, β/2, s², ω_l²] (see LOCKED_TAG).
+    """
     c = np.empty(LOCKED_WIDTH)
     c[0] = LOCKED_TAG
-    c[1] = theta_star
+    c[1] = theta
     c[2] = theta - theta_star
     c[3] = v
     c[4] = 0.5 * beta
@@ -207,8 +351,21 @@ def locked_coef(beta, wl2, theta_star, theta, v):
 
 @numba.njit(cache=True, inline="always")
 def locked_eval(coef, t):
-    """(θ, θ') of the linearized motion of a locked window at time ``t`` from its anchor (L2)."""
-    ts, x0, v0, hb, s2, wl2 = coef[1], coef[2], coef[3], coef[4], coef[5], coef[6]
+    """The linearized motion of a locked window (item L2).
+
+    Parameters
+    ----------
+    coef : ndarray
+        From :func:`locked_coef`.
+    t : float
+        Time from the anchor (≥ 0; any size: the exponentials only decay).
+
+    Returns
+    -------
+    theta, v : float
+        θ and θ' (at t = 0 the anchor, bit for bit).
+    """
+    th0, x0, v0, hb, s2, wl2 = coef[1], coef[2], coef[3], coef[4], coef[5], coef[6]
     b = v0 + hb * x0
     if s2 > 0.0:
         s = math.sqrt(s2)
@@ -227,13 +384,121 @@ def locked_eval(coef, t):
         es = e * t
     x = x0 * ec + b * es
     xd = x0 * (-hb * ec - s2 * es) + b * (ec - hb * es)
-    return ts + x, xd
+    return th0 + (x - x0), xd
+
+
+@numba.njit(cache=True, inline="always")
+def cycle_switch(dv, dv_prev, dT, v, theta, vmax, amax, n_rest, rtol, atol):
+    """Whether the return map has converged enough to switch to the cycle (item R2).
+
+    Parameters
+    ----------
+    dv, dv_prev : float
+        The last two changes of θ' between successive crossings.
+    dT : float
+        The last change of the return time.
+    v, theta : float
+        θ', θ at the last crossing.
+    vmax : float
+        Largest |θ'| seen over the last period.
+    amax : float
+        A bound on |θ''| (|γ| + β·vmax + ω²).
+    n_rest : float
+        Periods left to the end of the span.
+    rtol, atol : float
+        The run's tolerances.
+
+    Returns
+    -------
+    bool
+    """
+    if dv_prev == 0.0:
+        return dv == 0.0 and dT == 0.0
+    mu = abs(dv) / abs(dv_prev)
+    if not (mu <= CYCLE_MAX_MULTIPLIER):
+        return False
+    tail = 1.0 / (1.0 - mu)
+    # (R2): the period's distance to the cycle's, |dT|·tail, repeats every remaining period.
+    drift = n_rest * abs(dT) * tail
+    scale_v = SWITCH_SAFETY * (atol + rtol * abs(v))
+    return (abs(dv) * tail <= scale_v and drift * amax <= scale_v
+            and drift * vmax <= SWITCH_SAFETY * (atol + rtol * abs(theta)))
+
+
+@numba.njit(cache=True)
+def cycle_coef(theta_c, v_c, period, t_off, beta, gamma, omega, rtol, atol, sign, karg, error_order):
+    """A running-cycle window's coefficient vector (layout: CYCLE_TAG; item R3).
+
+    Parameters
+    ----------
+    theta_c, v_c : float
+        The cycle's anchor: the crossing of θ = θ_c with speed v_c.
+    period : float
+        T_c.
+    t_off : float
+        Time from the anchor crossing to the window's start.
+    beta, gamma, omega, rtol, atol : float
+        The model and the tolerances the stored period is re-taken with.
+    sign : float
+        +1 or −1: θ advances by 2π·sign per period.
+    karg, error_order : int
+        The approximant's kind argument and error order.
+
+    Returns
+    -------
+    ndarray, shape (CYCLE_WIDTH,)
+    """
+    c = np.empty(CYCLE_WIDTH)
+    c[0] = CYCLE_TAG
+    c[1] = theta_c
+    c[2] = v_c
+    c[3] = period
+    c[4] = t_off
+    c[5] = beta
+    c[6] = gamma
+    c[7] = omega
+    c[8] = rtol
+    c[9] = atol
+    c[10] = sign
+    c[11] = karg
+    c[12] = error_order
+    return c
 
 
 @numba.njit(cache=True)
 def locked_eval_array(coef, t, out_theta, out_v):
-    """:func:`locked_eval` at each of ``t``."""
+    """:func:`locked_eval` at each of ``t``.
+
+    Parameters
+    ----------
+    coef : ndarray
+        From :func:`locked_coef`.
+    t : ndarray
+        Times from the anchor.
+    out_theta, out_v : ndarray
+        Filled with θ, θ' (same shape as ``t``).
+    """
     for i in range(t.size):
         a, b = locked_eval(coef, t[i])
         out_theta[i] = a
         out_v[i] = b
+
+
+def cycle_summary(regime, period, sign):
+    """``(period, mean_velocity)`` of a result: T_c and ⟨θ'⟩ = ±2π/T_c when the run
+    switched to the running cycle, else (nan, nan).
+
+    Parameters
+    ----------
+    regime : int
+        The run record's ``regime``.
+    period, sign : float
+        Its ``cyc_T`` and ``cyc_sign``.
+
+    Returns
+    -------
+    (float, float)
+    """
+    if regime != REGIME_RUNNING:
+        return math.nan, math.nan
+    return float(period), float(sign) * 2.0 * math.pi / float(period)

@@ -28,6 +28,7 @@ from ._validate import (
 from .approximants import get_approximant
 from .choice import choose_approximant
 from .problem import Pendulum, identify_model
+from .regimes import REGIME_NAMES, cycle_summary
 
 __all__ = ["MBM", "MBMEventPoints", "MBMDenseOutput", "MBMWindowsDenseOutput"]
 
@@ -65,6 +66,8 @@ CALLER_FRAMES = 8
 
 _W_T, _W_THETA, _W_STATUS, _W_NW = (loop.WORD[k] for k in ("t", "theta", "status", "n_windows"))
 assert loop.WORD["v"] == _W_THETA + 1  # θ, θ' adjacent: the state is one slice of the record
+_W_REGIME, _W_T_REGIME, _W_CYC_T, _W_CYC_SIGN = (loop.WORD[k] for k in ("regime", "t_regime", "cyc_T",
+                                                                        "cyc_sign"))
 
 _NO_TIMES = np.empty(0)
 _NO_OUT = np.empty((2, 0))
@@ -229,6 +232,14 @@ class MBM(_MBMBase):
         Whether solve_ivp passed ``events`` (windows kept short, see above).
     n_windows : int
         Windows taken so far.
+    regime : str or None
+        The long-horizon regime the run switched to (``"locked"`` or ``"running"``,
+        see :mod:`mbm.regimes`; the dense output beyond it is the closed form or the
+        stored period, shifted), or None.
+    t_regime : float
+        When it switched (nan before).
+    period, mean_velocity : float
+        The running cycle's T_c and ⟨θ'⟩ = ±2π/T_c (nan unless running).
     """
 
     def __new__(cls, *args, anchors="windows", **kwargs):
@@ -282,6 +293,8 @@ class MBM(_MBMBase):
         if self.adaptive and first_step is not None:
             h_abs = min(first_step, run_max_step)
         self.n_windows = 0
+        self.regime, self.t_regime = None, math.nan
+        self.period = self.mean_velocity = math.nan
         # The run record of the compiled loop (None: windows driven from Python, one
         # per step, for approximants without a compiled kind), and its words as float64
         # and int64 (fast field access).
@@ -323,6 +336,10 @@ class MBM(_MBMBase):
                 win_coef = np.concatenate((win_coef[:n], np.empty((size - n, self._width))))
             n += run(p, _NO_TIMES, _NO_OUT, win_t[n:], win_y[n:], win_coef[n:], _NEVER)
         self.n_windows = int(ints[_W_NW])
+        self.regime = REGIME_NAMES[int(ints[_W_REGIME])]
+        self.t_regime = float(words[_W_T_REGIME])
+        self.period, self.mean_velocity = cycle_summary(int(ints[_W_REGIME]), words[_W_CYC_T],
+                                                        words[_W_CYC_SIGN])
         if n == 0:
             return False, self._failure(int(ints[_W_STATUS]))
         self._windows = (win_t[: n + 1], win_coef[:n], n)

@@ -77,6 +77,7 @@ __all__ = [
     "taylor_eval_kernel",
     "taylor_eval_array_kernel",
     "taylor_error_kernel",
+    "taylor_window_kernel",
     "radius_estimate",
     "taylor_radius_kernel",
     "TAYLOR_ORDERS",
@@ -112,6 +113,12 @@ STATUS_OK = 0
 STATUS_BAD_STATE = 1  # non-finite anchor or parameters
 STATUS_BAD_ORDER = 2  # degree outside 1 .. MAX_ORDER
 
+
+# A-priori window (:func:`taylor_window_kernel`): heyoka's safety factor
+# exp(−WINDOW_SAFETY_EXP/(p−1)) on the radius rule (Biscani & Izzo 2021, §4, after
+# Jorba & Zou 2005, §3.2), kept as published; the margin of the per-window error below
+# the tolerance is the controller's (mbm.loop.TAYLOR_WINDOW_MARGIN).
+WINDOW_SAFETY_EXP = 0.7
 
 # Floating-point licences of the coefficient recurrence: reassociation and fused
 # multiply-add let LLVM vectorize the two convolution sums (10-25 % faster at
@@ -266,6 +273,60 @@ def taylor_error_kernel(coef, h):
     e1 = abs(a[n + 1]) * hn
     e2 = abs(a[n + 2]) * hn * ah
     return (e1 + e2) * ah, (n + 1.0) * e1 + (n + 2.0) * e2
+
+
+@njit(cache=True)
+def taylor_window_kernel(coef, theta0, v0, rtol, atol, eps):
+    """A-priori window length from the anchored coefficients (heyoka's rule, per component).
+
+    With p = N − 1 (the degree of the θ' polynomial), the state's Taylor coefficients
+    x^[k] = (a_k, (k+1) a_{k+1}) of the orders p − 1 and p, each component in units of
+    its tolerance scale S_c = atol/rtol + |y_c| (so that rtol·S_c = atol + rtol·|y_c|,
+    scipy's scale), give the radius estimate
+
+        ρ = min_{k ∈ {p−1, p}, c} (S_c / |x_c^[k]|)^(1/k),
+
+    and the window is h = ρ · eps^(1/p) · exp(−0.7/(p−1)): the neglected terms are then
+    about eps·S_c (eps = rtol/margin is the caller's per-window target).  heyoka takes
+    eps = tol, S = max(1, ‖y‖∞) and the degree from eps (p = ⌈−ln eps / 2⌉ + 1, where
+    eps^(1/p) ≈ e⁻²); here the degree is the approximant's and eps^(1/p) follows the
+    tolerance.  Three orders (a_{N−2}, a_{N−1}, a_N) enter, so one coefficient vanishing
+    by symmetry does not fool it (an odd or even θ(t)).
+
+    Parameters
+    ----------
+    coef : ndarray
+        From a ``taylor*`` anchor kernel.
+    theta0, v0 : float
+        The anchor state (coef's a₀, a₁).
+    rtol, atol : float
+        Tolerances, rtol > 0.
+    eps : float
+        Target of the neglected terms per window in units of S_c (0 < eps < 1; the
+        tolerance is rtol·S_c, so eps = rtol/margin asks for 1/margin of it).
+
+    Returns
+    -------
+    float
+        The window length; ``inf`` when N < 3 (no rule: the caller falls back to
+        its estimate) or when the coefficients vanish (rest at an equilibrium).
+    """
+    n = int(coef[1])
+    if n < 3:
+        return math.inf
+    a = coef[HEADER:]
+    p = n - 1
+    r = atol / rtol
+    s0 = r + abs(theta0)
+    s1 = r + abs(v0)
+    n1 = max(abs(a[p - 1]) / s0, p * abs(a[p]) / s1)
+    n2 = max(abs(a[p]) / s0, (p + 1.0) * abs(a[p + 1]) / s1)
+    rho = math.inf
+    if n1 > 0.0:
+        rho = n1 ** (-1.0 / (p - 1.0))
+    if n2 > 0.0:
+        rho = min(rho, n2 ** (-1.0 / p))
+    return rho * eps ** (1.0 / p) * math.exp(-WINDOW_SAFETY_EXP / (p - 1.0))
 
 
 # One anchor kernel per registered degree: the kernel signature has no room for

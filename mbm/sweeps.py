@@ -20,7 +20,6 @@ xarray is needed (``pip install "mbm[dask]"``); Dask only for ``chunks=``.
 """
 
 import math
-import sys
 import threading
 
 import numpy as np
@@ -316,32 +315,17 @@ def _solve_block(*arrays, names, fixed, t_span, times, variables, options):
 # ------------------------------------------------------------------------------ progress
 
 
-class _StderrBar:
-    """A minimal progress line on stderr (used when tqdm is not installed)."""
-
-    def __init__(self, total):
-        self.total, self.done = total, 0
-        self._write()
-
-    def _write(self):
-        pct = 100.0 * self.done / self.total if self.total else 100.0
-        sys.stderr.write(f"\rsweep: {pct:3.0f}% ({self.done}/{self.total} scenes)")
-        sys.stderr.flush()
-
-    def update(self, k):
-        self.done += k
-        self._write()
-
-    def close(self):
-        sys.stderr.write("\n")
-        sys.stderr.flush()
-
-
 def _progress_bar(total):
+    """A tqdm bar over ``total`` scenes, or mbm's own stderr line without tqdm.
+
+    Drawn even when stderr is not a terminal: ``progress=True`` asked for it.
+    """
     try:
         from tqdm.auto import tqdm
     except ImportError:
-        return _StderrBar(total)
+        from .cli_progress import Progress
+
+        return Progress(total, "sweep (scenes)", enabled=True)
     return tqdm(total=total, unit="scene", desc="sweep")
 
 
@@ -395,7 +379,8 @@ def _chunked(values, dims, kw, chunks):
         output_dtypes=[_dtype(v) for v in variables],
         dask_gufunc_kwargs={"output_sizes": {"time": m}} if any(core) else {},
     )
-    return {v: (dims + tuple(c), o.transpose(*dims, *c).data) for v, o, c in zip(variables, outs, core)}
+    # apply_ufunc orders the dimensions as the inputs give them (PARAMETERS order), core last.
+    return {v: (o.dims, o.data) for v, o in zip(variables, outs)}
 
 
 def _show_dask_progress(ds):
@@ -510,9 +495,9 @@ def sweep(*, beta, gamma, omega=1.0, theta0=0.0, theta_dot0=0.0, t_span, t_eval=
         :func:`mbm.solve_batch` call, computed by the active Dask scheduler (threads
         here, or a ``dask.distributed`` Client's cluster).
     progress : bool
-        Show progress: without ``chunks``, a tqdm bar (a plain stderr line when tqdm
-        is not installed) moving once per :data:`LOCAL_BATCH` scenes; with ``chunks``,
-        the Dataset is computed now (``persist``: still dask-backed, its chunks held in
+        Show progress: without ``chunks``, a tqdm bar (``mbm.cli_progress``'s stderr
+        line when tqdm is not installed) moving once per :data:`LOCAL_BATCH` scenes;
+        with ``chunks``, the Dataset is computed now (``persist``: still dask-backed, its chunks held in
         memory or on the cluster) under ``dask.diagnostics.ProgressBar`` or, with a
         distributed Client, ``distributed.progress``.
 
@@ -567,10 +552,12 @@ def sweep(*, beta, gamma, omega=1.0, theta0=0.0, theta_dot0=0.0, t_span, t_eval=
         t_eval = check_t_eval(t_eval, t0, t1)
     elif not t0 < t0 + 0.5 * (t1 - t0) < t1:
         raise ValueError(f"t_span is too short to split in halves, got {t_span!r}")
-    rtol, atol = check_tolerances(rtol, atol)  # the floor (and its warning) once, here
+    try:
+        rtol, atol = check_tolerances(rtol, atol)  # the floor (and its warning) once, here
+        tau = None if tau is None else check_positive("tau", tau)
+    except TypeError as exc:  # a non-number: a ValueError here, as for every argument
+        raise ValueError(str(exc)) from None
     max_windows = check_max_windows(max_windows)
-    if tau is not None:
-        tau = check_positive("tau", tau)
     if progress not in (True, False):
         raise ValueError(f"progress must be True or False, got {progress!r}")
     models = [values.get(k, fixed.get(k)) for k in ("beta", "gamma", "omega")]

@@ -1,0 +1,188 @@
+"""The standing oracle suite: random scenes in every regime against heyoka in long double.
+
+Issue 16's targets, asserted on scenes drawn at random (a fixed seed, so every run is
+the same; more under ``-m slow``) from its box β ∈ [0, 3], γ ∈ [−2, 2], ω ∈ [0.2, 5],
+θ₀ ∈ [−π, π], θ̇₀ ∈ [−3ω, 3ω], T ∈ [10, 300], the four regimes (β, γ zero or not) in
+turn, plus its named cases (the β = 0 example and the fast T = 1 scenes):
+
+* proportionality: the error at rtol = atol = tol (max over 201 outputs of
+  |θ − θ_ref| / max(1, |θ_ref|), :func:`oracle_scenes.error`) stays within
+  :data:`PROPORTIONALITY_BOUND` × tol, at tol = 1e-4, 1e-8, 1e-12;
+* monotonicity: the error at 1e-12 is no larger than at 1e-8, but for the oracle's
+  own floor;
+* one answer: ``mbm.solve``, ``solve_ivp(method=mbm.MBM, windows_per_step=None)`` and
+  ``mbm.solve_batch`` agree bit for bit.
+
+The oracle (``tests/data/oracle_heyoka.py``): heyoka's adaptive Taylor integrator in
+80-bit long double at tol 1e-19, checked here against the exact undamped flow.  The
+scenes and the error measure: ``tests/data/oracle_scenes.py`` (also the measuring
+script behind docs/oracle.md).
+"""
+
+import functools
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+import mbm
+
+sys.path.insert(0, str(Path(__file__).resolve().parent / "data"))
+import oracle_heyoka  # noqa: E402
+import oracle_scenes  # noqa: E402
+
+pytestmark = pytest.mark.skipif(
+    not oracle_heyoka.available(),
+    reason="the oracle needs heyoka (the test extra) and an 80-bit long double (x86-64)")
+
+# The scenes: SEED fixes the draw; N_DEFAULT in the default run (a quarter per regime,
+# ~20 s here with the oracle), N_SLOW more under -m slow (a different seed, so the
+# slow run sees scenes the default one does not).
+SEED = 16
+N_DEFAULT = 40
+SEED_SLOW = 2016
+N_SLOW = 400
+TOLS = (1e-4, 1e-8, 1e-12)
+
+# Issue 16's target: the global error within 100× the tolerance on every
+# well-conditioned scene.  Measured on 1406 random scenes (docs/oracle.md): at most
+# 3.1×, 5.6×, 10× at 1e-4, 1e-8, 1e-12 (before the a-priori Taylor windows: 3.7e4×,
+# 1.4e5×, 1e5×), so the bound is a target with a 10× margin, not a fit.
+PROPORTIONALITY_BOUND = 100.0
+# Round-off: each window rounds the state to double (relative eps), and the dynamics
+# amplify a perturbation by up to κ (oracle_scenes.conditioning); over n windows that
+# is a random walk of about eps·κ·√n, which no tolerance can undercut.  The allowance
+# is this many times it (measured: the worst 1e-12 errors of 1006 scenes are 0.3-1× of
+# eps·κ·√n, docs/oracle.md); it exceeds the 100× bound only on scenes where round-off
+# alone approaches it (a rotation wound to |θ| ~ 10³ near resonance).
+ROUNDOFF_ALLOWANCE = 10.0
+EPS = np.finfo(float).eps
+EPS_ORACLE = float(np.finfo(np.longdouble).eps)
+# Checked against the exact flow: on these undamped scenes heyoka in long double at
+# 1e-19 errs by at most 3e-14 (near the separatrix over 200 time units; 1e-15 at rest
+# elsewhere), the bound here leaves 3×.
+ORACLE_EXACT_BOUND = 1e-13
+
+DEFAULT_SCENES = oracle_scenes.random_scenes(N_DEFAULT, SEED) + oracle_scenes.extra_scenes()
+SLOW_SCENES = oracle_scenes.random_scenes(N_SLOW, SEED_SLOW)
+
+
+def _ids(scenes):
+    return [f"{i}-{s.regime}" for i, s in enumerate(scenes)]
+
+
+@functools.lru_cache(maxsize=None)
+def _oracle(scene):
+    """(θ_ref in long double, κ, the oracle's own floor in the error measure)."""
+    ref, steps = oracle_scenes.oracle_steps(scene)
+    kappa = oracle_scenes.conditioning(scene, ref)
+    return ref, kappa, ROUNDOFF_ALLOWANCE * EPS_ORACLE * kappa * math.sqrt(steps)
+
+
+@functools.lru_cache(maxsize=None)
+def _solve(scene, tol):
+    r = oracle_scenes.solve(scene, tol)
+    assert r.success, (scene, tol, r.message)
+    return r
+
+
+def _check_proportional(scene):
+    ref, kappa, _ = _oracle(scene)
+    for tol in TOLS:
+        r = _solve(scene, tol)
+        err = oracle_scenes.error(r.y[0], ref)
+        floor = ROUNDOFF_ALLOWANCE * EPS * kappa * math.sqrt(r.n_windows)
+        assert err <= PROPORTIONALITY_BOUND * tol + floor, (scene, tol, err / tol, floor / tol)
+
+
+def _check_monotone(scene):
+    ref, _, oracle_floor = _oracle(scene)
+    e8 = oracle_scenes.error(_solve(scene, 1e-8).y[0], ref)
+    e12 = oracle_scenes.error(_solve(scene, 1e-12).y[0], ref)
+    assert e12 <= e8 + oracle_floor, (scene, e12, e8, oracle_floor)
+
+
+def test_oracle_matches_the_exact_undamped_flow():
+    # β = γ = 0: the exact flow (Jacobi elliptic functions in double-double) is the
+    # judge of the oracle; libration, near the separatrix, rotation, at several ω.
+    for omega, y0, T in ((1.0, (1.0, 0.0), 200.0), (1.0, (0.0, 1.999), 200.0),
+                         (1.0, (0.3, 2.5), 200.0), (2.832, (-2.035, 2.661), 208.0),
+                         (4.5, (-2.0, -12.0), 50.0)):
+        t = np.linspace(0.0, T, 201)
+        ref = oracle_heyoka.reference(0.0, 0.0, omega, y0, t)
+        exact = mbm.pendulum_flow(mbm.Pendulum(0.0, 0.0, omega), y0, t)
+        scale = np.maximum(1.0, np.abs(exact))
+        assert np.max(np.abs(ref.astype(float) - exact) / scale) <= ORACLE_EXACT_BOUND, (omega, y0)
+
+
+def test_oracle_runs_backward():
+    t = np.linspace(0.0, -30.0, 61)
+    y0 = (1.0, 0.3)
+    back = oracle_heyoka.reference(0.0, 0.0, 1.0, y0, t).astype(float)
+    exact = mbm.pendulum_flow(mbm.Pendulum(0.0, 0.0), y0, t)
+    assert np.max(np.abs(back - exact)) <= ORACLE_EXACT_BOUND
+
+
+def test_scene_draw_is_fixed_and_covers_every_regime():
+    again = oracle_scenes.random_scenes(N_DEFAULT, SEED)
+    assert again == DEFAULT_SCENES[:N_DEFAULT]
+    regimes = [s.regime for s in DEFAULT_SCENES[:N_DEFAULT]]
+    assert all(regimes.count(r) == N_DEFAULT // 4 for r in oracle_scenes.REGIMES)
+    for s in DEFAULT_SCENES[:N_DEFAULT]:
+        assert (s.beta == 0.0) == (s.regime in ("free", "torqued"))
+        assert (s.gamma == 0.0) == (s.regime in ("free", "damped"))
+        assert 0.2 <= s.omega <= 5.0 and 10.0 <= s.T <= 300.0 and abs(s.v0) <= 3.0 * s.omega
+
+
+@pytest.mark.parametrize("scene", DEFAULT_SCENES, ids=_ids(DEFAULT_SCENES))
+def test_error_proportional_to_tolerance(scene):
+    _check_proportional(scene)
+
+
+@pytest.mark.parametrize("scene", DEFAULT_SCENES, ids=_ids(DEFAULT_SCENES))
+def test_error_monotone_in_tolerance(scene):
+    _check_monotone(scene)
+
+
+@pytest.mark.parametrize("tol", TOLS)
+@pytest.mark.parametrize("scene", DEFAULT_SCENES, ids=_ids(DEFAULT_SCENES))
+def test_paths_agree_bit_for_bit(scene, tol):
+    fast = _solve(scene, tol)
+    model = mbm.Pendulum(scene.beta, scene.gamma, scene.omega)
+    ivp = solve_ivp(model, (0.0, scene.T), (scene.theta0, scene.v0), method=mbm.MBM,
+                    rtol=tol, atol=tol, t_eval=scene.t_eval, windows_per_step=None)
+    assert ivp.success, ivp.message
+    np.testing.assert_array_equal(ivp.y, fast.y)
+
+
+@pytest.mark.parametrize("tol", TOLS)
+def test_batch_agrees_bit_for_bit(tol):
+    # The whole default draw in one batch (prange over scenes, all regimes mixed) on a
+    # common span: each row equals mbm.solve of its scene.
+    scenes = DEFAULT_SCENES
+    T = 30.0
+    t = np.linspace(0.0, T, oracle_scenes.N_OUTPUT)
+    beta, gamma, omega = (np.array([getattr(s, k) for s in scenes]) for k in ("beta", "gamma", "omega"))
+    y0 = np.array([(s.theta0, s.v0) for s in scenes])
+    batch = mbm.solve_batch(beta, gamma, omega, y0, (0.0, T), t, rtol=tol, atol=tol)
+    assert np.all(batch.success)
+    for i, s in enumerate(scenes):
+        one = mbm.solve(mbm.Pendulum(s.beta, s.gamma, s.omega), (0.0, T), y0[i], rtol=tol,
+                        atol=tol, t_eval=t)
+        np.testing.assert_array_equal(batch.y[i], one.y, err_msg=repr(s))
+        assert batch.n_windows[i] == one.n_windows
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("scene", SLOW_SCENES, ids=_ids(SLOW_SCENES))
+def test_error_proportional_to_tolerance_slow(scene):
+    _check_proportional(scene)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("scene", SLOW_SCENES, ids=_ids(SLOW_SCENES))
+def test_error_monotone_in_tolerance_slow(scene):
+    _check_monotone(scene)

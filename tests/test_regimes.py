@@ -1,0 +1,349 @@
+"""Long-horizon regimes (mbm.regimes): the locked switch, its bound, every path.
+
+The independent reference is heyoka's Taylor method in long double at tol 1e-19
+(compiled once per module, β, γ, ω² as runtime parameters).
+"""
+
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+from scipy.linalg import expm
+
+import mbm
+from mbm import loop, regimes
+
+# Long-double reference tolerance: its eps (1.08e-19), so its error is far below
+# every tolerance tested here.
+REF_TOL = 1e-19
+# Scaled errors (|err| / (atol + rtol·|θ_ref|)) of the run with the switch may exceed
+# the same run without it by at most the switch's own share, SWITCH_SAFETY (L5), and
+# this relative slack for the transient error the linear flow carries past the switch.
+PROPAGATION_SLACK = 1.05
+# The T = 1e6 / T = 1e3 window-count target of issue 13.
+HORIZON_COST_RATIO = 3.0
+
+
+@pytest.fixture(scope="module")
+def heyoka_ref():
+    hy = pytest.importorskip("heyoka")
+    ld = np.longdouble
+    if np.finfo(ld).eps > 1e-18:
+        pytest.skip("numpy.longdouble is a double here")
+    x, v = hy.make_vars("x", "v")
+    sys = [(x, v), (v, hy.par[1] - hy.par[0] * v - hy.par[2] * hy.sin(x))]
+    ta = hy.taylor_adaptive(sys, np.zeros(2, dtype=ld), tol=ld(REF_TOL), pars=np.zeros(3, dtype=ld),
+                            fp_type=ld)
+
+    def reference(beta, gamma, omega, y0, t):
+        tt = np.asarray(t, dtype=ld)
+        ta.time = tt[0]
+        ta.state[0], ta.state[1] = ld(y0[0]), ld(y0[1])
+        ta.pars[0], ta.pars[1], ta.pars[2] = ld(beta), ld(gamma), ld(omega) * ld(omega)
+        outcome, *_, out = ta.propagate_grid(tt, max_delta_t=ld(np.inf))
+        assert outcome == hy.taylor_outcome.time_limit
+        return np.asarray(out).T
+
+    return reference
+
+
+def _taylor_run(beta, gamma, omega, y0, T, t, tol, regimes_on):
+    """The loop run by hand (mbm.solve's defaults), with the switch on or off."""
+    ap, kind, karg = mbm.fast.compiled(mbm.get_approximant("taylor"))
+    p = loop.new_run(beta, gamma, omega, 0.0, y0[0], y0[1], T, kind, karg, loop.CONTROLLER_ADAPTIVE,
+                     -1.0, np.inf, tol, tol, int(ap.error_order), 10**7, regimes=regimes_on)
+    out = np.full((2, t.size), np.nan)
+    loop.run(p, t, out, np.empty(0), np.empty((0, 2)), np.empty((0, 0)), np.zeros(1, np.int64))
+    return out, p[0]
+
+
+# ---------------------------------------------------------------------------
+# The kernels: closed form (L2), Green's function bounds (L4), the bound (L3–L4)
+# ---------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("beta,wl2", [(0.1, 1.0), (1.0, 0.9), (2.0, 1.0), (2.0 + 1e-9, 1.0),
+                                      (2.0 - 1e-9, 1.0), (3.0, 0.5), (0.05, 4.0)])
+def test_locked_eval_is_the_linear_oscillator(beta, wl2):
+    # Under-, critically (to 1e-9) and over-damped: the matrix exponential of the
+    # linear system x'' + βx' + ω_l² x = 0.
+    theta_star, x0, v0 = 0.3, 1e-3, -2e-3
+    coef = regimes.locked_coef(beta, wl2, theta_star, theta_star + x0, v0)
+    m = np.array([[0.0, 1.0], [-wl2, -beta]])
+    for t in (0.0, 0.5, 3.0, 17.0, 60.0):
+        xe = expm(m * t) @ np.array([coef[2], v0])
+        th, v = regimes.locked_eval(coef, t)
+        assert abs((th - theta_star) - xe[0]) <= 1e-12 * (abs(x0) + abs(v0))
+        assert abs(v - xe[1]) <= 1e-12 * (abs(x0) + abs(v0))
+    # The window's start is its anchor bit for bit.
+    assert regimes.locked_eval(coef, 0.0) == (theta_star + x0, v0)
+
+
+@pytest.mark.parametrize("beta,wl2", [(0.1, 1.0), (0.5, 0.3), (1.99, 1.0), (2.0, 1.0), (2.5, 1.0),
+                                      (3.0, 0.2)])
+def test_green_integrals_bound_the_greens_function(beta, wl2):
+    # G₀ ≥ ∫|g|, G₁ ≥ ∫|g'| (measured on a fine grid to where g has decayed), and the
+    # bounds are not vacuous (within a factor 4).
+    g0, g1 = regimes.green_integrals(beta, wl2)
+    s2 = wl2 - beta * beta / 4.0
+    lam = max(beta / 2.0 - math.sqrt(max(-s2, 0.0)), 1e-3)
+    t = np.linspace(0.0, 40.0 / lam, 400001)
+    coef = regimes.locked_coef(beta, wl2, 0.0, 0.0, 1.0)  # x(0) = 0, x'(0) = 1: x = g
+    g, gd = np.empty_like(t), np.empty_like(t)
+    regimes.locked_eval_array(coef, t, g, gd)
+    i0, i1 = np.trapezoid(np.abs(g), t), np.trapezoid(np.abs(gd), t)
+    assert i0 <= g0 * (1 + 1e-6) and i1 <= g1 * (1 + 1e-6)
+    assert g0 <= 4.0 * i0 and g1 <= 4.0 * i1
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_locked_bound_holds_against_heyoka(heyoka_ref, seed):
+    # From states of moderate amplitude (the bound ~1e-6 to 1e-2: measurable), the
+    # exact motion stays within the bound of the linear closed form for a long time.
+    rng = np.random.default_rng(seed)
+    beta = rng.uniform(0.05, 3.0)
+    omega = rng.choice([0.5, 1.0, 2.0])
+    gamma = rng.uniform(-0.9, 0.9) * omega**2
+    d, wl2, g0, g1 = regimes.locked_constants(beta, gamma, omega)
+    amp = rng.uniform(0.02, 0.3)
+    phase = rng.uniform(0.0, 2 * np.pi)
+    k = rng.integers(-3, 4)
+    y0 = (d + 2 * np.pi * k + amp * math.cos(phase), amp * math.sqrt(wl2) * math.sin(phase))
+    ts, bt, bv = regimes.locked_bound(beta, gamma, omega, y0[0], y0[1], d, wl2, g0, g1)
+    assert math.isfinite(bt) and ts == d + 2 * np.pi * k
+    t = np.linspace(0.0, 50.0 / beta + 50.0, 2001)
+    ref = heyoka_ref(beta, gamma, omega, y0, t)
+    coef = regimes.locked_coef(beta, wl2, ts, y0[0], y0[1])
+    th, v = np.empty_like(t), np.empty_like(t)
+    regimes.locked_eval_array(coef, t, th, v)
+    assert np.max(np.abs((th - ref[0]).astype(float))) <= bt
+    assert np.max(np.abs((v - ref[1]).astype(float))) <= bv
+
+
+def test_locked_bound_is_infinite_where_the_motion_is_not_trapped():
+    beta, gamma, omega = 0.1, 0.5, 1.0
+    d, wl2, g0, g1 = regimes.locked_constants(beta, gamma, omega)
+    inf = math.inf
+    # At the saddle θ = π − d (H = barrier), and above the lower barrier.
+    assert regimes.locked_bound(beta, gamma, omega, math.pi - d, 0.0, d, wl2, g0, g1)[1] == inf
+    assert regimes.locked_bound(beta, gamma, omega, d, 1.5, d, wl2, g0, g1)[1] == inf
+    # Near the bifurcation γ → ω² the well is shallow: a tiny amplitude is already large.
+    gb = 0.999
+    db, wlb, g0b, g1b = regimes.locked_constants(beta, gb, omega)
+    assert regimes.locked_bound(beta, gb, omega, db + 0.05, 0.0, db, wlb, g0b, g1b)[1] > 1e-2
+    assert regimes.locked_bound(beta, gb, omega, db + 0.1, 0.0, db, wlb, g0b, g1b)[1] == inf
+    small = regimes.locked_bound(beta, gamma, omega, d + 1e-4, 0.0, d, wl2, g0, g1)[1]
+    near = regimes.locked_bound(beta, gb, omega, db + 1e-4, 0.0, db, wlb, g0b, g1b)[1]
+    assert near > 5.0 * small
+
+
+# ---------------------------------------------------------------------------
+# The switch in the loop: every path, the reference, the cost
+# ---------------------------------------------------------------------------
+
+LOCKED_SCENE = (mbm.Pendulum(0.3, 0.5), [2.0, 0.0])
+
+
+def test_every_path_gives_the_same_answer_and_regime():
+    model, y0 = LOCKED_SCENE
+    T = 1000.0
+    t = np.linspace(0.0, T, 201)
+    kw = dict(rtol=1e-10, atol=1e-10)
+    fast = mbm.solve(model, (0.0, T), y0, t_eval=t, **kw)
+    assert fast.success and fast.regime == "locked" and 0.0 < fast.t_regime < 200.0
+    ig = mbm.Integrator(model, **kw).solve((0.0, T), y0, t)
+    batch = mbm.solve_batch([0.3, 0.1], [0.5, 1.2], 1.0, [y0, [0.0, 0.0]], (0.0, T), t, **kw)
+    out = np.empty((2, t.size))
+    status, nw = mbm.solve_njit(0.3, 0.5, 1.0, 0.0, y0[0], y0[1], T, t, out, 1e-10, 1e-10, 10**7)
+    ivp1 = solve_ivp(model, (0.0, T), y0, method=mbm.MBM, t_eval=t, dense_output=True, **kw)
+    ivpn = solve_ivp(model, (0.0, T), y0, method=mbm.MBM, t_eval=t, windows_per_step=None, **kw)
+    for y in (ig.y, batch.y[0], out, ivp1.y, ivpn.y):
+        np.testing.assert_array_equal(y, fast.y)
+    assert status == 0 and nw == fast.n_windows == ig.n_windows == batch.n_windows[0]
+    assert ig.regime == "locked" and ig.t_regime == fast.t_regime
+    assert list(batch.regime) == ["locked", "running"]
+    assert batch.t_regime[0] == fast.t_regime and np.isnan(batch.period[0])
+    # The dense output beyond the switch is the closed form, at any t.
+    d, wl2, g0, g1 = regimes.locked_constants(0.3, 0.5, 1.0)
+    ends = mbm.solve(model, (0.0, T), y0, **kw)
+    assert ends.t[-2] == fast.t_regime and ends.t[-1] == T
+    coef = regimes.locked_coef(0.3, wl2, d, ends.y[0, -2], ends.y[1, -2])
+    for tq in (fast.t_regime + 0.37, 512.25, T):
+        np.testing.assert_array_equal(ivp1.sol(tq), regimes.locked_eval(coef, tq - fast.t_regime))
+    # One solve_ivp step past the switch, ending at t_bound on the closed form.
+    solver = mbm.MBM(model, 0.0, y0, T, **kw)
+    while solver.status == "running":
+        solver.step()
+    assert solver.regime == "locked" and solver.t_regime == fast.t_regime
+    assert solver.t_old == fast.t_regime and solver.t == T
+    np.testing.assert_array_equal(solver.y, ends.y[:, -1])
+
+
+@pytest.mark.parametrize("seed", range(10))
+@pytest.mark.parametrize("tol", [1e-8, 1e-12])
+def test_random_locked_scenes_against_heyoka(heyoka_ref, seed, tol):
+    # Before the switch the run is the run without it, bit for bit; after it, the
+    # scaled error exceeds the unswitched run's worst by at most the switch's share.
+    rng = np.random.default_rng(100 + seed)
+    beta = rng.uniform(0.05, 3.0)
+    omega = rng.choice([0.5, 1.0, 2.0])
+    gamma = rng.uniform(-0.9, 0.9) * omega**2
+    y0 = np.array([rng.uniform(-3.0, 3.0), rng.uniform(-2.0, 2.0) * omega])
+    T = max(300.0, 60.0 / beta)
+    t = np.linspace(0.0, T, 201)
+    on, p_on = _taylor_run(beta, gamma, omega, y0, T, t, tol, 1)
+    off, p_off = _taylor_run(beta, gamma, omega, y0, T, t, tol, 0)
+    assert p_on["status"] == 0 and p_off["status"] == 0 and p_off["regime"] == regimes.REGIME_NONE
+    ref = heyoka_ref(beta, gamma, omega, y0, t)
+    after = t > p_on["t_regime"] if p_on["regime"] == regimes.REGIME_LOCKED else np.zeros(t.size, bool)
+    np.testing.assert_array_equal(on[:, ~after], off[:, ~after])
+    scale = tol + tol * np.abs(ref[0].astype(float))
+    e_on = np.abs((on[0] - ref[0]).astype(float)) / scale
+    e_off = np.abs((off[0] - ref[0]).astype(float)) / scale
+    v_on = np.abs((on[1] - ref[1]).astype(float)) / tol
+    v_off = np.abs((off[1] - ref[1]).astype(float)) / tol
+    if after.any():
+        assert e_on[after].max() <= PROPAGATION_SLACK * e_off.max() + regimes.SWITCH_SAFETY
+        assert v_on[after].max() <= PROPAGATION_SLACK * v_off.max() + regimes.SWITCH_SAFETY
+        assert p_on["n_windows"] <= p_off["n_windows"]
+
+
+@pytest.mark.parametrize("beta,gamma,y0", [(0.4, 0.0, [0.0, 0.25]), (0.3, 0.5, [2.0, 0.0]),
+                                           (0.05, -0.3, [-1.2, 0.2]), (2.5, 0.2, [1.0, 0.0])])
+def test_windows_do_not_grow_with_the_horizon(beta, gamma, y0):
+    # Issue 13's target: T = 1e6 costs at most 3× T = 1e3 (201 outputs, rtol = atol
+    # = 1e-10), counted in windows, through mbm.solve and through solve_ivp's MBM.
+    model = mbm.Pendulum(beta, gamma)
+    kw = dict(rtol=1e-10, atol=1e-10)
+    n = {}
+    for T in (1e3, 1e6):
+        r = mbm.solve(model, (0.0, T), y0, t_eval=np.linspace(0.0, T, 201), **kw)
+        assert r.success and (r.regime == "locked" or T < 1e6)
+        solver = mbm.MBM(model, 0.0, y0, T, **kw)
+        while solver.status == "running":
+            solver.step()
+        assert solver.status == "finished" and solver.n_windows == r.n_windows
+        n[T] = r.n_windows
+        d = math.asin(gamma)
+        assert abs(r.y[0, -1] - d - 2 * np.pi * round((r.y[0, -1] - d) / (2 * np.pi))) < 1e-10
+    assert n[1e6] <= HORIZON_COST_RATIO * n[1e3]
+
+
+def test_no_early_switch_near_the_saddle_or_the_bifurcation(heyoka_ref):
+    # Started just below the saddle θ = π − d, or with γ near ω², the switch waits
+    # until the amplitude is small; the outputs stay within tolerance of heyoka.
+    kw = dict(rtol=1e-10, atol=1e-10)
+    for beta, gamma, y0, T in ((0.2, 0.5, [math.pi - math.asin(0.5) - 1e-6, 0.0], 600.0),
+                               (0.2, 0.99, [math.asin(0.99) + 0.05, 0.0], 600.0)):
+        model = mbm.Pendulum(beta, gamma)
+        d, wl2, g0, g1 = regimes.locked_constants(beta, gamma, 1.0)
+        assert regimes.locked_bound(beta, gamma, 1.0, y0[0], y0[1], d, wl2, g0, g1)[1] > 1e-3
+        ends = mbm.solve(model, (0.0, T), y0, **kw)
+        assert ends.regime == "locked"
+        x = ends.y[0, -2] - d - 2 * np.pi * round((ends.y[0, -2] - d) / (2 * np.pi))
+        assert abs(x) < 1e-4 and ends.t[-2] == ends.t_regime
+        t = np.linspace(0.0, T, 201)
+        r = mbm.solve(model, (0.0, T), y0, t_eval=t, **kw)
+        _, p_off = _taylor_run(beta, gamma, 1.0, np.array(y0), T, t, 1e-10, 0)
+        ref = heyoka_ref(beta, gamma, 1.0, y0, t)
+        after = t > r.t_regime
+        assert np.max(np.abs((r.y[0, after] - ref[0, after]).astype(float))) < 1e-8
+
+
+def test_never_locks_while_running_and_never_switches_backwards():
+    # The bistable band (4β/π < γ < ω²): a running start keeps running (and may switch
+    # to the running cycle, never to "locked"); a run backwards in time never switches
+    # (the flow expands there).
+    r = mbm.solve(mbm.Pendulum(0.1, 0.5), (0.0, 1000.0), [0.0, 3.0], rtol=1e-10, atol=1e-10,
+                  t_eval=np.linspace(0.0, 1000.0, 11))
+    assert r.success and r.regime == "running" and r.y[0, -1] > 100.0
+    b = mbm.solve(mbm.Pendulum(0.3, 0.5), (0.0, -50.0), [math.asin(0.5) + 1e-9, 0.0], rtol=1e-10,
+                  atol=1e-10)
+    assert b.regime is None
+
+
+# ---------------------------------------------------------------------------
+# The running cycle (R1-R3)
+# ---------------------------------------------------------------------------
+
+# At rtol = atol = 1e-12 the stored period repeats its rounding (a few ulps of the
+# crossing times) in every later period: θ' (whose scale is the smaller) may then
+# exceed its tolerance by up to this factor over ~1000 periods; θ stays within it.
+CYCLE_V_FACTOR = 20.0
+RUNNING_SCENE = (mbm.Pendulum(0.1, 1.2), [0.0, 0.0])
+
+
+def test_running_cycle_every_path_gives_the_same_answer():
+    model, y0 = RUNNING_SCENE
+    T = 1000.0
+    t = np.linspace(0.0, T, 201)
+    kw = dict(rtol=1e-10, atol=1e-10)
+    fast = mbm.solve(model, (0.0, T), y0, t_eval=t, **kw)
+    assert fast.success and fast.regime == "running" and 0.0 < fast.t_regime < 600.0
+    assert fast.mean_velocity * fast.period == pytest.approx(2 * np.pi, rel=1e-15)
+    ig = mbm.Integrator(model, **kw).solve((0.0, T), y0, t)
+    batch = mbm.solve_batch(0.1, 1.2, 1.0, y0, (0.0, T), t, **kw)
+    out = np.empty((2, t.size))
+    status, nw = mbm.solve_njit(0.1, 1.2, 1.0, 0.0, y0[0], y0[1], T, t, out, 1e-10, 1e-10, 10**7)
+    ivp1 = solve_ivp(model, (0.0, T), y0, method=mbm.MBM, t_eval=t, dense_output=True, **kw)
+    ivpn = solve_ivp(model, (0.0, T), y0, method=mbm.MBM, t_eval=t, windows_per_step=None, **kw)
+    for y in (ig.y, batch.y[0], out, ivp1.y, ivpn.y):
+        np.testing.assert_array_equal(y, fast.y)
+    assert status == 0 and nw == fast.n_windows == batch.n_windows[0]
+    assert batch.period[0] == fast.period and batch.mean_velocity[0] == fast.mean_velocity
+    # The dense output beyond the switch: any t, as mbm.solve's output there.
+    for tq in (fast.t_regime + 0.37, 512.25, 987.654):
+        at = mbm.solve(model, (0.0, T), y0, t_eval=[tq], **kw)
+        np.testing.assert_array_equal(ivp1.sol(tq), at.y[:, 0])
+    solver = mbm.MBM(model, 0.0, y0, T, **kw)
+    while solver.status == "running":
+        solver.step()
+    assert solver.regime == "running" and solver.t_old == fast.t_regime and solver.t == T
+    assert solver.period == fast.period
+
+
+@pytest.mark.parametrize("seed", range(8))
+@pytest.mark.parametrize("tol", [1e-8, 1e-12])
+def test_random_running_scenes_against_heyoka(heyoka_ref, seed, tol):
+    # Torque above ω² (every start runs): before the switch the run is the run without
+    # it, bit for bit; after it θ stays within its tolerance, θ' within CYCLE_V_FACTOR.
+    rng = np.random.default_rng(200 + seed)
+    beta = rng.uniform(0.05, 1.0)
+    omega = rng.choice([0.5, 1.0, 2.0])
+    gamma = rng.choice([-1.0, 1.0]) * rng.uniform(1.05, 3.0) * omega**2
+    y0 = np.array([rng.uniform(-3.0, 3.0), rng.uniform(-2.0, 2.0) * omega])
+    T = max(500.0, 60.0 / beta)
+    t = np.linspace(0.0, T, 201)
+    on, p_on = _taylor_run(beta, gamma, omega, y0, T, t, tol, 1)
+    off, p_off = _taylor_run(beta, gamma, omega, y0, T, t, tol, 0)
+    assert p_on["status"] == 0 and p_off["status"] == 0
+    if p_on["regime"] == regimes.REGIME_NONE:
+        # A slow cycle (ω = 0.5 near the saddle-node) not converged and averaged by T.
+        np.testing.assert_array_equal(on, off)
+        return
+    assert p_on["regime"] == regimes.REGIME_RUNNING
+    after = t > p_on["t_regime"]
+    np.testing.assert_array_equal(on[:, ~after], off[:, ~after])
+    ref = heyoka_ref(beta, gamma, omega, y0, t)
+    e = np.abs((on[0] - ref[0]).astype(float)) / (tol + tol * np.abs(ref[0].astype(float)))
+    ev = np.abs((on[1] - ref[1]).astype(float)) / (tol + tol * np.abs(ref[1].astype(float)))
+    assert e.max() <= 1.0
+    assert ev.max() <= CYCLE_V_FACTOR
+    assert p_on["n_windows"] < p_off["n_windows"]
+
+
+@pytest.mark.parametrize("beta,gamma,y0", [(0.1, 1.2, [0.0, 0.0]), (0.1, 0.5, [0.0, 3.0]),
+                                           (0.5, -2.0, [1.0, 0.0])])
+def test_running_windows_do_not_grow_with_the_horizon(beta, gamma, y0):
+    # T = 1e6 takes at most 3× the windows of T = 1e3 (each output past the switch
+    # re-takes at most one period of windows, whatever the horizon).
+    model = mbm.Pendulum(beta, gamma)
+    kw = dict(rtol=1e-10, atol=1e-10)
+    n = {}
+    for T in (1e3, 1e6):
+        r = mbm.solve(model, (0.0, T), y0, t_eval=np.linspace(0.0, T, 201), **kw)
+        assert r.success and r.regime == "running"
+        n[T] = r.n_windows
+    assert n[1e6] <= HORIZON_COST_RATIO * n[1e3]
+    assert r.mean_velocity == pytest.approx((r.y[0, -1] - r.y[0, -2]) / (r.t[-1] - r.t[-2]), rel=1e-3)
