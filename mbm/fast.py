@@ -26,7 +26,7 @@ from ._validate import (
 from .approximants import Approximant, get_approximant
 from .choice import auto_name, auto_reason
 from .problem import Pendulum
-from .regimes import REGIME_NAMES, REGIME_RUNNING, cycle_summary
+from .regimes import REGIME_LOCKED, REGIME_NAMES, REGIME_RUNNING, cycle_summary
 
 __all__ = ["Integrator", "solve", "solve_batch", "SolveResult", "solve_njit"]
 
@@ -574,6 +574,8 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
         regime=np.array([REGIME_NAMES[int(k)] for k in p["regime"]], dtype=object),
         t_regime=p["t_regime"].astype(np.float64),
         period=np.where(p["regime"] == REGIME_RUNNING, p["cyc_T"], np.nan),
-        mean_velocity=np.divide(p["cyc_sign"] * 2.0 * np.pi, p["cyc_T"], out=np.full(n, np.nan),
-                                where=p["regime"] == REGIME_RUNNING),
+        mean_velocity=np.where(
+            p["regime"] == REGIME_LOCKED, 0.0,
+            np.divide(p["cyc_sign"] * 2.0 * np.pi, p["cyc_T"], out=np.full(n, np.nan),
+                      where=p["regime"] == REGIME_RUNNING)),
     )

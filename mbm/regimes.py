@@ -486,7 +486,8 @@ def locked_eval_array(coef, t, out_theta, out_v):
 
 def cycle_summary(regime, period, sign):
     """``(period, mean_velocity)`` of a result: T_c and ⟨θ'⟩ = ±2π/T_c when the run
-    switched to the running cycle, else (nan, nan).
+    switched to the running cycle, (nan, 0) when it switched to the locked state, else
+    (nan, nan).
 
     Parameters
     ----------
@@ -499,6 +500,8 @@ def cycle_summary(regime, period, sign):
     -------
     (float, float)
     """
+    if regime == REGIME_LOCKED:
+        return math.nan, 0.0  # at rest at the equilibrium: no net motion
     if regime != REGIME_RUNNING:
         return math.nan, math.nan
     return float(period), float(sign) * 2.0 * math.pi / float(period)

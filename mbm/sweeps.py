@@ -298,7 +298,10 @@ def _solve_block(*arrays, names, fixed, t_span, times, variables, options):
             t_mid = times[0]
             advance = theta1 - y[:, 0, 0]
             if "mean_velocity" in variables:
-                found["mean_velocity"] = advance / (t1 - t_mid)
+                # Exact where the run switched to a regime (2π/T_c on the running cycle,
+                # 0 once locked); else the two samples' estimate.
+                exact = np.isfinite(res.mean_velocity) & ok
+                found["mean_velocity"] = np.where(exact, res.mean_velocity, advance / (t1 - t_mid))
             if "regime" in variables:
                 running = np.abs(advance) >= REGIME_TURNS * _TWO_PI
                 regime = np.where(running, REGIME_RUNNING, REGIME_LOCKED).astype(_REGIME_DTYPE)
@@ -413,7 +416,8 @@ _VARIABLE_ATTRS = {
                         "units": "rad per unit time"},
     "mean_velocity": {
         "long_name": "mean angular velocity over the second half of the span",
-        "description": "(theta(t1) - theta(tm)) / (t1 - tm), tm = t0 + (t1 - t0)/2 "
+        "description": "2 pi / T_c where the run reached the running limit cycle, 0 where it "
+        "locked at an equilibrium, else (theta(t1) - theta(tm)) / (t1 - tm), tm = t0 + (t1 - t0)/2 "
         "(t0 = 0: (theta(T) - theta(T/2)) / (T/2)); NaN where status != 0",
         "units": "rad per unit time",
     },
@@ -472,10 +476,11 @@ def sweep(*, beta, gamma, omega=1.0, theta0=0.0, theta_dot0=0.0, t_span, t_eval=
         ``"final_state"``
             ``theta_final``, ``theta_dot_final``: θ(t1), θ'(t1).
         ``"mean_velocity"``
-            ``mean_velocity`` = (θ(t1) − θ(t_m)) / (t1 − t_m); for t0 = 0,
-            (θ(T) − θ(T/2)) / (T/2).  Two samples, not an average over a cycle: on a
-            running cycle of period P it is off by at most 2·(swing of θ − ⟨θ'⟩t) /
-            (t1 − t_m), i.e. O(P/T).
+            ``mean_velocity``: exact where the run reached a regime (``mbm.solve``'s
+            ``regime``): 2π/T_c on the running limit cycle, 0 once locked.  Elsewhere
+            (θ(t1) − θ(t_m)) / (t1 − t_m); for t0 = 0, (θ(T) − θ(T/2)) / (T/2): two
+            samples, not an average over a cycle, off by at most 2·(swing of
+            θ − ⟨θ'⟩t) / (t1 − t_m), i.e. O(P/T) for a cycle of period P.
         ``"winding"``
             ``winding`` = rint((θ(t1) − θ₀) / 2π): the net number of 2π turns at the end,
             rounded to the nearest integer (a locked scene: the wells it moved by).
