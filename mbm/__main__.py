@@ -19,6 +19,10 @@ __all__ = ["main", "demo", "solve_command", "study_command", "iv_command", "pars
 # Repetitions of each timed solve in the demo: the median of a few runs keeps one
 # slow run (page faults, another process) out of the figure.
 DEMO_REPEATS = 5
+# `mbm solve --plot`: phase-portrait samples per turn of θ (a rotation drawn by 64
+# points per 2π shows no aliasing), and at most this many in all.
+PORTRAIT_SAMPLES_PER_TURN = 64
+PORTRAIT_MAX_SAMPLES = 200_000
 
 
 def _median_time(fn, repeats=DEMO_REPEATS):
@@ -246,6 +250,11 @@ def solve_command(beta, gamma, omega, theta0, v0, t_end, tau=None, approximant="
     else:
         with open(out, "w", newline="") as f:
             _write_csv(f, t, y)
+    # Phase slips: net 2π turns over the run (the junction's count of voltage pulses).
+    slips = int(round((y[0, -1] - y[0, 0]) / (2.0 * math.pi)))
+    v_mean = _mean_velocity_label(model, t_end, [theta0, v0], t, y, approximant, tau, rtol, atol)
+    print(f"phase slips (net 2*pi turns): {slips}" + (f"; mean velocity {v_mean}" if v_mean else ""),
+          file=sys.stderr)
     if plot is not None:
         import matplotlib.pyplot as plt
 
@@ -253,15 +262,42 @@ def solve_command(beta, gamma, omega, theta0, v0, t_end, tau=None, approximant="
         a1.plot(t, y[0], lw=1.2)
         a1.set_xlabel("t")
         a1.set_ylabel(r"$\theta$")
-        a1.set_title(rf"$\beta$={beta:g}, $\gamma$={gamma:g}, $\omega$={omega:g}")
-        a2.plot(y[0], y[1], lw=1.0)
-        a2.set_xlabel(r"$\theta$")
+        title = rf"$\beta$={beta:g}, $\gamma$={gamma:g}, $\omega$={omega:g}; {slips} phase slips"
+        if v_mean:
+            title += rf", $\langle\theta'\rangle$ {v_mean}"
+        a1.set_title(title, fontsize=9)
+        # On the cylinder: θ wrapped to (−π, π], the line broken where it wraps, sampled
+        # densely enough (PORTRAIT_SAMPLES_PER_TURN) that a fast rotation is not aliased.
+        n_plot = int(min(PORTRAIT_MAX_SAMPLES, max(n_out, PORTRAIT_SAMPLES_PER_TURN * (abs(slips) + 1))))
+        tp = np.linspace(0.0, t_end, n_plot)
+        yp = y if n_plot == n_out else integrate(model, (0.0, t_end), [theta0, v0], tp, approximant=approximant,
+                                                 tau=tau, rtol=rtol, atol=atol)[0]
+        wrapped = np.remainder(yp[0] + math.pi, 2.0 * math.pi) - math.pi
+        jumps = np.flatnonzero(np.abs(np.diff(wrapped)) > math.pi)
+        a2.plot(np.insert(wrapped, jumps + 1, np.nan), np.insert(yp[1], jumps + 1, np.nan), lw=0.6)
+        a2.set_xlim(-math.pi, math.pi)
+        a2.set_xlabel(r"$\theta$ (mod $2\pi$)")
         a2.set_ylabel(r"$\theta'$")
-        a2.set_title("phase portrait")
+        a2.set_title("phase portrait on the cylinder")
         fig.tight_layout()
         fig.savefig(Path(plot), dpi=110)
         plt.close(fig)
     return t, y
+
+
+def _mean_velocity_label(model, t_end, y0, t, y, approximant, tau, rtol, atol):
+    """⟨θ'⟩ for a running state: exact (2π/T_c) where the compiled run reached the cycle,
+    else "≈" the second half's (θ(T) − θ(T/2))/(T/2); "" when θ moved less than 2π there."""
+    import mbm
+
+    mid = np.searchsorted(t, 0.5 * t_end)
+    if abs(y[0, -1] - y[0, mid]) < 2.0 * math.pi:
+        return ""
+    if tau is None and approximant == "auto":
+        r = mbm.solve(model, (0.0, t_end), y0, rtol=rtol, atol=atol, t_eval=[t_end])
+        if r.regime == "running":
+            return f"= {r.mean_velocity:.10g} (limit cycle)"
+    return f"≈ {(y[0, -1] - y[0, mid]) / (t[-1] - t[mid]):.6g}"
 
 
 def _write_csv(f, t, y):

@@ -206,3 +206,19 @@ def test_iv_command(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "switching current" in out and "retrapping current" in out
     assert png.exists() and csv.read_text().splitlines()[1] == "gamma,mean_velocity,regime,period"
+
+
+def test_solve_reports_phase_slips_and_mean_velocity(tmp_path, capsys):
+    from mbm.__main__ import main
+
+    png = tmp_path / "run.png"
+    assert main(["solve", "--beta", "0.1", "--gamma", "1.2", "--t-end", "1000", "--out",
+                 str(tmp_path / "run.csv"), "--plot", str(png)]) == 0
+    err = capsys.readouterr().err
+    r = mbm.solve(mbm.Pendulum(0.1, 1.2), (0.0, 1000.0), [0.0, 0.0], t_eval=[0.0, 1000.0])
+    slips = round((r.y[0, -1] - r.y[0, 0]) / (2 * math.pi))
+    assert f"phase slips (net 2*pi turns): {slips}" in err
+    assert f"mean velocity = {r.mean_velocity:.10g} (limit cycle)" in err and png.exists()
+    assert main(["solve", "--beta", "0.1", "--gamma", "0.3", "--t-end", "100", "--out",
+                 str(tmp_path / "lock.csv")]) == 0
+    assert "phase slips (net 2*pi turns): 0\n" in capsys.readouterr().err
