@@ -135,13 +135,18 @@ FIRST_WINDOW_ITERS = 4
 # Taylor windows are chosen a priori from the anchored coefficients
 # (:func:`prior_window`, heyoka's radius rule per component) with the neglected terms
 # at 1/TAYLOR_WINDOW_MARGIN of the tolerance per window.  Why so far below it: along a
-# conservative (β = 0) orbit the local errors share a sign and add up over the
+# conservative (β = 0) orbit the local errors lean to one sign and add up over the
 # 10³–10⁴ windows of a run, and the energy error they leave turns into a phase error
-# growing with t; at a margin of 1 the global error reached 1e5× tol on issue 16's
-# random scenes (heyoka's own rule is ~15–100 below tol).  Measured, docs/oracle.md:
-# 1e3 leaves 20–50× tol on the worst of 1000 scenes, 1e4 ≤ 8× (round-off aside) for
-# 10 % more windows.
+# growing with t; at a margin of ~1 the global error reached 1e5× tol on issue 16's
+# random scenes.  Measured on 3 × 1006 of them (docs/oracle.md): 1e3 leaves up to 84×
+# tol, 1e4 up to 47× (and 7× at 1e-4) for 10 % more windows; 1e5 drives some 1e-8 runs
+# to the round-off floor, where the 1e-12 run (more windows, more rounding) is then
+# the less accurate one.
 TAYLOR_WINDOW_MARGIN = 1e4
+# ... but not below TAYLOR_WINDOW_FLOOR·(atol/rtol + |y|), about one ulp of |y|:
+# truncation under round-off buys nothing, and more windows round more (the floor
+# binds for rtol < TAYLOR_WINDOW_MARGIN · 2.2e-16 ≈ 2.2e-12).
+TAYLOR_WINDOW_FLOOR = 2.220446049250313e-16
 # A window shorter than this many ulps of t cannot advance t: fail instead of looping.
 MIN_WINDOW_ULPS = 10.0
 _EPS = 2.220446049250313e-16
@@ -341,11 +346,13 @@ def prior_window(kind, coef, y0, y1, rtol, atol):
     """A-priori window length of an anchored approximant, or inf where it has none.
 
     Kind "taylor": :func:`mbm.approximants.taylor.taylor_window_kernel` with the
-    neglected terms at rtol/:data:`TAYLOR_WINDOW_MARGIN` of scipy's scale.  Other kinds:
+    neglected terms at 1/:data:`TAYLOR_WINDOW_MARGIN` of scipy's scale atol + rtol·|y|
+    per component (and not below :data:`TAYLOR_WINDOW_FLOOR`·(atol/rtol + |y|)).  Other kinds:
     inf (their windows come from the estimate's h^(p+1) scaling alone).
     """
     if kind == KIND_TAYLOR:
-        return taylor_window_kernel(coef, y0, y1, rtol, atol, rtol / TAYLOR_WINDOW_MARGIN)
+        eps = max(rtol / TAYLOR_WINDOW_MARGIN, TAYLOR_WINDOW_FLOOR)
+        return taylor_window_kernel(coef, y0, y1, rtol, atol, eps)
     return math.inf
 
 

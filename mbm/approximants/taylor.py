@@ -38,11 +38,23 @@ shrinks like (2/v) ln(2v/ω) for a fast rotation with speed v (θ = 2 am(vt/2 | 
 whose nearest singularity lies at u = iK′ ≈ i ln(2v/ω)): the running pendulum of
 γ = 1.2, β = 0.1 turns at v ≈ 12, R ≈ 0.53 (the root test below reads 0.56-0.59
 along that run, 1.7-8 on the other five scenes of docs/convergent.md).  The window τ
-must stay well inside R: :func:`taylor_error_kernel` grows without bound as
-τ → R, so rtol/atol window control keeps τ inside, and :func:`radius_estimate`
-(the root test |a_k|^{−1/k} on the two extra coefficients, exposed as
-``params['radius']``) tells a caller with a fixed τ where the formula stops
-being usable.
+must stay well inside R.  Under rtol/atol the window is chosen a priori from the
+anchored coefficients (:func:`taylor_window_kernel`, heyoka's rule per component:
+a radius estimate from the orders N − 2 … N in units of each component's tolerance
+scale, times eps^(1/(N−1))), so that the neglected terms are a set fraction eps of
+the tolerance (the controller's margin, ``mbm.loop.TAYLOR_WINDOW_MARGIN``), and the
+estimate below only checks it; :func:`radius_estimate` (the root test
+|a_k|^{−1/k} on the two extra coefficients, exposed as ``params['radius']``) tells a
+caller with a fixed τ where the formula stops being usable.
+
+Why a priori, and so far below the tolerance (docs/oracle.md): with the window grown
+until the two-term estimate met the tolerance, the estimate was honest for most
+windows (median 1.25× the true local error) but those windows sat at 0.2–0.6 of R,
+where it underestimated the θ' error by up to 7×; and on a conservative orbit
+(β = 0) the local errors lean to one sign (the energy changes of one run summed to
+31 % of their absolute sum), so the energy drifted by 400× tol over a run and the
+phase error grew with it: up to 1e5× tol at every tolerance on issue 16's random
+scenes.
 
 Error estimate
 --------------
@@ -60,7 +72,9 @@ the two-term sum is within a factor 1/(1 − h/R) of it.  Measured on six scenes
 (docs/convergent.md): never below 0.83 of the true local error, median 1.0-2.3,
 and up to ~190 above it for windows close to R, where the true tail's terms
 cancel; an overestimate by F shortens the controller's next window by only
-F^{1/(N+1)}.  Signed partial tails underestimated by up to 20×, so absolute
+F^{1/(N+1)}.  Along issue 16's β = 0 example (docs/oracle.md) it fell to 1/7 of
+the true θ' error in windows at 0.4 R; under the a-priori window (about
+(rtol/10⁴)^(1/(N−1)) of the radius) it rejected none of 7·10⁵ windows.  Signed partial tails underestimated by up to 20×, so absolute
 values are used.  The estimate scales as h^{N+1}, as the solver's step factor
 (1/err)^{1/(order+1)} assumes.
 """
@@ -74,6 +88,8 @@ from .base import Approximant, register
 
 __all__ = [
     "taylor_coefficients",
+    "taylor_coefficients_into",
+    "taylor_workspace",
     "taylor_eval_kernel",
     "taylor_eval_array_kernel",
     "taylor_error_kernel",
@@ -131,7 +147,93 @@ COEF_FASTMATH = {"reassoc", "contract"}
 EVAL_FASTMATH = {"contract"}
 
 
+@njit(cache=True)
+def taylor_workspace(n_order):
+    """``(coef, scratch)`` buffers for :func:`taylor_coefficients_into` at degree ``n_order``.
+
+    One pair per run serves every window (no heap allocation per window); ``n_order`` is
+    clamped to 1 .. MAX_ORDER (a bad degree still gets its status from the kernel).
+    """
+    n = min(max(n_order, 1), MAX_ORDER) + N_EXTRA
+    return np.empty(HEADER + n + 1), np.empty(3 * (n + 1))
+
+
 @njit(cache=True, fastmath=COEF_FASTMATH)
+def taylor_coefficients_into(beta, gamma, omega, theta0, v0, n_order, coef, scratch):
+    """:func:`taylor_coefficients` written into caller-owned buffers (no allocation).
+
+    Parameters
+    ----------
+    beta, gamma, omega, theta0, v0, n_order
+        As :func:`taylor_coefficients`.
+    coef, scratch : ndarray
+        From :func:`taylor_workspace` (sizes ≥ HEADER + N + 3 and 3(N + 3)); ``coef`` is
+        overwritten, so a caller keeps what it needs of one window's vector (a copy)
+        before anchoring the next.
+
+    Returns
+    -------
+    ndarray
+        A view of ``coef``: the layout documented at module top (length HEADER + N + 3),
+        or ``coef[:HEADER]`` with status STATUS_BAD_ORDER for a degree outside
+        1 .. MAX_ORDER or buffers too small for it.
+    """
+    nt = n_order + N_EXTRA  # highest coefficient index computed
+    if (n_order < 1 or n_order > MAX_ORDER or coef.size < HEADER + nt + 1
+            or scratch.size < 3 * (nt + 1)):
+        bad = coef[:HEADER]
+        bad[:] = np.nan
+        bad[0] = STATUS_BAD_ORDER
+        return bad
+    coef = coef[: HEADER + nt + 1]
+    coef[0] = STATUS_OK
+    coef[1] = n_order
+    coef[2] = beta
+    coef[3] = gamma
+    coef[4] = omega
+    if not (math.isfinite(theta0) and math.isfinite(v0) and math.isfinite(beta)
+            and math.isfinite(gamma) and math.isfinite(omega)):
+        coef[:] = np.nan
+        coef[0] = STATUS_BAD_STATE
+        return coef
+
+    w2 = omega * omega
+    a = coef[HEADER:]
+    # Scratch (the caller's buffer): s_m, c_m in natural order and b_j = j a_j (the θ'
+    # coefficients) stored backwards, br[nt − j] = b_j, so that both convolution sums
+    # Σ_{j=1}^{k} b_j c_{k−j} = Σ_{m=0}^{k−1} c_m br[nt − k + m] run forward from m = 0
+    # through all three arrays: 23 % less time per anchor at N = 24 (27 % at 30, 13 %
+    # at 16) than with s, c stored backwards and b forward (the same sums; the kernel
+    # table of docs/oracle.md).
+    br = scratch[: nt + 1]
+    sn = scratch[nt + 1 : 2 * nt + 2]
+    cn = scratch[2 * nt + 2 :]
+    a[0] = theta0
+    a[1] = v0
+    br[nt] = 0.0
+    br[nt - 1] = v0
+    s0 = math.sin(theta0)
+    sn[0] = s0
+    cn[0] = math.cos(theta0)
+    a[2] = 0.5 * (gamma - beta * v0 - w2 * s0)
+    br[nt - 2] = 2.0 * a[2]
+    for k in range(1, nt - 1):
+        ss = 0.0
+        cc = 0.0
+        off = nt - k
+        for m in range(k):
+            bb = br[off + m]
+            ss += bb * cn[m]
+            cc += bb * sn[m]
+        sk = ss * _INV_K[k]
+        sn[k] = sk
+        cn[k] = -cc * _INV_K[k]
+        a[k + 2] = (-beta * br[off - 1] - w2 * sk) * _INV_K12[k]
+        br[off - 2] = (k + 2.0) * a[k + 2]
+    return coef
+
+
+@njit(cache=True)
 def taylor_coefficients(beta, gamma, omega, theta0, v0, n_order):
     """Taylor coefficients of θ(t) at an anchor, with the two error-estimate extras.
 
@@ -147,58 +249,15 @@ def taylor_coefficients(beta, gamma, omega, theta0, v0, n_order):
     Returns
     -------
     coef : ndarray
-        The layout documented at module top: ``coef[5 + k] = a_k``, k = 0 .. N + 2.
+        The layout documented at module top: ``coef[5 + k] = a_k``, k = 0 .. N + 2
+        (a new array; :func:`taylor_coefficients_into` fills a reused one).
     """
     if n_order < 1 or n_order > MAX_ORDER:
         bad = np.full(HEADER, np.nan)
         bad[0] = STATUS_BAD_ORDER
         return bad
-    nt = n_order + N_EXTRA  # highest coefficient index computed
-    coef = np.empty(HEADER + nt + 1)
-    coef[0] = STATUS_OK
-    coef[1] = n_order
-    coef[2] = beta
-    coef[3] = gamma
-    coef[4] = omega
-    if not (math.isfinite(theta0) and math.isfinite(v0) and math.isfinite(beta)
-            and math.isfinite(gamma) and math.isfinite(omega)):
-        coef[:] = np.nan
-        coef[0] = STATUS_BAD_STATE
-        return coef
-
-    w2 = omega * omega
-    a = coef[HEADER:]
-    # Scratch, one allocation: b_j = j a_j (θ' coefficients), and s_k, c_k stored
-    # backwards (sr[nt − k] = s_k) so that both convolution sums run forward through
-    # memory: s_{k−j} = sr[nt − k + j].  Forward dot products vectorize; the reversed
-    # index did not, and was slower (per-anchor cost: the kernel table of
-    # ``python -m benchmarks extras --overheads``).
-    scratch = np.empty(3 * (nt + 1))
-    b = scratch[: nt + 1]
-    sr = scratch[nt + 1 : 2 * nt + 2]
-    cr = scratch[2 * nt + 2 :]
-    a[0] = theta0
-    a[1] = v0
-    b[0] = 0.0
-    b[1] = v0
-    s0 = math.sin(theta0)
-    sr[nt] = s0
-    cr[nt] = math.cos(theta0)
-    a[2] = 0.5 * (gamma - beta * v0 - w2 * s0)
-    b[2] = 2.0 * a[2]
-    for k in range(1, nt - 1):
-        ss = 0.0
-        cc = 0.0
-        off = nt - k
-        for j in range(1, k + 1):
-            ss += b[j] * cr[off + j]
-            cc += b[j] * sr[off + j]
-        sk = ss * _INV_K[k]
-        sr[off] = sk
-        cr[off] = -cc * _INV_K[k]
-        a[k + 2] = (-beta * b[k + 1] - w2 * sk) * _INV_K12[k]
-        b[k + 2] = (k + 2.0) * a[k + 2]
-    return coef
+    coef, scratch = taylor_workspace(n_order)
+    return taylor_coefficients_into(beta, gamma, omega, theta0, v0, n_order, coef, scratch)
 
 
 @njit(cache=True, fastmath=EVAL_FASTMATH)
@@ -321,12 +380,17 @@ def taylor_window_kernel(coef, theta0, v0, rtol, atol, eps):
     s1 = r + abs(v0)
     n1 = max(abs(a[p - 1]) / s0, p * abs(a[p]) / s1)
     n2 = max(abs(a[p]) / s0, (p + 1.0) * abs(a[p + 1]) / s1)
-    rho = math.inf
+    # In logarithms: three logs and one exp cost less than three pows and an exp
+    # (the a-priori window's share of a window fell from ~40 to ~20 ns at N = 24: the
+    # kernel table of docs/oracle.md).
+    log_rho = math.inf
     if n1 > 0.0:
-        rho = n1 ** (-1.0 / (p - 1.0))
+        log_rho = -math.log(n1) / (p - 1.0)
     if n2 > 0.0:
-        rho = min(rho, n2 ** (-1.0 / p))
-    return rho * eps ** (1.0 / p) * math.exp(-WINDOW_SAFETY_EXP / (p - 1.0))
+        log_rho = min(log_rho, -math.log(n2) / p)
+    if log_rho == math.inf:
+        return math.inf
+    return math.exp(log_rho + math.log(eps) / p - WINDOW_SAFETY_EXP / (p - 1.0))
 
 
 # One anchor kernel per registered degree: the kernel signature has no room for

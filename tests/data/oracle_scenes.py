@@ -19,8 +19,8 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import oracle_heyoka  # noqa: E402
 
-__all__ = ["REGIMES", "N_OUTPUT", "KAPPA_DELTA", "Scene", "random_scenes", "extra_scenes", "oracle",
-           "conditioning", "error", "solve"]
+__all__ = ["REGIMES", "N_OUTPUT", "KAPPA_DELTA", "Scene", "random_scenes", "extra_scenes",
+           "oracle", "oracle_steps", "conditioning", "error", "solve"]
 
 #: The four regimes, in the order the draw cycles through them.
 REGIMES = ("free", "torqued", "damped", "damped-torqued")
