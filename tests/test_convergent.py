@@ -297,8 +297,17 @@ def test_finite_on_random_states(state, frac):
             h = 2.0 * frac / w
         th, v = ap.eval_kernel(coef, h)
         et, ev = ap.error_kernel(coef, h)
-        assert all(math.isfinite(x) for x in (th, v, et, ev)), (cls.name, h)
+        assert math.isfinite(th) and math.isfinite(v), (cls.name, h)
         assert et >= 0.0 and ev >= 0.0
+        if not cls.name.startswith("taylor"):
+            # A splitting's estimate is +inf past SPLIT_ERROR_MAX_SUBSTEPS Taylor substeps
+            # of a third of the radius (e.g. a rotation sped up to |θ'| ~ 40 over h = 9,
+            # found by this test): documented, and the controller shrinks the window.
+            # One substep's window always has a finite estimate.
+            tc = taylor.taylor_coefficients(b, g, w, th0, v0, splitting.SPLIT_ERROR_TAYLOR_DEGREE)
+            h1 = frac * splitting.SPLIT_ERROR_RADIUS_FRACTION * min(taylor.taylor_radius_kernel(tc), 10.0)
+            et, ev = ap.error_kernel(coef, h1)
+        assert math.isfinite(et) and math.isfinite(ev), (cls.name, h)
 
 
 def test_degree_out_of_range_reports_status():

@@ -385,9 +385,12 @@ def test_ctrl_c_stops_within_a_second(monkeypatch):
 def cluster():
     """A LocalCluster of 2 worker processes, 1 thread each (numba: 1 thread per worker)."""
     distributed = pytest.importorskip("distributed")
-    # Set before the workers are spawned (the nanny's pre-spawn environment): numba
-    # reads NUMBA_NUM_THREADS at import, 2 workers x 1 thread = the 2 cores.
-    with dask.config.set({"distributed.nanny.pre-spawn-environ.NUMBA_NUM_THREADS": 1}):
+    # Set in each worker process before it starts (the nanny's environ; numba reads
+    # NUMBA_NUM_THREADS when a task first imports it): 2 workers x 1 thread = the 2
+    # cores.  Not the pre-spawn environ: that is set in this process while the workers
+    # spawn, and a numba compile here meanwhile would see a thread count that differs
+    # from this process's running pool (RuntimeError in later tests).
+    with dask.config.set({"distributed.nanny.environ.NUMBA_NUM_THREADS": 1}):
         lc = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                                       dashboard_address=None, silence_logs=50)
     client = distributed.Client(lc)
