@@ -38,7 +38,7 @@ from scipy.optimize import brentq
 from .approximants.base import ApproximantDomainError, get_approximant
 from .problem import Pendulum
 from ._validate import check_span, check_state, check_tolerances
-from .references import CVODE_ADAMS_MAX_ORDER, MAX_NUM_STEPS
+from .references import cvode_adams
 
 __all__ = [
     "EVENT_KINDS",
@@ -222,15 +222,12 @@ def hybrid_event_points(model, t_span, y0, d, kinds=("crossing", "turning"), rto
     Once the motion has decayed to round-off (|θ − d|, |θ'| ~ 1e-16) CVODE may
     still report sign changes of the noise; they are genuine sign changes of φ.
     """
-    from sksundae.cvode import CVODE
-
     _check_model(model)
     t0, tf = check_span(t_span, allow_empty=False)
     y0 = check_state("y0", y0)
     crossing, turning, d = _kinds_and_d(kinds, d)
     rtol, atol = check_tolerances(rtol, atol)
 
-    rhs, jac = model.sundials_callbacks()
     # The event callback unpacks y with tolist(), as the model's (numpy scalars are slow).
 
     if crossing and turning:
@@ -251,17 +248,7 @@ def hybrid_event_points(model, t_span, y0, d, kinds=("crossing", "turning"), rto
     events.terminal = [False] * len(columns)
     events.direction = [0] * len(columns)
 
-    solver = CVODE(
-        rhs,
-        method="Adams",
-        rtol=rtol,
-        atol=atol,
-        max_order=CVODE_ADAMS_MAX_ORDER,
-        max_num_steps=MAX_NUM_STEPS,
-        jacfn=jac,
-        eventsfn=events,
-        num_events=len(columns),
-    )
+    solver = cvode_adams(model, rtol, atol, eventsfn=events, num_events=len(columns))
     # Three output times select CVODE's CV_NORMAL mode (a two-point span would
     # record every internal step, which is not wanted); the stop time is tf.
     res = solver.solve(np.array([t0, 0.5 * (t0 + tf), tf]), y0)

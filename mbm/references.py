@@ -106,19 +106,19 @@ def _sundials_result(res, t_eval, idx):
     )
 
 
-def _solve_cvode(model, t0, tf, y0, t_eval, rtol, atol):
+def cvode_adams(model, rtol, atol, **options):
+    """A scikit-sundae CVODE solver of ``model``: Adams–Moulton up to order 12 with the
+    analytic Jacobian and the step budget :data:`MAX_NUM_STEPS` (``options``, e.g. an
+    event function, are passed on)."""
     from sksundae.cvode import CVODE
 
     rhs, jac = model.sundials_callbacks()
-    solver = CVODE(
-        rhs,
-        method="Adams",
-        rtol=rtol,
-        atol=atol,
-        max_order=CVODE_ADAMS_MAX_ORDER,
-        max_num_steps=MAX_NUM_STEPS,
-        jacfn=jac,
-    )
+    return CVODE(rhs, method="Adams", rtol=rtol, atol=atol, max_order=CVODE_ADAMS_MAX_ORDER,
+                 max_num_steps=MAX_NUM_STEPS, jacfn=jac, **options)
+
+
+def _solve_cvode(model, t0, tf, y0, t_eval, rtol, atol):
+    solver = cvode_adams(model, rtol, atol)
     if t_eval is None:
         return _sundials_result(solver.solve([t0, tf], y0), None, None)
     grid, idx = _output_grid(t0, tf, t_eval)
