@@ -455,9 +455,13 @@ def _run_batch_interruptibly(p, te, out, order):
     # scene then stops at its next window.
     cancel = np.zeros(1, dtype=np.int64)
     failure = []
+    # numba's thread count is per calling thread (numba.set_num_threads): carry the
+    # caller's into the worker thread.
+    n_threads = numba.get_num_threads()
 
     def target():
         try:
+            numba.set_num_threads(n_threads)
             loop.run_batch(p, te, out, order, cancel)
         except BaseException as exc:  # pragma: no cover - re-raised below
             failure.append(exc)

@@ -530,6 +530,29 @@ def _cycle_eval(kind, c, t):
     return math.nan, math.nan
 
 
+# The cycle's evaluation re-runs up to one period of windows (a whole controller and
+# step): compiled once per kind that can reach a cycle (the adaptive ones) and called,
+# not inlined at each of its three call sites (inlined, it tripled the loop's compile).
+@numba.njit(cache=True)
+def _cycle_eval_taylor(c, t):
+    return _cycle_eval(KIND_TAYLOR, c, t)
+
+
+@numba.njit(cache=True)
+def _cycle_eval_split(c, t):
+    return _cycle_eval(KIND_SPLIT, c, t)
+
+
+@numba.njit(**_INLINE)
+def _cycle_value(kind, c, t):
+    """:func:`_cycle_eval` of kind ``kind`` through its compiled entry."""
+    if kind == KIND_TAYLOR:
+        return _cycle_eval_taylor(c, t)
+    elif kind == KIND_SPLIT:
+        return _cycle_eval_split(c, t)
+    return math.nan, math.nan
+
+
 # ---------------------------------------------------------------------------
 # The loop
 # ---------------------------------------------------------------------------
@@ -642,7 +665,7 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
             coef = cycle_coef(r.cyc_theta, r.cyc_v, r.cyc_T, t - r.cyc_t, beta, gamma, omega, rtol, atol,
                               r.cyc_sign, karg, error_order)
             t_new = _window_end(t, direction, t_bound, max_step)
-            th, v = _cycle_eval(kind, coef, t_new - t)
+            th, v = _cycle_value(kind, coef, t_new - t)
             st, h_next = STATUS_OK, h_abs
             if not (math.isfinite(th) and math.isfinite(v)):
                 st = STATUS_NONFINITE
@@ -684,7 +707,7 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
                 out[0, j] = a
                 out[1, j] = b
             elif is_cycle:
-                a, b = _cycle_eval(kind, coef, t_eval[j] - t)
+                a, b = _cycle_value(kind, coef, t_eval[j] - t)
                 out[0, j] = a
                 out[1, j] = b
             else:
@@ -844,7 +867,7 @@ def _evaluate_windows(kind, starts, coefs, n, direction, t, out_theta, out_v):
             a, b = locked_eval(coefs[i], tj - starts[i])
         elif coefs.shape[1] >= CYCLE_WIDTH and coefs[i, 0] == CYCLE_TAG:
             # A running-cycle window: the stored period, shifted (at most a period of windows).
-            a, b = _cycle_eval(kind, coefs[i], tj - starts[i])
+            a, b = _cycle_value(kind, coefs[i], tj - starts[i])
         else:
             a, b = evaluate(kind, coefs[i], tj - starts[i])
         out_theta[j] = a

@@ -311,3 +311,26 @@ def test_ctrl_c_stops_a_long_run_within_a_second(path):
     elapsed = time.perf_counter() - t0
     timer.cancel()
     assert elapsed < 1.3, elapsed
+
+
+def test_batch_honours_the_callers_numba_thread_count(monkeypatch):
+    # solve_batch runs its kernel in a worker thread: numba's per-thread count must follow.
+    import numba
+
+    seen = []
+    real = mbm.loop.run_batch
+
+    class Spy:
+        def __call__(self, *args):
+            seen.append(numba.get_num_threads())
+            return real(*args)
+
+    monkeypatch.setattr(mbm.loop, "run_batch", Spy())
+    before = numba.get_num_threads()
+    try:
+        numba.set_num_threads(1)
+        mbm.solve_batch(0.1, [0.3, 1.2], 1.0, [0.0, 0.0], (0.0, 10.0), [10.0])
+    finally:
+        numba.set_num_threads(before)
+    mbm.solve_batch(0.1, [0.3, 1.2], 1.0, [0.0, 0.0], (0.0, 10.0), [10.0])
+    assert seen == [1, before]
