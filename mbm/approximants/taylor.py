@@ -136,15 +136,13 @@ STATUS_BAD_ORDER = 2  # degree outside 1 .. MAX_ORDER
 # the tolerance is the controller's (mbm.loop.TAYLOR_WINDOW_MARGIN).
 WINDOW_SAFETY_EXP = 0.7
 
-# Floating-point licences of the coefficient recurrence: reassociation and fused
-# multiply-add let LLVM vectorize the two convolution sums (10-25 % faster at
-# N = 16-30, measured); no nnan/ninf, so the finiteness checks stay.
-COEF_FASTMATH = {"reassoc", "contract"}
-# Fused multiply-add in the Horner chains: each output is a chain of N dependent
-# steps, and an FMA is one rounding and one latency instead of two (per-output cost:
-# the kernel table of ``python -m benchmarks extras --overheads``).  At t = 0 the
-# result is still a₀, a₁ exactly (fma(0, p, a) = a).
-EVAL_FASTMATH = {"contract"}
+# No fastmath licences (reassociation, fused multiply-add): with them LLVM decides
+# vectorization and contraction per inlining context, so a kernel compiled afresh and
+# the same kernel loaded from numba's cache gave results differing in the last bits
+# (4.5e-12 on a sweep: a chunked sweep on Dask workers then differed from the
+# in-process one).  Strict IEEE arithmetic gives the same bits on every path, process
+# and cache state; it cost 0-14 % of mbm.solve's time on P2, P4, P5 (measured when
+# dropped; the recurrence vectorized 10-25 % better with reassociation).
 
 
 @njit(cache=True)
@@ -158,7 +156,7 @@ def taylor_workspace(n_order):
     return np.empty(HEADER + n + 1), np.empty(3 * (n + 1))
 
 
-@njit(cache=True, fastmath=COEF_FASTMATH)
+@njit(cache=True)
 def taylor_coefficients_into(beta, gamma, omega, theta0, v0, n_order, coef, scratch):
     """:func:`taylor_coefficients` written into caller-owned buffers (no allocation).
 
@@ -260,7 +258,7 @@ def taylor_coefficients(beta, gamma, omega, theta0, v0, n_order):
     return taylor_coefficients_into(beta, gamma, omega, theta0, v0, n_order, coef, scratch)
 
 
-@njit(cache=True, fastmath=EVAL_FASTMATH)
+@njit(cache=True)
 def taylor_eval_kernel(coef, t):
     """θ(t), θ'(t) of the anchored Taylor polynomial (Horner; the anchor exactly at t = 0).
 
