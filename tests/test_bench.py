@@ -162,7 +162,6 @@ def test_registry_without_heyoka_says_so(monkeypatch, tmp_path):
 
 def test_fixed_point_reference_is_exact_on_undamped_scene():
     # β = γ = 0: compare the fixed-point Taylor integrator with the exact elliptic flow.
-    pytest.importorskip("mpmath")
     sc = BenchScene.from_params("T", 0.0, 0.0, 1.0, 0.3, 1.2, 4.0, "test")
     fp = references.fixed_point_reference(sc)
     exact = mbm.pendulum_flow(sc.model, sc.y0, sc.t_eval)[0]

@@ -17,8 +17,8 @@ import pytest
 import mbm
 from mbm import loop
 
-xr = pytest.importorskip("xarray")
-dask = pytest.importorskip("dask")
+import dask  # noqa: E402  (the test extra installs dask, distributed, xarray)
+import xarray as xr  # noqa: E402
 from mbm import sweeps as sweep_mod  # noqa: E402  (needs xarray)
 from mbm.sweeps import sweep  # noqa: E402
 
@@ -384,7 +384,7 @@ def test_ctrl_c_stops_within_a_second(monkeypatch):
 @pytest.fixture(scope="module")
 def cluster():
     """A LocalCluster of 2 worker processes, 1 thread each (numba: 1 thread per worker)."""
-    distributed = pytest.importorskip("distributed")
+    import distributed
     # Set in each worker process before it starts (the nanny's environ; numba reads
     # NUMBA_NUM_THREADS when a task first imports it): 2 workers x 1 thread = the 2
     # cores.  Not the pre-spawn environ: that is set in this process while the workers
