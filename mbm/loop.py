@@ -44,6 +44,7 @@ from .approximants.taylor import (
     taylor_coefficients,
     taylor_error_kernel,
     taylor_eval_kernel,
+    taylor_eval_range,
     taylor_window_kernel,
 )
 from .regimes import (
@@ -65,6 +66,7 @@ from .regimes import (
     locked_constants,
     locked_eval,
     locked_quick_reject,
+    section_offset,
 )
 
 __all__ = [
@@ -219,9 +221,9 @@ RUN = np.dtype(
         ("regime", np.int64),
         ("t_regime", np.float64),
         # running cycle (mbm.regimes, R1-R3): the return map so far (crossings of
-        # θ = 2πm in one direction: count, sign, last time, θ', return time, change
-        # of θ', largest |θ'| since) and, once switched, the cycle (anchor crossing
-        # θ, θ', period, time, winding sign)
+        # θ = θ_s + 2πm, regimes.section_offset, in one direction: count, sign, last
+        # time, θ', return time, change of θ', largest |θ'| since) and, once switched,
+        # the cycle (anchor crossing θ, θ', period, time, winding sign)
         ("sec_n", np.int64),
         ("sec_sign", np.float64),
         ("sec_t", np.float64),
@@ -575,7 +577,7 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
     nonlinearity over the rest of the horizon is within the tolerance (L5 there),
     the window (to ``t_bound``, or ``max_step`` long) is the linearized closed form,
     stored with coefficient layout ``regimes.LOCKED_TAG``, and ``regime``,
-    ``t_regime`` record the switch.  After each window the return map of θ ≡ 0
+    ``t_regime`` record the switch.  After each window the return map of θ ≡ θ_s
     (mod 2π) is watched (R1, R2 there); once it has converged for the rest of the
     horizon, the windows are the stored period shifted (``regimes.CYCLE_TAG``, R3),
     each evaluation re-taking at most one period of windows from the cycle's anchor.
@@ -619,6 +621,8 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
     cap = win_t.size - 1
     width = win_coef.shape[1]
     ne = t_eval.size
+    out_theta = out[0]
+    out_v = out[1]
     j = r.j
     n = 0
     n_total = r.n_windows
@@ -639,6 +643,7 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
     # Running cycle (mbm.regimes, R1-R3): the return map watched after each window.
     can_cycle = (r.regimes != 0 and adaptive and direction > 0.0 and beta > 0.0
                  and (width == 0 or width >= CYCLE_WIDTH))
+    sec_off = section_offset(gamma, omega) if can_cycle else 0.0
     while direction * (t_bound - t) > 0.0:
         if n_total >= r.max_windows:
             status = STATUS_MAX_WINDOWS
@@ -698,6 +703,15 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
         if st != STATUS_OK:
             status = st
             break
+        if kind == KIND_TAYLOR and not (is_locked or is_cycle):
+            # The window's outputs in one call, four times at once (the same Horner
+            # steps per time as evaluate, so the same bits; an output at t_new is the
+            # evaluation that produced the state).
+            j2 = j
+            while j2 < ne and (direction * (t_eval[j2] - t_new) <= 0.0):
+                j2 += 1
+            taylor_eval_range(coef, t, t_eval, j, j2, out_theta, out_v)
+            j = j2
         while j < ne and (direction * (t_eval[j] - t_new) <= 0.0):
             if t_eval[j] == t_new:
                 out[0, j] = th
@@ -716,13 +730,14 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
                 out[1, j] = b
             j += 1
         if can_cycle and r.regime == REGIME_NONE:
-            # The return map (mbm.regimes, R1, R2): a crossing of θ = 2πm in this window.
-            m0 = math.floor(y0 / _TWO_PI)
-            m1 = math.floor(th / _TWO_PI)
+            # The return map (mbm.regimes, R1, R2): a crossing of a saddle level
+            # θ = θ_s + 2πm in this window.
+            m0 = math.floor((y0 - sec_off) / _TWO_PI)
+            m1 = math.floor((th - sec_off) / _TWO_PI)
             r.sec_vmax = max(r.sec_vmax, abs(v))
             if abs(m1 - m0) == 1.0:
                 sgn = 1.0 if m1 > m0 else -1.0
-                level = _TWO_PI * max(m0, m1)
+                level = sec_off + _TWO_PI * max(m0, m1)
                 sx, vx = _crossing(kind, coef, t_new - t, y0 - level, th - level, level)
                 tx = t + sx
                 if r.sec_n > 0 and r.sec_sign == sgn:

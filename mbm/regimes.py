@@ -36,8 +36,9 @@ neither overflow nor cancel near critical damping.
 x_l = −π − 2d, with U(x_r) = 2ω² cos d − γ(π − 2d), U(x_l) = 2ω² cos d + γ(π + 2d); U
 increases on [0, x_r] and decreases on [x_l, 0].  If x₀ ∈ (x_l, x_r) and
 H₀ < min(U(x_l), U(x_r)), the exact motion stays in the well for all later t, with
-|x(t)| ≤ A = max(A₊, A₋), A± the roots of U = H₀ on either side (bisection, keeping
-the end where U ≥ H₀, so A is an upper bound).  Near the saddle or a bifurcation
+|x(t)| ≤ A = max(A₊, A₋), A± the roots of U = H₀ on either side (Newton from the
+linear amplitude sqrt(2H₀/ω_l²), or bisection where Newton does not converge; either
+way the point kept has U ≥ H₀, checked, so A is an upper bound).  Near the saddle or a bifurcation
 (|γ| → ω²: the barrier → 0) no A exists or A is large, and the switch waits.
 
 (L4) Bound on the neglected remainder.  e = x − x_lin solves e'' + βe' + ω_l² e =
@@ -60,10 +61,15 @@ Rounding in H₀ and U is covered by the margin AMPLITUDE_MARGIN on A.
 
 RUNNING cycle (β > 0; a rotation settling on the limit cycle θ(t + T_c) = θ(t) ± 2π):
 
-(R1) Section.  After each window the loop looks for a crossing of a level θ = 2πm
-inside it (the window's formula, safeguarded Newton on θ(s) − 2πm): the crossings
-(t_n, v_n) of successive levels in one direction are the return map of the section
-θ ≡ 0 (mod 2π).
+(R1) Section.  After each window the loop looks for a crossing of a level
+θ = θ_s + 2πm inside it (the window's formula, safeguarded Newton on θ(s) − θ_s − 2πm):
+the crossings (t_n, v_n) of successive levels in one direction are the return map of
+the section θ ≡ θ_s (mod 2π).  θ_s = π − d is the saddle, the top of the tilted
+potential's barrier (d = arcsin(γ/ω²), clamped to ±π/2 when |γ| ≥ ω², where no
+equilibrium exists and every level is crossed alike; :func:`section_offset`): a
+motion trapped in a well never reaches it, so a librating or settling run does no
+section work (at θ ≡ 0 every swing through the bottom of the well was a crossing,
+solved by Newton: a quarter of P1's run time).
 
 (R2) Convergence.  Near the cycle the return map contracts geometrically: the flow's
 divergence is −β, so the cycle's non-trivial Floquet multiplier, the slope of the
@@ -80,7 +86,7 @@ last crossing is the cycle's anchor.
 
 (R3) Extension.  After the switch the motion is the last period's, shifted: with
 τ = t − t_n = nT_c + s (0 ≤ s < T_c), θ(t) = θ_p(s) ± 2πn, where θ_p is the run
-re-taken from the anchor (2πm, v_n) by the same approximant and controller (the
+re-taken from the anchor (θ_s + 2πm, v_n) by the same approximant and controller (the
 windows of one period, a function of the anchor only, so every path and the dense
 output give the same value; each evaluation costs at most one period of windows,
 whatever the horizon).  Its error per period is the ordinary windows' (one period
@@ -102,6 +108,7 @@ __all__ = [
     "LOCKED_TAG",
     "LOCKED_WIDTH",
     "locked_constants",
+    "section_offset",
     "locked_quick_reject",
     "locked_bound",
     "locked_coef",
@@ -124,6 +131,9 @@ SWITCH_SAFETY = 0.1
 AMPLITUDE_MARGIN = 1e-8
 # (L3): bisection steps for A± (each halves a bracket of length ≤ 2π: 60 reach ulps).
 AMPLITUDE_BISECTIONS = 60
+# (L3): Newton steps for A± from the linear amplitude (quadratic convergence: 3-5
+# reach ulps near the bottom of the well; bisection takes over if they do not certify).
+AMPLITUDE_NEWTON_STEPS = 8
 # Below this |x|, x − sin x by its series to x¹¹ (the next term is below 1e-15 of it).
 X_MINUS_SIN_SERIES = 0.25
 # Quick rejection before the rigorous test (it only delays a switch, never allows
@@ -191,6 +201,23 @@ def green_integrals(beta, wl2):
         g0 = 1.0 / wl2
         g1 = 2.0 / (math.e * lam1) if mu == 0.0 else 2.0 * min(1.0 / (math.e * lam1), 0.5 / mu)
     return g0, g1
+
+
+@numba.njit(cache=True)
+def section_offset(gamma, omega):
+    """θ_s of the running cycle's section θ ≡ θ_s (mod 2π) (item R1): the saddle π − d.
+
+    Parameters
+    ----------
+    gamma, omega : float
+        The model's torque and ω > 0.
+
+    Returns
+    -------
+    float
+        π − arcsin(γ/ω²), with γ/ω² clamped to [−1, 1].
+    """
+    return math.pi - math.asin(min(1.0, max(-1.0, gamma / (omega * omega))))
 
 
 @numba.njit(cache=True)
@@ -270,6 +297,36 @@ def locked_quick_reject(theta, v, d, wl2, g0, omega, rtol, atol):
     return omega * omega * _rho(abs(math.sin(d)), a) * g0 > SWITCH_SAFETY * (atol + rtol * abs(ts))
 
 
+@numba.njit(cache=True, inline="always")
+def _amplitude_newton(w2, gamma, d, wl2, h0, edge):
+    # (L3): a point x between 0 and the saddle ``edge`` with U(x) ≥ H₀, so that the
+    # root A± of U = H₀ on that side (U is monotone there) is at most |x|; inf if
+    # none was certified.  Newton on U(x) = H₀ (U' = ω² sin(d + x) − γ) from the
+    # linear amplitude sqrt(2H₀/ω_l²): a few steps instead of AMPLITUDE_BISECTIONS
+    # (the test runs before windows near the equilibrium: 2.7 µs bisected, 0.2 here).
+    if h0 <= 0.0:
+        return 0.0
+    x = math.copysign(math.sqrt(2.0 * h0 / wl2), edge)
+    for _ in range(AMPLITUDE_NEWTON_STEPS):
+        du = w2 * math.sin(d + x) - gamma
+        if not (du * edge > 0.0):
+            return math.inf
+        x_new = x - (_potential(w2, gamma, d, x) - h0) / du
+        if not (0.0 < x_new / edge < 1.0):
+            return math.inf
+        if x_new == x:
+            break
+        x = x_new
+    # Certify: U(x) ≥ H₀ at x or at x pushed outwards by a growing fraction.
+    widen = AMPLITUDE_MARGIN
+    for _ in range(4):
+        if abs(x) < abs(edge) and _potential(w2, gamma, d, x) >= h0:
+            return x
+        x *= 1.0 + widen
+        widen *= 1e3
+    return math.inf
+
+
 @numba.njit(cache=True)
 def locked_bound(beta, gamma, omega, theta, v, d, wl2, g0, g1):
     """Rigorous bounds on the locked closed form's deviation over any horizon (L3, L4).
@@ -305,15 +362,20 @@ def locked_bound(beta, gamma, omega, theta, v, d, wl2, g0, g1):
     if not (xl < x < xr) or not (h0 * (1.0 + AMPLITUDE_MARGIN) < barrier):
         return ts, math.inf, math.inf
     amp = 0.0
+    wl2 = w2 * math.cos(d)
     for side in range(2):
-        lo = 0.0
-        hi = xr if side == 0 else xl
-        for _ in range(AMPLITUDE_BISECTIONS):
-            mid = 0.5 * (lo + hi)
-            if _potential(w2, gamma, d, mid) >= h0:
-                hi = mid
-            else:
-                lo = mid
+        edge = xr if side == 0 else xl
+        hi = _amplitude_newton(w2, gamma, d, wl2, h0, edge)
+        if not hi < math.inf:
+            # Newton did not certify a root (far from the bottom of the well): bisection.
+            lo = 0.0
+            hi = edge
+            for _ in range(AMPLITUDE_BISECTIONS):
+                mid = 0.5 * (lo + hi)
+                if _potential(w2, gamma, d, mid) >= h0:
+                    hi = mid
+                else:
+                    lo = mid
         amp = max(amp, abs(hi))
     amp = max(amp, abs(x)) * (1.0 + AMPLITUDE_MARGIN)
     r = w2 * _rho(abs(math.sin(d)), amp)

@@ -277,6 +277,39 @@ def test_integrator_validates_once_and_per_call():
         assert ex.solve((0.0, T), [0.3, 0.0]).n_windows == 1
 
 
+def test_integrator_is_reentrant_across_threads():
+    # Each call takes a record of its own from the Integrator's pool: concurrent calls
+    # on one Integrator give what sequential ones give.
+    import concurrent.futures
+
+    ig = mbm.Integrator(EX1, rtol=1e-9, atol=1e-9)
+    te = np.linspace(0.0, 80.0, 201)
+    y0s = [[0.1 * k, 0.0] for k in range(16)]
+    want = [ig.solve((0.0, 80.0), y0, te).y for y0 in y0s]
+    with concurrent.futures.ThreadPoolExecutor(4) as ex:
+        got = list(ex.map(lambda y0: ig.solve((0.0, 80.0), y0, te).y, y0s * 4))
+    for k, y in enumerate(got):
+        np.testing.assert_array_equal(y, want[k % 16])
+
+
+def test_window_outputs_in_fours_equal_one_at_a_time():
+    # loop.taylor_eval_range (four times at once) gives taylor_eval_kernel's bits, for
+    # every count of outputs in a window (remainders included) and at t = 0.
+    from mbm.approximants.taylor import taylor_coefficients, taylor_eval_kernel, taylor_eval_range
+
+    coef = taylor_coefficients(0.1, 0.3, 1.0, 0.7, -0.4, 24)
+    times = np.r_[0.0, np.linspace(0.01, 1.3, 22)] + 5.0
+    for lo in range(4):
+        for hi in range(lo, times.size + 1):
+            th = np.full(times.size, np.nan)
+            v = np.full(times.size, np.nan)
+            taylor_eval_range(coef, 5.0, times, lo, hi, th, v)
+            want = [taylor_eval_kernel(coef, x - 5.0) for x in times[lo:hi]]
+            assert [(a, b) for a, b in zip(th[lo:hi], v[lo:hi])] == want
+            assert np.isnan(th[:lo]).all() and np.isnan(th[hi:]).all()
+    assert taylor_eval_kernel(coef, 0.0)[0] == 0.7
+
+
 def _interrupt_after(seconds):
     # Ctrl-C as a user sends it: SIGINT to this process, from a timer thread.
     import os

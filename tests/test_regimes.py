@@ -139,6 +139,64 @@ def test_locked_bound_is_infinite_where_the_motion_is_not_trapped():
     assert near > 5.0 * small
 
 
+def _bisected_amplitude(w2, gamma, d, h0, edge):
+    # The plain bisection of U = H₀ between 0 and the saddle (item L3), kept where U ≥ H₀.
+    lo, hi = 0.0, edge
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if regimes._potential(w2, gamma, d, mid) >= h0:
+            hi = mid
+        else:
+            lo = mid
+    return hi
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_newton_amplitude_is_certified_and_tight(seed):
+    # (L3): the amplitude from Newton is a point where U ≥ H₀ (so above the root A±,
+    # U being monotone there), within 1e-7 of the root found by bisection.
+    rng = np.random.default_rng(seed)
+    checked = 0
+    for _ in range(500):
+        omega = rng.uniform(0.2, 5.0)
+        w2 = omega * omega
+        gamma = rng.uniform(-0.999, 0.999) * w2
+        d = math.asin(gamma / w2)
+        wl2 = w2 * math.cos(d)
+        x = rng.uniform(-1.0, 1.0) * 10 ** rng.uniform(-8, 0.5)
+        v = rng.uniform(-1.0, 1.0) * omega * 10 ** rng.uniform(-8, 0.5)
+        h0 = 0.5 * v * v + regimes._potential(w2, gamma, d, x)
+        for edge in (math.pi - 2 * d, -math.pi - 2 * d):
+            if h0 >= regimes._potential(w2, gamma, d, edge):
+                continue
+            a = regimes._amplitude_newton(w2, gamma, d, wl2, h0, edge)
+            if not math.isfinite(a):
+                continue  # bisection takes over in locked_bound
+            checked += 1
+            root = _bisected_amplitude(w2, gamma, d, h0, edge)
+            assert 0.0 <= a / edge < 1.0
+            assert regimes._potential(w2, gamma, d, a) >= h0
+            assert abs(a - root) <= 1e-7 * abs(root) + abs(edge) * 2.0**-190  # bisection's floor
+    assert checked > 500
+
+
+def test_section_is_the_saddle_so_a_libration_does_no_section_work():
+    # (R1): a damped libration through θ = 0 never reaches the saddle level, so the
+    # return map records no crossing; a running scene still reaches its cycle.
+    assert regimes.section_offset(0.0, 1.0) == math.pi
+    assert regimes.section_offset(0.5, 1.0) == math.pi - math.asin(0.5)
+    assert regimes.section_offset(3.0, 1.0) == math.pi / 2  # |γ| > ω²: clamped
+    model = mbm.Pendulum(0.05, 0.2)
+    p = loop.new_run(*model.params, 0.0, 1.0, 0.0, 200.0, loop.KIND_TAYLOR, 24,
+                     loop.CONTROLLER_ADAPTIVE, -1.0, math.inf, 1e-9, 1e-9, 24, 10**7)
+    loop.run(p, np.empty(0), np.empty((2, 0)), np.empty(0), np.empty((0, 2)),
+             np.empty((0, 0)), np.zeros(1, dtype=np.int64))
+    assert p[0]["status"] == 0 and p[0]["n_windows"] > 50
+    assert p[0]["sec_n"] == 0
+    r = mbm.solve(mbm.Pendulum(0.1, 1.2), (0.0, 2000.0), [0.0, 0.0], rtol=1e-9, atol=1e-9)
+    assert r.regime == "running" and abs(r.mean_velocity - 2 * np.pi / r.period) == 0.0
+
+
 # ---------------------------------------------------------------------------
 # The switch in the loop: every path, the reference, the cost
 # ---------------------------------------------------------------------------

@@ -92,6 +92,7 @@ __all__ = [
     "taylor_workspace",
     "taylor_eval_kernel",
     "taylor_eval_array_kernel",
+    "taylor_eval_range",
     "taylor_error_kernel",
     "taylor_window_kernel",
     "radius_estimate",
@@ -284,6 +285,58 @@ def taylor_eval_kernel(coef, t):
     q = q * t + a[1]
     # a₀ added last so that t == 0 returns θ₀ bit for bit.
     return a[0] + t * p, q
+
+
+@njit(cache=True)
+def taylor_eval_range(coef, t0, times, lo, hi, out_theta, out_v):
+    """:func:`taylor_eval_kernel` at ``times[lo:hi] − t0``, written to ``out_*[lo:hi]``.
+
+    The same operations in the same order per time as :func:`taylor_eval_kernel` (so
+    the same bits), four times at once: their eight Horner chains are independent,
+    so they overlap instead of each waiting on its own latency (measured per output
+    at N = 24 on 201 outputs: 11 ns in one window, 15 ns spread over 11 windows, where
+    one call per time takes ~30 ns).  Left-over times go one call each.
+    """
+    n = int(coef[1])
+    a = coef[HEADER:]
+    an = a[n]
+    bn = n * a[n]
+    a0 = a[0]
+    a1 = a[1]
+    i = lo
+    while i + 4 <= hi:
+        s0 = times[i] - t0
+        s1 = times[i + 1] - t0
+        s2 = times[i + 2] - t0
+        s3 = times[i + 3] - t0
+        p0 = p1 = p2 = p3 = an
+        q0 = q1 = q2 = q3 = bn
+        for k in range(n - 1, 1, -1):
+            ak = a[k]
+            bk = k * a[k]
+            p0 = p0 * s0 + ak
+            p1 = p1 * s1 + ak
+            p2 = p2 * s2 + ak
+            p3 = p3 * s3 + ak
+            q0 = q0 * s0 + bk
+            q1 = q1 * s1 + bk
+            q2 = q2 * s2 + bk
+            q3 = q3 * s3 + bk
+        # As taylor_eval_kernel's last steps: a₁, then a₀ added last.
+        out_theta[i] = a0 + s0 * (p0 * s0 + a1)
+        out_theta[i + 1] = a0 + s1 * (p1 * s1 + a1)
+        out_theta[i + 2] = a0 + s2 * (p2 * s2 + a1)
+        out_theta[i + 3] = a0 + s3 * (p3 * s3 + a1)
+        out_v[i] = q0 * s0 + a1
+        out_v[i + 1] = q1 * s1 + a1
+        out_v[i + 2] = q2 * s2 + a1
+        out_v[i + 3] = q3 * s3 + a1
+        i += 4
+    while i < hi:
+        x, y = taylor_eval_kernel(coef, times[i] - t0)
+        out_theta[i] = x
+        out_v[i] = y
+        i += 1
 
 
 @njit(cache=True)
