@@ -249,7 +249,7 @@ class Integrator:
         words[:] = self._words
         return words, p, ints
 
-    def solve(self, t_span, y0, t_eval=None):
+    def solve(self, t_span, y0, t_eval=None, wrap=False):
         """Solve from ``y0`` over ``t_span``: what :func:`solve` returns.
 
         Parameters
@@ -261,6 +261,8 @@ class Integrator:
         t_eval : array_like, optional
             Output times, sorted in the direction of integration; default: the
             window ends.
+        wrap : bool, optional
+            θ wrapped to (−π, π], with its winding count (see :func:`solve`).
 
         Returns
         -------
@@ -270,6 +272,10 @@ class Integrator:
         t0, t1 = check_span(t_span)
         theta0, v0 = _state(y0)
         te = None if t_eval is None else check_t_eval(t_eval, t0, t1)
+        if wrap is not False and wrap is not True:
+            raise ValueError(f"wrap must be True or False, got {wrap!r}")
+        if wrap and te is None:
+            raise ValueError("wrap=True needs t_eval (the window ends are reported as θ)")
         record = self._record()
         words, p, ints = record
         try:
@@ -279,7 +285,7 @@ class Integrator:
             if te is None:
                 t, y = _finish_ends(self._run, p, ints)
             else:
-                y = np.empty((2, te.size))
+                y = np.empty((3 if wrap else 2, te.size))
                 _finish(self._run, p, ints, te, y)
                 n_filled = int(ints[_W_J])
                 t, y = (te, y) if n_filled == te.size else (te[:n_filled], y[:, :n_filled])
@@ -290,17 +296,21 @@ class Integrator:
             period, mean_velocity = cycle_summary(regime, words[_W_CYC_T], words[_W_CYC_SIGN])
         finally:
             self._records.append(record)
+        winding = None
+        if wrap:
+            winding = y[2].astype(np.int64)
+            y = y[:2]
         return SolveResult(
             t=t, y=y, success=status == loop.STATUS_OK, status=status,
             message=loop.STATUS_MESSAGES[status], n_windows=n_windows,
             approximant=self.approximant.name, reason=self.reason,
             regime=REGIME_NAMES[regime], t_regime=t_regime, period=period,
-            mean_velocity=mean_velocity,
+            mean_velocity=mean_velocity, winding=winding,
         )
 
 
 def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="auto",
-          t_eval=None, max_step=np.inf, max_windows=DEFAULT_MAX_WINDOWS):
+          t_eval=None, max_step=np.inf, max_windows=DEFAULT_MAX_WINDOWS, wrap=False):
     """Solve one scene by the moving boundary method, the whole run compiled.
 
     The one-shot form of :class:`Integrator` (for many runs of one model, build an
@@ -330,6 +340,12 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
     max_windows : int, optional
         Windows the run may take (default 10⁷, seconds of compute); past it the run
         stops with status 4 and the outputs it reached.
+    wrap : bool, optional
+        Report θ wrapped to (−π, π] (``y[0]``) with its winding count ``winding``
+        (θ = 2π·winding + y[0]; needs ``t_eval``).  The Taylor and splitting runs
+        hold θ this way inside (a count and an angle in (−π, π]), so the wrapped
+        angle keeps its full precision however far the run has wound; unwrapped,
+        θ is rounded once per output at its own magnitude.
 
     Returns
     -------
@@ -340,7 +356,8 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
         switched to the closed form of its equilibrium, ``"running"`` to its limit
         cycle, :mod:`mbm.regimes`; else None), ``t_regime`` (when; nan if never),
         ``period`` and ``mean_velocity`` (the cycle's T_c and ±2π/T_c; nan unless
-        running).  On a failure ``t``, ``y`` hold the outputs reached before it.
+        running), ``winding`` (int64, shape (n,), with ``wrap=True``; else None).
+        On a failure ``t``, ``y`` hold the outputs reached before it.
 
     Raises
     ------
@@ -360,7 +377,7 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
     else:
         ig = Integrator(model, rtol=rtol, atol=atol, approximant=approximant, tau=tau,
                         max_step=max_step, max_windows=max_windows)
-    return ig.solve(t_span, y0, t_eval)
+    return ig.solve(t_span, y0, t_eval, wrap)
 
 
 @functools.lru_cache(maxsize=INTEGRATOR_CACHE)
@@ -498,7 +515,8 @@ def _run_batch_interruptibly(p, te, out, order):
 
 
 def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
-                approximant="auto", tau=None, max_step=np.inf, max_windows=DEFAULT_MAX_WINDOWS):
+                approximant="auto", tau=None, max_step=np.inf, max_windows=DEFAULT_MAX_WINDOWS,
+                wrap=False):
     """Solve N scenes at once, in parallel over scenes (numba ``prange``).
 
     Parameters
@@ -511,7 +529,7 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
         Common time span.
     t_eval : array_like, shape (m,)
         Common output times.
-    rtol, atol, approximant, tau, max_step, max_windows
+    rtol, atol, approximant, tau, max_step, max_windows, wrap
         As in :func:`solve` (one value for all scenes; "auto" chooses per scene).
 
     Returns
@@ -519,7 +537,8 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
     SolveResult
         ``t`` (m,), ``y`` (N, 2, m), ``status`` (N,) per scene (0 ok), ``success``
         (N,) bool, ``n_windows`` (N,), ``approximant`` (N,) names, ``regime``,
-        ``t_regime``, ``period``, ``mean_velocity`` (N,) as in :func:`solve`.  Each scene's
+        ``t_regime``, ``period``, ``mean_velocity`` (N,) as in :func:`solve`, ``winding``
+        (N, m) int64 with ``wrap=True`` (else None).  Each scene's
         answer equals :func:`solve` for that scene.  A scene that fails at run time
         (a status other than 0: its approximant's domain, ``max_windows``) keeps the
         outputs it reached and NaN after them; the other scenes are unaffected.
@@ -563,6 +582,8 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
     rtol, atol = check_tolerances(rtol, atol)
     max_step = check_positive("max_step", max_step, allow_inf=True)
     max_windows = check_max_windows(max_windows)
+    if wrap is not False and wrap is not True:
+        raise ValueError(f"wrap must be True or False, got {wrap!r}")
 
     p = np.zeros(n, dtype=loop.RUN)
     p["beta"], p["gamma"], p["omega"] = beta, gamma, omega
@@ -587,11 +608,16 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
         p["kind"][rows], p["karg"][rows] = kind, karg
         p["controller"][rows], p["h_abs"][rows], p["error_order"][rows] = controller, h_abs, error_order
         names[rows] = ap.name
-    out = np.full((n, 2, te.size), np.nan)
+    out = np.full((n, 3 if wrap else 2, te.size), np.nan)
     _run_batch_interruptibly(p, te, out, _balanced_order(n))
     status = p["status"].astype(np.int64)
+    winding = None
+    if wrap:
+        # A failed scene's outputs past its failure stay NaN; its count there is 0.
+        winding = np.where(np.isnan(out[:, 2]), 0.0, out[:, 2]).astype(np.int64)
+        out = np.ascontiguousarray(out[:, :2])
     return SolveResult(
-        t=te, y=out, status=status, success=status == 0,
+        t=te, y=out, status=status, success=status == 0, winding=winding,
         n_windows=p["n_windows"].astype(np.int64), approximant=names.astype(str),
         regime=np.array([REGIME_NAMES[int(k)] for k in p["regime"]], dtype=object),
         t_regime=p["t_regime"].astype(np.float64),

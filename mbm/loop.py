@@ -102,6 +102,11 @@ __all__ = [
     "RUNNERS",
     "run_batch",
     "evaluate_windows",
+    "WRAPPING_KINDS",
+    "TWO_PI_A",
+    "TWO_PI_B",
+    "theta_of",
+    "wrap",
 ]
 
 # Kinds of the compiled dispatch: ``compiled_kind`` name -> (id, the approximant's
@@ -120,6 +125,11 @@ COMPILED_KINDS = {
 
 CONTROLLER_FIXED = 0
 CONTROLLER_ADAPTIVE = 1
+
+#: Kinds whose runs hold θ as a winding count and φ (see TWO_PI_A): the true
+#: equation's approximants, periodic in θ.  The exact flow takes one window, and the
+#: papers' ℘ formula models sin θ by a cubic in θ (not periodic): they keep θ.
+WRAPPING_KINDS = (KIND_TAYLOR, KIND_SPLIT)
 
 # Adaptive controller, as scipy's RK controller (Hairer–Nørsett–Wanner II.4): a
 # safety factor below 1 keeps most windows accepted, the growth cap keeps one lucky
@@ -152,6 +162,16 @@ TAYLOR_WINDOW_FLOOR = 2.220446049250313e-16
 # A window shorter than this many ulps of t cannot advance t: fail instead of looping.
 MIN_WINDOW_ULPS = 10.0
 _EPS = 2.220446049250313e-16
+# Winding: a run of a kind whose formula depends on θ through sin θ and cos θ only
+# (:data:`WRAPPING_KINDS`) holds its angle as θ = 2πk + φ, k an integer count and φ
+# in (−π, π] once reduced, so that a window adds its increment to φ, rounded at
+# ulp(π), not to θ, rounded at ulp(|θ|): on a rotation wound to |θ| = 10⁶ that
+# rounding (1e-10 per window) would add up over the run, here it is 4e-16 and the
+# outputs round θ once each.  2π = TWO_PI_A + TWO_PI_B (Cody–Waite): A has 32
+# significant bits, so m·A is exact for |m| < 2²¹ and φ − m·A is exact (Sterbenz);
+# B carries the next 53 bits (2π − fl(2π) = 2.4492935982947064e-16).
+TWO_PI_A = math.ldexp(round(math.ldexp(2.0 * math.pi, 29)), -29)
+TWO_PI_B = (2.0 * math.pi - TWO_PI_A) + 2.4492935982947064e-16
 
 # The per-window pieces are inlined into each kind's entry (run_taylor, ...): with
 # the kind a constant there, numba prunes the other kinds' branches before compiling.
@@ -237,6 +257,12 @@ RUN = np.dtype(
         ("cyc_t", np.float64),
         ("cyc_sign", np.float64),
         ("cyc_k", np.int64),  # returns since the map converged (0: not yet)
+        ("cyc_wind", np.float64),  # winding count of the cycle's anchor
+        # winding (TWO_PI_A): θ = 2π·wind + phi, the state a resumed run continues
+        # from (theta above is its value, rounded); a fresh run (n_windows = 0) starts
+        # from theta
+        ("phi", np.float64),
+        ("wind", np.float64),
     ],
     align=True,
 )
@@ -288,7 +314,7 @@ def new_run(beta, gamma, omega, t0, theta0, v0, t_bound, kind, karg, controller,
         [(beta, gamma, omega, t0, theta0, v0, t_bound, kind, karg, controller, h_abs,
           max_step, max_dtheta, rtol, atol, error_order, max_windows, call_windows, 0, 0, 0,
           regimes, REGIME_NONE, math.nan, 0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
-          math.nan, 0.0, 0.0, 0)],
+          math.nan, 0.0, 0.0, 0, 0.0, theta0, 0.0)],
         dtype=RUN,
     )
 
@@ -407,10 +433,12 @@ def fixed_window(kind, coef, t, direction, t_bound, tau):
 
 
 @numba.njit(**_INLINE)
-def first_window(kind, coef, t, y0, y1, direction, t_bound, omega, max_step, rtol, atol, error_order):
+def first_window(kind, coef, t, y0, y1, off, direction, t_bound, omega, max_step, rtol, atol,
+                 error_order):
     """Initial adaptive window length: the a-priori window (:func:`prior_window`) where
-    the kind has one, else searched from the anchored formula's own error estimate."""
-    prior = prior_window(kind, coef, y0, y1, rtol, atol)
+    the kind has one, else searched from the anchored formula's own error estimate.
+    ``off`` (2π × the winding count) is added to θ where it sets the tolerance's scale."""
+    prior = prior_window(kind, coef, off + y0, y1, rtol, atol)
     if prior < math.inf:
         return min(prior, max_step)
     h_abs = min(FIRST_WINDOW_PERIODS * 2.0 * math.pi / omega, max_step)
@@ -418,7 +446,7 @@ def first_window(kind, coef, t, y0, y1, direction, t_bound, omega, max_step, rto
     for _ in range(FIRST_WINDOW_ITERS):
         h = _window_end(t, direction, t_bound, h_abs) - t
         theta, v, et, ev = step(kind, coef, h, True)
-        err = _error_norm(et, ev, y0, y1, theta, v, rtol, atol)
+        err = _error_norm(et, ev, off + y0, y1, off + theta, v, rtol, atol)
         if not (math.isfinite(err) and math.isfinite(theta) and math.isfinite(v)):
             h_abs *= MIN_FACTOR
             continue
@@ -428,7 +456,8 @@ def first_window(kind, coef, t, y0, y1, direction, t_bound, omega, max_step, rto
 
 
 @numba.njit(**_INLINE)
-def adaptive_window(kind, coef, t, y0, y1, direction, t_bound, h_abs, max_step, rtol, atol, error_order):
+def adaptive_window(kind, coef, t, y0, y1, off, direction, t_bound, h_abs, max_step, rtol, atol,
+                    error_order):
     """Adaptive controller: one accepted window under rtol/atol.
 
     The window tried is ``h_abs`` (the previous proposal, or ``first_step``), no longer
@@ -438,10 +467,11 @@ def adaptive_window(kind, coef, t, y0, y1, direction, t_bound, h_abs, max_step, 
     h_next)``.  The proposal h_next: with an a-priori window, MAX_FACTOR × this window
     (the next anchor's own prior decides; the cap only lets a ``first_step`` grow);
     without, scipy's factor from the estimate.  After a rejection, no longer than the
-    window accepted.
+    window accepted.  ``off`` (2π × the winding count) is added to θ where it sets the
+    tolerance's scale (scipy's atol + rtol·|y| of the whole angle).
     """
     min_h = MIN_WINDOW_ULPS * _EPS * max(abs(t), 1e-300)
-    prior = prior_window(kind, coef, y0, y1, rtol, atol)
+    prior = prior_window(kind, coef, off + y0, y1, rtol, atol)
     h_abs = min(h_abs, max_step, prior)
     rejected = False
     inv = -1.0 / (error_order + 1.0)
@@ -450,7 +480,7 @@ def adaptive_window(kind, coef, t, y0, y1, direction, t_bound, h_abs, max_step, 
             return STATUS_TOO_SMALL, t, y0, y1, h_abs
         t_new = _window_end(t, direction, t_bound, h_abs)
         theta, v, et, ev = step(kind, coef, t_new - t, True)
-        err = _error_norm(et, ev, y0, y1, theta, v, rtol, atol)
+        err = _error_norm(et, ev, off + y0, y1, off + theta, v, rtol, atol)
         if math.isfinite(err) and err <= 1.0 and math.isfinite(theta) and math.isfinite(v):
             if prior < math.inf:
                 fac = MAX_FACTOR
@@ -464,6 +494,51 @@ def adaptive_window(kind, coef, t, y0, y1, direction, t_bound, h_abs, max_step, 
         else:
             h_abs *= MIN_FACTOR
         rejected = True
+
+
+# ---------------------------------------------------------------------------
+# Winding (TWO_PI_A)
+# ---------------------------------------------------------------------------
+
+
+@numba.njit(**_INLINE)
+def theta_of(k, phi):
+    """θ = 2πk + φ, rounded once (φ itself when k = 0)."""
+    if k == 0.0:
+        return phi
+    return k * TWO_PI_A + (phi + k * TWO_PI_B)
+
+
+@numba.njit(**_INLINE)
+def wrap(k, phi):
+    """``(k', φ')`` with φ' in (−π, π] and 2πk' + φ' = 2πk + φ (to the rounding of φ').
+
+    In doubles φ' lies in [−fl(π), fl(π)]: both ends are inside (−π, π], as fl(π) < π
+    (and they are different angles).  Idempotent: such a φ is returned as it is.
+    """
+    if -math.pi <= phi <= math.pi:
+        return k, phi
+    m = -math.floor((math.pi - phi) / (2.0 * math.pi))
+    phi = (phi - m * TWO_PI_A) - m * TWO_PI_B
+    # The quotient's rounding can leave φ' just outside the interval: one more turn.
+    if phi > math.pi:
+        phi = (phi - TWO_PI_A) - TWO_PI_B
+        m += 1.0
+    elif phi < -math.pi:
+        phi = (phi + TWO_PI_A) + TWO_PI_B
+        m -= 1.0
+    return k + m, phi
+
+
+@numba.njit(**_INLINE)
+def _put(out_theta, out_w, wrapped, i, k, phi):
+    # An output angle: θ = 2πk + φ, or (φ wrapped to (−π, π], its winding count).
+    if wrapped:
+        kk, ph = wrap(k, phi)
+        out_theta[i] = ph
+        out_w[i] = kk
+    else:
+        out_theta[i] = theta_of(k, phi)
 
 
 # ---------------------------------------------------------------------------
@@ -505,11 +580,17 @@ def _crossing(kind, coef, h, f0, f1, level):
 
 @numba.njit(**_INLINE)
 def _cycle_eval(kind, c, t):
-    """(θ, θ') of a running-cycle window (coefficients: regimes.cycle_coef) at ``t`` (R3)."""
+    """A running-cycle window (coefficients: regimes.cycle_coef) at ``t`` (R3).
+
+    Returns ``(φ, θ', k)``: θ = 2πk + φ (:func:`theta_of`), k the anchor's winding
+    count plus the periods passed, times the winding sign.
+    """
     theta_c, v_c, period, t_off = c[1], c[2], c[3], c[4]
     beta, gamma, omega, rtol, atol, sign = c[5], c[6], c[7], c[8], c[9], c[10]
     karg = int(c[11])
     error_order = int(c[12])
+    wind_c = c[13]
+    off = wind_c * _TWO_PI
     tau = t + t_off
     n = math.floor(tau / period)
     s = min(max(tau - n * period, 0.0), period)
@@ -519,17 +600,18 @@ def _cycle_eval(kind, c, t):
         if coef[0] != 0.0:
             break
         if h <= 0.0:
-            h = first_window(kind, coef, tt, a0, a1, 1.0, period, omega, math.inf, rtol, atol, error_order)
-        st, t_new, th, v, h_next = adaptive_window(kind, coef, tt, a0, a1, 1.0, period, h, math.inf, rtol,
-                                                   atol, error_order)
+            h = first_window(kind, coef, tt, a0, a1, off, 1.0, period, omega, math.inf, rtol, atol,
+                             error_order)
+        st, t_new, th, v, h_next = adaptive_window(kind, coef, tt, a0, a1, off, 1.0, period, h, math.inf,
+                                                   rtol, atol, error_order)
         if st != STATUS_OK:
             break
         if t_new >= s:
             if t_new != s:
                 th, v = evaluate(kind, coef, s - tt)
-            return th + _TWO_PI * sign * n, v
+            return th, v, wind_c + sign * n
         tt, a0, a1, h = t_new, th, v, h_next
-    return math.nan, math.nan
+    return math.nan, math.nan, 0.0
 
 
 # The cycle's evaluation re-runs up to one period of windows (a whole controller and
@@ -552,7 +634,7 @@ def _cycle_value(kind, c, t):
         return _cycle_eval_taylor(c, t)
     elif kind == KIND_SPLIT:
         return _cycle_eval_split(c, t)
-    return math.nan, math.nan
+    return math.nan, math.nan, 0.0
 
 
 # ---------------------------------------------------------------------------
@@ -588,10 +670,11 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
         The run record.
     t_eval : ndarray, shape (m,)
         Output times, monotone in the direction of integration, within the span.
-    out : ndarray, shape (2, m)
+    out : ndarray, shape (2, m) or (3, m)
         θ, θ' at ``t_eval``, filled from index ``p[0].j`` on: an output in
         (t, t_new] comes from that window's formula (the window end repeats the
-        evaluation that produced the state).
+        evaluation that produced the state).  With three rows, row 0 is θ wrapped to
+        (−π, π] and row 2 its winding count (θ = 2π·row 2 + row 0).
     win_t : ndarray, shape (cap + 1,) or (0,)
         Window store (empty: none).  ``win_t[i]`` is the start of the call's window
         i, ``win_t[n]`` the end of its last.
@@ -623,13 +706,22 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
     ne = t_eval.size
     out_theta = out[0]
     out_v = out[1]
+    # Three output rows: θ wrapped to (−π, π] and its winding count in the third.
+    wrapped = out.shape[0] == 3
+    out_w = out[2] if wrapped else out[0]
     j = r.j
     n = 0
     n_total = r.n_windows
     status = STATUS_OK
+    # The angle as θ = 2πk + φ (TWO_PI_A): y0 holds φ, k the winding count; a fresh
+    # run starts from θ as given (k = 0), a resumed one where it stopped.
+    wraps = kind == KIND_TAYLOR or kind == KIND_SPLIT  # WRAPPING_KINDS
+    k = 0.0
+    if n_total > 0:
+        k, y0 = r.wind, r.phi
     if store:
         win_t[0] = t
-        win_y[0, 0] = y0
+        win_y[0, 0] = theta_of(k, y0)
         win_y[0, 1] = y1
     # Locked regime (mbm.regimes, L5): tested before each window where it may apply
     # (windows from rtol/atol, forwards, β > 0, |γ| < ω², room for its formula in the
@@ -657,20 +749,30 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
         max_step = r.max_step
         if r.max_dtheta < math.inf and y1 != 0.0:
             max_step = min(max_step, r.max_dtheta / abs(y1))
+        if wraps and not (-math.pi <= y0 <= math.pi):
+            # Reduce φ to (−π, π] where that leaves θ's value unchanged to the bit (so
+            # a window's start repeats the state the last one ended at; else next time).
+            k2, y2 = wrap(k, y0)
+            if theta_of(k2, y2) == theta_of(k, y0):
+                k, y0 = k2, y2
+        # θ's scale for the tolerances (scipy's rtol·|θ| of the whole angle).
+        off = k * _TWO_PI
         is_locked = False
         is_cycle = r.regime == REGIME_RUNNING
         if is_cycle:
             pass
         elif can_lock and (r.regime == REGIME_LOCKED or not locked_quick_reject(
-                y0, y1, lk_d, lk_wl2, lk_g0, omega, rtol, atol)):
+                off + y0, y1, lk_d, lk_wl2, lk_g0, omega, rtol, atol)):
             lk_ts, lk_bt, lk_bv = locked_bound(beta, gamma, omega, y0, y1, lk_d, lk_wl2, lk_g0, lk_g1)
-            is_locked = lk_bt <= SWITCH_SAFETY * (atol + rtol * abs(lk_ts)) and lk_bv <= SWITCH_SAFETY * atol
+            is_locked = (lk_bt <= SWITCH_SAFETY * (atol + rtol * abs(off + lk_ts))
+                         and lk_bv <= SWITCH_SAFETY * atol)
+        k_new = k
         if is_cycle:
             # The rest of the run is the stored period, shifted (mbm.regimes, R3).
             coef = cycle_coef(r.cyc_theta, r.cyc_v, r.cyc_T, t - r.cyc_t, beta, gamma, omega, rtol, atol,
-                              r.cyc_sign, karg, error_order)
+                              r.cyc_sign, karg, error_order, r.cyc_wind)
             t_new = _window_end(t, direction, t_bound, max_step)
-            th, v = _cycle_value(kind, coef, t_new - t)
+            th, v, k_new = _cycle_value(kind, coef, t_new - t)
             st, h_next = STATUS_OK, h_abs
             if not (math.isfinite(th) and math.isfinite(v)):
                 st = STATUS_NONFINITE
@@ -692,10 +794,10 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
             pass
         elif adaptive:
             if h_abs <= 0.0:
-                h_abs = first_window(kind, coef, t, y0, y1, direction, t_bound, omega, max_step, rtol, atol,
-                                     error_order)
+                h_abs = first_window(kind, coef, t, y0, y1, off, direction, t_bound, omega, max_step, rtol,
+                                     atol, error_order)
             st, t_new, th, v, h_next = adaptive_window(
-                kind, coef, t, y0, y1, direction, t_bound, h_abs, max_step, rtol, atol, error_order
+                kind, coef, t, y0, y1, off, direction, t_bound, h_abs, max_step, rtol, atol, error_order
             )
         else:
             st, t_new, th, v = fixed_window(kind, coef, t, direction, t_bound, min(h_abs, max_step))
@@ -711,23 +813,26 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
             while j2 < ne and (direction * (t_eval[j2] - t_new) <= 0.0):
                 j2 += 1
             taylor_eval_range(coef, t, t_eval, j, j2, out_theta, out_v)
+            if k != 0.0 or wrapped:
+                for i in range(j, j2):
+                    _put(out_theta, out_w, wrapped, i, k, out_theta[i])
             j = j2
         while j < ne and (direction * (t_eval[j] - t_new) <= 0.0):
             if t_eval[j] == t_new:
-                out[0, j] = th
-                out[1, j] = v
+                _put(out_theta, out_w, wrapped, j, k_new, th)
+                out_v[j] = v
             elif is_locked:
                 a, b = locked_eval(coef, t_eval[j] - t)
-                out[0, j] = a
-                out[1, j] = b
+                _put(out_theta, out_w, wrapped, j, k, a)
+                out_v[j] = b
             elif is_cycle:
-                a, b = _cycle_value(kind, coef, t_eval[j] - t)
-                out[0, j] = a
-                out[1, j] = b
+                a, b, kc = _cycle_value(kind, coef, t_eval[j] - t)
+                _put(out_theta, out_w, wrapped, j, kc, a)
+                out_v[j] = b
             else:
                 a, b = evaluate(kind, coef, t_eval[j] - t)
-                out[0, j] = a
-                out[1, j] = b
+                _put(out_theta, out_w, wrapped, j, k, a)
+                out_v[j] = b
             j += 1
         if can_cycle and r.regime == REGIME_NONE:
             # The return map (mbm.regimes, R1, R2): a crossing of a saddle level
@@ -751,8 +856,9 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
                             r.t_regime = t_new
                             r.cyc_T = (tx - r.cyc_t) / CYCLE_AVERAGE_PERIODS
                             r.cyc_theta, r.cyc_v, r.cyc_t, r.cyc_sign = level, vx, tx, sgn
+                            r.cyc_wind = k
                     elif r.sec_n >= 2 and cycle_switch(
-                            dv, r.sec_dv, period - r.sec_T, vx, level, r.sec_vmax,
+                            dv, r.sec_dv, period - r.sec_T, vx, off + level, r.sec_vmax,
                             abs(gamma) + beta * r.sec_vmax + omega * omega, (t_bound - t_new) / period, rtol,
                             atol):
                         r.cyc_k, r.cyc_t = 1, tx
@@ -769,17 +875,18 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
                 win_coef[n, :m] = coef[:m]
                 win_coef[n, m:] = 0.0
             win_t[n + 1] = t_new
-            win_y[n + 1, 0] = th
+            win_y[n + 1, 0] = theta_of(k_new, th)
             win_y[n + 1, 1] = v
-        t, y0, y1, h_abs = t_new, th, v, h_next
+        t, y0, y1, h_abs, k = t_new, th, v, h_next, k_new
         n += 1
         n_total += 1
     # A span of zero length: the outputs are the initial state.
     while j < ne and n_total == 0 and t_eval[j] == t:
-        out[0, j] = y0
-        out[1, j] = y1
+        _put(out_theta, out_w, wrapped, j, k, y0)
+        out_v[j] = y1
         j += 1
-    r.t, r.theta, r.v, r.h_abs = t, y0, y1, h_abs
+    r.t, r.theta, r.v, r.h_abs = t, theta_of(k, y0), y1, h_abs
+    r.phi, r.wind = y0, k
     r.n_windows = n_total
     r.j = j
     r.status = status
@@ -846,8 +953,9 @@ def _run_any(p, t_eval, out, win_t, win_y, win_coef, cancel):
 def run_batch(p, t_eval, out, order, cancel):
     """:func:`run` for every row of ``p`` in parallel (``prange``), in the order ``order``.
 
-    ``out`` has shape (N, 2, m).  Runs without the GIL, so a caller may run it in a
-    thread and set ``cancel[0]`` to stop every scene at its next window.
+    ``out`` has shape (N, 2, m), or (N, 3, m) for θ wrapped with its winding count.
+    Runs without the GIL, so a caller may run it in a thread and set ``cancel[0]`` to
+    stop every scene at its next window.
     """
     win_t = np.empty(0)
     win_y = np.empty((0, 2))
@@ -858,12 +966,15 @@ def run_batch(p, t_eval, out, order, cancel):
 
 
 @numba.njit(**_INLINE)
-def _evaluate_windows(kind, starts, coefs, n, direction, t, out_theta, out_v):
-    """Evaluate a run of ``n`` stored windows (``win_t``, ``win_coef`` of :func:`run`) at ``t``.
+def _evaluate_windows(kind, starts, start_theta, coefs, n, direction, t, out_theta, out_v):
+    """Evaluate a run of ``n`` stored windows (``win_t``, ``win_y``, ``win_coef`` of :func:`run`) at ``t``.
 
     Window i covers [starts[i], starts[i+1]]; a time on an interior boundary takes the
     later window (whose anchor is the earlier window's end value), the run's end the
-    last window.  Times outside the run are extrapolated by the nearest window.
+    last window.  Times outside the run are extrapolated by the nearest window.  A
+    window of a wrapping kind is anchored at φ (TWO_PI_A); its winding count is
+    recovered from its start's θ, ``start_theta[i]`` (``win_y[i, 0]``), so the value
+    is the run's own θ = 2πk + φ to the bit.
     """
     for j in range(t.size):
         tj = t[j]
@@ -877,43 +988,52 @@ def _evaluate_windows(kind, starts, coefs, n, direction, t, out_theta, out_v):
             else:
                 hi = mid - 1
         i = lo
+        s = tj - starts[i]
+        if coefs.shape[1] >= CYCLE_WIDTH and coefs[i, 0] == CYCLE_TAG:
+            # A running-cycle window: the stored period, shifted (at most a period of windows).
+            a, b, kc = _cycle_value(kind, coefs[i], s)
+            out_theta[j] = theta_of(kc, a)
+            out_v[j] = b
+            continue
         if coefs.shape[1] >= LOCKED_WIDTH and coefs[i, 0] == LOCKED_TAG:
             # A locked window (mbm.regimes): the closed form, cheap at any t.
-            a, b = locked_eval(coefs[i], tj - starts[i])
-        elif coefs.shape[1] >= CYCLE_WIDTH and coefs[i, 0] == CYCLE_TAG:
-            # A running-cycle window: the stored period, shifted (at most a period of windows).
-            a, b = _cycle_value(kind, coefs[i], tj - starts[i])
+            a, b = locked_eval(coefs[i], s)
+            phi0 = coefs[i, 1]
         else:
-            a, b = evaluate(kind, coefs[i], tj - starts[i])
-        out_theta[j] = a
+            a, b = evaluate(kind, coefs[i], s)
+            phi0 = evaluate(kind, coefs[i], 0.0)[0]
+        ki = 0.0
+        if kind == KIND_TAYLOR or kind == KIND_SPLIT:  # WRAPPING_KINDS
+            ki = float(round((start_theta[i] - phi0) / _TWO_PI))
+        out_theta[j] = theta_of(ki, a)
         out_v[j] = b
 
 
 @numba.njit(cache=True)
-def _evaluate_windows_taylor(starts, coefs, n, direction, t, out_theta, out_v):
-    _evaluate_windows(KIND_TAYLOR, starts, coefs, n, direction, t, out_theta, out_v)
+def _evaluate_windows_taylor(starts, start_theta, coefs, n, direction, t, out_theta, out_v):
+    _evaluate_windows(KIND_TAYLOR, starts, start_theta, coefs, n, direction, t, out_theta, out_v)
 
 
 @numba.njit(cache=True)
-def _evaluate_windows_exact(starts, coefs, n, direction, t, out_theta, out_v):
-    _evaluate_windows(KIND_EXACT, starts, coefs, n, direction, t, out_theta, out_v)
+def _evaluate_windows_exact(starts, start_theta, coefs, n, direction, t, out_theta, out_v):
+    _evaluate_windows(KIND_EXACT, starts, start_theta, coefs, n, direction, t, out_theta, out_v)
 
 
 @numba.njit(cache=True)
-def _evaluate_windows_salas_torque(starts, coefs, n, direction, t, out_theta, out_v):
-    _evaluate_windows(KIND_SALAS_TORQUE, starts, coefs, n, direction, t, out_theta, out_v)
+def _evaluate_windows_salas_torque(starts, start_theta, coefs, n, direction, t, out_theta, out_v):
+    _evaluate_windows(KIND_SALAS_TORQUE, starts, start_theta, coefs, n, direction, t, out_theta, out_v)
 
 
 @numba.njit(cache=True)
-def _evaluate_windows_split(starts, coefs, n, direction, t, out_theta, out_v):
-    _evaluate_windows(KIND_SPLIT, starts, coefs, n, direction, t, out_theta, out_v)
+def _evaluate_windows_split(starts, start_theta, coefs, n, direction, t, out_theta, out_v):
+    _evaluate_windows(KIND_SPLIT, starts, start_theta, coefs, n, direction, t, out_theta, out_v)
 
 
 _EVALUATORS = {KIND_TAYLOR: _evaluate_windows_taylor, KIND_EXACT: _evaluate_windows_exact,
                KIND_SALAS_TORQUE: _evaluate_windows_salas_torque, KIND_SPLIT: _evaluate_windows_split}
 
 
-def evaluate_windows(kind, starts, coefs, n, direction, t, out_theta, out_v):
-    """Evaluate ``n`` stored windows (``win_t``, ``win_coef`` of :func:`run`) of kind
-    ``kind`` at times ``t`` (see :func:`_evaluate_windows`)."""
-    _EVALUATORS[kind](starts, coefs, n, direction, t, out_theta, out_v)
+def evaluate_windows(kind, starts, start_theta, coefs, n, direction, t, out_theta, out_v):
+    """Evaluate ``n`` stored windows (``win_t``, ``win_y[:, 0]``, ``win_coef`` of :func:`run`)
+    of kind ``kind`` at times ``t`` (see :func:`_evaluate_windows`)."""
+    _EVALUATORS[kind](starts, start_theta, coefs, n, direction, t, out_theta, out_v)

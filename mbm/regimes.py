@@ -153,10 +153,11 @@ REGIME_NAMES = {REGIME_NONE: None, REGIME_LOCKED: "locked", REGIME_RUNNING: "run
 LOCKED_TAG = 101.0
 LOCKED_WIDTH = 7
 # A running-cycle window's coefficient vector (R3): [CYCLE_TAG, θ_c, v_c, T_c, t_off,
-# β, γ, ω, rtol, atol, winding sign, kind argument, error order]; t_off is the time
-# from the cycle's anchor crossing to the window's start.
+# β, γ, ω, rtol, atol, winding sign, kind argument, error order, k_c]; t_off is the
+# time from the cycle's anchor crossing to the window's start, and the anchor is at
+# θ = 2πk_c + θ_c (the loop's winding count, mbm.loop "Winding").
 CYCLE_TAG = 102.0
-CYCLE_WIDTH = 13
+CYCLE_WIDTH = 14
 # (R2): a return map whose contraction measured over two periods is above this is not
 # (yet) converging geometrically: no switch.
 CYCLE_MAX_MULTIPLIER = 0.9
@@ -488,7 +489,8 @@ def cycle_switch(dv, dv_prev, dT, v, theta, vmax, amax, n_rest, rtol, atol):
 
 
 @numba.njit(cache=True)
-def cycle_coef(theta_c, v_c, period, t_off, beta, gamma, omega, rtol, atol, sign, karg, error_order):
+def cycle_coef(theta_c, v_c, period, t_off, beta, gamma, omega, rtol, atol, sign, karg, error_order,
+               wind_c):
     """A running-cycle window's coefficient vector (layout: CYCLE_TAG; item R3).
 
     Parameters
@@ -505,6 +507,8 @@ def cycle_coef(theta_c, v_c, period, t_off, beta, gamma, omega, rtol, atol, sign
         +1 or −1: θ advances by 2π·sign per period.
     karg, error_order : int
         The approximant's kind argument and error order.
+    wind_c : float
+        Winding count of the anchor: it lies at θ = 2π·wind_c + θ_c.
 
     Returns
     -------
@@ -524,6 +528,7 @@ def cycle_coef(theta_c, v_c, period, t_off, beta, gamma, omega, rtol, atol, sign
     c[10] = sign
     c[11] = karg
     c[12] = error_order
+    c[13] = wind_c
     return c
 
 

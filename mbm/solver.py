@@ -342,7 +342,7 @@ class MBM(_MBMBase):
                                                         words[_W_CYC_SIGN])
         if n == 0:
             return False, self._failure(int(ints[_W_STATUS]))
-        self._windows = (win_t[: n + 1], win_coef[:n], n)
+        self._windows = (win_t[: n + 1], np.ascontiguousarray(win_y[: n + 1, 0]), win_coef[:n], n)
         self.t = float(words[_W_T])
         self.y = words[_W_THETA:_W_THETA + 2].copy()
         # A failure after some accepted windows ends this step early; the next step reports it.
@@ -382,8 +382,9 @@ class MBM(_MBMBase):
 
     def _dense_output_impl(self):
         if self._run is not None:
-            starts, coefs, n = self._windows
-            return MBMWindowsDenseOutput(self.t_old, self.t, self._kind[0], starts, coefs, n, self.direction)
+            starts, start_theta, coefs, n = self._windows
+            return MBMWindowsDenseOutput(self.t_old, self.t, self._kind[0], starts, start_theta, coefs, n,
+                                         self.direction)
         return MBMDenseOutput(self.t_old, self.t, self.approximant, self._coef)
 
 
@@ -564,10 +565,11 @@ class MBMWindowsDenseOutput(DenseOutput):
     repeats the evaluation that produced the step's end state.
     """
 
-    def __init__(self, t_old, t, kind, starts, coefs, n, direction):
+    def __init__(self, t_old, t, kind, starts, start_theta, coefs, n, direction):
         super().__init__(t_old, t)
         self.kind = kind
         self.starts = starts
+        self.start_theta = start_theta
         self.coefs = coefs
         self.n = n
         self.direction = float(direction)
@@ -576,7 +578,8 @@ class MBMWindowsDenseOutput(DenseOutput):
         tt = np.ascontiguousarray(np.atleast_1d(np.asarray(t, dtype=np.float64)))
         th = np.empty_like(tt)
         v = np.empty_like(tt)
-        loop.evaluate_windows(self.kind, self.starts, self.coefs, self.n, self.direction, tt, th, v)
+        loop.evaluate_windows(self.kind, self.starts, self.start_theta, self.coefs, self.n, self.direction,
+                              tt, th, v)
         if np.ndim(t) == 0:
             return np.array([th[0], v[0]])
         return np.vstack((th, v))
