@@ -221,8 +221,8 @@ class Integrator:
         self.rtol, self.atol = check_tolerances(rtol, atol, stacklevel=3)
         self.max_step = check_positive("max_step", max_step, allow_inf=True)
         ap, kind, karg = _approximant(approximant, model)
-        ap.check_model(model)
         ap.check_drive(model)
+        ap.check_model(model)
         self.approximant = ap
         self.reason = _reason(model, self.rtol, self.atol, approximant)
         self._tau = None if tau is None else check_positive("tau", tau)
@@ -544,36 +544,25 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
         Honoured while the batch runs: every scene stops at its next window.
     """
     driven_call = not (_is_zero(drive_amplitude) and _is_zero(drive_frequency) and _is_zero(drive_phase))
+    params = (beta, gamma, omega) + ((drive_amplitude, drive_frequency, drive_phase) if driven_call else ())
+    which = "beta, gamma, omega" + (", drive_amplitude, drive_frequency, drive_phase" if driven_call else "")
     try:
-        beta, gamma, omega = np.broadcast_arrays(
-            np.atleast_1d(np.asarray(beta, dtype=float)),
-            np.atleast_1d(np.asarray(gamma, dtype=float)),
-            np.atleast_1d(np.asarray(omega, dtype=float)),
-        )
+        arrays = np.broadcast_arrays(*(np.atleast_1d(np.asarray(a, dtype=float)) for a in params))
     except ValueError:
         raise ValueError(
-            f"beta, gamma, omega must broadcast to one shape (N,), got shapes "
-            f"{np.shape(beta)}, {np.shape(gamma)}, {np.shape(omega)}"
+            f"{which} must broadcast to one shape (N,), got shapes "
+            + ", ".join(str(np.shape(a)) for a in params)
         ) from None
+    beta, gamma, omega = arrays[:3]
     if beta.ndim != 1:
-        raise ValueError(f"beta, gamma, omega must broadcast to shape (N,), got shape {beta.shape}")
+        raise ValueError(f"{which} must broadcast to shape (N,), got shape {beta.shape}")
     n = beta.size
     if n == 0:
-        raise ValueError("beta, gamma, omega must hold at least one scene (got empty arrays)")
+        raise ValueError(f"{which} must hold at least one scene (got empty arrays)")
+    amp = freq = phase = None
     if driven_call:
-        try:
-            amp, freq, phase = (np.broadcast_to(np.asarray(a, dtype=float), (n,)) for a in (
-                drive_amplitude, drive_frequency, drive_phase))
-        except ValueError:
-            raise ValueError(
-                f"drive_amplitude, drive_frequency, drive_phase must broadcast to the scenes' shape "
-                f"({n},), got shapes {np.shape(drive_amplitude)}, {np.shape(drive_frequency)}, "
-                f"{np.shape(drive_phase)}"
-            ) from None
-        _check_params(beta, gamma, omega, amp, freq, phase)
-    else:
-        amp = freq = phase = None
-        _check_params(beta, gamma, omega)
+        amp, freq, phase = arrays[3:]
+    _check_params(beta, gamma, omega, amp, freq, phase)
     y0 = np.asarray(y0, dtype=float)
     if y0.shape == (2,):
         y0 = np.broadcast_to(y0, (n, 2))

@@ -118,8 +118,8 @@ class _MBMBase(OdeSolver):
         else:
             reason = "chosen by the caller"
         self.approximant = get_approximant(approximant)
-        self.approximant.check_model(model)
         self.approximant.check_drive(model)
+        self.approximant.check_model(model)
         self.approximant_choice = (self.approximant.name, reason)
         # The formula of the last step (its dense output), set by _step_impl.
         self._coef = None

@@ -211,8 +211,8 @@ class Approximant:
 
         if not isinstance(model, Pendulum):
             raise TypeError(f"model must be an mbm.Pendulum, got {type(model).__name__}")
-        self.check_model(model)
         self.check_drive(model)
+        self.check_model(model)
         theta0 = float(theta0)
         v0 = float(v0)
         t0 = float(t0)
