@@ -408,3 +408,29 @@ def test_driven_error_proportional_to_tolerance_slow():
 @pytest.mark.slow
 def test_driven_error_monotone_in_tolerance_slow():
     _check_monotone(SLOW_SCENES)
+
+
+def test_sweep_takes_the_drive():
+    # Drive parameters as sweep dimensions (after the others) or attributes; each scene
+    # equals mbm.solve of its driven model, bit for bit; no drive: no drive attributes.
+    t = np.linspace(0.0, 40.0, 9)
+    ds = mbm.sweep(beta=0.5, gamma=[0.1, 0.3], drive_amplitude=[0.0, 1.2], drive_frequency=0.7,
+                   t_span=(0.0, 40.0), t_eval=t, rtol=1e-9, atol=1e-9, theta0=0.1)
+    assert ds.theta.dims == ("gamma", "drive_amplitude", "time")
+    assert ds.attrs["drive_frequency"] == 0.7 and ds.attrs["drive_phase"] == 0.0
+    for g in (0.1, 0.3):
+        for a in (0.0, 1.2):
+            one = mbm.solve(mbm.Pendulum(0.5, g, 1.0, a, 0.7), (0.0, 40.0), [0.1, 0.0], rtol=1e-9, atol=1e-9,
+                            t_eval=t)
+            np.testing.assert_array_equal(ds.theta.sel(gamma=g, drive_amplitude=a).values, one.y[0])
+    chunked = mbm.sweep(beta=0.5, gamma=[0.1, 0.3], drive_amplitude=[0.0, 1.2], drive_frequency=0.7,
+                        t_span=(0.0, 40.0), t_eval=t, rtol=1e-9, atol=1e-9, theta0=0.1, chunks=1)
+    np.testing.assert_array_equal(chunked.theta.values, ds.theta.values)
+    plain = mbm.sweep(beta=0.5, gamma=[0.1, 0.3], t_span=(0.0, 40.0), t_eval=t)
+    assert not any(k.startswith("drive") for k in plain.attrs)
+    with pytest.raises(ValueError, match="drive_frequency must be >= 0"):
+        mbm.sweep(beta=0.5, gamma=0.1, drive_amplitude=1.0, drive_frequency=[1.0, -1.0], t_span=(0.0, 1.0),
+                  t_eval=[1.0])
+    with pytest.raises(ValueError, match="cannot integrate the AC drive"):
+        mbm.sweep(beta=0.5, gamma=0.1, drive_amplitude=1.0, drive_frequency=1.0, t_span=(0.0, 1.0), t_eval=[1.0],
+                  approximant="split4", tau=0.1)
