@@ -178,7 +178,7 @@ class Integrator:
         ``atol + rtol·|y|``); rtol below 100 machine epsilons is raised to that
         floor with a warning, as scipy does.
     approximant : str or Approximant, optional
-        ``"auto"`` (default: the exact flow when β = γ = 0, else the Taylor series) or
+        ``"auto"`` (default: the exact flow when β = γ = 0 without a drive, else the Taylor series) or
         one with a compiled kernel (``taylor*``, ``split*``, ``sbab*``, ``belendez``,
         ``salas-torque``).
     tau : float, optional

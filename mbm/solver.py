@@ -185,7 +185,7 @@ class MBM(_MBMBase):
         ``0.1 · 2π/ω`` (with a warning if rtol/atol were given: they cannot change
         such windows).
     approximant : str or Approximant, optional
-        ``"auto"`` (default: the exact flow when β = γ = 0, else the Taylor series,
+        ``"auto"`` (default: the exact flow when β = γ = 0 without a drive, else the Taylor series,
         see :mod:`mbm.choice`) or a registered name (:func:`mbm.approximant_names`).
     model : Pendulum, optional
         The model; skips probing ``fun``.
