@@ -349,8 +349,10 @@ BENCH_MOVED = (
 )
 
 
-def iv_command(beta, gamma_max, points, omega=1.0, current_tol=1e-4, csv=None, plot=None, out=None):
-    """``mbm iv``: an up-and-down I–V sweep 0 → gamma_max → 0; print the currents, write CSV/PNG.
+def iv_command(beta, gamma_max, points, omega=1.0, current_tol=1e-4, csv=None, plot=None, out=None,
+               drive_amplitude=0.0, drive_frequency=0.0, drive_phase=0.0):
+    """``mbm iv``: an up-and-down I–V sweep 0 → gamma_max → 0; print the currents, write CSV/PNG
+    (with an AC drive A sin(Ωt + φ) on every bias point where ``drive_amplitude`` ≠ 0).
 
     Returns
     -------
@@ -361,8 +363,12 @@ def iv_command(beta, gamma_max, points, omega=1.0, current_tol=1e-4, csv=None, p
     out = sys.stdout if out is None else out
 
     up = np.linspace(0.0, gamma_max, points)
-    curve = mbm.iv_curve(beta, np.r_[up, up[::-1]], omega=omega, current_tol=current_tol)
+    curve = mbm.iv_curve(beta, np.r_[up, up[::-1]], omega=omega, current_tol=current_tol,
+                         drive_amplitude=drive_amplitude, drive_frequency=drive_frequency,
+                         drive_phase=drive_phase)
     print(f"beta = {beta:g}, omega = {omega:g}, {2 * points} bias points", file=out)
+    if drive_amplitude != 0.0:
+        print(f"AC drive A = {drive_amplitude:g}, Omega = {drive_frequency:g}, phi = {drive_phase:g}", file=out)
     print(f"switching current  {curve.switching_current:.6g}", file=out)
     print(f"retrapping current {curve.retrapping_current:.6g}", file=out)
     if csv:
@@ -442,6 +448,10 @@ def _build_parser():
     r.add_argument("--omega", type=_positive, default=1.0, help="omega (default 1)")
     r.add_argument("--current-tol", type=_positive, default=1e-4,
                    help="bisection width of the currents (default 1e-4)")
+    r.add_argument("--drive-amplitude", type=float, default=0.0,
+                   help="AC drive amplitude A: bias gamma + A sin(Omega t + phi) (default 0: none)")
+    r.add_argument("--drive-frequency", type=float, default=0.0, help="AC drive angular frequency Omega > 0")
+    r.add_argument("--drive-phase", type=float, default=0.0, help="AC drive phase phi (default 0)")
     r.add_argument("--csv", default=None, help="write gamma, mean velocity, regime, period")
     r.add_argument("--plot", default=None, metavar="PNG", help="save the I-V plot")
 
@@ -499,8 +509,13 @@ def main(argv=None):
     elif args.command == "iv":
         if args.plot is not None:
             _require_matplotlib(parser, "--plot")
-        iv_command(args.beta, args.gamma_max, args.points, omega=args.omega,
-                   current_tol=args.current_tol, csv=args.csv, plot=args.plot)
+        try:
+            iv_command(args.beta, args.gamma_max, args.points, omega=args.omega,
+                       current_tol=args.current_tol, csv=args.csv, plot=args.plot,
+                       drive_amplitude=args.drive_amplitude, drive_frequency=args.drive_frequency,
+                       drive_phase=args.drive_phase)
+        except ValueError as exc:
+            parser.error(str(exc))
     elif args.command == "bench":  # reached only via an unusual argv order
         return _bench([])
     return 0

@@ -3,11 +3,12 @@
 The rule, and the measurements behind it (``docs/convergent.md``,
 ``tests/test_auto.py``):
 
-* β = γ = 0: the exact elliptic solution ("belendez", third paper (31) extended to
+* β = γ = 0 and no AC drive: the exact elliptic solution ("belendez", third paper (31) extended to
   every state).  No truncation error, so one window as long as ``max_step`` allows;
   the error is round-off at any horizon.
-* otherwise: the convergent family (:data:`CONVERGENT_DEFAULT`) with windows chosen
-  from rtol/atol.  The papers' approximants are never the cheapest: they have no
+* otherwise (a driven model too, whatever β and γ: the Taylor family is the one that
+  integrates a drive): the convergent family (:data:`CONVERGENT_DEFAULT`) with windows
+  chosen from rtol/atol.  The papers' approximants are never the cheapest: they have no
   error estimate (fixed windows) and a model error that re-anchoring does not remove
   (3.2e-3 on the second paper's Example 1, 2.5e-2 on Example 2, 1e-4 to 1e-2 for
   the first paper's), so they meet no tolerance below that, and above it the
@@ -25,9 +26,9 @@ EXACT_UNDAMPED = "belendez"
 
 
 def auto_name(undamped):
-    """The name "auto" stands for: the exact flow when β = γ = 0 (``undamped``), else
-    the convergent family.  The rule alone, without the reason text (the compiled
-    path caches it per call signature)."""
+    """The name "auto" stands for: the exact flow when β = γ = 0 and there is no drive
+    (``undamped``), else the convergent family.  The rule alone, without the reason
+    text (the compiled path caches it per call signature)."""
     return EXACT_UNDAMPED if undamped else CONVERGENT_DEFAULT
 
 
@@ -50,13 +51,19 @@ def choose_approximant(model, y0, rtol, atol):
     reason : str
         Why, in one sentence.
     """
-    undamped = model.beta == 0.0 and model.gamma == 0.0
-    return auto_name(undamped), auto_reason(undamped, rtol, atol)
+    undamped = model.beta == 0.0 and model.gamma == 0.0 and not model.driven
+    return auto_name(undamped), auto_reason(undamped, rtol, atol, model.driven)
 
 
-def auto_reason(undamped, rtol, atol):
+def auto_reason(undamped, rtol, atol, driven=False):
     """The one-sentence reason :func:`choose_approximant` gives, from the facts it uses
-    (β = γ = 0, and the tolerances); a pure function, so callers may cache it."""
+    (β = γ = 0 without a drive, whether there is one, and the tolerances); a pure
+    function, so callers may cache it."""
+    if driven:
+        return (
+            f"an AC drive: the convergent family {CONVERGENT_DEFAULT!r} (the approximant that "
+            f"integrates a drive) with windows from rtol={rtol:g}, atol={atol:g}"
+        )
     if auto_name(undamped) == EXACT_UNDAMPED:
         return (
             "beta = gamma = 0: the exact elliptic solution (Belendez et al. (31), any state), "

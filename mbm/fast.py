@@ -96,7 +96,7 @@ def _resolve(name, undamped):
 
 
 def _approximant(approximant, model):
-    undamped = model.beta == 0.0 and model.gamma == 0.0
+    undamped = model.beta == 0.0 and model.gamma == 0.0 and not model.driven
     if isinstance(approximant, str):
         return _resolve(approximant, undamped)
     return compiled(get_approximant(approximant))
@@ -112,13 +112,15 @@ def _plan(ap, tau, max_step, t0, t1):
 
 
 @functools.lru_cache(maxsize=256)
-def _auto_reason(undamped, rtol, atol):
+def _auto_reason(undamped, rtol, atol, driven=False):
     # Cached: formatting the sentence on every call was a visible part of the fixed cost.
-    return auto_reason(undamped, rtol, atol)
+    return auto_reason(undamped, rtol, atol, driven)
 
 
 def _reason(model, rtol, atol, approximant):
     if isinstance(approximant, str) and approximant == "auto":
+        if model.driven:
+            return _auto_reason(False, float(rtol), float(atol), True)
         return _auto_reason(model.beta == 0.0 and model.gamma == 0.0, float(rtol), float(atol))
     return "chosen by the caller"
 
@@ -176,7 +178,7 @@ class Integrator:
         ``atol + rtol·|y|``); rtol below 100 machine epsilons is raised to that
         floor with a warning, as scipy does.
     approximant : str or Approximant, optional
-        ``"auto"`` (default: the exact flow when β = γ = 0, else the Taylor series) or
+        ``"auto"`` (default: the exact flow when β = γ = 0 without a drive, else the Taylor series) or
         one with a compiled kernel (``taylor*``, ``split*``, ``sbab*``, ``belendez``,
         ``salas-torque``).
     tau : float, optional
@@ -219,6 +221,7 @@ class Integrator:
         self.rtol, self.atol = check_tolerances(rtol, atol, stacklevel=3)
         self.max_step = check_positive("max_step", max_step, allow_inf=True)
         ap, kind, karg = _approximant(approximant, model)
+        ap.check_drive(model)
         ap.check_model(model)
         self.approximant = ap
         self.reason = _reason(model, self.rtol, self.atol, approximant)
@@ -229,9 +232,11 @@ class Integrator:
         self._run = loop.RUNNERS[kind]
         controller, h_abs, error_order = self._plan
         beta, gamma, omega = model.params
+        amp, freq, phase = model.drive
         template = loop.new_run(beta, gamma, omega, 0.0, 0.0, 0.0, 0.0, kind, karg, controller,
                                 h_abs, self.max_step, self.rtol, self.atol, error_order,
-                                check_max_windows(max_windows), CALL_WINDOWS)
+                                check_max_windows(max_windows), CALL_WINDOWS, drive_amplitude=amp,
+                                drive_frequency=freq, drive_phase=phase)
         # The record's words as float64: each call copies them into a record of its own.
         self._words = template.view(np.float64).copy()
         # Records ready for a call: (words, record view, int64 view).  Taken and put
@@ -393,19 +398,21 @@ _AUTO_EXACT = loop.kind_of(get_approximant(auto_name(True)))
 
 
 @numba.njit(cache=True)
-def solve_njit(beta, gamma, omega, t0, theta0, v0, t_bound, t_eval, out, rtol, atol, max_windows):
+def solve_njit(beta, gamma, omega, t0, theta0, v0, t_bound, t_eval, out, rtol, atol, max_windows,
+               drive_amplitude=0.0, drive_frequency=0.0, drive_phase=0.0):
     """A whole run with approximant "auto", callable from your own ``numba.njit`` code.
 
-    The exact flow when β = γ = 0 (one window), else the default Taylor series with
-    windows from rtol/atol: the windows and outputs of ``mbm.solve(Pendulum(beta,
-    gamma, omega), (t0, t_bound), [theta0, v0], rtol=rtol, atol=atol, t_eval=t_eval)``,
+    The exact flow when β = γ = 0 without a drive (one window), else the default Taylor
+    series with windows from rtol/atol: the windows and outputs of
+    ``mbm.solve(Pendulum(beta, gamma, omega, drive_amplitude, drive_frequency,
+    drive_phase), (t0, t_bound), [theta0, v0], rtol=rtol, atol=atol, t_eval=t_eval)``,
     bit for bit.  Arguments are not validated (as a compiled kernel's): β ≥ 0, ω > 0,
-    finite values, rtol ≥ 100 eps, ``t_eval`` sorted within the span.
+    Ω ≥ 0, finite values, rtol ≥ 100 eps, ``t_eval`` sorted within the span.
 
     Parameters
     ----------
     beta, gamma, omega : float
-        The model θ'' + βθ' + ω² sin θ = γ.
+        The model θ'' + βθ' + ω² sin θ = γ + A sin(Ωt + φ).
     t0, theta0, v0, t_bound : float
         Initial time and state, end of the span.
     t_eval : ndarray, shape (m,)
@@ -416,6 +423,9 @@ def solve_njit(beta, gamma, omega, t0, theta0, v0, t_bound, t_eval, out, rtol, a
         Tolerances.
     max_windows : int
         Windows the run may take.
+    drive_amplitude, drive_frequency, drive_phase : float, optional
+        The AC drive's A, Ω, φ (default 0: none).  Pass all three or none: numba
+        compiles one signature per number of arguments given.
 
     Returns
     -------
@@ -444,11 +454,15 @@ def solve_njit(beta, gamma, omega, t0, theta0, v0, t_bound, t_eval, out, rtol, a
     r.max_step, r.max_dtheta, r.rtol, r.atol = math.inf, math.inf, rtol, atol
     r.max_windows = max_windows
     r.regimes, r.t_regime = 1, math.nan  # as loop.new_run: regime switching on
+    if drive_amplitude != 0.0:
+        # as loop.new_run: a driven run takes no regime
+        r.regimes = 0
+        r.drive_amp, r.drive_freq, r.drive_phase = drive_amplitude, drive_frequency, drive_phase
     win_t = np.empty(0)
     win_y = np.empty((0, 2))
     win_coef = np.empty((0, 0))
     never = np.zeros(1, dtype=np.int64)
-    if beta == 0.0 and gamma == 0.0:
+    if beta == 0.0 and gamma == 0.0 and drive_amplitude == 0.0:
         # loop.plan_windows for an exact flow and max_step = inf: one window of the span.
         r.kind, r.karg = _AUTO_EXACT
         r.controller = loop.CONTROLLER_FIXED
@@ -464,20 +478,31 @@ def solve_njit(beta, gamma, omega, t0, theta0, v0, t_bound, t_eval, out, rtol, a
     return p[0].status, p[0].n_windows
 
 
+def _is_zero(x):
+    # A scalar 0 (the default): solve_batch's undriven call does no drive work at all.
+    return np.ndim(x) == 0 and isinstance(x, (int, float, np.integer, np.floating)) and x == 0
+
+
 def _balanced_order(n):
     """A permutation of range(n) whose contiguous blocks each sample the whole range."""
     return np.argsort((np.arange(n) * ORDER_STRIDE) % 1.0, kind="stable")
 
 
-def _check_params(beta, gamma, omega):
+def _check_params(beta, gamma, omega, amp=None, freq=None, phase=None):
     # The rules of Pendulum, over arrays; the first bad scene is named.
+    drive = () if amp is None else (
+        ("drive_amplitude", amp, np.isfinite, "finite"),
+        ("drive_frequency", freq, np.isfinite, "finite"),
+        ("drive_phase", phase, np.isfinite, "finite"),
+        ("drive_frequency", freq, lambda a: a >= 0.0, ">= 0 (an angular frequency Omega)"),
+    )
     for name, arr, ok, rule in (
         ("beta", beta, np.isfinite, "finite"),
         ("gamma", gamma, np.isfinite, "finite"),
         ("omega", omega, np.isfinite, "finite"),
         ("beta", beta, lambda a: a >= 0.0, ">= 0 (damping)"),
         ("omega", omega, lambda a: a > 0.0, "> 0"),
-    ):
+    ) + drive:
         bad = np.flatnonzero(~ok(arr))
         if bad.size:
             i = int(bad[0])
@@ -516,13 +541,16 @@ def _run_batch_interruptibly(p, te, out, order):
 
 def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
                 approximant="auto", tau=None, max_step=np.inf, max_windows=DEFAULT_MAX_WINDOWS,
-                wrap=False):
+                drive_amplitude=0.0, drive_frequency=0.0, drive_phase=0.0, wrap=False):
     """Solve N scenes at once, in parallel over scenes (numba ``prange``).
 
     Parameters
     ----------
     beta, gamma, omega : array_like
         Model parameters, broadcast to a common shape (N,), N ≥ 1.
+    drive_amplitude, drive_frequency, drive_phase : array_like, optional
+        The AC drive A sin(Ωt + φ) of each scene (default 0: none), broadcast with
+        ``beta``, ``gamma``, ``omega`` (see :class:`mbm.Pendulum`).
     y0 : array_like, shape (2,) or (N, 2)
         Initial states.
     t_span : (float, float)
@@ -551,23 +579,26 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
     KeyboardInterrupt
         Honoured while the batch runs: every scene stops at its next window.
     """
+    driven_call = not (_is_zero(drive_amplitude) and _is_zero(drive_frequency) and _is_zero(drive_phase))
+    params = (beta, gamma, omega) + ((drive_amplitude, drive_frequency, drive_phase) if driven_call else ())
+    which = "beta, gamma, omega" + (", drive_amplitude, drive_frequency, drive_phase" if driven_call else "")
     try:
-        beta, gamma, omega = np.broadcast_arrays(
-            np.atleast_1d(np.asarray(beta, dtype=float)),
-            np.atleast_1d(np.asarray(gamma, dtype=float)),
-            np.atleast_1d(np.asarray(omega, dtype=float)),
-        )
+        arrays = np.broadcast_arrays(*(np.atleast_1d(np.asarray(a, dtype=float)) for a in params))
     except ValueError:
         raise ValueError(
-            f"beta, gamma, omega must broadcast to one shape (N,), got shapes "
-            f"{np.shape(beta)}, {np.shape(gamma)}, {np.shape(omega)}"
+            f"{which} must broadcast to one shape (N,), got shapes "
+            + ", ".join(str(np.shape(a)) for a in params)
         ) from None
+    beta, gamma, omega = arrays[:3]
     if beta.ndim != 1:
-        raise ValueError(f"beta, gamma, omega must broadcast to shape (N,), got shape {beta.shape}")
+        raise ValueError(f"{which} must broadcast to shape (N,), got shape {beta.shape}")
     n = beta.size
     if n == 0:
-        raise ValueError("beta, gamma, omega must hold at least one scene (got empty arrays)")
-    _check_params(beta, gamma, omega)
+        raise ValueError(f"{which} must hold at least one scene (got empty arrays)")
+    amp = freq = phase = None
+    if driven_call:
+        amp, freq, phase = arrays[3:]
+    _check_params(beta, gamma, omega, amp, freq, phase)
     y0 = np.asarray(y0, dtype=float)
     if y0.shape == (2,):
         y0 = np.broadcast_to(y0, (n, 2))
@@ -591,15 +622,23 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
     p["max_step"], p["rtol"], p["atol"], p["max_windows"] = max_step, rtol, atol, max_windows
     p["max_dtheta"] = np.inf
     p["regimes"], p["t_regime"] = 1, np.nan  # as loop.new_run: regime switching on
+    undamped = (beta == 0.0) & (gamma == 0.0)
+    if driven_call:
+        p["drive_amp"], p["drive_freq"], p["drive_phase"] = amp, freq, phase
+        driven = amp != 0.0
+        p["regimes"][driven] = 0  # as loop.new_run: a driven run takes no regime
+        undamped &= ~driven
     names = np.empty(n, dtype=object)
     # "auto" resolves to at most two approximants (damped or not); a named one to one.
-    undamped = (beta == 0.0) & (gamma == 0.0)
     for flag in (False, True):
         rows = np.flatnonzero(undamped == flag)
         if rows.size == 0:
             continue
         ap, kind, karg = _resolve(approximant, flag) if isinstance(approximant, str) else compiled(
             get_approximant(approximant))
+        if driven_call and not ap.drive_capable and np.any(driven[rows]):
+            i = int(rows[np.flatnonzero(driven[rows])[0]])
+            ap.check_drive(Pendulum(beta[i], gamma[i], omega[i], amp[i], freq[i], phase[i]))
         if type(ap).check_model is not Approximant.check_model:
             # The approximant restricts the model: check each distinct model once.
             for b, g, w in {(beta[i], gamma[i], omega[i]) for i in rows}:

@@ -42,6 +42,7 @@ from .approximants.salas2022 import salas_torque_anchor, salas_torque_eval
 from .approximants.splitting import split_anchor, split_error_kernel, split_eval_kernel
 from .approximants.taylor import (
     taylor_coefficients,
+    taylor_driven_coefficients,
     taylor_error_kernel,
     taylor_eval_kernel,
     taylor_eval_range,
@@ -87,6 +88,7 @@ __all__ = [
     "plan_windows",
     "new_run",
     "anchor",
+    "anchor_driven",
     "evaluate",
     "estimate",
     "step",
@@ -263,6 +265,12 @@ RUN = np.dtype(
         # from theta
         ("phi", np.float64),
         ("wind", np.float64),
+        # AC drive A sin(Ωt + φ) added to γ (A = 0: none, the autonomous equation; a
+        # driven run anchors by anchor_driven at each window's start time and takes no
+        # regime: the regimes assume an autonomous equation)
+        ("drive_amp", np.float64),
+        ("drive_freq", np.float64),
+        ("drive_phase", np.float64),
     ],
     align=True,
 )
@@ -307,14 +315,16 @@ def plan_windows(approximant, tau, max_step, span):
 
 def new_run(beta, gamma, omega, t0, theta0, v0, t_bound, kind, karg, controller, h_abs,
             max_step, rtol, atol, error_order, max_windows, call_windows=0, max_dtheta=math.inf,
-            regimes=1):
+            regimes=1, drive_amplitude=0.0, drive_frequency=0.0, drive_phase=0.0):
     """A run record array of one row, at the start of its run (n_windows = j = status = 0;
-    regime switching on unless ``regimes=0``)."""
+    regime switching on unless ``regimes=0`` or the run is driven, ``drive_amplitude`` ≠ 0)."""
+    if drive_amplitude != 0.0:
+        regimes = 0
     return np.array(
         [(beta, gamma, omega, t0, theta0, v0, t_bound, kind, karg, controller, h_abs,
           max_step, max_dtheta, rtol, atol, error_order, max_windows, call_windows, 0, 0, 0,
           regimes, REGIME_NONE, math.nan, 0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
-          math.nan, 0.0, 0.0, 0, 0.0, theta0, 0.0)],
+          math.nan, 0.0, 0.0, 0, 0.0, theta0, 0.0, drive_amplitude, drive_frequency, drive_phase)],
         dtype=RUN,
     )
 
@@ -336,6 +346,18 @@ def anchor(kind, karg, beta, gamma, omega, theta0, v0):
     elif kind == KIND_SALAS_TORQUE:
         return salas_torque_anchor(beta, gamma, omega, theta0, v0)
     # An unknown kind cannot be anchored: a status, never a formula of another kind.
+    bad = np.full(1, np.nan)
+    bad[0] = -1.0
+    return bad
+
+
+@numba.njit(**_INLINE)
+def anchor_driven(kind, karg, beta, gamma, omega, amp, freq, phase, t0, theta0, v0):
+    """:func:`anchor` of the driven equation (torque γ + A sin(Ωt + φ)), the window
+    starting at time ``t0``; only kind "taylor" integrates a drive (the others: a bad
+    status, never the autonomous formula)."""
+    if kind == KIND_TAYLOR:
+        return taylor_driven_coefficients(beta, gamma, omega, amp, freq, phase, t0, theta0, v0, karg)
     bad = np.full(1, np.nan)
     bad[0] = -1.0
     return bad
@@ -664,6 +686,10 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
     horizon, the windows are the stored period shifted (``regimes.CYCLE_TAG``, R3),
     each evaluation re-taking at most one period of windows from the cycle's anchor.
 
+    AC drive (``drive_amp`` ≠ 0): each window is anchored at its start time by
+    :func:`anchor_driven` (the drive's series enters the coefficients), and no regime
+    is tested (``regimes`` is set to 0: the regimes assume an autonomous equation).
+
     Parameters
     ----------
     p : ndarray of RUN, shape (1,)
@@ -694,6 +720,11 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
     r = p[0]
     karg = r.karg
     beta, gamma, omega = r.beta, r.gamma, r.omega
+    # AC drive: anchored at each window's start time (anchor_driven); the regimes assume
+    # an autonomous equation, so a driven run takes none.
+    amp, freq, phase = r.drive_amp, r.drive_freq, r.drive_phase
+    if amp != 0.0:
+        r.regimes = 0
     t, y0, y1, t_bound = r.t, r.theta, r.v, r.t_bound
     h_abs, max_step, rtol, atol = r.h_abs, r.max_step, r.rtol, r.atol
     adaptive = r.controller == CONTROLLER_ADAPTIVE
@@ -786,7 +817,10 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
                 r.regime = REGIME_LOCKED
                 r.t_regime = t
         else:
-            coef = anchor(kind, karg, beta, gamma, omega, y0, y1)
+            if amp == 0.0:
+                coef = anchor(kind, karg, beta, gamma, omega, y0, y1)
+            else:
+                coef = anchor_driven(kind, karg, beta, gamma, omega, amp, freq, phase, t, y0, y1)
             if coef[0] != 0.0:
                 status = STATUS_ANCHOR
                 break

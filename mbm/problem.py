@@ -27,9 +27,22 @@ PROBE_CHECK_STATES = (
     (-0.3, 5.5, 100.25),
 )
 
+# A state that fails the fit is probed again this much later: a changed value means
+# fun depends on t (irrational in units of the probe times, so that no period of a
+# forcing among them hides it).
+PROBE_TIME_SHIFT = 1.0 / 3.0 + 2.0**-0.5
+
+# What the probing tells a caller whose fun depends on t: the one time dependence MBM
+# integrates is the AC drive of the model.
+TIME_DEPENDENT_HINT = (
+    "; fun depends on t: MBM integrates the AC drive gamma + A*sin(Omega*t + phi) of "
+    "model=mbm.Pendulum(beta, gamma, omega, drive_amplitude=A, drive_frequency=Omega, "
+    "drive_phase=phi) (approximant 'taylor' or 'auto'), any other time dependence not"
+)
+
 
 class Pendulum:
-    """The damped, torque-driven pendulum  θ'' + β θ' + ω² sin θ = γ.
+    """The damped, torque-driven pendulum  θ'' + β θ' + ω² sin θ = γ + A sin(Ωt + φ).
 
     The state is ``y = [θ, θ']``.  The instance is callable as ``fun(t, y)``
     so that it can be handed to :func:`scipy.integrate.solve_ivp` directly.
@@ -42,13 +55,30 @@ class Pendulum:
         Constant torque γ, any finite real (default 0).
     omega : float, optional
         Natural frequency ω > 0 (default 1).
+    drive_amplitude : float, optional
+        Amplitude A of the AC drive A sin(Ωt + φ) added to the torque, any finite real
+        (default 0: no drive, the autonomous equation).
+    drive_frequency : float, optional
+        Its angular frequency Ω ≥ 0 (default 0).
+    drive_phase : float, optional
+        Its phase φ, any finite real (default 0).
 
     Raises
     ------
     ValueError
-        If a parameter is not finite, ``beta < 0`` or ``omega <= 0``.
+        If a parameter is not finite, ``beta < 0``, ``omega <= 0`` or
+        ``drive_frequency < 0``.
     TypeError
         If a parameter is not a real number.
+
+    Notes
+    -----
+    A driven scene (A ≠ 0) is not autonomous: the time t of the state matters (the
+    drive's phase at t is Ωt + φ), only the Taylor family integrates it (``"taylor"``,
+    ``"auto"``; the papers' formulas and the exact flow solve the autonomous equation
+    and refuse it), and the long-horizon regimes of :mod:`mbm.regimes` are off.
+    With A = 0 the drive's frequency and phase change nothing: every path computes
+    exactly what it computes for ``Pendulum(beta, gamma, omega)``.
 
     Examples
     --------
@@ -56,17 +86,26 @@ class Pendulum:
     >>> p = Pendulum(beta=0.1, gamma=0.3)
     >>> p(0.0, [0.0, 0.0])
     array([0. , 0.3])
+    >>> Pendulum(beta=1.0, gamma=0.5, drive_amplitude=1.0, drive_frequency=2.0).driven
+    True
     """
 
-    def __init__(self, beta=0.0, gamma=0.0, omega=1.0):
+    def __init__(self, beta=0.0, gamma=0.0, omega=1.0, drive_amplitude=0.0, drive_frequency=0.0,
+                 drive_phase=0.0):
         beta = check_real("beta", beta)
         gamma = check_real("gamma", gamma)
         omega = check_real("omega", omega)
+        amp = check_real("drive_amplitude", drive_amplitude)
+        freq = check_real("drive_frequency", drive_frequency)
+        phase = check_real("drive_phase", drive_phase)
         if beta < 0.0:
             raise ValueError(f"beta must be >= 0 (damping), got {beta!r}")
         if omega <= 0.0:
             raise ValueError(f"omega must be > 0, got {omega!r}")
+        if freq < 0.0:
+            raise ValueError(f"drive_frequency must be >= 0 (an angular frequency Omega), got {freq!r}")
         self._beta, self._gamma, self._omega = beta, gamma, omega
+        self._drive = (amp, freq, phase)
 
     @property
     def beta(self):
@@ -83,45 +122,89 @@ class Pendulum:
         """Natural frequency ω."""
         return self._omega
 
+    @property
+    def drive_amplitude(self):
+        """Amplitude A of the AC drive A sin(Ωt + φ) (0: none)."""
+        return self._drive[0]
+
+    @property
+    def drive_frequency(self):
+        """Angular frequency Ω of the AC drive."""
+        return self._drive[1]
+
+    @property
+    def drive_phase(self):
+        """Phase φ of the AC drive."""
+        return self._drive[2]
+
+    @property
+    def drive(self):
+        """``(drive_amplitude, drive_frequency, drive_phase)`` as floats."""
+        return self._drive
+
+    @property
+    def driven(self):
+        """Whether the torque has an AC part (A ≠ 0): the equation is then not autonomous."""
+        return self._drive[0] != 0.0
+
     def __repr__(self):
-        return f"Pendulum(beta={self._beta!r}, gamma={self._gamma!r}, omega={self._omega!r})"
+        base = f"Pendulum(beta={self._beta!r}, gamma={self._gamma!r}, omega={self._omega!r}"
+        if self._drive != (0.0, 0.0, 0.0):
+            a, f, ph = self._drive
+            base += f", drive_amplitude={a!r}, drive_frequency={f!r}, drive_phase={ph!r}"
+        return base + ")"
 
     def __eq__(self, other):
         if not isinstance(other, Pendulum):
             return NotImplemented
-        return (self._beta, self._gamma, self._omega) == (other._beta, other._gamma, other._omega)
+        return ((self._beta, self._gamma, self._omega) + self._drive
+                == (other._beta, other._gamma, other._omega) + other._drive)
 
     def __hash__(self):
-        return hash((self._beta, self._gamma, self._omega))
+        if self._drive == (0.0, 0.0, 0.0):
+            return hash((self._beta, self._gamma, self._omega))
+        return hash((self._beta, self._gamma, self._omega) + self._drive)
 
     def __call__(self, t, y):
-        """Right-hand side ``[θ', γ − β θ' − ω² sin θ]``; ``y`` may have shape (2,) or (2, k)."""
+        """Right-hand side ``[θ', γ + A sin(Ωt + φ) − β θ' − ω² sin θ]``; ``y`` may have
+        shape (2,) or (2, k) (``t`` a scalar)."""
         y = np.asarray(y, dtype=float)
         theta, v = y[0], y[1]
+        if self._drive[0] != 0.0:
+            a, f, ph = self._drive
+            return np.array([v, (self._gamma + a * np.sin(f * t + ph)) - self._beta * v
+                             - self._omega**2 * np.sin(theta)])
         return np.array([v, self._gamma - self._beta * v - self._omega**2 * np.sin(theta)])
 
     fun = __call__
 
     def jac(self, t, y):
-        """Jacobian of the right-hand side with respect to ``y``."""
+        """Jacobian of the right-hand side with respect to ``y`` (the drive does not enter it)."""
         theta = float(np.asarray(y, dtype=float)[0])
         return np.array([[0.0, 1.0], [-self._omega**2 * math.cos(theta), -self._beta]])
 
     def sundials_callbacks(self):
         """Scalar closures ``rhs(t, y, yp)`` and ``jac(t, y, yp, jj)`` for SUNDIALS (scikit-sundae).
 
-        The right-hand side and Jacobian of :meth:`__call__` and :meth:`jac`, written
-        into the output arrays; ``y`` is unpacked with ``tolist()`` because numpy
-        scalars' arithmetic is several times slower than float's (these run ~1e5
-        times a solve).
+        The right-hand side (with the drive γ + A sin(Ωt + φ) where A ≠ 0) and Jacobian
+        of :meth:`__call__` and :meth:`jac`, written into the output arrays; ``y`` is
+        unpacked with ``tolist()`` because numpy scalars' arithmetic is several times
+        slower than float's (these run ~1e5 times a solve).
         """
         beta, gamma, w2 = self._beta, self._gamma, self._omega**2
         sin, cos = math.sin, math.cos
+        amp, freq, phase = self._drive
 
-        def rhs(t, y, yp):
-            th, v = y.tolist()
-            yp[0] = v
-            yp[1] = gamma - beta * v - w2 * sin(th)
+        if amp != 0.0:
+            def rhs(t, y, yp):
+                th, v = y.tolist()
+                yp[0] = v
+                yp[1] = (gamma + amp * sin(freq * t + phase)) - beta * v - w2 * sin(th)
+        else:
+            def rhs(t, y, yp):
+                th, v = y.tolist()
+                yp[0] = v
+                yp[1] = gamma - beta * v - w2 * sin(th)
 
         def jac(t, y, yp, jj):
             jj[0, 0] = 0.0
@@ -134,8 +217,9 @@ class Pendulum:
     def energy(self, y):
         """Mechanical energy per unit inertia, ``θ'²/2 + ω² (1 − cos θ) − γ θ``.
 
-        Conserved when β = 0; non-increasing along solutions when γ = 0.
-        ``y`` may have shape (2,) or (2, k).
+        Conserved when β = 0; non-increasing along solutions when γ = 0.  The AC drive
+        is not in it: with A ≠ 0 it changes at the rate (A sin(Ωt + φ) − βθ')θ', so it
+        is not conserved, not even at β = 0.  ``y`` may have shape (2,) or (2, k).
         """
         y = np.asarray(y, dtype=float)
         return 0.5 * y[1] ** 2 + self._omega**2 * (1.0 - np.cos(y[0])) - self._gamma * y[0]
@@ -150,9 +234,8 @@ class Pendulum:
 
     @property
     def params(self):
-        """``(beta, gamma, omega)`` as floats."""
+        """``(beta, gamma, omega)`` as floats: the autonomous part (the drive: :attr:`drive`)."""
         return (self._beta, self._gamma, self._omega)
-
 
 
 def identify_model(fun, t0=0.0):
@@ -213,7 +296,12 @@ def identify_model(fun, t0=0.0):
         if not (abs(out[0] - v) <= PROBE_RTOL * (abs(v) + 1.0)) or not (
             abs(out[1] - expect) <= PROBE_RTOL * scale
         ):
-            raise ValueError(not_family + f" (mismatch at theta={theta}, theta'={v}, t={t0 + t})")
+            where = f" (mismatch at theta={theta}, theta'={v}, t={t0 + t})"
+            # The same state at another time: a different value means fun depends on t.
+            other = call(theta, v, t + PROBE_TIME_SHIFT)
+            if np.any(np.abs(other - out) > PROBE_RTOL * (np.abs(out) + scale)):
+                raise ValueError(not_family + where + TIME_DEPENDENT_HINT)
+            raise ValueError(not_family + where)
     if w2 <= 0.0:
         raise ValueError(
             f"fun is of the pendulum form but with omega**2 = {w2!r}; omega**2 must be > 0"

@@ -118,6 +118,7 @@ class _MBMBase(OdeSolver):
         else:
             reason = "chosen by the caller"
         self.approximant = get_approximant(approximant)
+        self.approximant.check_drive(model)
         self.approximant.check_model(model)
         self.approximant_choice = (self.approximant.name, reason)
         # The formula of the last step (its dense output), set by _step_impl.
@@ -126,8 +127,7 @@ class _MBMBase(OdeSolver):
     def _anchor_at(self, y):
         """Coefficients anchored at state ``y``, or ``(None, message)``."""
         ap = self.approximant
-        beta, gamma, omega = self.model.params
-        coef = ap.anchor_kernel(beta, gamma, omega, y[0], y[1])
+        coef = ap.anchor_coefficients(self.model, y[0], y[1], self.t)
         if coef[0] != 0:
             msg = ap.status_messages.get(int(coef[0]), f"status {int(coef[0])}")
             return None, f"approximant {ap.name!r} cannot be anchored at t={self.t!r}: {msg}"
@@ -185,7 +185,7 @@ class MBM(_MBMBase):
         ``0.1 · 2π/ω`` (with a warning if rtol/atol were given: they cannot change
         such windows).
     approximant : str or Approximant, optional
-        ``"auto"`` (default: the exact flow when β = γ = 0, else the Taylor series,
+        ``"auto"`` (default: the exact flow when β = γ = 0 without a drive, else the Taylor series,
         see :mod:`mbm.choice`) or a registered name (:func:`mbm.approximant_names`).
     model : Pendulum, optional
         The model; skips probing ``fun``.
@@ -301,11 +301,13 @@ class MBM(_MBMBase):
         self._run = self._words = self._ints = None
         if self._kind is not None:
             beta, gamma, omega = self.model.params
+            amp, freq, phase = self.model.drive
             self._run = loop.new_run(
                 beta, gamma, omega, self.t, self.y[0], self.y[1], self.t_bound, self._kind[0],
                 self._kind[1], controller, h_abs, run_max_step, self.rtol, self.atol, error_order,
                 check_max_windows(max_windows), max_dtheta=max_dtheta,
                 call_windows=0 if self.windows_per_step else CALL_WINDOWS,
+                drive_amplitude=amp, drive_frequency=freq, drive_phase=phase,
             )
             self._words = self._run.view(np.float64)
             self._ints = self._run.view(np.int64)
@@ -455,6 +457,13 @@ class MBMEventPoints(_MBMBase):
             raise ValueError(f"events_from must be 'cvode' or 'approximant', got {events_from!r}")
         super().__init__(fun, t0, y0, t_bound, approximant, model, max_step, rtol, atol, vectorized,
                          extraneous)
+        if self.model.driven:
+            raise ValueError(
+                f"anchors='events' cannot take the AC drive (drive_amplitude="
+                f"{self.model.drive_amplitude!r}): its event points and windows assume the "
+                "autonomous equation; use anchors='windows' (the default) with approximant "
+                "'taylor' or 'auto'"
+            )
         self.events_from = events_from
         self.n_windows = 0
         self._event_d, self._event_kinds = self._surfaces()

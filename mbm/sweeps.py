@@ -47,6 +47,7 @@ except ImportError as exc:  # pragma: no cover - exercised only without the extr
 __all__ = [
     "sweep",
     "PARAMETERS",
+    "DRIVE_PARAMETERS",
     "REDUCTIONS",
     "LOCAL_BATCH",
     "REGIME_TURNS",
@@ -56,6 +57,10 @@ __all__ = [
 
 #: The sweep's parameters, in the order their dimensions take.
 PARAMETERS = ("beta", "gamma", "omega", "theta0", "theta_dot0")
+#: The AC drive's parameters (:class:`mbm.Pendulum`), dimensions after :data:`PARAMETERS`;
+#: a sweep without a drive (all three 0, the default) has neither their dimensions nor
+#: their attributes.
+DRIVE_PARAMETERS = ("drive_amplitude", "drive_frequency", "drive_phase")
 
 #: The names ``reduce=`` accepts, and the variables each adds to the Dataset.
 REDUCTIONS = {
@@ -145,6 +150,8 @@ def _check_parameter(name, value):
         rule, bad = ">= 0 (damping)", np.flatnonzero(flat < 0.0)
     elif name == "omega" and np.any(flat <= 0.0):
         rule, bad = "> 0", np.flatnonzero(flat <= 0.0)
+    elif name == "drive_frequency" and np.any(flat < 0.0):
+        rule, bad = ">= 0 (an angular frequency Omega)", np.flatnonzero(flat < 0.0)
     if rule is not None:
         where = f"{name}[{int(bad[0])}]" if arr.ndim else name
         raise ValueError(f"{name} must be {rule}, got {where} = {float(flat[bad[0]])!r}")
@@ -188,13 +195,14 @@ def _check_chunks(chunks, dims):
     return spec
 
 
-def _check_approximant(approximant, tau, t_span, rtol, atol, max_windows, models):
+def _check_approximant(approximant, tau, t_span, rtol, atol, max_windows, models, drive=None):
     """Validate the run options now (not on a worker at compute time).
 
     A zero-length probe run of one scene checks the name, the compiled kernel, ``tau``,
     the tolerances and ``max_windows`` exactly as :func:`mbm.solve_batch` will; an
     approximant that restricts its model (e.g. ``"belendez"``: β = γ = 0) is checked
-    against every distinct (β, γ, ω) of the grid.
+    against every distinct (β, γ, ω) of the grid, and one that cannot integrate a drive
+    against the grid's drive (``drive``: A, Ω, φ as given, or None).
     """
     if not isinstance(approximant, str):
         raise ValueError(f"approximant must be the name of a compiled approximant or 'auto', got {approximant!r}")
@@ -203,6 +211,9 @@ def _check_approximant(approximant, tau, t_span, rtol, atol, max_windows, models
                 approximant=approximant, tau=tau, max_windows=max_windows)
     if approximant != "auto":
         ap = get_approximant(approximant)
+        if drive is not None and np.any(np.atleast_1d(drive[0]) != 0.0):
+            amp = np.atleast_1d(drive[0])
+            ap.check_drive(Pendulum(1.0, 0.0, 1.0, float(amp[np.flatnonzero(amp != 0.0)[0]])))
         if type(ap).check_model is not Approximant.check_model:
             for bb in np.unique(np.atleast_1d(models[0])):
                 for gg in np.unique(np.atleast_1d(models[1])):
@@ -279,9 +290,11 @@ def _solve_block(*arrays, names, fixed, t_span, times, variables, options):
                      for v in variables)
     given = dict(zip(names, (np.broadcast_to(a, shape).reshape(-1) for a in arrays)))
     p = {k: given[k] if k in given else np.full(n, fixed[k]) for k in PARAMETERS}
+    drive = {k: given[k] if k in given else np.full(n, fixed[k]) for k in DRIVE_PARAMETERS
+             if k in given or k in fixed}
     y0 = np.stack([p["theta0"], p["theta_dot0"]], axis=1)
     with _BATCH_LOCK:
-        res = solve_batch(p["beta"], p["gamma"], p["omega"], y0, t_span, times, **options)
+        res = solve_batch(p["beta"], p["gamma"], p["omega"], y0, t_span, times, **options, **drive)
     status = res.status
     ok = status == loop.STATUS_OK
     y = res.y
@@ -382,7 +395,8 @@ def _chunked(values, dims, kw, chunks):
         output_dtypes=[_dtype(v) for v in variables],
         dask_gufunc_kwargs={"output_sizes": {"time": m}} if any(core) else {},
     )
-    # apply_ufunc orders the dimensions as the inputs give them (PARAMETERS order), core last.
+    # apply_ufunc orders the dimensions as the inputs give them (PARAMETERS, then
+    # DRIVE_PARAMETERS order), core last.
     return {v: (o.dims, o.data) for v, o in zip(variables, outs)}
 
 
@@ -455,8 +469,8 @@ def _mbm_version():
 
 def sweep(*, beta, gamma, omega=1.0, theta0=0.0, theta_dot0=0.0, t_span, t_eval=None, reduce=None,
           rtol=1e-6, atol=1e-9, approximant="auto", tau=None, chunks=None, progress=False,
-          max_windows=DEFAULT_MAX_WINDOWS):
-    """Solve θ'' + βθ' + ω² sin θ = γ over an outer-product grid of parameters.
+          max_windows=DEFAULT_MAX_WINDOWS, drive_amplitude=0.0, drive_frequency=0.0, drive_phase=0.0):
+    """Solve θ'' + βθ' + ω² sin θ = γ (+ A sin(Ωt + φ)) over an outer-product grid of parameters.
 
     Parameters
     ----------
@@ -464,6 +478,13 @@ def sweep(*, beta, gamma, omega=1.0, theta0=0.0, theta_dot0=0.0, t_span, t_eval=
         The parameters (θ₀ = ``theta0``, θ'₀ = ``theta_dot0``).  Each 1-D array is a
         dimension of the grid, with the values as its coordinate, in this argument
         order; each scalar is an attribute of the Dataset.  Finite; β ≥ 0; ω > 0.
+    drive_amplitude, drive_frequency, drive_phase : float or array_like, shape (k,), optional
+        The AC drive A sin(Ωt + φ) (:class:`mbm.Pendulum`; Ω ≥ 0), as the parameters
+        above (dimensions after theirs, scalars as attributes) where any is not 0;
+        all three 0 (the default): no drive, and neither dimensions nor attributes.
+        A driven scene reaches no regime, so its ``"mean_velocity"`` reduction is the
+        two samples' estimate, not a whole-drive-period average
+        (:func:`mbm.iv_curve` measures that).
     t_span : (float, float)
         ``(t0, t1)`` with t1 > t0, common to every scene.
     t_eval : array_like, shape (m,), optional
@@ -542,7 +563,14 @@ def sweep(*, beta, gamma, omega=1.0, theta0=0.0, theta_dot0=0.0, t_span, t_eval=
     for name, value in zip(PARAMETERS, (beta, gamma, omega, theta0, theta_dot0)):
         v = _check_parameter(name, value)
         (fixed if isinstance(v, float) else values)[name] = v
-    dims = tuple(d for d in PARAMETERS if d in values)
+    drive = None
+    drive_given = (drive_amplitude, drive_frequency, drive_phase)
+    if not all(np.ndim(d) == 0 and _check_parameter(n, d) == 0.0 for n, d in zip(DRIVE_PARAMETERS, drive_given)):
+        for name, value in zip(DRIVE_PARAMETERS, drive_given):
+            v = _check_parameter(name, value)
+            (fixed if isinstance(v, float) else values)[name] = v
+        drive = [values.get(k, fixed.get(k)) for k in DRIVE_PARAMETERS]
+    dims = tuple(d for d in PARAMETERS + DRIVE_PARAMETERS if d in values)
     t0, t1 = check_span(t_span)
     if not t1 > t0:
         raise ValueError(f"t_span must be increasing (t0 < t1), got {t_span!r}")
@@ -566,7 +594,7 @@ def sweep(*, beta, gamma, omega=1.0, theta0=0.0, theta_dot0=0.0, t_span, t_eval=
     if progress not in (True, False):
         raise ValueError(f"progress must be True or False, got {progress!r}")
     models = [values.get(k, fixed.get(k)) for k in ("beta", "gamma", "omega")]
-    _check_approximant(approximant, tau, (t0, t1), rtol, atol, max_windows, models)
+    _check_approximant(approximant, tau, (t0, t1), rtol, atol, max_windows, models, drive)
     chunks = _check_chunks(chunks, dims)
 
     times = _output_times(reduce, (t0, t1), t_eval)

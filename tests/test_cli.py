@@ -208,6 +208,22 @@ def test_iv_command(tmp_path, capsys):
     assert png.exists() and csv.read_text().splitlines()[1] == "gamma,mean_velocity,regime,period"
 
 
+def test_iv_command_with_a_drive(tmp_path, capsys):
+    from mbm.__main__ import main
+
+    csv = tmp_path / "iv.csv"
+    assert main(["iv", "--beta", "2", "--gamma-max", "2.2", "--points", "3", "--drive-amplitude", "1",
+                 "--drive-frequency", "1", "--csv", str(csv)]) == 0
+    assert "AC drive A = 1, Omega = 1, phi = 0" in capsys.readouterr().out
+    rows = csv.read_text().splitlines()
+    assert "drive_amplitude=1.0, drive_frequency=1.0" in rows[0]
+    # γ = 2.2 lies on the n = 1 Shapiro step: ⟨θ'⟩ = Ω
+    assert float(rows[4].split(",")[0]) == 2.2 and abs(float(rows[4].split(",")[1]) - 1.0) < 1e-9
+    with pytest.raises(SystemExit):
+        main(["iv", "--beta", "2", "--drive-amplitude", "1"])  # no drive frequency
+    assert "drive_frequency must be > 0" in capsys.readouterr().err
+
+
 def test_solve_reports_phase_slips_and_mean_velocity(tmp_path, capsys):
     from mbm.__main__ import main
 

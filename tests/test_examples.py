@@ -123,3 +123,32 @@ def test_josephson_iv(tmp_path):
     assert curve.mean_velocity[i_up] == 0.0 and curve.mean_velocity[i_dn] > 4.0
     assert curve.mean_velocity[up[-1]] == pytest.approx(2.0 / curve.beta, rel=0.01)
 
+
+
+def test_shapiro_steps(tmp_path):
+    ex = _load("shapiro_steps")
+    d, png = ex.main(tmp_path, n_gamma=41, n_amp=4)
+    assert png.exists() and png.stat().st_size > 10_000
+    # Undriven, the zero-voltage step is |γ| ≤ ω² = 1 (twice the switching current).
+    assert d["amplitudes"][0] == 0.0 and d["widths"][0, 0] == pytest.approx(2.0, abs=0.03)
+    assert d["widths"][1, 0] == d["widths"][2, 0] == 0.0 and np.all(d["widths"][1, 1:] > 0.0)
+    # A plateau point of the A = 1 curve against CVODE: from the point's start state, the
+    # phase gains 2π per drive period once settled (⟨θ'⟩ = Ω).
+    c = d["iv"][1.0]
+    i = int(np.flatnonzero(np.abs(c.mean_velocity - ex.FREQ) <= ex.ON_STEP)[0])
+    model = mbm.Pendulum(ex.BETA, c.gamma[i], 1.0, 1.0, ex.FREQ)
+    period = 2 * math.pi / ex.FREQ
+    t = np.array([200.0, 300.0]) * period
+    ref = _ref(model, c.start_state[i], np.r_[0.0, t])[0]
+    assert (ref[2] - ref[1]) / (100 * period) == pytest.approx(ex.FREQ, abs=1e-8)
+    # and an off-step point of the same curve: CVODE's weighted average of the
+    # stroboscopic increments over drive periods 200-300 (mbm.junction's weights; the
+    # two agreed to 1.1e-6 at γ = 2.6, the first such point, when measured)
+    j = int(np.flatnonzero(np.abs(c.mean_velocity / ex.FREQ - 1.5) < 0.3)[0])
+    model = mbm.Pendulum(ex.BETA, c.gamma[j], 1.0, 1.0, ex.FREQ)
+    ts = (200.0 + np.arange(101)) * period
+    ref = _ref(model, c.start_state[j], np.r_[0.0, ts])[0, 1:]
+    x = (np.arange(100) + 0.5) / 100
+    w = np.exp(-1.0 / (x * (1.0 - x)))
+    mean = np.dot(w / w.sum(), np.diff(ref)) / period
+    assert abs(mean - ex.FREQ) > 0.1 and mean == pytest.approx(c.mean_velocity[j], abs=1e-5)

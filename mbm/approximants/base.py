@@ -29,6 +29,7 @@ __all__ = [
     "get_approximant",
     "approximant_names",
     "ApproximantDomainError",
+    "drive_refusal",
 ]
 
 _REGISTRY = {}
@@ -49,6 +50,15 @@ def register(cls):
 def approximant_names():
     """Names of all registered approximants, sorted."""
     return sorted(_REGISTRY)
+
+
+def drive_refusal(name, amplitude):
+    """The message of an approximant that cannot integrate an AC drive."""
+    return (
+        f"approximant {name!r} cannot integrate the AC drive (drive_amplitude={amplitude!r}): "
+        "its formula solves the autonomous equation theta'' + beta*theta' + omega**2*sin(theta) "
+        "= gamma; use approximant='taylor' (or 'auto', which picks it for a driven model)"
+    )
 
 
 def get_approximant(name):
@@ -114,6 +124,10 @@ class Approximant:
         in :mod:`mbm.loop`); None: windows are driven from Python, one per step.
     kind_arg : int
         The kind's integer argument (the Taylor degree, the splitting method id).
+    drive_capable : bool
+        Whether it integrates the AC drive A sin(Ωt + φ) of a driven model
+        (:meth:`drive_anchor`); the others solve the autonomous equation and refuse a
+        driven model (:meth:`check_drive`).
     """
 
     name = None
@@ -129,9 +143,29 @@ class Approximant:
     exact = False
     compiled_kind = None
     kind_arg = 0
+    drive_capable = False
 
     def check_model(self, model):
         """Raise :class:`ApproximantDomainError` if the model is outside the approximant's scope."""
+
+    def check_drive(self, model):
+        """Raise :class:`ApproximantDomainError` if ``model`` is driven and this approximant
+        cannot integrate the drive (not :attr:`drive_capable`)."""
+        if model.driven and not self.drive_capable:
+            raise ApproximantDomainError(drive_refusal(self.name, model.drive_amplitude))
+
+    def drive_anchor(self, model, t0, theta0, v0):
+        """The coefficient vector anchored at (θ₀, θ̇₀) at time ``t0`` of a driven model
+        (only a :attr:`drive_capable` approximant has one)."""
+        raise ApproximantDomainError(drive_refusal(self.name, model.drive_amplitude))
+
+    def anchor_coefficients(self, model, theta0, v0, t0=0.0):
+        """The anchor kernel's coefficient vector (``coef[0]`` the status): the driven
+        series at time ``t0`` for a driven model (:meth:`drive_anchor`), else
+        ``anchor_kernel`` (which does not depend on the time)."""
+        if model.driven:
+            return self.drive_anchor(model, t0, theta0, v0)
+        return self.anchor_kernel(model.beta, model.gamma, model.omega, theta0, v0)
 
     def event_center(self, model):
         """The angle d of the zero-crossing event surface θ = d in (3.32), or None.
@@ -149,7 +183,7 @@ class Approximant:
         """The dictionary exposed as :attr:`Anchored.params`."""
         return {k: float(v) for k, v in zip(self.param_names(), coef[1:])}
 
-    def anchor(self, model, theta0, v0):
+    def anchor(self, model, theta0, v0, t0=0.0):
         """Anchor the approximant at the state (θ₀, θ̇₀) of ``model``.
 
         Parameters
@@ -158,6 +192,9 @@ class Approximant:
             The equation's parameters.
         theta0, v0 : float
             Anchor state θ(0), θ'(0).
+        t0 : float, optional
+            The anchor's time: where the AC drive of a driven model is in its cycle
+            (phase Ωt₀ + φ); an undriven model's formula does not depend on it.
 
         Returns
         -------
@@ -167,20 +204,25 @@ class Approximant:
         Raises
         ------
         ApproximantDomainError
-            If the model or the anchor state is outside the approximant's domain.
+            If the model or the anchor state is outside the approximant's domain, or
+            the model is driven and the approximant cannot integrate the drive.
         """
         from ..problem import Pendulum
 
         if not isinstance(model, Pendulum):
             raise TypeError(f"model must be an mbm.Pendulum, got {type(model).__name__}")
+        self.check_drive(model)
         self.check_model(model)
         theta0 = float(theta0)
         v0 = float(v0)
+        t0 = float(t0)
         if not (np.isfinite(theta0) and np.isfinite(v0)):
             raise ValueError(f"anchor state must be finite, got theta0={theta0!r}, v0={v0!r}")
-        coef = self.anchor_kernel(model.beta, model.gamma, model.omega, theta0, v0)
+        if not np.isfinite(t0):
+            raise ValueError(f"t0 must be finite, got {t0!r}")
+        coef = self.anchor_coefficients(model, theta0, v0, t0)
         self.raise_for_status(coef, theta0, v0)
-        return Anchored(self, model, theta0, v0, coef)
+        return Anchored(self, model, theta0, v0, coef, t0)
 
     def raise_for_status(self, coef, theta0, v0):
         """Raise the error that ``coef[0]`` encodes, if any."""
@@ -209,14 +251,18 @@ class Anchored:
         The kernel's coefficient vector.
     params : dict
         Named constants of the formula (paper notation).
+    t0 : float
+        The anchor's time (where a driven model's drive is in its cycle; t is measured
+        from it).
     """
 
-    def __init__(self, approximant, model, theta0, v0, coef):
+    def __init__(self, approximant, model, theta0, v0, coef, t0=0.0):
         self.approximant = approximant
         self.model = model
         self.theta0 = theta0
         self.v0 = v0
         self.coef = coef
+        self.t0 = t0
         self.params = approximant.params_from_coef(coef)
 
     def __call__(self, t):

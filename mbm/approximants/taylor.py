@@ -29,6 +29,26 @@ and from θ'' = γ − βθ' − ω² sin θ at power t^k:
 Each order costs 2k multiply-adds for (s_k, c_k), so the N coefficients cost
 about N² operations; there is one sin and one cos per window.
 
+AC drive
+--------
+With the torque γ + A sin(Ωt + φ) (``mbm.Pendulum(..., drive_amplitude=A,
+drive_frequency=Ω, drive_phase=φ)``) the anchor needs the window's start time t₀ as
+well: in the window's own time s = t − t₀ the drive is the entire series
+
+    A sin(Ω(t₀ + s) + φ) = Σ d_k s^k,   d_k = A Ω^k / k! · sin(ψ + kπ/2),   ψ = Ωt₀ + φ,
+
+(sin(ψ + kπ/2) cycles through sin ψ, cos ψ, −sin ψ, −cos ψ), and it enters the
+recurrence at every order:
+
+    (k+1)(k+2) a_{k+2} = γ δ_{k0} + d_k − β (k+1) a_{k+1} − ω² s_k,   k ≥ 0
+
+(:func:`taylor_driven_coefficients`; O(N) more per window, and one more sin and
+cos).  ψ is formed with the rounding error of Ω·t₀ carried (an exact product), so the
+drive's phase is good to a few ulps of φ + 1 at any t₀, not to eps·Ωt₀.  The series
+adds no singularity (it is entire), so the radius, the a-priori window and the error
+estimate below apply unchanged; the undriven kernel is untouched (A = 0 runs it, bit
+for bit as before).
+
 Radius and window length
 ------------------------
 The series converges for |t| < R, the distance from the anchor to the nearest
@@ -84,11 +104,15 @@ import math
 import numpy as np
 from numba import njit
 
+from ..special.dd import two_prod, two_sum
 from .base import Approximant, register
 
 __all__ = [
     "taylor_coefficients",
     "taylor_coefficients_into",
+    "taylor_driven_coefficients",
+    "taylor_driven_coefficients_into",
+    "drive_phase_sincos",
     "taylor_workspace",
     "taylor_eval_kernel",
     "taylor_eval_array_kernel",
@@ -257,6 +281,119 @@ def taylor_coefficients(beta, gamma, omega, theta0, v0, n_order):
         return bad
     coef, scratch = taylor_workspace(n_order)
     return taylor_coefficients_into(beta, gamma, omega, theta0, v0, n_order, coef, scratch)
+
+
+@njit(cache=True)
+def drive_phase_sincos(freq, phase, t0):
+    """sin ψ, cos ψ of the drive's phase ψ = Ω t₀ + φ at a window start t₀.
+
+    Ω·t₀ + φ is formed exactly as a double plus a small remainder (Dekker's product and
+    Knuth's sum), and the remainder enters to first order, sin(s + ℓ) = sin s + ℓ cos s
+    (ℓ² ≤ (eps·Ωt₀)² is below round-off for Ωt₀ < 1e8): the phase error is a few ulps
+    of ψ's reduction by the library sin, not eps·Ωt₀.
+    """
+    p, e = two_prod(freq, t0)
+    hi, e2 = two_sum(p, phase)
+    lo = e + e2
+    sh = math.sin(hi)
+    ch = math.cos(hi)
+    return sh + lo * ch, ch - lo * sh
+
+
+@njit(cache=True)
+def taylor_driven_coefficients_into(beta, gamma, omega, amp, freq, phase, t0, theta0, v0, n_order, coef,
+                                    scratch):
+    """:func:`taylor_coefficients_into` of the driven equation θ'' + βθ' + ω² sin θ = γ + A sin(Ωt + φ).
+
+    The window starts at time ``t0``; the drive's series d_k (module docstring, "AC
+    drive") enters the recurrence at every order.  Same layout, buffers and statuses
+    as :func:`taylor_coefficients_into` (coef[3] holds γ, the drive is not stored:
+    the polynomial is all the evaluation needs).
+
+    Parameters
+    ----------
+    beta, gamma, omega : float
+        Model parameters.
+    amp, freq, phase : float
+        The drive's A, Ω ≥ 0, φ.
+    t0 : float
+        The window's start time (the anchor's time).
+    theta0, v0, n_order, coef, scratch
+        As :func:`taylor_coefficients_into`.
+
+    Returns
+    -------
+    ndarray
+        A view of ``coef`` (the layout at module top).
+    """
+    nt = n_order + N_EXTRA  # highest coefficient index computed
+    if (n_order < 1 or n_order > MAX_ORDER or coef.size < HEADER + nt + 1
+            or scratch.size < 3 * (nt + 1)):
+        bad = coef[:HEADER]
+        bad[:] = np.nan
+        bad[0] = STATUS_BAD_ORDER
+        return bad
+    coef = coef[: HEADER + nt + 1]
+    coef[0] = STATUS_OK
+    coef[1] = n_order
+    coef[2] = beta
+    coef[3] = gamma
+    coef[4] = omega
+    if not (math.isfinite(theta0) and math.isfinite(v0) and math.isfinite(beta)
+            and math.isfinite(gamma) and math.isfinite(omega) and math.isfinite(amp)
+            and math.isfinite(freq) and math.isfinite(phase) and math.isfinite(t0)):
+        coef[:] = np.nan
+        coef[0] = STATUS_BAD_STATE
+        return coef
+
+    w2 = omega * omega
+    a = coef[HEADER:]
+    # The scratch layout of taylor_coefficients_into (b_j backwards, s_m and c_m forwards).
+    br = scratch[: nt + 1]
+    sn = scratch[nt + 1 : 2 * nt + 2]
+    cn = scratch[2 * nt + 2 :]
+    a[0] = theta0
+    a[1] = v0
+    br[nt] = 0.0
+    br[nt - 1] = v0
+    s0 = math.sin(theta0)
+    sn[0] = s0
+    cn[0] = math.cos(theta0)
+    # d_k = f_k · u_k: f_k = A Ω^k / k!, u_k = sin(ψ + kπ/2), w_k = cos(ψ + kπ/2), and
+    # (u, w) ← (w, −u) from one order to the next (exact: a swap and a sign).
+    u, w = drive_phase_sincos(freq, phase, t0)
+    f = amp
+    a[2] = 0.5 * ((gamma + f * u) - beta * v0 - w2 * s0)
+    br[nt - 2] = 2.0 * a[2]
+    for k in range(1, nt - 1):
+        ss = 0.0
+        cc = 0.0
+        off = nt - k
+        for m in range(k):
+            bb = br[off + m]
+            ss += bb * cn[m]
+            cc += bb * sn[m]
+        sk = ss * _INV_K[k]
+        sn[k] = sk
+        cn[k] = -cc * _INV_K[k]
+        f = f * freq * _INV_K[k]
+        u, w = w, -u
+        a[k + 2] = (f * u - beta * br[off - 1] - w2 * sk) * _INV_K12[k]
+        br[off - 2] = (k + 2.0) * a[k + 2]
+    return coef
+
+
+@njit(cache=True)
+def taylor_driven_coefficients(beta, gamma, omega, amp, freq, phase, t0, theta0, v0, n_order):
+    """:func:`taylor_coefficients` of the driven equation, the window starting at ``t0``
+    (a new array; see :func:`taylor_driven_coefficients_into`)."""
+    if n_order < 1 or n_order > MAX_ORDER:
+        bad = np.full(HEADER, np.nan)
+        bad[0] = STATUS_BAD_ORDER
+        return bad
+    coef, scratch = taylor_workspace(n_order)
+    return taylor_driven_coefficients_into(beta, gamma, omega, amp, freq, phase, t0, theta0, v0, n_order,
+                                           coef, scratch)
 
 
 @njit(cache=True)
@@ -491,7 +628,8 @@ class Taylor(Approximant):
 
     Registered as ``"taylor8"``, ``"taylor12"``, ``"taylor16"``, ``"taylor20"``,
     ``"taylor24"``, ``"taylor30"`` and ``"taylor"`` (= degree
-    :data:`TAYLOR_DEFAULT_ORDER`).  Any β ≥ 0, γ, ω > 0 and any anchor state.
+    :data:`TAYLOR_DEFAULT_ORDER`).  Any β ≥ 0, γ, ω > 0 and any anchor state, and
+    the AC drive A sin(Ωt + φ) (:meth:`drive_anchor`; module docstring, "AC drive").
     The window must lie inside the series' radius of convergence (``params['radius']``
     estimates it); :meth:`error_kernel` estimates the local error for window control.
 
@@ -506,6 +644,7 @@ class Taylor(Approximant):
     """
 
     compiled_kind = "taylor"
+    drive_capable = True
     citation = (
         "Taylor series of the exact solution, coefficients by automatic differentiation "
         "(s' = c θ', c' = −s θ'); not from the papers"
@@ -521,6 +660,13 @@ class Taylor(Approximant):
 
     def param_names(self):
         return ("order", "beta", "gamma", "omega")
+
+    def drive_anchor(self, model, t0, theta0, v0):
+        """The coefficient vector of the driven model's series at time ``t0``
+        (:func:`taylor_driven_coefficients`)."""
+        amp, freq, phase = model.drive
+        return taylor_driven_coefficients(model.beta, model.gamma, model.omega, amp, freq, phase,
+                                          float(t0), theta0, v0, int(self.kind_arg))
 
     def params_from_coef(self, coef):
         """``order``, ``beta``, ``gamma``, ``omega``, ``radius`` (see :func:`radius_estimate`)

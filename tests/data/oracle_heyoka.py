@@ -8,7 +8,10 @@ rules.  Checked against mbm's exact undamped flow (``mbm.pendulum_flow``, Jacobi
 elliptic functions in double-double) by ``tests/test_oracle.py``.
 
 β, γ and ω² are runtime parameters (``ta.pars``), so one integrator, compiled once
-per process (a few seconds for long double), serves every scene.
+per process (a few seconds for long double), serves every scene.  A driven scene
+(torque γ + A sin(Ωt + φ), ``drive=(A, Ω, φ)``) has its own integrator, with the drive
+``A·hy.sin(Ω·hy.time + φ)`` in heyoka's expression system and A, Ω, φ as runtime
+parameters too (compiled on its first use), so the undriven oracle is untouched.
 """
 
 import numpy as np
@@ -46,7 +49,23 @@ def _integrator():
     return ta
 
 
-def reference(beta, gamma, omega, y0, t_eval, return_steps=False):
+def _driven_integrator():
+    ta = _CACHE.get("ta_drive")
+    if ta is None:
+        import heyoka as hy
+
+        x, v = hy.make_vars("x", "v")
+        # par[0] = β, par[1] = γ, par[2] = ω², par[3] = A, par[4] = Ω, par[5] = φ.
+        torque = hy.par[1] + hy.par[3] * hy.sin(hy.par[4] * hy.time + hy.par[5])
+        sys = [(x, v), (v, torque - hy.par[0] * v - hy.par[2] * hy.sin(x))]
+        ld = np.longdouble
+        ta = hy.taylor_adaptive(sys, np.zeros(2, dtype=ld), tol=ld(ORACLE_TOL),
+                                pars=np.zeros(6, dtype=ld), fp_type=ld)
+        _CACHE["ta_drive"] = ta
+    return ta
+
+
+def reference(beta, gamma, omega, y0, t_eval, return_steps=False, drive=None):
     """θ, θ' at ``t_eval`` from ``y0`` at ``t_eval[0]``, by heyoka in long double.
 
     Parameters
@@ -60,6 +79,9 @@ def reference(beta, gamma, omega, y0, t_eval, return_steps=False):
     return_steps : bool, optional
         Also return the number of steps heyoka took (its round-off accumulates over
         them).
+    drive : (float, float, float), optional
+        The AC drive (A, Ω, φ) added to the torque: γ + A sin(Ωt + φ), t the time of
+        ``t_eval`` (default None: no drive).
 
     Returns
     -------
@@ -77,7 +99,7 @@ def reference(beta, gamma, omega, y0, t_eval, return_steps=False):
     import heyoka as hy
 
     ld = np.longdouble
-    ta = _integrator()
+    ta = _integrator() if drive is None else _driven_integrator()
     t = np.asarray(t_eval, dtype=ld)
     ta.time = t[0]
     ta.state[0] = ld(y0[0])
@@ -85,6 +107,10 @@ def reference(beta, gamma, omega, y0, t_eval, return_steps=False):
     ta.pars[0] = ld(beta)
     ta.pars[1] = ld(gamma)
     ta.pars[2] = ld(omega) * ld(omega)
+    if drive is not None:
+        ta.pars[3] = ld(drive[0])
+        ta.pars[4] = ld(drive[1])
+        ta.pars[5] = ld(drive[2])
     outcome, _min_h, _max_h, steps, *_, out = ta.propagate_grid(t)
     if outcome != hy.taylor_outcome.time_limit:
         raise RuntimeError(f"heyoka propagate_grid stopped: {outcome}")

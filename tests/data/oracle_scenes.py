@@ -20,7 +20,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import oracle_heyoka  # noqa: E402
 
 __all__ = ["REGIMES", "N_OUTPUT", "KAPPA_DELTA", "Scene", "random_scenes", "extra_scenes",
-           "oracle", "oracle_steps", "conditioning", "error", "solve"]
+           "DrivenScene", "driven_scenes", "model", "oracle", "oracle_steps", "conditioning", "error", "solve"]
 
 #: The four regimes, in the order the draw cycles through them.
 REGIMES = ("free", "torqued", "damped", "damped-torqued")
@@ -48,9 +48,28 @@ class Scene(tuple):
     def t_eval(self):
         return np.linspace(0.0, self.T, N_OUTPUT)
 
+    #: No AC drive (a :class:`DrivenScene` has one).
+    drive = None
+
     def __repr__(self):
         return ("Scene(beta=%.17g, gamma=%.17g, omega=%.17g, theta0=%.17g, v0=%.17g, T=%.17g, %s)"
                 % self)
+
+
+class DrivenScene(Scene):
+    """(beta, gamma, omega, amp, freq, phase, theta0, v0, T, regime): a scene with the AC
+    drive A sin(Ωt + φ) added to its torque."""
+
+    __slots__ = ()
+    names = ("beta", "gamma", "omega", "amp", "freq", "phase", "theta0", "v0", "T", "regime")
+
+    @property
+    def drive(self):
+        return (self.amp, self.freq, self.phase)
+
+    def __repr__(self):
+        return ("DrivenScene(beta=%.17g, gamma=%.17g, omega=%.17g, amp=%.17g, freq=%.17g, phase=%.17g, "
+                "theta0=%.17g, v0=%.17g, T=%.17g, %s)" % self)
 
 
 def random_scenes(n, seed):
@@ -69,6 +88,28 @@ def random_scenes(n, seed):
     return out
 
 
+def driven_scenes(n, seed):
+    """``n`` driven scenes from ``numpy.random.default_rng(seed)``: β ∈ [0, 2], γ ∈ [−1.5, 1.5],
+    ω ∈ [0.5, 2], A ∈ [0, 2], Ω ∈ [0.2, 3], φ ∈ [0, 2π), θ₀ ∈ [−π, π], θ̇₀ ∈ [−2ω, 2ω],
+    T ∈ [10, 300]; every fourth undamped (β = 0, the hardest for the controller: no
+    contraction)."""
+    rng = np.random.default_rng(seed)
+    out = []
+    for i in range(n):
+        beta = 0.0 if i % 4 == 0 else float(rng.uniform(0.0, 2.0))
+        gamma = float(rng.uniform(-1.5, 1.5))
+        omega = float(rng.uniform(0.5, 2.0))
+        amp = float(rng.uniform(0.0, 2.0))
+        freq = float(rng.uniform(0.2, 3.0))
+        phase = float(rng.uniform(0.0, 2.0 * math.pi))
+        theta0 = float(rng.uniform(-math.pi, math.pi))
+        v0 = float(rng.uniform(-2.0, 2.0) * omega)
+        T = float(rng.uniform(10.0, 300.0))
+        out.append(DrivenScene((beta, gamma, omega, amp, freq, phase, theta0, v0, T,
+                                "driven" if beta == 0.0 else "damped-driven")))
+    return out
+
+
 def extra_scenes():
     """Issue 16's named cases: its β = 0 example, and the fast T = 1 scenes."""
     return [
@@ -84,13 +125,14 @@ def extra_scenes():
 def oracle(scene):
     """The oracle's θ (long double) at the scene's output times."""
     return oracle_heyoka.reference(scene.beta, scene.gamma, scene.omega,
-                                   (scene.theta0, scene.v0), scene.t_eval)[0]
+                                   (scene.theta0, scene.v0), scene.t_eval, drive=scene.drive)[0]
 
 
 def oracle_steps(scene):
     """The oracle's θ (long double) at the scene's output times, and its step count."""
     y, steps = oracle_heyoka.reference(scene.beta, scene.gamma, scene.omega,
-                                       (scene.theta0, scene.v0), scene.t_eval, return_steps=True)
+                                       (scene.theta0, scene.v0), scene.t_eval, return_steps=True,
+                                       drive=scene.drive)
     return y[0], steps
 
 
@@ -105,7 +147,8 @@ def conditioning(scene, ref):
     k = 0.0
     for d0, d1 in ((KAPPA_DELTA, 0.0), (0.0, KAPPA_DELTA)):
         r = oracle_heyoka.reference(scene.beta, scene.gamma, scene.omega,
-                                    (scene.theta0 + d0, scene.v0 + d1), scene.t_eval)[0]
+                                    (scene.theta0 + d0, scene.v0 + d1), scene.t_eval,
+                                    drive=scene.drive)[0]
         k = max(k, float(np.max(np.abs(r - ref))) / KAPPA_DELTA)
     return k
 
@@ -114,8 +157,15 @@ def solve(scene, tol, **kw):
     """``mbm.solve`` of the scene at rtol = atol = ``tol`` (outputs at its t_eval)."""
     import mbm
 
-    return mbm.solve(mbm.Pendulum(scene.beta, scene.gamma, scene.omega), (0.0, scene.T),
-                     (scene.theta0, scene.v0), rtol=tol, atol=tol, t_eval=scene.t_eval, **kw)
+    return mbm.solve(model(scene), (0.0, scene.T), (scene.theta0, scene.v0), rtol=tol, atol=tol,
+                     t_eval=scene.t_eval, **kw)
+
+
+def model(scene):
+    """The scene's ``mbm.Pendulum`` (with its drive, if any)."""
+    import mbm
+
+    return mbm.Pendulum(scene.beta, scene.gamma, scene.omega, *(scene.drive or ()))
 
 
 def error(theta, ref):

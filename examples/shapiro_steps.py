@@ -1,0 +1,92 @@
+"""Shapiro steps of a microwave-driven Josephson junction (RCSJ model), with :func:`mbm.iv_curve`.
+
+The bias current is γ + A sin(Ωt): θ'' + βθ' + sin θ = γ + A sin(Ωt) in reduced units
+(θ the phase, ⟨θ'⟩ the dc voltage).  The drive locks the phase's rotation to the drive,
+and the I–V curve shows plateaus ⟨θ'⟩ = nΩ (Shapiro steps).  Left: the I–V curve at a
+few amplitudes A.  Right: the widths of the steps n = 0, 1, 2 against A/Ω (the zero
+step from the bisected switching current, the others from the grid), beside the
+high-frequency limit 2|J_n(A/(βΩ))| of the overdamped junction (a guide: at β = 2,
+Ω = 1 the drive is not yet fast, βΩ = 2).
+
+Usage::
+
+    python examples/shapiro_steps.py [OUT_DIR] [--quick]   # or set MBM_EXAMPLES_OUT
+"""
+
+import sys
+
+import numpy as np
+
+from _common import cli_out, out_dir, pyplot
+
+import mbm
+
+BETA = 2.0
+FREQ = 1.0
+IV_AMPLITUDES = (0.0, 0.5, 1.0, 1.5)
+STEPS = (0, 1, 2)
+# A point is on step n when its ⟨θ'⟩ is nΩ to this (on a step it is nΩ to round-off).
+ON_STEP = 1e-6
+
+
+def step_widths(beta, freq, amplitudes, gammas):
+    """Widths of the steps n = 0, 1, 2 at each amplitude (grid spacing resolution; the
+    zero step twice its bisected edge)."""
+    dg = gammas[1] - gammas[0]
+    widths = np.zeros((len(STEPS), len(amplitudes)))
+    for j, a in enumerate(amplitudes):
+        c = mbm.iv_curve(beta, gammas, drive_amplitude=a, drive_frequency=freq, current_tol=0.1 * dg)
+        for i, n in enumerate(STEPS):
+            if n == 0:
+                widths[i, j] = 2.0 * c.switching_current if np.isfinite(c.switching_current) else 0.0
+            else:
+                widths[i, j] = dg * np.count_nonzero(np.abs(c.mean_velocity - n * freq) <= ON_STEP)
+    return widths
+
+
+def main(out=None, beta=BETA, freq=FREQ, n_gamma=161, n_amp=21):
+    """Draw the steps and their widths; save ``shapiro_steps.png``.
+
+    Returns ``(data, path)``: ``data`` holds the I–V curves (``iv``: amplitude →
+    IVCurve), the amplitudes and the widths (``widths[i, j]``: step ``STEPS[i]`` at
+    ``amplitudes[j]``).
+    """
+    from scipy.special import jv
+
+    plt = pyplot()
+    gammas = np.linspace(0.0, 2.6 * beta * freq, n_gamma)
+    iv = {a: mbm.iv_curve(beta, gammas, drive_amplitude=a, drive_frequency=freq) for a in IV_AMPLITUDES}
+    amplitudes = np.linspace(0.0, 4.0 * freq, n_amp)
+    widths = step_widths(beta, freq, amplitudes, gammas)
+
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(12, 5))
+    for a, c in iv.items():
+        ax1.plot(c.mean_velocity / freq, c.gamma, ".-", ms=2, lw=0.8, label=f"A = {a:g}")
+    for n in STEPS[1:]:
+        ax1.axvline(n, color="0.6", ls=":", lw=0.7)
+    ax1.set_xlabel(r"$\langle\theta'\rangle / \Omega$")
+    ax1.set_ylabel(r"bias $\gamma$")
+    ax1.set_title(rf"I–V under a drive: $\beta$ = {beta:g}, $\Omega$ = {freq:g}")
+    ax1.legend(fontsize=8)
+    x = np.linspace(0.0, amplitudes[-1], 400)
+    for i, n in enumerate(STEPS):
+        line, = ax2.plot(amplitudes / freq, widths[i], "o-", ms=3, lw=1, label=f"n = {n}")
+        ax2.plot(x / freq, 2.0 * np.abs(jv(n, x / (beta * freq))), "--", lw=0.8, color=line.get_color())
+    ax2.set_xlabel(r"$A/\Omega$")
+    ax2.set_ylabel(r"step width $\Delta\gamma$")
+    ax2.set_title(r"step widths (dashed: $2|J_n(A/\beta\Omega)|$, the high-frequency limit)")
+    ax2.legend(fontsize=8)
+    path = out_dir(out) / "shapiro_steps.png"
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return {"iv": iv, "amplitudes": amplitudes, "widths": widths, "gammas": gammas}, path
+
+
+if __name__ == "__main__":
+    quick = "--quick" in sys.argv[1:]
+    args = [a for a in sys.argv[1:] if a != "--quick"]
+    data, png = main(cli_out(args), **(dict(n_gamma=41, n_amp=6) if quick else {}))
+    for a, w in zip(data["amplitudes"], data["widths"].T):
+        print(f"A/Omega = {a / FREQ:5.2f}: widths " + ", ".join(f"n={n}: {x:.3f}" for n, x in zip(STEPS, w)))
+    print("wrote", png)
