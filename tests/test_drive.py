@@ -228,14 +228,30 @@ def test_paths_agree_bit_for_bit(model, y0, T, tol):
 
 
 def test_dense_output_is_the_window_formula():
-    sol = solve_ivp(DRIVEN, (0.0, 30.0), Y0, method=mbm.MBM, rtol=1e-10, atol=1e-10, dense_output=True)
+    # Each step (one window) of the solver: its dense output is the driven formula
+    # anchored at the window's start, θ = 2πk + φ with φ the reduced angle the loop
+    # anchors at (mbm.loop "Winding": reduced where θ's value is unchanged).
+    from mbm import loop
+
+    solver = mbm.MBM(DRIVEN, 0.0, np.array(Y0, dtype=float), 30.0, rtol=1e-10, atol=1e-10)
     ap = mbm.get_approximant("taylor")
-    for k in (0, 7, len(sol.t) // 2):
-        t0, t1 = sol.t[k], sol.t[k + 1]
-        formula = ap.anchor(DRIVEN, *sol.y[:, k], t0=t0)
-        tm = np.linspace(t0, t1, 7)
-        np.testing.assert_array_equal(sol.sol(tm), np.array(formula(tm - t0)))
-        assert tuple(sol.sol(t1)) == tuple(sol.y[:, k + 1])
+    steps = 0
+    while solver.status == "running":
+        rec = solver._run[0]
+        k, phi = (float(rec["wind"]), float(rec["phi"])) if rec["n_windows"] else (0.0, solver.y[0])
+        k2, phi2 = loop.wrap(k, phi)
+        if loop.theta_of(k2, phi2) == loop.theta_of(k, phi):
+            k, phi = k2, phi2
+        v0, t0 = solver.y[1], solver.t
+        solver.step()
+        formula = ap.anchor(DRIVEN, phi, v0, t0=t0)
+        tm = np.linspace(t0, solver.t, 7)
+        th, v = formula(tm - t0)
+        want = np.array([[loop.theta_of(k, x) for x in np.atleast_1d(th)], v])
+        np.testing.assert_array_equal(solver.dense_output()(tm), want)
+        assert tuple(solver.dense_output()(solver.t)) == tuple(solver.y)
+        steps += 1
+    assert steps > 10 and abs(solver.y[0]) > np.pi
 
 
 def test_regimes_off_for_a_driven_scene():
