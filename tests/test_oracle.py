@@ -47,8 +47,9 @@ TOLS = (1e-4, 1e-8, 1e-12)
 # Issue 16's target: the global error within 100× the tolerance on every
 # well-conditioned scene.  Measured on 2012 random scenes of this draw (seeds 7 and
 # 2016, docs/oracle.md): at most 6.8×, 47×, 46× at 1e-4, 1e-8, 1e-12, but for one
-# rotation wound to |θ| ≈ 400 at the round-off floor below (119× at 1e-12); before
-# the a-priori Taylor windows 3.7e4×, 1.4e5×, 1e5×.  A target, not a fit.
+# rotation wound to |θ| ≈ 400 at the round-off floor below (119× at 1e-12; 12.5× since
+# the runs hold θ as a winding count and an angle in (−π, π], mbm.loop "Winding");
+# before the a-priori Taylor windows 3.7e4×, 1.4e5×, 1e5×.  A target, not a fit.
 PROPORTIONALITY_BOUND = 100.0
 # Round-off: each window rounds the state to double (relative eps), and the dynamics
 # amplify a perturbation by up to κ (oracle_scenes.conditioning); over n windows that
@@ -56,7 +57,8 @@ PROPORTIONALITY_BOUND = 100.0
 # undercut.  They are not quite (θ grows steadily along a rotation): the worst 1e-12
 # errors measured are 0.3-6.8× eps·κ·√n (docs/oracle.md), so the allowance is 10× it.
 # It matters only where round-off alone approaches the bound: at 1e-12, rotations
-# wound to |θ| ~ 10²-10³ (each window rounds θ to an ulp of |θ|).
+# wound to |θ| ~ 10²-10³ (measured when each window rounded θ to an ulp of |θ|; the
+# winding count now keeps that rounding at ulp(π), and the allowance is kept).
 ROUNDOFF_ALLOWANCE = 10.0
 EPS = np.finfo(float).eps
 EPS_ORACLE = float(np.finfo(np.longdouble).eps)
