@@ -171,6 +171,27 @@ WINDOW_SAFETY_EXP = 0.7
 
 
 @njit(cache=True, inline="always")
+def _header(coef, scratch, n_order, beta, gamma, omega):
+    # The header of the layout at module top, in the caller's buffer: (True, the vector's
+    # view), or (False, coef[:HEADER] with STATUS_BAD_ORDER) for a degree outside
+    # 1 .. MAX_ORDER or buffers too small for it.
+    nt = n_order + N_EXTRA
+    if (n_order < 1 or n_order > MAX_ORDER or coef.size < HEADER + nt + 1
+            or scratch.size < 3 * (nt + 1)):
+        bad = coef[:HEADER]
+        bad[:] = np.nan
+        bad[0] = STATUS_BAD_ORDER
+        return False, bad
+    coef = coef[: HEADER + nt + 1]
+    coef[0] = STATUS_OK
+    coef[1] = n_order
+    coef[2] = beta
+    coef[3] = gamma
+    coef[4] = omega
+    return True, coef
+
+
+@njit(cache=True, inline="always")
 def _start(a, scratch, nt, theta0, v0):
     # The recurrence's start, shared by the undriven and the driven kernels: a₀, a₁,
     # and the scratch views (b_j = j a_j backwards, br[nt − j] = b_j; s_m, c_m forwards;
@@ -237,18 +258,9 @@ def taylor_coefficients_into(beta, gamma, omega, theta0, v0, n_order, coef, scra
         1 .. MAX_ORDER or buffers too small for it.
     """
     nt = n_order + N_EXTRA  # highest coefficient index computed
-    if (n_order < 1 or n_order > MAX_ORDER or coef.size < HEADER + nt + 1
-            or scratch.size < 3 * (nt + 1)):
-        bad = coef[:HEADER]
-        bad[:] = np.nan
-        bad[0] = STATUS_BAD_ORDER
-        return bad
-    coef = coef[: HEADER + nt + 1]
-    coef[0] = STATUS_OK
-    coef[1] = n_order
-    coef[2] = beta
-    coef[3] = gamma
-    coef[4] = omega
+    ok, coef = _header(coef, scratch, n_order, beta, gamma, omega)
+    if not ok:
+        return coef
     if not (math.isfinite(theta0) and math.isfinite(v0) and math.isfinite(beta)
             and math.isfinite(gamma) and math.isfinite(omega)):
         coef[:] = np.nan
@@ -345,18 +357,9 @@ def taylor_driven_coefficients_into(beta, gamma, omega, amp, freq, phase, t0, th
         A view of ``coef`` (the layout at module top).
     """
     nt = n_order + N_EXTRA  # highest coefficient index computed
-    if (n_order < 1 or n_order > MAX_ORDER or coef.size < HEADER + nt + 1
-            or scratch.size < 3 * (nt + 1)):
-        bad = coef[:HEADER]
-        bad[:] = np.nan
-        bad[0] = STATUS_BAD_ORDER
-        return bad
-    coef = coef[: HEADER + nt + 1]
-    coef[0] = STATUS_OK
-    coef[1] = n_order
-    coef[2] = beta
-    coef[3] = gamma
-    coef[4] = omega
+    ok, coef = _header(coef, scratch, n_order, beta, gamma, omega)
+    if not ok:
+        return coef
     if not (math.isfinite(theta0) and math.isfinite(v0) and math.isfinite(beta)
             and math.isfinite(gamma) and math.isfinite(omega) and math.isfinite(amp)
             and math.isfinite(freq) and math.isfinite(phase) and math.isfinite(t0)):
