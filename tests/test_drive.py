@@ -9,7 +9,6 @@ on random scenes of the box β ∈ [0, 2], |γ| ≤ 1.5, A ∈ [0, 2], Ω ∈ [0
 allowance.
 """
 
-import functools
 import math
 
 import numpy as np
@@ -35,9 +34,7 @@ TOLS = (1e-4, 1e-8, 1e-12)
 # As tests/test_oracle.py: the error within 100× the tolerance, plus the round-off
 # allowance 10·eps·κ·√n (n windows, κ the outputs' sensitivity to the initial state).
 PROPORTIONALITY_BOUND = 100.0
-ROUNDOFF_ALLOWANCE = 10.0
 EPS = np.finfo(float).eps
-EPS_ORACLE = float(np.finfo(np.longdouble).eps)
 # A drive makes the equation three-dimensional, and chaos possible: on a chaotic scene
 # a local error is amplified by κ ~ e^{λT} (measured up to 7e11 on the 1000 scenes of
 # seed 2014), so no tolerance bounds the global error there, for mbm as for any
@@ -329,20 +326,6 @@ def test_time_dependent_callable_names_the_drive_option():
 # ---------------------------------------------------------------------------
 
 
-@functools.lru_cache(maxsize=None)
-def _oracle(scene):
-    ref, steps = oracle_scenes.oracle_steps(scene)
-    kappa = oracle_scenes.conditioning(scene, ref)
-    return ref, kappa, ROUNDOFF_ALLOWANCE * EPS_ORACLE * kappa * math.sqrt(steps)
-
-
-@functools.lru_cache(maxsize=None)
-def _solve(scene, tol):
-    r = oracle_scenes.solve(scene, tol)
-    assert r.success, (scene, tol, r.message)
-    return r
-
-
 @needs_oracle
 def test_cvode_reference_takes_the_drive():
     t = np.linspace(0.0, 50.0, 11)
@@ -355,24 +338,16 @@ def test_cvode_reference_takes_the_drive():
 def _check_proportional(scenes):
     well = 0
     for scene in scenes:
-        ref, kappa, _ = _oracle(scene)
-        if kappa > KAPPA_WELL_CONDITIONED:
+        if oracle_scenes.oracle_with_floor(scene)[1] > KAPPA_WELL_CONDITIONED:
             continue
         well += 1
-        for tol in TOLS:
-            r = _solve(scene, tol)
-            err = oracle_scenes.error(r.y[0], ref)
-            floor = ROUNDOFF_ALLOWANCE * EPS * kappa * math.sqrt(r.n_windows)
-            assert err <= PROPORTIONALITY_BOUND * tol + floor, (scene, tol, err / tol, floor / tol)
+        oracle_scenes.assert_proportional(scene, TOLS, PROPORTIONALITY_BOUND)
     assert well >= MIN_WELL_CONDITIONED * len(scenes), (well, len(scenes))
 
 
 def _check_monotone(scenes):
     for scene in scenes:
-        ref, _, oracle_floor = _oracle(scene)
-        e8 = oracle_scenes.error(_solve(scene, 1e-8).y[0], ref)
-        e12 = oracle_scenes.error(_solve(scene, 1e-12).y[0], ref)
-        assert e12 <= e8 + oracle_floor, (scene, e12, e8, oracle_floor)
+        oracle_scenes.assert_monotone(scene)
 
 
 @needs_oracle

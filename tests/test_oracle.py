@@ -19,8 +19,6 @@ scenes and the error measure: ``tests/data/oracle_scenes.py`` (also the measurin
 script behind docs/oracle.md).
 """
 
-import functools
-import math
 
 import numpy as np
 import pytest
@@ -59,9 +57,7 @@ PROPORTIONALITY_BOUND = 100.0
 # It matters only where round-off alone approaches the bound: at 1e-12, rotations
 # wound to |θ| ~ 10²-10³ (measured when each window rounded θ to an ulp of |θ|; the
 # winding count now keeps that rounding at ulp(π), and the allowance is kept).
-ROUNDOFF_ALLOWANCE = 10.0
-EPS = np.finfo(float).eps
-EPS_ORACLE = float(np.finfo(np.longdouble).eps)
+ROUNDOFF_ALLOWANCE = oracle_scenes.ROUNDOFF_ALLOWANCE  # 10: applied by oracle_scenes.assert_proportional
 # Checked against the exact flow: on the undamped scenes below, heyoka in long double
 # at 1e-19 and mbm.pendulum_flow differ by at most 1.1e-14 in the error measure (just
 # inside the separatrix over 200 time units, where the flow itself is that sensitive;
@@ -76,35 +72,12 @@ def _ids(scenes):
     return [f"{i}-{s.regime}" for i, s in enumerate(scenes)]
 
 
-@functools.lru_cache(maxsize=None)
-def _oracle(scene):
-    """(θ_ref in long double, κ, the oracle's own floor in the error measure)."""
-    ref, steps = oracle_scenes.oracle_steps(scene)
-    kappa = oracle_scenes.conditioning(scene, ref)
-    return ref, kappa, ROUNDOFF_ALLOWANCE * EPS_ORACLE * kappa * math.sqrt(steps)
-
-
-@functools.lru_cache(maxsize=None)
-def _solve(scene, tol):
-    r = oracle_scenes.solve(scene, tol)
-    assert r.success, (scene, tol, r.message)
-    return r
-
-
 def _check_proportional(scene):
-    ref, kappa, _ = _oracle(scene)
-    for tol in TOLS:
-        r = _solve(scene, tol)
-        err = oracle_scenes.error(r.y[0], ref)
-        floor = ROUNDOFF_ALLOWANCE * EPS * kappa * math.sqrt(r.n_windows)
-        assert err <= PROPORTIONALITY_BOUND * tol + floor, (scene, tol, err / tol, floor / tol)
+    oracle_scenes.assert_proportional(scene, TOLS, PROPORTIONALITY_BOUND)
 
 
 def _check_monotone(scene):
-    ref, _, oracle_floor = _oracle(scene)
-    e8 = oracle_scenes.error(_solve(scene, 1e-8).y[0], ref)
-    e12 = oracle_scenes.error(_solve(scene, 1e-12).y[0], ref)
-    assert e12 <= e8 + oracle_floor, (scene, e12, e8, oracle_floor)
+    oracle_scenes.assert_monotone(scene)
 
 
 def test_oracle_matches_the_exact_undamped_flow():
@@ -152,7 +125,7 @@ def test_error_monotone_in_tolerance(scene):
 @pytest.mark.parametrize("tol", TOLS)
 @pytest.mark.parametrize("scene", DEFAULT_SCENES, ids=_ids(DEFAULT_SCENES))
 def test_paths_agree_bit_for_bit(scene, tol):
-    fast = _solve(scene, tol)
+    fast = oracle_scenes.solved(scene, tol)
     model = mbm.Pendulum(scene.beta, scene.gamma, scene.omega)
     ivp = solve_ivp(model, (0.0, scene.T), (scene.theta0, scene.v0), method=mbm.MBM,
                     rtol=tol, atol=tol, t_eval=scene.t_eval, windows_per_step=None)

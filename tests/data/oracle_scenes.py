@@ -9,6 +9,7 @@ exactly 0, and the conservative regimes are where the controller is tested harde
 """
 
 import argparse
+import functools
 import math
 import sys
 import time
@@ -134,6 +135,48 @@ def oracle_steps(scene):
                                        (scene.theta0, scene.v0), scene.t_eval, return_steps=True,
                                        drive=scene.drive)
     return y[0], steps
+
+
+# The round-off allowance of the proportionality checks (tests/test_oracle.py states
+# why and what it was measured against): 10·eps·κ·√n, n windows, κ the outputs'
+# sensitivity to the initial state (conditioning below).
+ROUNDOFF_ALLOWANCE = 10.0
+EPS = float(np.finfo(float).eps)
+EPS_ORACLE = float(np.finfo(np.longdouble).eps)
+
+
+@functools.lru_cache(maxsize=None)
+def oracle_with_floor(scene):
+    """(θ_ref in long double, κ, the oracle's own floor in the error measure), cached."""
+    ref, steps = oracle_steps(scene)
+    kappa = conditioning(scene, ref)
+    return ref, kappa, ROUNDOFF_ALLOWANCE * EPS_ORACLE * kappa * math.sqrt(steps)
+
+
+@functools.lru_cache(maxsize=None)
+def solved(scene, tol):
+    """:func:`solve` at rtol = atol = tol, asserted successful, cached."""
+    r = solve(scene, tol)
+    assert r.success, (scene, tol, r.message)
+    return r
+
+
+def assert_proportional(scene, tols, bound):
+    """The error at each tolerance within ``bound``·tol plus the round-off allowance."""
+    ref, kappa, _ = oracle_with_floor(scene)
+    for tol in tols:
+        r = solved(scene, tol)
+        err = error(r.y[0], ref)
+        floor = ROUNDOFF_ALLOWANCE * EPS * kappa * math.sqrt(r.n_windows)
+        assert err <= bound * tol + floor, (scene, tol, err / tol, floor / tol)
+
+
+def assert_monotone(scene):
+    """The error at 1e-12 no larger than at 1e-8 (up to the oracle's own floor)."""
+    ref, _, oracle_floor = oracle_with_floor(scene)
+    e8 = error(solved(scene, 1e-8).y[0], ref)
+    e12 = error(solved(scene, 1e-12).y[0], ref)
+    assert e12 <= e8 + oracle_floor, (scene, e12, e8, oracle_floor)
 
 
 def conditioning(scene, ref):
