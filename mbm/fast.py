@@ -26,7 +26,7 @@ from ._validate import (
 from .approximants import Approximant, get_approximant
 from .choice import auto_name, auto_reason
 from .problem import Pendulum
-from .regimes import REGIME_LOCKED, REGIME_NAMES, REGIME_RUNNING, cycle_summary
+from .regimes import REGIME_LIBRATION, REGIME_LOCKED, REGIME_NAMES, REGIME_RUNNING, cycle_summary
 
 __all__ = ["Integrator", "solve", "solve_batch", "SolveResult", "solve_njit"]
 
@@ -359,9 +359,10 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
         :mod:`mbm.loop` status), ``message``, ``n_windows``, ``approximant`` and
         ``reason`` (what "auto" chose and why), ``regime`` (``"locked"`` when the run
         switched to the closed form of its equilibrium, ``"running"`` to its limit
-        cycle, :mod:`mbm.regimes`; else None), ``t_regime`` (when; nan if never),
-        ``period`` and ``mean_velocity`` (the cycle's T_c and ±2π/T_c; nan unless
-        running), ``winding`` (int64, shape (n,), with ``wrap=True``; else None).
+        cycle, ``"libration"`` to the stored period of a conservative (β = 0) motion
+        trapped in a well, :mod:`mbm.regimes`; else None), ``t_regime`` (when; nan if
+        never), ``period`` and ``mean_velocity`` (the cycle's T_c and ±2π/T_c, a
+        libration's period and 0; nan otherwise, 0 once locked), ``winding`` (int64, shape (n,), with ``wrap=True``; else None).
         On a failure ``t``, ``y`` hold the outputs reached before it.
 
     Raises
@@ -660,9 +661,10 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
         n_windows=p["n_windows"].astype(np.int64), approximant=names.astype(str),
         regime=np.array([REGIME_NAMES[int(k)] for k in p["regime"]], dtype=object),
         t_regime=p["t_regime"].astype(np.float64),
-        period=np.where(p["regime"] == REGIME_RUNNING, p["cyc_T"], np.nan),
+        period=np.where((p["regime"] == REGIME_RUNNING) | (p["regime"] == REGIME_LIBRATION), p["cyc_T"],
+                        np.nan),
         mean_velocity=np.where(
-            p["regime"] == REGIME_LOCKED, 0.0,
+            (p["regime"] == REGIME_LOCKED) | (p["regime"] == REGIME_LIBRATION), 0.0,
             np.divide(p["cyc_sign"] * 2.0 * np.pi, p["cyc_T"], out=np.full(n, np.nan),
                       where=p["regime"] == REGIME_RUNNING)),
     )

@@ -55,7 +55,9 @@ from .regimes import (
     CYCLE_TAG,
     CYCLE_WIDTH,
     LOCKED_TAG,
+    LIBRATION_MIN_PERIODS,
     LOCKED_WIDTH,
+    REGIME_LIBRATION,
     REGIME_LOCKED,
     REGIME_NONE,
     REGIME_RUNNING,
@@ -67,8 +69,10 @@ from .regimes import (
     locked_constants,
     locked_eval,
     locked_quick_reject,
+    libration_period,
     section_offset,
 )
+from .special.dd import two_prod, two_sum
 
 __all__ = [
     "RUN",
@@ -271,6 +275,9 @@ RUN = np.dtype(
         ("drive_amp", np.float64),
         ("drive_freq", np.float64),
         ("drive_phase", np.float64),
+        # low part of the stored period (cyc_T + cyc_Tlo in double-double: a
+        # libration's, mbm.regimes C3; 0 for the running cycle)
+        ("cyc_Tlo", np.float64),
     ],
     align=True,
 )
@@ -324,7 +331,7 @@ def new_run(beta, gamma, omega, t0, theta0, v0, t_bound, kind, karg, controller,
         [(beta, gamma, omega, t0, theta0, v0, t_bound, kind, karg, controller, h_abs,
           max_step, max_dtheta, rtol, atol, error_order, max_windows, call_windows, 0, 0, 0,
           regimes, REGIME_NONE, math.nan, 0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
-          math.nan, 0.0, 0.0, 0, 0.0, theta0, 0.0, drive_amplitude, drive_frequency, drive_phase)],
+          math.nan, 0.0, 0.0, 0, 0.0, theta0, 0.0, drive_amplitude, drive_frequency, drive_phase, 0.0)],
         dtype=RUN,
     )
 
@@ -601,24 +608,58 @@ def _crossing(kind, coef, h, f0, f1, level):
 
 
 @numba.njit(**_INLINE)
-def _cycle_eval(kind, c, t):
-    """A running-cycle window (coefficients: regimes.cycle_coef) at ``t`` (R3).
+def _cycle_phase(c, t):
+    """``(n, s)``: τ = t + t_off = nT + s, 0 ≤ s ≤ T, for a cycle window ``c`` (R3, C3).
 
-    Returns ``(φ, θ', k)``: θ = 2πk + φ (:func:`theta_of`), k the anchor's winding
-    count plus the periods passed, times the winding sign.
+    With a double-double period (c[14] ≠ 0, a libration) n·T is formed exactly, so
+    the period's rounding to a double does not accumulate over n periods.
     """
-    theta_c, v_c, period, t_off = c[1], c[2], c[3], c[4]
-    beta, gamma, omega, rtol, atol, sign = c[5], c[6], c[7], c[8], c[9], c[10]
+    period, lo = c[3], c[14]
+    tau = t + c[4]
+    n = float(math.floor(tau / period))
+    if lo == 0.0:
+        s = tau - n * period
+    else:
+        ph, pl = two_prod(n, period)
+        sh, se = two_sum(tau, -ph)
+        s = sh + ((se - pl) - n * lo)
+    return n, min(max(s, 0.0), period)
+
+
+@numba.njit(**_INLINE)
+def _period_windows(kind, c):
+    """The windows of a cycle window's stored period, re-taken from its anchor (R3).
+
+    The same approximant and controller as the run, span [0, T]: a function of the
+    anchor only, so every path and the dense output evaluate the same windows.
+
+    Returns
+    -------
+    starts : ndarray, shape (n + 1,)
+        Window starts from the anchor (starts[n] = T).
+    ends : ndarray, shape (n + 1, 2)
+        The state at each start (row 0 the anchor; row i + 1 the end of window i).
+    coefs : ndarray, shape (n, width)
+        The windows' coefficient vectors.
+    n : int
+        Windows in the period; −1 where the run failed or took more than
+        CYCLE_MAX_WINDOWS.
+    """
+    theta_c, v_c, period = c[1], c[2], c[3]
+    beta, gamma, omega, rtol, atol = c[5], c[6], c[7], c[8], c[9]
     karg = int(c[11])
     error_order = int(c[12])
-    wind_c = c[13]
-    off = wind_c * _TWO_PI
-    tau = t + t_off
-    n = math.floor(tau / period)
-    s = min(max(tau - n * period, 0.0), period)
+    off = c[13] * _TWO_PI
+    coef = anchor(kind, karg, beta, gamma, omega, theta_c, v_c)
+    cap = 64
+    starts = np.empty(cap + 1)
+    ends = np.empty((cap + 1, 2))
+    coefs = np.empty((cap, coef.size))
+    starts[0], ends[0, 0], ends[0, 1] = 0.0, theta_c, v_c
     tt, a0, a1, h = 0.0, theta_c, v_c, -1.0
-    for _ in range(CYCLE_MAX_WINDOWS):
-        coef = anchor(kind, karg, beta, gamma, omega, a0, a1)
+    for n in range(CYCLE_MAX_WINDOWS):
+        if n > 0:
+            coef = anchor(kind, karg, beta, gamma, omega, a0, a1)
         if coef[0] != 0.0:
             break
         if h <= 0.0:
@@ -628,35 +669,68 @@ def _cycle_eval(kind, c, t):
                                                    rtol, atol, error_order)
         if st != STATUS_OK:
             break
-        if t_new >= s:
-            if t_new != s:
-                th, v = evaluate(kind, coef, s - tt)
-            return th, v, wind_c + sign * n
+        if n == cap:
+            cap *= 2
+            starts2 = np.empty(cap + 1)
+            ends2 = np.empty((cap + 1, 2))
+            coefs2 = np.empty((cap, coef.size))
+            starts2[: n + 1] = starts[: n + 1]
+            ends2[: n + 1] = ends[: n + 1]
+            coefs2[:n] = coefs[:n]
+            starts, ends, coefs = starts2, ends2, coefs2
+        coefs[n, :] = coef
+        starts[n + 1], ends[n + 1, 0], ends[n + 1, 1] = t_new, th, v
+        if t_new >= period:
+            return starts, ends, coefs, n + 1
         tt, a0, a1, h = t_new, th, v, h_next
-    return math.nan, math.nan, 0.0
-
-
-# The cycle's evaluation re-runs up to one period of windows (a whole controller and
-# step): compiled once per kind that can reach a cycle (the adaptive ones) and called,
-# not inlined at each of its three call sites (inlined, it tripled the loop's compile).
-@numba.njit(cache=True)
-def _cycle_eval_taylor(c, t):
-    return _cycle_eval(KIND_TAYLOR, c, t)
-
-
-@numba.njit(cache=True)
-def _cycle_eval_split(c, t):
-    return _cycle_eval(KIND_SPLIT, c, t)
+    return starts, ends, coefs, -1
 
 
 @numba.njit(**_INLINE)
-def _cycle_value(kind, c, t):
-    """:func:`_cycle_eval` of kind ``kind`` through its compiled entry."""
-    if kind == KIND_TAYLOR:
-        return _cycle_eval_taylor(c, t)
-    elif kind == KIND_SPLIT:
-        return _cycle_eval_split(c, t)
-    return math.nan, math.nan, 0.0
+def _period_lookup(kind, c, starts, ends, coefs, n, t):
+    """A cycle window ``c`` at ``t`` from its stored period (:func:`_period_windows`).
+
+    Returns ``(φ, θ', k)``: θ = 2πk + φ (:func:`theta_of`), k the anchor's winding
+    count plus the periods passed times the winding sign (0 for a libration).  The
+    value is the first window ending at or after s (its end state where it ends at
+    s), as a run to s would give it.
+    """
+    if n < 1:
+        return math.nan, math.nan, 0.0
+    k_n, s = _cycle_phase(c, t)
+    lo, hi = 0, n - 1
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if starts[mid + 1] >= s:
+            hi = mid
+        else:
+            lo = mid + 1
+    if starts[lo + 1] == s:
+        th, v = ends[lo + 1, 0], ends[lo + 1, 1]
+    else:
+        th, v = evaluate(kind, coefs[lo], s - starts[lo])
+    return th, v, c[13] + c[10] * k_n
+
+
+# The stored period re-runs a period of windows (a whole controller and step): compiled
+# once per kind that can reach a cycle (the adaptive ones) and called, not inlined at
+# each call site (inlined, it tripled the loop's compile).
+@numba.njit(cache=True)
+def _period_windows_taylor(c):
+    return _period_windows(KIND_TAYLOR, c)
+
+
+@numba.njit(cache=True)
+def _period_windows_split(c):
+    return _period_windows(KIND_SPLIT, c)
+
+
+@numba.njit(**_INLINE)
+def _period_store(kind, c):
+    """:func:`_period_windows` of kind ``kind`` through its compiled entry."""
+    if kind == KIND_SPLIT:
+        return _period_windows_split(c)
+    return _period_windows_taylor(c)
 
 
 # ---------------------------------------------------------------------------
@@ -684,7 +758,11 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
     ``t_regime`` record the switch.  After each window the return map of θ ≡ θ_s
     (mod 2π) is watched (R1, R2 there); once it has converged for the rest of the
     horizon, the windows are the stored period shifted (``regimes.CYCLE_TAG``, R3),
-    each evaluation re-taking at most one period of windows from the cycle's anchor.
+    the period's windows re-taken once from the cycle's anchor (at the first such
+    window of the call) and every output looked up in them.  A conservative run
+    (β = 0) trapped in a well is tested before its first window (C1-C4 there): with
+    its period known to double-double precision, the whole run is one such window,
+    with winding sign 0.
 
     AC drive (``drive_amp`` ≠ 0): each window is anchored at its start time by
     :func:`anchor_driven` (the drive's series enters the coefficients), and no regime
@@ -767,6 +845,16 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
     can_cycle = (r.regimes != 0 and adaptive and direction > 0.0 and beta > 0.0
                  and (width == 0 or width >= CYCLE_WIDTH))
     sec_off = section_offset(gamma, omega) if can_cycle else 0.0
+    # Libration (mbm.regimes, C1-C4): a conservative run trapped in a well is periodic
+    # from its start; tested once, before a fresh run's first window.
+    can_librate = (r.regimes != 0 and adaptive and direction > 0.0 and beta == 0.0 and wraps
+                   and abs(gamma) < omega * omega and n_total == 0 and r.regime == REGIME_NONE
+                   and (width == 0 or width >= CYCLE_WIDTH))
+    # The stored period of a cycle window (R3), built at the first one this call meets.
+    per_n = -2
+    per_starts = np.empty(0)
+    per_ends = np.empty((0, 2))
+    per_coefs = np.empty((0, 0))
     while direction * (t_bound - t) > 0.0:
         if n_total >= r.max_windows:
             status = STATUS_MAX_WINDOWS
@@ -788,8 +876,23 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
                 k, y0 = k2, y2
         # θ's scale for the tolerances (scipy's rtol·|θ| of the whole angle).
         off = k * _TWO_PI
+        if can_librate:
+            can_librate = False
+            lb_hi, lb_lo, lb_dt, lb_vmax, lb_span = libration_period(gamma, omega, y0, y1)
+            if lb_hi == lb_hi:
+                # (C4): the stored period's phase error over the rest of the span.
+                n_rest = (t_bound - t) / lb_hi
+                drift = (n_rest + 1.0) * lb_dt
+                theta_min = max(0.0, abs(off + y0) - lb_span)
+                if (n_rest >= LIBRATION_MIN_PERIODS
+                        and drift * lb_vmax <= SWITCH_SAFETY * (atol + rtol * theta_min)
+                        and drift * (omega * omega + abs(gamma)) <= SWITCH_SAFETY * atol):
+                    r.regime = REGIME_LIBRATION
+                    r.t_regime = t
+                    r.cyc_theta, r.cyc_v, r.cyc_t, r.cyc_sign, r.cyc_wind = y0, y1, t, 0.0, k
+                    r.cyc_T, r.cyc_Tlo = lb_hi, lb_lo
         is_locked = False
-        is_cycle = r.regime == REGIME_RUNNING
+        is_cycle = wraps and (r.regime == REGIME_RUNNING or r.regime == REGIME_LIBRATION)
         if is_cycle:
             pass
         elif can_lock and (r.regime == REGIME_LOCKED or not locked_quick_reject(
@@ -801,9 +904,11 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
         if is_cycle:
             # The rest of the run is the stored period, shifted (mbm.regimes, R3).
             coef = cycle_coef(r.cyc_theta, r.cyc_v, r.cyc_T, t - r.cyc_t, beta, gamma, omega, rtol, atol,
-                              r.cyc_sign, karg, error_order, r.cyc_wind)
+                              r.cyc_sign, karg, error_order, r.cyc_wind, r.cyc_Tlo)
             t_new = _window_end(t, direction, t_bound, max_step)
-            th, v, k_new = _cycle_value(kind, coef, t_new - t)
+            if per_n == -2:
+                per_starts, per_ends, per_coefs, per_n = _period_store(kind, coef)
+            th, v, k_new = _period_lookup(kind, coef, per_starts, per_ends, per_coefs, per_n, t_new - t)
             st, h_next = STATUS_OK, h_abs
             if not (math.isfinite(th) and math.isfinite(v)):
                 st = STATUS_NONFINITE
@@ -860,7 +965,7 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
                 _put(out_theta, out_w, wrapped, j, k, a)
                 out_v[j] = b
             elif is_cycle:
-                a, b, kc = _cycle_value(kind, coef, t_eval[j] - t)
+                a, b, kc = _period_lookup(kind, coef, per_starts, per_ends, per_coefs, per_n, t_eval[j] - t)
                 _put(out_theta, out_w, wrapped, j, kc, a)
                 out_v[j] = b
             else:
@@ -1010,6 +1115,11 @@ def _evaluate_windows(kind, starts, start_theta, coefs, n, direction, t, out_the
     recovered from its start's θ, ``start_theta[i]`` (``win_y[i, 0]``), so the value
     is the run's own θ = 2πk + φ to the bit.
     """
+    # The stored period of the cycle windows met (R3): built once (they share it).
+    per_n = -2
+    per_starts = np.empty(0)
+    per_ends = np.empty((0, 2))
+    per_coefs = np.empty((0, 0))
     for j in range(t.size):
         tj = t[j]
         # The last window whose start is not after tj (bisection: windows_per_step=None
@@ -1023,9 +1133,12 @@ def _evaluate_windows(kind, starts, start_theta, coefs, n, direction, t, out_the
                 hi = mid - 1
         i = lo
         s = tj - starts[i]
-        if coefs.shape[1] >= CYCLE_WIDTH and coefs[i, 0] == CYCLE_TAG:
-            # A running-cycle window: the stored period, shifted (at most a period of windows).
-            a, b, kc = _cycle_value(kind, coefs[i], s)
+        if (kind == KIND_TAYLOR or kind == KIND_SPLIT) and coefs.shape[1] >= CYCLE_WIDTH \
+                and coefs[i, 0] == CYCLE_TAG:
+            # A cycle window: the stored period, shifted.
+            if per_n == -2:
+                per_starts, per_ends, per_coefs, per_n = _period_store(kind, coefs[i])
+            a, b, kc = _period_lookup(kind, coefs[i], per_starts, per_ends, per_coefs, per_n, s)
             out_theta[j] = theta_of(kc, a)
             out_v[j] = b
             continue

@@ -233,13 +233,14 @@ class MBM(_MBMBase):
     n_windows : int
         Windows taken so far.
     regime : str or None
-        The long-horizon regime the run switched to (``"locked"`` or ``"running"``,
-        see :mod:`mbm.regimes`; the dense output beyond it is the closed form or the
-        stored period, shifted), or None.
+        The long-horizon regime the run switched to (``"locked"``, ``"running"`` or
+        ``"libration"``, see :mod:`mbm.regimes`; the dense output beyond it is the
+        closed form or the stored period, shifted), or None.
     t_regime : float
         When it switched (nan before).
     period, mean_velocity : float
-        The running cycle's T_c and ⟨θ'⟩ = ±2π/T_c (nan unless running).
+        The running cycle's T_c and ⟨θ'⟩ = ±2π/T_c, a libration's period and 0
+        (nan otherwise; mean_velocity 0 once locked).
     """
 
     def __new__(cls, *args, anchors="windows", **kwargs):

@@ -43,6 +43,7 @@ __all__ = [
     "dd_gt",
     "dd_sqrt",
     "dd_sincos",
+    "dd_sincos_any",
     "nearest_2pi_multiple",
     "reduce_2pi",
 ]
@@ -243,6 +244,37 @@ def dd_sincos(xh, xl):
         ph, pl = dd_add(ch, cl, sh, sl)
         ch, cl = dd_mul(dh, dl, ph, pl)
         sh, sl = 2.0 * s2h, 2.0 * s2l
+    return sh, sl, ch, cl
+
+
+@numba.njit(**NJIT_OPTIONS)
+def dd_sincos_any(xh, xl):
+    """sin x and cos x in double-double for a double-double x of moderate size.
+
+    x is reduced by the nearest multiple j of 2π (2π in double-double, the product
+    j·TWO_PI_HI exact) and folded by π into [−π/2, π/2] for :func:`dd_sincos`:
+    ~1e-32 absolute for |x| up to ~1e6 (j·2π's double-double error grows with j).
+
+    Returns
+    -------
+    sin_hi, sin_lo, cos_hi, cos_lo : float
+    """
+    j = np.floor(xh / TWO_PI_HI + 0.5)
+    rh, rl = xh, xl
+    if j != 0.0:
+        p_hi, p_lo = two_prod(j, TWO_PI_HI)
+        rh, rl = dd_add(rh, rl, -p_hi, -p_lo)
+        rh, rl = dd_add(rh, rl, -j * TWO_PI_LO, 0.0)
+    flip = False
+    if rh > PIO2_HI:
+        rh, rl = dd_add(rh, rl, -PI_HI, -PI_LO)
+        flip = True
+    elif rh < -PIO2_HI:
+        rh, rl = dd_add(rh, rl, PI_HI, PI_LO)
+        flip = True
+    sh, sl, ch, cl = dd_sincos(rh, rl)
+    if flip:
+        return -sh, -sl, -ch, -cl
     return sh, sl, ch, cl
 
 
