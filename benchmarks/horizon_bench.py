@@ -51,6 +51,9 @@ HEYOKA_CASES = {
 # heyoka's tolerance ladder, loosest first: the first whose error is at most mbm's is
 # the matched one (heyoka's error does not always fall with tol: each is measured).
 HEYOKA_TOLS = (1e-8, 1e-9, 1e-10, 1e-11, 1e-12, 1e-13, 1e-14, 1e-15)
+# Errors below this are round-off (a few ulps of max(1, |θ|)) and count as matched: a
+# run at rest on the equilibrium may land on the double nearest it (error 0).
+MATCH_FLOOR = 1e-15
 
 
 def _median(fn, repeats):
@@ -101,15 +104,18 @@ def _error(theta, ref):
     return float(np.max(np.abs(theta - ref) / np.maximum(1.0, np.abs(ref))))
 
 
-def run_heyoka(repeats=3):
-    """mbm.solve against heyoka at matched error (HEYOKA_CASES); returns row dicts."""
+def run_heyoka(repeats=3, cases=None):
+    """mbm.solve against heyoka at matched error; returns row dicts.
+
+    ``cases`` (default HEYOKA_CASES): label -> (key of SCENES, horizons).
+    """
     from types import SimpleNamespace
 
     from benchmarks.peers import HeyokaPeer
 
     peer = HeyokaPeer()
     rows = []
-    for label, (key, horizons) in HEYOKA_CASES.items():
+    for label, (key, horizons) in (HEYOKA_CASES if cases is None else cases).items():
         b, g, w, th, v = SCENES[key]
         model = mbm.Pendulum(b, g, w)
         for T in horizons:
@@ -125,14 +131,16 @@ def run_heyoka(repeats=3):
             for tol in HEYOKA_TOLS:
                 e = _error(np.asarray(peer.propagate(scene, tol)[:, 0], dtype=float), ref)
                 best = min(best, (e, tol))
-                if e <= err:
+                if e <= max(err, MATCH_FLOOR):
                     matched = tol
                     break
             row = {"case": label, "T": T, "mbm_error": err, "mbm_time": t_mbm, "regime": r.regime,
                    "heyoka_tol": matched, "heyoka_best": best}
-            if matched is not None:
-                row["heyoka_error"] = _error(np.asarray(peer.propagate(scene, matched)[:, 0], dtype=float), ref)
-                row["heyoka_time"] = _median(lambda: peer.propagate(scene, matched), repeats)
+            # Unmatched, heyoka is timed at its most accurate tol: the ratio is then a
+            # lower bound of the ratio at matched error (which heyoka cannot reach).
+            tol = best[1] if matched is None else matched
+            row["heyoka_error"] = _error(np.asarray(peer.propagate(scene, tol)[:, 0], dtype=float), ref)
+            row["heyoka_time"] = _median(lambda: peer.propagate(scene, tol), repeats)
             rows.append(row)
     return rows
 
@@ -165,21 +173,23 @@ def render(rows, heyoka_rows=()):
             "## Against heyoka at matched error",
             "",
             f"mbm.solve at rtol = atol = {TOL:g}; heyoka (scalar, prepared) at the loosest tol of "
-            f"{', '.join(f'{x:g}' for x in HEYOKA_TOLS)} whose error is at most mbm's "
-            "(error: max|θ − θ_ref| / max(1, |θ_ref|) over 201 outputs against heyoka in long double); "
-            "median times.",
+            f"{', '.join(f'{x:g}' for x in HEYOKA_TOLS)} whose error is at most mbm's (or "
+            f"{MATCH_FLOOR:g}, round-off) (error: max|θ − θ_ref| / max(1, |θ_ref|) over 201 outputs "
+            "against heyoka in long double); median times.  Where no tol reaches mbm's error, heyoka "
+            "is timed at its most accurate one and the ratio (marked ≥) is a lower bound.",
             "",
             "| scene | T | mbm regime | mbm error | mbm (ms) | heyoka tol | heyoka error | heyoka (ms) | "
             "heyoka / mbm |",
             "|---|---:|---|---:|---:|---:|---:|---:|---:|",
         ]
         for r in heyoka_rows:
+            ratio = f"{r['heyoka_time'] / r['mbm_time']:.1f}"
             if r["heyoka_tol"] is None:
-                e, tol = r["heyoka_best"]
-                tail = f"none matched (best {e:.1e} at {tol:g}) | — | — | — |"
+                tol = f"none matched: best {r['heyoka_best'][1]:g}"
+                ratio = "≥ " + ratio
             else:
-                tail = (f"{r['heyoka_tol']:g} | {r['heyoka_error']:.1e} | {1e3 * r['heyoka_time']:.3f} | "
-                        f"{r['heyoka_time'] / r['mbm_time']:.1f} |")
+                tol = f"{r['heyoka_tol']:g}"
+            tail = f"{tol} | {r['heyoka_error']:.1e} | {1e3 * r['heyoka_time']:.3f} | {ratio} |"
             lines.append(f"| {r['case']} | {r['T']:g} | {r['regime']} | {r['mbm_error']:.1e} | "
                          f"{1e3 * r['mbm_time']:.3f} | " + tail)
         lines.append("")
