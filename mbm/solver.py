@@ -209,14 +209,21 @@ class MBM(_MBMBase):
         (3.32), an :class:`MBMEventPoints` is built instead.
     events_from : {"cvode", "approximant"}, optional
         With ``anchors="events"``: see :class:`MBMEventPoints`.
-    windows_per_step : int or None, optional
-        Windows per solve_ivp step (default 1); ``None``: all windows to ``t_bound``
-        in one step (least Python; the dense output covers them all).  solve_ivp
-        looks for ``events`` only at step ends: when it passes events, MBM needs
-        ``windows_per_step=1`` (else ``ValueError``) and keeps every window within
-        1/8 of the period 2π/ω and an angle of π/4, so that an event function of the
-        motion changes sign at most once per step (an exact flow's single window is
-        cut into such steps).
+    windows_per_step : int, None or "auto", optional
+        Windows per solve_ivp step.  ``"auto"`` (default): up to
+        :data:`WINDOWS_PER_STEP` (256) when solve_ivp passes ``t_eval`` and no
+        ``events`` (less Python per window, and a step's window store stays
+        bounded); one when it passes ``events`` or no ``t_eval`` (solve_ivp then
+        reports every window end, as it reports every step of its own methods), or
+        when the solver is stepped by hand.  An integer: at most that many.
+        ``None``: all windows to ``t_bound`` in one step (least Python; the store,
+        and the dense output, cover the whole run).  The windows, and so every
+        output, are the same bits whatever the grouping.  solve_ivp looks for
+        ``events`` only at step ends: when it passes events, MBM needs one window
+        per step (``windows_per_step`` 1 or ``"auto"``, else ``ValueError``) and
+        keeps every window within 1/8 of the period 2π/ω and an angle of π/4, so
+        that an event function of the motion changes sign at most once per step (an
+        exact flow's single window is cut into such steps).
     max_step : float, optional
         Largest window allowed (default inf).
     first_step : float, optional
@@ -243,6 +250,7 @@ class MBM(_MBMBase):
     tau : float or None
         The fixed window length in use (None when adaptive).
     windows_per_step : int or None
+        The windows per step in use (``"auto"`` resolved).
     for_events : bool
         Whether solve_ivp passed ``events`` (windows kept short, see above).
     n_windows : int
