@@ -27,7 +27,7 @@ from .approximants.taylor import taylor_eval_range
 from .loop import KIND_EXACT, KIND_SALAS_TORQUE, KIND_SPLIT, KIND_TAYLOR, _cycle_value, evaluate, theta_of
 from .regimes import CYCLE_TAG, CYCLE_WIDTH, LOCKED_TAG, LOCKED_WIDTH, locked_eval
 
-__all__ = ["evaluate_windows_into", "evaluate_windows_at"]
+__all__ = ["evaluate_windows_into", "evaluate_windows_at", "evaluators"]
 
 _INLINE = dict(cache=True, inline="always")
 # One turn, as the loop's winding count is recovered (mbm.loop._evaluate_windows).
@@ -205,6 +205,13 @@ def _fallback_at(kind):
     return at
 
 
+def evaluators(kind):
+    """``(into, at)``: the entries of :func:`evaluate_windows_into` and
+    :func:`evaluate_windows_at` for kind ``kind`` (their arguments less ``kind``), for
+    a caller that evaluates one kind many times."""
+    return INTO.get(kind) or _fallback_into(kind), AT.get(kind) or _fallback_at(kind)
+
+
 def evaluate_windows_into(kind, starts, start_theta, coefs, n, direction, t, out):
     """``n`` stored windows of kind ``kind`` at times ``t``, written to ``out``.
 
@@ -228,11 +235,9 @@ def evaluate_windows_into(kind, starts, start_theta, coefs, n, direction, t, out
         Filled with θ (row 0) and θ' (row 1): the values of
         :func:`mbm.loop.evaluate_windows` bit for bit.
     """
-    fn = INTO.get(kind) or _fallback_into(kind)
-    fn(starts, start_theta, coefs, n, direction, t, out)
+    evaluators(kind)[0](starts, start_theta, coefs, n, direction, t, out)
 
 
 def evaluate_windows_at(kind, starts, start_theta, coefs, n, direction, tj):
     """:func:`evaluate_windows_into` at one time ``tj`` (a float): a new array ``[θ, θ']``."""
-    fn = AT.get(kind) or _fallback_at(kind)
-    return fn(starts, start_theta, coefs, n, direction, tj)
+    return evaluators(kind)[1](starts, start_theta, coefs, n, direction, tj)

@@ -703,13 +703,12 @@ class MBMWindowsDenseOutput(DenseOutput):
         self.coefs = coefs
         self.n = n
         self.direction = float(direction)
+        self._into, self._at = _dense.evaluators(kind)
 
     def _call_impl(self, t):
         if t.ndim == 0:
-            return _dense.evaluate_windows_at(self.kind, self.starts, self.start_theta, self.coefs, self.n,
-                                              self.direction, float(t))
+            return self._at(self.starts, self.start_theta, self.coefs, self.n, self.direction, float(t))
         t = np.ascontiguousarray(t, dtype=np.float64)
         out = np.empty((2, t.size))
-        _dense.evaluate_windows_into(self.kind, self.starts, self.start_theta, self.coefs, self.n,
-                                     self.direction, t, out)
+        self._into(self.starts, self.start_theta, self.coefs, self.n, self.direction, t, out)
         return out
