@@ -205,11 +205,14 @@ def _fallback_at(kind):
     return at
 
 
+_EVALUATORS = {kind: (INTO[kind], AT[kind]) for kind in INTO}
+
+
 def evaluators(kind):
     """``(into, at)``: the entries of :func:`evaluate_windows_into` and
     :func:`evaluate_windows_at` for kind ``kind`` (their arguments less ``kind``), for
     a caller that evaluates one kind many times."""
-    return INTO.get(kind) or _fallback_into(kind), AT.get(kind) or _fallback_at(kind)
+    return _EVALUATORS.get(kind) or (_fallback_into(kind), _fallback_at(kind))
 
 
 def evaluate_windows_into(kind, starts, start_theta, coefs, n, direction, t, out):

@@ -82,6 +82,7 @@ assert loop.WORD["v"] == _W_THETA + 1  # θ, θ' adjacent: the state is one slic
 _W_REGIME, _W_T_REGIME, _W_CYC_T, _W_CYC_SIGN = (loop.WORD[k] for k in ("regime", "t_regime", "cyc_T",
                                                                         "cyc_sign"))
 
+_PAUSED = loop.STATUS_PAUSED
 _NO_TIMES = np.empty(0)
 _NO_OUT = np.empty((2, 0))
 _NEVER = np.zeros(1, dtype=np.int64)
@@ -361,7 +362,7 @@ class MBM(_MBMBase):
         n = run(p, _NO_TIMES, _NO_OUT, win_t, win_y, win_coef, _NEVER)
         # Paused with the store full (or, windows_per_step=None, after CALL_WINDOWS):
         # go on in a larger store, up to the limit.
-        while ints[_W_STATUS] == loop.STATUS_PAUSED and (limit is None or n < limit):
+        while ints.item(_W_STATUS) == _PAUSED and (limit is None or n < limit):
             if n == size:
                 size = 2 * size if limit is None else min(2 * size, limit)
                 win_t = np.concatenate((win_t[: n + 1], np.empty(size - n)))
@@ -369,17 +370,17 @@ class MBM(_MBMBase):
                 win_coef = np.concatenate((win_coef[:n], np.empty((size - n, self._width))))
             n += run(p, _NO_TIMES, _NO_OUT, win_t[n:], win_y[n:], win_coef[n:], _NEVER)
         self._store_size = size
-        self.n_windows = int(ints[_W_NW])
-        regime = int(ints[_W_REGIME])
+        self.n_windows = ints.item(_W_NW)
+        regime = ints.item(_W_REGIME)
         if regime != REGIME_NONE:
             self.regime = REGIME_NAMES[regime]
-            self.t_regime = float(words[_W_T_REGIME])
+            self.t_regime = words.item(_W_T_REGIME)
             self.period, self.mean_velocity = cycle_summary(regime, words[_W_CYC_T], words[_W_CYC_SIGN])
         if n == 0:
-            return False, self._failure(int(ints[_W_STATUS]))
+            return False, self._failure(ints.item(_W_STATUS))
         # θ at the starts: a view of the store's column (the evaluator takes strides).
         self._windows = (win_t[: n + 1], win_y[: n + 1, 0], win_coef[:n], n)
-        self.t = float(words[_W_T])
+        self.t = words.item(_W_T)
         self.y = words[_W_THETA:_W_THETA + 2].copy()
         # A failure after some accepted windows ends this step early; the next step reports it.
         return True, None
@@ -430,8 +431,8 @@ def _caller_solve_ivp():
     solve_ivp does not hand its ``events`` and ``t_eval`` to its method; MBM reads
     them from solve_ivp's frame: ``events`` so that it keeps its steps short enough
     for them (never dropping one silently), ``t_eval`` to know whether solve_ivp
-    reports the step ends (``windows_per_step="auto"``).  tests/test_solver.py checks
-    this works on the installed scipy.
+    reports the step ends (``windows_per_step="auto"``).  tests/test_solver.py and
+    tests/test_steps.py check that this works on the installed scipy.
     """
     frame = sys._getframe(1)
     for _ in range(CALLER_FRAMES):
@@ -475,7 +476,7 @@ def _coefficient_width(approximant, karg, model, y):
 
     Anchored once per (anchor kernel, kind argument) at the state ``y`` it is first
     asked for: a compiled kind's coefficient vector has a size set by its degree
-    alone, whatever the model and state (tests/test_solver.py checks every
+    alone, whatever the model and state (tests/test_steps.py checks every
     registered one).
     """
     kernel = approximant.anchor_kernel
@@ -492,7 +493,7 @@ def _coefficient_width(approximant, karg, model, y):
 def _new_record(model, t0, y, t_bound, kind, controller, h_abs, max_step, rtol, atol, error_order,
                 max_windows, max_dtheta, call_windows):
     """The float64 words of a fresh run record: those of :func:`mbm.loop.new_run`'s record,
-    bit for bit (tests/test_solver.py).
+    bit for bit (tests/test_steps.py).
 
     The words set by the option set (kind, controller, tolerances, budgets, whether
     there is a drive: regimes off) are copied from a template that new_run builds
