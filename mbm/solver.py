@@ -361,10 +361,11 @@ class MBM(_MBMBase):
         win_coef = np.empty((size, self._width))
         n = run(p, _NO_TIMES, _NO_OUT, win_t, win_y, win_coef, _NEVER)
         # Paused with the store full (or, windows_per_step=None, after CALL_WINDOWS):
-        # go on in a larger store, up to the limit.
+        # go on in a larger store (twice the windows so far and a buffer more), up to
+        # the limit.
         while ints.item(_W_STATUS) == _PAUSED and (limit is None or n < limit):
             if n == size:
-                size = 2 * size if limit is None else min(2 * size, limit)
+                size = 2 * (n + WINDOW_BUFFER) if limit is None else min(2 * (n + WINDOW_BUFFER), limit)
                 win_t = np.concatenate((win_t[: n + 1], np.empty(size - n)))
                 win_y = np.concatenate((win_y[: n + 1], np.empty((size - n, 2))))
                 win_coef = np.concatenate((win_coef[:n], np.empty((size - n, self._width))))
