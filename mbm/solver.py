@@ -52,6 +52,9 @@ WINDOWS_PER_STEP = 256
 # Run-record templates kept, one per option set (kind, controller, tolerances, ...):
 # building a record from scratch (loop.new_run) costs ~5 µs, copying a template ~0.5.
 RECORD_TEMPLATES = 256
+# "auto" choices kept (one per β = γ = 0, drive, rtol, atol): the reason's formatting
+# is ~1 µs, a visible part of a short run.
+AUTO_CHOICES = 256
 # Windows one compiled call may take with windows_per_step=None before Python regains
 # control (where Ctrl-C is honoured); as mbm.fast.CALL_WINDOWS.
 CALL_WINDOWS = 2**15
@@ -457,7 +460,7 @@ def _check_windows_per_step(windows_per_step):
     return int(windows_per_step)
 
 
-@functools.lru_cache(maxsize=RECORD_TEMPLATES)
+@functools.lru_cache(maxsize=AUTO_CHOICES)
 def _auto_choice(undamped, driven, rtol, atol):
     """:func:`mbm.choice.choose_approximant`'s ``(name, reason)``, from the facts its
     rule reads (β = γ = 0 without a drive, the drive, the tolerances); cached, as
