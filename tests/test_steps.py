@@ -192,3 +192,23 @@ def test_auto_backwards_same_bits(kw):
         assert other.success
         np.testing.assert_array_equal(_bits(runs[0].y), _bits(other.y))
         np.testing.assert_array_equal(_bits(runs[0].sol(tt)), _bits(other.sol(tt)))
+
+
+@pytest.mark.parametrize("t_span", [(0.0, 400.0), (400.0, 0.0)])
+def test_long_steps_keep_the_ode_solver_contract(t_span):
+    # Steps of up to WINDOWS_PER_STEP windows, stepped by hand: sol(t_old) is the state
+    # before the step and sol(t) the state after it, to the bit; the last step lands on
+    # t_bound, in either direction.
+    model = mbm.Pendulum(0.0, 0.3)  # undamped: no locked regime, no blow-up backwards
+    solver = mbm.MBM(model, t_span[0], [0.5, 0.0], t_span[1], windows_per_step=msolver.WINDOWS_PER_STEP,
+                     rtol=1e-10, atol=1e-10)
+    y_old, steps = solver.y.copy(), 0
+    while solver.status == "running":
+        assert solver.step() is None
+        sol = solver.dense_output()
+        np.testing.assert_array_equal(_bits(sol(solver.t_old)), _bits(y_old))
+        np.testing.assert_array_equal(_bits(sol(solver.t)), _bits(solver.y))
+        assert solver.direction * (solver.t - solver.t_old) > 0
+        y_old, steps = solver.y.copy(), steps + 1
+    assert solver.status == "finished" and solver.t == t_span[1]
+    assert steps >= 2 and solver.n_windows > msolver.WINDOWS_PER_STEP
