@@ -81,6 +81,7 @@ _W_T, _W_THETA, _W_STATUS, _W_NW = (loop.WORD[k] for k in ("t", "theta", "status
 # The words of a run record that differ between runs of one option set (_new_record).
 _W_CALL = tuple(loop.WORD[k] for k in ("beta", "gamma", "omega", "t", "theta", "v", "t_bound", "h_abs", "phi",
                                        "drive_amp", "drive_freq", "drive_phase"))
+(_W_BETA, _W_GAMMA, _W_OMEGA, _, _, _W_V, _W_TBOUND, _W_H, _W_PHI, _W_AMP, _W_FREQ, _W_PHASE) = _W_CALL
 assert loop.WORD["v"] == _W_THETA + 1  # θ, θ' adjacent: the state is one slice of the record
 _W_REGIME, _W_T_REGIME, _W_CYC_T, _W_CYC_SIGN = (loop.WORD[k] for k in ("regime", "t_regime", "cyc_T",
                                                                         "cyc_sign"))
@@ -472,7 +473,6 @@ def _auto_choice(undamped, driven, rtol, atol):
 _WIDTHS = {}
 # Run-record templates by option set, see _new_record.
 _TEMPLATES = {}
-_W_CALL_INDEX = np.array(_W_CALL, dtype=np.intp)
 
 
 def _coefficient_width(approximant, karg, model, y):
@@ -519,9 +519,12 @@ def _new_record(model, t0, y, t_bound, kind, controller, h_abs, max_step, rtol, 
         ).view(np.float64).copy()
         _TEMPLATES[key] = template
     words = template.copy()
-    beta, gamma, omega = model.params
+    # One item at a time: cheaper than a fancy-indexed assignment of the twelve.
+    words[_W_BETA], words[_W_GAMMA], words[_W_OMEGA] = model.params
     theta0, v0 = y.tolist()
-    words[_W_CALL_INDEX] = (beta, gamma, omega, t0, theta0, v0, t_bound, h_abs, theta0, amp, freq, phase)
+    words[_W_T], words[_W_THETA], words[_W_V], words[_W_TBOUND] = t0, theta0, v0, t_bound
+    words[_W_H], words[_W_PHI] = h_abs, theta0
+    words[_W_AMP], words[_W_FREQ], words[_W_PHASE] = amp, freq, phase
     return words
 
 
