@@ -46,7 +46,7 @@ README_PYTHON_ROWS = {
     "scipy LSODA": "scipy LSODA",
     "CVODE Adams": "CVODE Adams",
     "MBM auto, solve_ivp": "MBM auto (rtol, windows_per_step=None)",
-    "MBM auto, solve_ivp, one window per step (default)": "MBM auto (rtol)",
+    "MBM auto, solve_ivp, default windows_per_step": "MBM auto (rtol)",
 }
 # Its target error.
 README_PYTHON_TARGET = 1e-6

@@ -50,6 +50,8 @@ def check_real(name, value):
 
 def check_positive(name, value, allow_inf=False):
     """``value`` as a float > 0 (finite unless ``allow_inf``), or an error naming ``name``."""
+    if type(value) is float and value > 0.0 and (allow_inf or value != math.inf):
+        return value  # the common call, accepted as below without the conversions
     if isinstance(value, (bool, np.bool_)):
         raise TypeError(f"{name} must be a positive real number, got {value!r}")
     try:
@@ -94,6 +96,8 @@ def check_state(name, y0):
 def check_tolerances(rtol, atol, stacklevel=3):
     """``(rtol, atol)`` as floats: positive and finite; rtol below :data:`RTOL_FLOOR`
     is raised to it with a warning (scipy's rule)."""
+    if type(rtol) is float and type(atol) is float and RTOL_FLOOR <= rtol < math.inf and 0.0 < atol < math.inf:
+        return rtol, atol  # the common call, accepted as below without the conversions
     rtol = check_positive("rtol", rtol)
     atol = check_positive("atol", atol)
     if rtol < RTOL_FLOOR:
@@ -146,6 +150,8 @@ def check_t_eval(t_eval, t0, t1, strict=False):
 
 def check_max_windows(max_windows):
     """``max_windows`` as an int ≥ 1, or a ValueError."""
+    if type(max_windows) is int and max_windows >= 1:
+        return max_windows
     if isinstance(max_windows, (bool, np.bool_)) or not isinstance(max_windows, (int, np.integer)):
         raise ValueError(f"max_windows must be an integer >= 1, got {max_windows!r}")
     if max_windows < 1:

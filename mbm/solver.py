@@ -9,6 +9,7 @@ builds the second.  The solvers know the model (β, γ, ω), the anchor state an
 approximant's kernels; they never look inside a formula.
 """
 
+import functools
 import math
 import sys
 import warnings
@@ -16,6 +17,7 @@ import warnings
 import numpy as np
 from scipy.integrate import DenseOutput, OdeSolver
 
+from . import dense as _dense
 from . import events as _events
 from . import loop
 from ._validate import (
@@ -26,9 +28,9 @@ from ._validate import (
     warn_extraneous,
 )
 from .approximants import get_approximant
-from .choice import choose_approximant
+from .choice import auto_name, auto_reason
 from .problem import Pendulum, identify_model
-from .regimes import REGIME_NAMES, cycle_summary
+from .regimes import REGIME_NAMES, REGIME_NONE, cycle_summary
 
 __all__ = ["MBM", "MBMEventPoints", "MBMDenseOutput", "MBMWindowsDenseOutput"]
 
@@ -39,9 +41,20 @@ DEFAULT_ATOL = 1e-6
 # approximant has no error estimate: one tenth of the small-oscillation period 2π/ω
 # keeps the paper's |βτ| ≪ 1 assumption (2.10) for β ≲ 1.
 DEFAULT_TAU_PERIODS = 0.1
-# Initial size of the per-step window buffers with windows_per_step=None (doubled as
-# needed: amortized linear in the number of windows).
+# Initial size of the per-step window buffers with windows_per_step=None or "auto"
+# (doubled as needed: amortized linear in the number of windows).
 WINDOW_BUFFER = 16
+# Most windows per step under windows_per_step="auto" when solve_ivp passes t_eval and
+# no events: a step's Python (~10 µs: the step, solve_ivp's search of t_eval, the dense
+# output's call) is then a few percent of its windows' (~0.5 µs each, Taylor), and the
+# step's window store stays small (256 × 32 words = 64 KiB at Taylor degree 24).
+WINDOWS_PER_STEP = 256
+# Run-record templates kept, one per option set (kind, controller, tolerances, ...):
+# building a record from scratch (loop.new_run) costs ~5 µs, copying a template ~0.5.
+RECORD_TEMPLATES = 256
+# "auto" choices kept (one per β = γ = 0, drive, rtol, atol): the reason's formatting
+# is ~1 µs, a visible part of a short run.
+AUTO_CHOICES = 256
 # Windows one compiled call may take with windows_per_step=None before Python regains
 # control (where Ctrl-C is honoured); as mbm.fast.CALL_WINDOWS.
 CALL_WINDOWS = 2**15
@@ -65,10 +78,15 @@ EVENTS_MAX_DTHETA = math.pi / 4
 CALLER_FRAMES = 8
 
 _W_T, _W_THETA, _W_STATUS, _W_NW = (loop.WORD[k] for k in ("t", "theta", "status", "n_windows"))
+# The words of a run record that differ between runs of one option set (_new_record).
+_W_CALL = tuple(loop.WORD[k] for k in ("beta", "gamma", "omega", "t", "theta", "v", "t_bound", "h_abs", "phi",
+                                       "drive_amp", "drive_freq", "drive_phase"))
+(_W_BETA, _W_GAMMA, _W_OMEGA, _, _, _W_V, _W_TBOUND, _W_H, _W_PHI, _W_AMP, _W_FREQ, _W_PHASE) = _W_CALL
 assert loop.WORD["v"] == _W_THETA + 1  # θ, θ' adjacent: the state is one slice of the record
 _W_REGIME, _W_T_REGIME, _W_CYC_T, _W_CYC_SIGN = (loop.WORD[k] for k in ("regime", "t_regime", "cyc_T",
                                                                         "cyc_sign"))
 
+_PAUSED = loop.STATUS_PAUSED
 _NO_TIMES = np.empty(0)
 _NO_OUT = np.empty((2, 0))
 _NEVER = np.zeros(1, dtype=np.int64)
@@ -99,7 +117,8 @@ class _MBMBase(OdeSolver):
         super().__init__(fun, t0, y0, t_bound, vectorized, support_complex=False)
         if self.y.shape != (2,):
             raise ValueError(f"y0 must have shape (2,) (theta, theta'), got shape {self.y.shape}")
-        if not np.all(np.isfinite(self.y)):
+        theta0, v0 = self.y.tolist()
+        if not (math.isfinite(theta0) and math.isfinite(v0)):
             raise ValueError(f"y0 must be finite, got {self.y!r}")
         if not (math.isfinite(t0) and math.isfinite(t_bound)):
             raise ValueError(f"t0 and t_bound must be finite, got {t0!r}, {t_bound!r}")
@@ -114,7 +133,8 @@ class _MBMBase(OdeSolver):
             raise TypeError(f"model must be an mbm.Pendulum, got {type(model).__name__}")
         self.model = model
         if isinstance(approximant, str) and approximant == "auto":
-            approximant, reason = choose_approximant(model, self.y, self.rtol, self.atol)
+            approximant, reason = _auto_choice(model.beta == 0.0 and model.gamma == 0.0 and not model.driven,
+                                               model.driven, self.rtol, self.atol)
         else:
             reason = "chosen by the caller"
         self.approximant = get_approximant(approximant)
@@ -194,14 +214,21 @@ class MBM(_MBMBase):
         (3.32), an :class:`MBMEventPoints` is built instead.
     events_from : {"cvode", "approximant"}, optional
         With ``anchors="events"``: see :class:`MBMEventPoints`.
-    windows_per_step : int or None, optional
-        Windows per solve_ivp step (default 1); ``None``: all windows to ``t_bound``
-        in one step (least Python; the dense output covers them all).  solve_ivp
-        looks for ``events`` only at step ends: when it passes events, MBM needs
-        ``windows_per_step=1`` (else ``ValueError``) and keeps every window within
-        1/8 of the period 2π/ω and an angle of π/4, so that an event function of the
-        motion changes sign at most once per step (an exact flow's single window is
-        cut into such steps).
+    windows_per_step : int, None or "auto", optional
+        Windows per solve_ivp step.  ``"auto"`` (default): up to
+        :data:`WINDOWS_PER_STEP` (256) when solve_ivp passes ``t_eval`` and no
+        ``events`` (less Python per window, and a step's window store stays
+        bounded); one when it passes ``events`` or no ``t_eval`` (solve_ivp then
+        reports every window end, as it reports every step of its own methods), or
+        when the solver is stepped by hand.  An integer: at most that many.
+        ``None``: all windows to ``t_bound`` in one step (least Python; the store,
+        and the dense output, cover the whole run).  The windows, and so every
+        output, are the same bits whatever the grouping.  solve_ivp looks for
+        ``events`` only at step ends: when it passes events, MBM needs one window
+        per step (``windows_per_step`` 1 or ``"auto"``, else ``ValueError``) and
+        keeps every window within 1/8 of the period 2π/ω and an angle of π/4, so
+        that an event function of the motion changes sign at most once per step (an
+        exact flow's single window is cut into such steps).
     max_step : float, optional
         Largest window allowed (default inf).
     first_step : float, optional
@@ -228,6 +255,7 @@ class MBM(_MBMBase):
     tau : float or None
         The fixed window length in use (None when adaptive).
     windows_per_step : int or None
+        The windows per step in use (``"auto"`` resolved).
     for_events : bool
         Whether solve_ivp passed ``events`` (windows kept short, see above).
     n_windows : int
@@ -251,7 +279,7 @@ class MBM(_MBMBase):
         return super().__new__(cls)
 
     def __init__(self, fun, t0, y0, t_bound, tau=None, approximant="auto", model=None,
-                 anchors="windows", windows_per_step=1, max_step=np.inf, first_step=None,
+                 anchors="windows", windows_per_step="auto", max_step=np.inf, first_step=None,
                  rtol=None, atol=None, max_windows=DEFAULT_MAX_WINDOWS, vectorized=False,
                  **extraneous):
         tol_given = rtol is not None or atol is not None
@@ -261,17 +289,24 @@ class MBM(_MBMBase):
             first_step = check_positive("first_step", first_step)
         if tau is not None:
             tau = min(check_positive("tau", tau), self.max_step)
-        self.windows_per_step = _check_windows_per_step(windows_per_step)
+        wps = _check_windows_per_step(windows_per_step)
         self._kind = loop.kind_of(self.approximant)
         #: Whether solve_ivp passed events: then each step is one short window.
-        self.for_events = _caller_events() is not None
+        caller = _caller_solve_ivp()
+        self.for_events = caller is not None and caller.get("events") is not None
+        if wps == "auto":
+            # Every window end a step when solve_ivp reports the step ends (no t_eval) or
+            # looks for events, or when no solve_ivp drives this solver.
+            wps = WINDOWS_PER_STEP if caller is not None and caller.get("t_eval") is not None \
+                and not self.for_events else 1
+        self.windows_per_step = wps
         max_dtheta, run_max_step = math.inf, self.max_step
         if self.for_events:
             if self.windows_per_step != 1:
                 raise ValueError(
                     f"windows_per_step={windows_per_step!r} with events: solve_ivp looks for "
                     "events only at step ends and would miss those inside a step of several "
-                    "windows; use windows_per_step=1 (the default) with events"
+                    "windows; use windows_per_step=1 or 'auto' (the default) with events"
                 )
             max_dtheta = EVENTS_MAX_DTHETA
             run_max_step = min(self.max_step, EVENTS_WINDOW_PERIODS * 2 * math.pi / self.model.omega)
@@ -300,53 +335,58 @@ class MBM(_MBMBase):
         # per step, for approximants without a compiled kind), and its words as float64
         # and int64 (fast field access).
         self._run = self._words = self._ints = None
-        if self._kind is not None:
-            beta, gamma, omega = self.model.params
-            amp, freq, phase = self.model.drive
-            self._run = loop.new_run(
-                beta, gamma, omega, self.t, self.y[0], self.y[1], self.t_bound, self._kind[0],
-                self._kind[1], controller, h_abs, run_max_step, self.rtol, self.atol, error_order,
-                check_max_windows(max_windows), max_dtheta=max_dtheta,
-                call_windows=0 if self.windows_per_step else CALL_WINDOWS,
-                drive_amplitude=amp, drive_frequency=freq, drive_phase=phase,
-            )
-            self._words = self._run.view(np.float64)
-            self._ints = self._run.view(np.int64)
-        # Widest coefficient vector of this approximant (the window store's width).
+        # Width of the window store (the approximant's coefficient vector), the window
+        # store's size for the next step, and the last step's windows (starts, θ at the
+        # starts, coefficients, count) for its dense output.
         self._width = None
-        # The windows of the last step (starts, coefficients, count), for the dense output.
+        self._store_size = None
         self._windows = None
+        if self._kind is not None:
+            self._width = _coefficient_width(self.approximant, self._kind[1], self.model, self.y)
+            self._store_size = min(WINDOW_BUFFER, wps or WINDOW_BUFFER)
+            self._words = _new_record(
+                self.model, float(self.t), self.y, float(self.t_bound), self._kind, controller, h_abs,
+                run_max_step, self.rtol, self.atol, error_order, check_max_windows(max_windows), max_dtheta,
+                0 if wps else CALL_WINDOWS,
+            )
+            self._run = np.ndarray(1, loop.RUN, self._words)
+            self._ints = np.ndarray(self._words.shape, np.int64, self._words)
+            self._runner = loop.RUNNERS[self._kind[0]]
 
     def _step_impl(self):
         if self._run is None:
             return self._python_window()
-        p, words, ints = self._run, self._words, self._ints
-        run = loop.RUNNERS[self._kind[0]]
-        if self._width is None:
-            beta, gamma, omega = self.model.params
-            self._width = self.approximant.anchor_kernel(beta, gamma, omega, self.y[0], self.y[1]).size
-        cap = self.windows_per_step or WINDOW_BUFFER
-        win_t = np.empty(cap + 1)
-        win_y = np.empty((cap + 1, 2))
-        win_coef = np.empty((cap, self._width))
+        p, words, ints, run = self._run, self._words, self._ints, self._runner
+        # The store: windows_per_step windows at most (None: unbounded), from a size that
+        # doubles while the loop fills it (a short run allocates little).
+        limit = self.windows_per_step
+        size = self._store_size if limit is None or limit > WINDOW_BUFFER else limit
+        win_t = np.empty(size + 1)
+        win_y = np.empty((size + 1, 2))
+        win_coef = np.empty((size, self._width))
         n = run(p, _NO_TIMES, _NO_OUT, win_t, win_y, win_coef, _NEVER)
-        # windows_per_step=None: keep going until t_bound, doubling the store.
-        while self.windows_per_step is None and ints[_W_STATUS] == loop.STATUS_PAUSED:
-            if n + cap > win_coef.shape[0]:
-                size = 2 * (n + cap)
+        # Paused with the store full (or, windows_per_step=None, after CALL_WINDOWS):
+        # go on in a larger store (twice the windows so far and a buffer more), up to
+        # the limit.
+        while ints.item(_W_STATUS) == _PAUSED and (limit is None or n < limit):
+            if n == size:
+                size = 2 * (n + WINDOW_BUFFER) if limit is None else min(2 * (n + WINDOW_BUFFER), limit)
                 win_t = np.concatenate((win_t[: n + 1], np.empty(size - n)))
                 win_y = np.concatenate((win_y[: n + 1], np.empty((size - n, 2))))
                 win_coef = np.concatenate((win_coef[:n], np.empty((size - n, self._width))))
             n += run(p, _NO_TIMES, _NO_OUT, win_t[n:], win_y[n:], win_coef[n:], _NEVER)
-        self.n_windows = int(ints[_W_NW])
-        self.regime = REGIME_NAMES[int(ints[_W_REGIME])]
-        self.t_regime = float(words[_W_T_REGIME])
-        self.period, self.mean_velocity = cycle_summary(int(ints[_W_REGIME]), words[_W_CYC_T],
-                                                        words[_W_CYC_SIGN])
+        self._store_size = size
+        self.n_windows = ints.item(_W_NW)
+        regime = ints.item(_W_REGIME)
+        if regime != REGIME_NONE:
+            self.regime = REGIME_NAMES[regime]
+            self.t_regime = words.item(_W_T_REGIME)
+            self.period, self.mean_velocity = cycle_summary(regime, words[_W_CYC_T], words[_W_CYC_SIGN])
         if n == 0:
-            return False, self._failure(int(ints[_W_STATUS]))
-        self._windows = (win_t[: n + 1], np.ascontiguousarray(win_y[: n + 1, 0]), win_coef[:n], n)
-        self.t = float(words[_W_T])
+            return False, self._failure(ints.item(_W_STATUS))
+        # θ at the starts: a view of the store's column (the evaluator takes strides).
+        self._windows = (win_t[: n + 1], win_y[: n + 1, 0], win_coef[:n], n)
+        self.t = words.item(_W_T)
         self.y = words[_W_THETA:_W_THETA + 2].copy()
         # A failure after some accepted windows ends this step early; the next step reports it.
         return True, None
@@ -391,12 +431,14 @@ class MBM(_MBMBase):
         return MBMDenseOutput(self.t_old, self.t, self.approximant, self._coef)
 
 
-def _caller_events():
-    """The ``events`` argument of the scipy ``solve_ivp`` call building this solver, or None.
+def _caller_solve_ivp():
+    """The local variables of the scipy ``solve_ivp`` call building this solver, or None.
 
-    solve_ivp does not hand ``events`` to its method; MBM reads it from solve_ivp's
-    frame so that it can keep its steps short enough for events (never dropping one
-    silently).  tests/test_events_mbm.py checks this works on the installed scipy.
+    solve_ivp does not hand its ``events`` and ``t_eval`` to its method; MBM reads
+    them from solve_ivp's frame: ``events`` so that it keeps its steps short enough
+    for them (never dropping one silently), ``t_eval`` to know whether solve_ivp
+    reports the step ends (``windows_per_step="auto"``).  tests/test_solver.py and
+    tests/test_steps.py check that this works on the installed scipy.
     """
     frame = sys._getframe(1)
     for _ in range(CALLER_FRAMES):
@@ -405,17 +447,86 @@ def _caller_events():
             return None
         code = frame.f_code
         if code.co_name == "solve_ivp" and "scipy" in code.co_filename:
-            return frame.f_locals.get("events")
+            return frame.f_locals
     return None
 
 
 def _check_windows_per_step(windows_per_step):
-    if windows_per_step is None:
-        return None
+    if windows_per_step is None or (isinstance(windows_per_step, str) and windows_per_step == "auto"):
+        return windows_per_step
     if (isinstance(windows_per_step, bool) or not isinstance(windows_per_step, (int, np.integer))
             or windows_per_step < 1):
-        raise ValueError(f"windows_per_step must be an integer >= 1 or None, got {windows_per_step!r}")
+        raise ValueError(
+            f"windows_per_step must be an integer >= 1, None or 'auto', got {windows_per_step!r}"
+        )
     return int(windows_per_step)
+
+
+@functools.lru_cache(maxsize=AUTO_CHOICES)
+def _auto_choice(undamped, driven, rtol, atol):
+    """:func:`mbm.choice.choose_approximant`'s ``(name, reason)``, from the facts its
+    rule reads (β = γ = 0 without a drive, the drive, the tolerances); cached, as
+    :func:`mbm.choice.auto_reason` allows: formatting the reason is ~1 µs a call."""
+    return auto_name(undamped), auto_reason(undamped, rtol, atol, driven)
+
+
+# Coefficient-vector sizes by (anchor kernel, kind argument), see _coefficient_width.
+_WIDTHS = {}
+# Run-record templates by option set, see _new_record.
+_TEMPLATES = {}
+
+
+def _coefficient_width(approximant, karg, model, y):
+    """Columns of the window store: the size of the approximant's coefficient vector.
+
+    Anchored once per (anchor kernel, kind argument) at the state ``y`` it is first
+    asked for: a compiled kind's coefficient vector has a size set by its degree
+    alone, whatever the model and state (tests/test_steps.py checks every
+    registered one).
+    """
+    kernel = approximant.anchor_kernel
+    # Keyed by id (a numba dispatcher hashes slowly); the entry holds the kernel, so
+    # its id is not reused while the entry lives.
+    entry = _WIDTHS.get((id(kernel), karg))
+    if entry is None or entry[0] is not kernel:
+        beta, gamma, omega = model.params
+        entry = (kernel, int(kernel(beta, gamma, omega, y[0], y[1]).size))
+        _WIDTHS[(id(kernel), karg)] = entry
+    return entry[1]
+
+
+def _new_record(model, t0, y, t_bound, kind, controller, h_abs, max_step, rtol, atol, error_order,
+                max_windows, max_dtheta, call_windows):
+    """The float64 words of a fresh run record: those of :func:`mbm.loop.new_run`'s record,
+    bit for bit (tests/test_steps.py).
+
+    The words set by the option set (kind, controller, tolerances, budgets, whether
+    there is a drive: regimes off) are copied from a template that new_run builds
+    once per option set (:data:`RECORD_TEMPLATES` kept); the words of this run
+    (``_W_CALL``: the model, t0, the state, t_bound, the first window, φ = θ₀ and the
+    drive) are set.
+    """
+    amp, freq, phase = model.drive
+    key = (kind, controller, max_step, rtol, atol, error_order, max_windows, max_dtheta, call_windows,
+           amp != 0.0)
+    template = _TEMPLATES.get(key)
+    if template is None:
+        if len(_TEMPLATES) >= RECORD_TEMPLATES:
+            _TEMPLATES.clear()
+        template = loop.new_run(
+            0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, kind[0], kind[1], controller, 0.0, max_step, rtol, atol,
+            error_order, max_windows, call_windows=call_windows, max_dtheta=max_dtheta,
+            drive_amplitude=1.0 if amp != 0.0 else 0.0,
+        ).view(np.float64).copy()
+        _TEMPLATES[key] = template
+    words = template.copy()
+    # One item at a time: cheaper than a fancy-indexed assignment of the twelve.
+    words[_W_BETA], words[_W_GAMMA], words[_W_OMEGA] = model.params
+    theta0, v0 = y.tolist()
+    words[_W_T], words[_W_THETA], words[_W_V], words[_W_TBOUND] = t0, theta0, v0, t_bound
+    words[_W_H], words[_W_PHI] = h_abs, theta0
+    words[_W_AMP], words[_W_FREQ], words[_W_PHASE] = amp, freq, phase
+    return words
 
 
 class MBMEventPoints(_MBMBase):
@@ -572,7 +683,25 @@ class MBMWindowsDenseOutput(DenseOutput):
     """Dense output of a step made of one or more windows: each window's anchored formula.
 
     Exact at both ends of the step: ``sol(t_old)`` is the first anchor and ``sol(t)``
-    repeats the evaluation that produced the step's end state.
+    repeats the evaluation that produced the step's end state.  Evaluated by
+    :mod:`mbm.dense` (the values of :func:`mbm.loop.evaluate_windows`, bit for bit).
+
+    Parameters
+    ----------
+    t_old, t : float
+        The step's start and end.
+    kind : int
+        The windows' kind id (:data:`mbm.loop.COMPILED_KINDS`).
+    starts : ndarray, shape (n + 1,)
+        Window starts and the last window's end.
+    start_theta : ndarray, shape (n + 1,)
+        θ at ``starts`` (a strided view is accepted).
+    coefs : ndarray, shape (n, width)
+        The windows' coefficient vectors.
+    n : int
+        Windows.
+    direction : float
+        +1 or −1.
     """
 
     def __init__(self, t_old, t, kind, starts, start_theta, coefs, n, direction):
@@ -583,13 +712,12 @@ class MBMWindowsDenseOutput(DenseOutput):
         self.coefs = coefs
         self.n = n
         self.direction = float(direction)
+        self._into, self._at = _dense.evaluators(kind)
 
     def _call_impl(self, t):
-        tt = np.ascontiguousarray(np.atleast_1d(np.asarray(t, dtype=np.float64)))
-        th = np.empty_like(tt)
-        v = np.empty_like(tt)
-        loop.evaluate_windows(self.kind, self.starts, self.start_theta, self.coefs, self.n, self.direction,
-                              tt, th, v)
-        if np.ndim(t) == 0:
-            return np.array([th[0], v[0]])
-        return np.vstack((th, v))
+        if t.ndim == 0:
+            return self._at(self.starts, self.start_theta, self.coefs, self.n, self.direction, float(t))
+        t = np.ascontiguousarray(t, dtype=np.float64)
+        out = np.empty((2, t.size))
+        self._into(self.starts, self.start_theta, self.coefs, self.n, self.direction, t, out)
+        return out

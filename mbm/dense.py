@@ -1,0 +1,246 @@
+"""The dense output of a step of stored windows, compiled: what ``sol(t)`` of :class:`mbm.MBM` runs.
+
+The values of :func:`mbm.loop.evaluate_windows` bit for bit (each time takes the same
+window, the same formula and the same floating-point operations), for less work per
+time:
+
+* a window's winding count (recovered from its start's θ and its anchor, as there)
+  is computed once per run of consecutive times in that window, not once per time;
+* a time first tries the window of the time before it (and the next), and is
+  bisected only when neither holds it, so times in order (solve_ivp's ``t_eval``)
+  find their window in a step;
+* a Taylor window's times go four at a time
+  (:func:`mbm.approximants.taylor.taylor_eval_range`: the Horner steps of its eval
+  kernel, interleaved).
+
+A kind of :data:`mbm.loop.COMPILED_KINDS` without an entry here is evaluated by
+:func:`mbm.loop.evaluate_windows` itself (:func:`evaluate_windows_into`).
+"""
+
+import math
+
+import numba
+import numpy as np
+
+from . import loop
+from .approximants.taylor import taylor_eval_range
+from .loop import KIND_EXACT, KIND_SALAS_TORQUE, KIND_SPLIT, KIND_TAYLOR, _cycle_value, evaluate, theta_of
+from .regimes import CYCLE_TAG, CYCLE_WIDTH, LOCKED_TAG, LOCKED_WIDTH, locked_eval
+
+__all__ = ["evaluate_windows_into", "evaluate_windows_at", "evaluators"]
+
+_INLINE = dict(cache=True, inline="always")
+# One turn, as the loop's winding count is recovered (mbm.loop._evaluate_windows).
+_TWO_PI = 2.0 * math.pi
+
+
+@numba.njit(**_INLINE)
+def _holds(starts, n, direction, i, tj):
+    # Whether window i is the last one whose start is not after tj.
+    return direction * (tj - starts[i]) >= 0.0 and (i == n - 1 or direction * (tj - starts[i + 1]) < 0.0)
+
+
+@numba.njit(**_INLINE)
+def _find(starts, n, direction, i, tj):
+    """The window of time ``tj``: the last whose start is not after it (window 0 when
+    none is), as :func:`mbm.loop._evaluate_windows`' bisection finds it.
+
+    The starts are monotone in ``direction``, so the predicate "start not after tj"
+    holds for a prefix of the windows: a window that holds it with its successor
+    failing it is the last of that prefix, the bisection's answer.  Window ``i`` (the
+    previous time's) and ``i + 1`` are tried first; past them the bisection starts
+    from ``i`` when the prefix reaches it (times in order), else from window 0.
+    """
+    if _holds(starts, n, direction, i, tj):
+        return i
+    if i + 1 < n and _holds(starts, n, direction, i + 1, tj):
+        return i + 1
+    lo, hi = 0, n - 1
+    if direction * (tj - starts[i]) >= 0.0:
+        lo = i
+    while lo < hi:
+        mid = (lo + hi + 1) // 2
+        if direction * (tj - starts[mid]) >= 0.0:
+            lo = mid
+        else:
+            hi = mid - 1
+    return lo
+
+
+@numba.njit(**_INLINE)
+def _winding(kind, c, start_theta_i):
+    # The winding count of a window anchored at φ (mbm.loop._evaluate_windows): from its
+    # start's θ and the anchor's φ (a locked window stores θ₀ at c[1]).
+    if not (kind == KIND_TAYLOR or kind == KIND_SPLIT):  # loop.WRAPPING_KINDS
+        return 0.0
+    if c.size >= LOCKED_WIDTH and c[0] == LOCKED_TAG:
+        phi0 = c[1]
+    else:
+        phi0 = evaluate(kind, c, 0.0)[0]
+    return float(round((start_theta_i - phi0) / _TWO_PI))
+
+
+@numba.njit(**_INLINE)
+def _evaluate_run(kind, c, t0, start_theta_i, t, lo, hi, out_theta, out_v):
+    """Window ``c`` (start ``t0``) at ``t[lo:hi]``, as :func:`mbm.loop._evaluate_windows` per time."""
+    if c.size >= CYCLE_WIDTH and c[0] == CYCLE_TAG:
+        # A running-cycle window: the stored period, shifted (its own winding count).
+        for q in range(lo, hi):
+            a, b, kc = _cycle_value(kind, c, t[q] - t0)
+            out_theta[q] = theta_of(kc, a)
+            out_v[q] = b
+        return
+    ki = _winding(kind, c, start_theta_i)
+    if c.size >= LOCKED_WIDTH and c[0] == LOCKED_TAG:
+        for q in range(lo, hi):
+            a, b = locked_eval(c, t[q] - t0)
+            out_theta[q] = theta_of(ki, a)
+            out_v[q] = b
+    elif kind == KIND_TAYLOR:
+        taylor_eval_range(c, t0, t, lo, hi, out_theta, out_v)
+        if ki != 0.0:
+            for q in range(lo, hi):
+                out_theta[q] = theta_of(ki, out_theta[q])
+    else:
+        for q in range(lo, hi):
+            a, b = evaluate(kind, c, t[q] - t0)
+            out_theta[q] = theta_of(ki, a)
+            out_v[q] = b
+
+
+@numba.njit(**_INLINE)
+def _evaluate_windows(kind, starts, start_theta, coefs, n, direction, t, out):
+    """``n`` stored windows at times ``t`` into ``out`` (rows θ, θ'), in runs of times per window."""
+    out_theta = out[0]
+    out_v = out[1]
+    m = t.size
+    i = 0
+    j = 0
+    while j < m:
+        i = _find(starts, n, direction, i, t[j])
+        j2 = j + 1
+        while j2 < m and _holds(starts, n, direction, i, t[j2]):
+            j2 += 1
+        _evaluate_run(kind, coefs[i], starts[i], start_theta[i], t, j, j2, out_theta, out_v)
+        j = j2
+
+
+@numba.njit(**_INLINE)
+def _evaluate_at(kind, starts, start_theta, coefs, n, direction, tj):
+    # One time: a new array [θ, θ'].
+    i = _find(starts, n, direction, 0, tj)
+    t = np.empty(1)
+    t[0] = tj
+    out = np.empty((2, 1))
+    _evaluate_run(kind, coefs[i], starts[i], start_theta[i], t, 0, 1, out[0], out[1])
+    y = np.empty(2)
+    y[0] = out[0, 0]
+    y[1] = out[1, 0]
+    return y
+
+
+# One entry per kind, the kind a constant (numba prunes the other kinds' branches), as
+# mbm.loop's runners and evaluators.
+@numba.njit(cache=True)
+def _into_taylor(starts, start_theta, coefs, n, direction, t, out):
+    _evaluate_windows(KIND_TAYLOR, starts, start_theta, coefs, n, direction, t, out)
+
+
+@numba.njit(cache=True)
+def _into_exact(starts, start_theta, coefs, n, direction, t, out):
+    _evaluate_windows(KIND_EXACT, starts, start_theta, coefs, n, direction, t, out)
+
+
+@numba.njit(cache=True)
+def _into_salas_torque(starts, start_theta, coefs, n, direction, t, out):
+    _evaluate_windows(KIND_SALAS_TORQUE, starts, start_theta, coefs, n, direction, t, out)
+
+
+@numba.njit(cache=True)
+def _into_split(starts, start_theta, coefs, n, direction, t, out):
+    _evaluate_windows(KIND_SPLIT, starts, start_theta, coefs, n, direction, t, out)
+
+
+@numba.njit(cache=True)
+def _at_taylor(starts, start_theta, coefs, n, direction, tj):
+    return _evaluate_at(KIND_TAYLOR, starts, start_theta, coefs, n, direction, tj)
+
+
+@numba.njit(cache=True)
+def _at_exact(starts, start_theta, coefs, n, direction, tj):
+    return _evaluate_at(KIND_EXACT, starts, start_theta, coefs, n, direction, tj)
+
+
+@numba.njit(cache=True)
+def _at_salas_torque(starts, start_theta, coefs, n, direction, tj):
+    return _evaluate_at(KIND_SALAS_TORQUE, starts, start_theta, coefs, n, direction, tj)
+
+
+@numba.njit(cache=True)
+def _at_split(starts, start_theta, coefs, n, direction, tj):
+    return _evaluate_at(KIND_SPLIT, starts, start_theta, coefs, n, direction, tj)
+
+
+#: Kind id -> compiled entry filling ``out`` at an array of times.
+INTO = {KIND_TAYLOR: _into_taylor, KIND_EXACT: _into_exact, KIND_SALAS_TORQUE: _into_salas_torque,
+        KIND_SPLIT: _into_split}
+#: Kind id -> compiled entry returning ``[θ, θ']`` at one time.
+AT = {KIND_TAYLOR: _at_taylor, KIND_EXACT: _at_exact, KIND_SALAS_TORQUE: _at_salas_torque,
+      KIND_SPLIT: _at_split}
+
+
+def _fallback_into(kind):
+    # A kind without an entry here: mbm.loop's own evaluator.
+    def into(starts, start_theta, coefs, n, direction, t, out):
+        loop.evaluate_windows(kind, starts, np.ascontiguousarray(start_theta), coefs, n, direction, t,
+                              out[0], out[1])
+    return into
+
+
+def _fallback_at(kind):
+    def at(starts, start_theta, coefs, n, direction, tj):
+        out = np.empty((2, 1))
+        _fallback_into(kind)(starts, start_theta, coefs, n, direction, np.array([tj]), out)
+        return out[:, 0].copy()
+    return at
+
+
+_EVALUATORS = {kind: (INTO[kind], AT[kind]) for kind in INTO}
+
+
+def evaluators(kind):
+    """``(into, at)``: the entries of :func:`evaluate_windows_into` and
+    :func:`evaluate_windows_at` for kind ``kind`` (their arguments less ``kind``), for
+    a caller that evaluates one kind many times."""
+    return _EVALUATORS.get(kind) or (_fallback_into(kind), _fallback_at(kind))
+
+
+def evaluate_windows_into(kind, starts, start_theta, coefs, n, direction, t, out):
+    """``n`` stored windows of kind ``kind`` at times ``t``, written to ``out``.
+
+    Parameters
+    ----------
+    kind : int
+        A kind id of :data:`mbm.loop.COMPILED_KINDS`.
+    starts : ndarray, shape (n + 1,)
+        Window i covers [starts[i], starts[i + 1]] (``win_t`` of :func:`mbm.loop.run`).
+    start_theta : ndarray, shape (n + 1,)
+        θ at the starts (``win_y[:, 0]``; a strided view is accepted).
+    coefs : ndarray, shape (n, width)
+        The windows' coefficient vectors (``win_coef``).
+    n : int
+        Windows, ≥ 1.
+    direction : float
+        +1.0 or −1.0, the direction of the run.
+    t : ndarray of float64, shape (m,), C-contiguous
+        Times, in any order (in order is cheapest).
+    out : ndarray of float64, shape (2, m), C-contiguous
+        Filled with θ (row 0) and θ' (row 1): the values of
+        :func:`mbm.loop.evaluate_windows` bit for bit.
+    """
+    evaluators(kind)[0](starts, start_theta, coefs, n, direction, t, out)
+
+
+def evaluate_windows_at(kind, starts, start_theta, coefs, n, direction, tj):
+    """:func:`evaluate_windows_into` at one time ``tj`` (a float): a new array ``[θ, θ']``."""
+    return evaluators(kind)[1](starts, start_theta, coefs, n, direction, tj)
