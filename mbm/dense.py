@@ -24,7 +24,16 @@ import numpy as np
 
 from . import loop
 from .approximants.taylor import taylor_eval_range
-from .loop import KIND_EXACT, KIND_SALAS_TORQUE, KIND_SPLIT, KIND_TAYLOR, _cycle_value, evaluate, theta_of
+from .loop import (
+    KIND_EXACT,
+    KIND_SALAS_TORQUE,
+    KIND_SPLIT,
+    KIND_TAYLOR,
+    _period_lookup,
+    _period_store,
+    evaluate,
+    theta_of,
+)
 from .regimes import CYCLE_TAG, CYCLE_WIDTH, LOCKED_TAG, LOCKED_WIDTH, locked_eval
 
 __all__ = ["evaluate_windows_into", "evaluate_windows_at", "evaluators"]
@@ -83,10 +92,12 @@ def _winding(kind, c, start_theta_i):
 @numba.njit(**_INLINE)
 def _evaluate_run(kind, c, t0, start_theta_i, t, lo, hi, out_theta, out_v):
     """Window ``c`` (start ``t0``) at ``t[lo:hi]``, as :func:`mbm.loop._evaluate_windows` per time."""
-    if c.size >= CYCLE_WIDTH and c[0] == CYCLE_TAG:
-        # A running-cycle window: the stored period, shifted (its own winding count).
+    if (kind == KIND_TAYLOR or kind == KIND_SPLIT) and c.size >= CYCLE_WIDTH and c[0] == CYCLE_TAG:
+        # A cycle window: the stored period (re-taken once for these times), shifted
+        # (its own winding count).
+        p_starts, p_ends, p_coefs, p_n = _period_store(kind, c)
         for q in range(lo, hi):
-            a, b, kc = _cycle_value(kind, c, t[q] - t0)
+            a, b, kc = _period_lookup(kind, c, p_starts, p_ends, p_coefs, p_n, t[q] - t0)
             out_theta[q] = theta_of(kc, a)
             out_v[q] = b
         return
