@@ -29,8 +29,8 @@ from .loop import (
     KIND_SALAS_TORQUE,
     KIND_SPLIT,
     KIND_TAYLOR,
-    _period_lookup,
     _period_store,
+    _period_value,
     evaluate,
     theta_of,
 )
@@ -97,7 +97,7 @@ def _evaluate_run(kind, c, t0, start_theta_i, t, lo, hi, out_theta, out_v):
         # (its own winding count).
         p_starts, p_ends, p_coefs, p_n = _period_store(kind, c)
         for q in range(lo, hi):
-            a, b, kc = _period_lookup(kind, c, p_starts, p_ends, p_coefs, p_n, t[q] - t0)
+            a, b, kc = _period_value(kind, c, p_starts, p_ends, p_coefs, p_n, t[q] - t0)
             out_theta[q] = theta_of(kc, a)
             out_v[q] = b
         return

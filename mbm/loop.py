@@ -575,6 +575,9 @@ def _put(out_theta, out_w, wrapped, i, k, phi):
 # ---------------------------------------------------------------------------
 
 _TWO_PI = 2.0 * math.pi
+# Windows a stored period's arrays hold at first (doubled as needed): a period takes
+# ~10-100 windows at the tolerances in use.
+PERIOD_STORE_START = 64
 
 
 @numba.njit(**_INLINE)
@@ -650,18 +653,20 @@ def _period_windows(kind, c):
     karg = int(c[11])
     error_order = int(c[12])
     off = c[13] * _TWO_PI
-    coef = anchor(kind, karg, beta, gamma, omega, theta_c, v_c)
-    cap = 64
+    cap = PERIOD_STORE_START
     starts = np.empty(cap + 1)
     ends = np.empty((cap + 1, 2))
-    coefs = np.empty((cap, coef.size))
+    # Allocated at the first window, when its width is known (one anchor call site:
+    # each inlined anchor is the whole recurrence, compiled again).
+    coefs = np.empty((0, 0))
     starts[0], ends[0, 0], ends[0, 1] = 0.0, theta_c, v_c
     tt, a0, a1, h = 0.0, theta_c, v_c, -1.0
     for n in range(CYCLE_MAX_WINDOWS):
-        if n > 0:
-            coef = anchor(kind, karg, beta, gamma, omega, a0, a1)
+        coef = anchor(kind, karg, beta, gamma, omega, a0, a1)
         if coef[0] != 0.0:
             break
+        if n == 0:
+            coefs = np.empty((cap, coef.size))
         if h <= 0.0:
             h = first_window(kind, coef, tt, a0, a1, off, 1.0, period, omega, math.inf, rtol, atol,
                              error_order)
@@ -669,16 +674,22 @@ def _period_windows(kind, c):
                                                    rtol, atol, error_order)
         if st != STATUS_OK:
             break
+        # Element loops, not slice assignments: those compile numpy's broadcast-error
+        # machinery (a few seconds of a cold start) for shapes that always agree here.
         if n == cap:
             cap *= 2
             starts2 = np.empty(cap + 1)
             ends2 = np.empty((cap + 1, 2))
             coefs2 = np.empty((cap, coef.size))
-            starts2[: n + 1] = starts[: n + 1]
-            ends2[: n + 1] = ends[: n + 1]
-            coefs2[:n] = coefs[:n]
+            for q in range(n + 1):
+                starts2[q] = starts[q]
+                ends2[q, 0], ends2[q, 1] = ends[q, 0], ends[q, 1]
+            for q in range(n):
+                for w in range(coef.size):
+                    coefs2[q, w] = coefs[q, w]
             starts, ends, coefs = starts2, ends2, coefs2
-        coefs[n, :] = coef
+        for w in range(coef.size):
+            coefs[n, w] = coef[w]
         starts[n + 1], ends[n + 1, 0], ends[n + 1, 1] = t_new, th, v
         if t_new >= period:
             return starts, ends, coefs, n + 1
@@ -731,6 +742,25 @@ def _period_store(kind, c):
     if kind == KIND_SPLIT:
         return _period_windows_split(c)
     return _period_windows_taylor(c)
+
+
+# The lookup likewise: one compiled copy serves the loop and both dense outputs.
+@numba.njit(cache=True)
+def _period_lookup_taylor(c, starts, ends, coefs, n, t):
+    return _period_lookup(KIND_TAYLOR, c, starts, ends, coefs, n, t)
+
+
+@numba.njit(cache=True)
+def _period_lookup_split(c, starts, ends, coefs, n, t):
+    return _period_lookup(KIND_SPLIT, c, starts, ends, coefs, n, t)
+
+
+@numba.njit(**_INLINE)
+def _period_value(kind, c, starts, ends, coefs, n, t):
+    """:func:`_period_lookup` of kind ``kind`` through its compiled entry."""
+    if kind == KIND_SPLIT:
+        return _period_lookup_split(c, starts, ends, coefs, n, t)
+    return _period_lookup_taylor(c, starts, ends, coefs, n, t)
 
 
 # ---------------------------------------------------------------------------
@@ -908,7 +938,7 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
             t_new = _window_end(t, direction, t_bound, max_step)
             if per_n == -2:
                 per_starts, per_ends, per_coefs, per_n = _period_store(kind, coef)
-            th, v, k_new = _period_lookup(kind, coef, per_starts, per_ends, per_coefs, per_n, t_new - t)
+            th, v, k_new = _period_value(kind, coef, per_starts, per_ends, per_coefs, per_n, t_new - t)
             st, h_next = STATUS_OK, h_abs
             if not (math.isfinite(th) and math.isfinite(v)):
                 st = STATUS_NONFINITE
@@ -965,7 +995,7 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
                 _put(out_theta, out_w, wrapped, j, k, a)
                 out_v[j] = b
             elif is_cycle:
-                a, b, kc = _period_lookup(kind, coef, per_starts, per_ends, per_coefs, per_n, t_eval[j] - t)
+                a, b, kc = _period_value(kind, coef, per_starts, per_ends, per_coefs, per_n, t_eval[j] - t)
                 _put(out_theta, out_w, wrapped, j, kc, a)
                 out_v[j] = b
             else:
@@ -1011,8 +1041,12 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
         if store:
             if width > 0:
                 m = min(coef.size, width)
-                win_coef[n, :m] = coef[:m]
-                win_coef[n, m:] = 0.0
+                # Element loops: a slice assignment compiles numpy's broadcast-error
+                # machinery (seconds of a cold start) for shapes that agree here.
+                for q in range(m):
+                    win_coef[n, q] = coef[q]
+                for q in range(m, width):
+                    win_coef[n, q] = 0.0
             win_t[n + 1] = t_new
             win_y[n + 1, 0] = theta_of(k_new, th)
             win_y[n + 1, 1] = v
@@ -1138,7 +1172,7 @@ def _evaluate_windows(kind, starts, start_theta, coefs, n, direction, t, out_the
             # A cycle window: the stored period, shifted.
             if per_n == -2:
                 per_starts, per_ends, per_coefs, per_n = _period_store(kind, coefs[i])
-            a, b, kc = _period_lookup(kind, coefs[i], per_starts, per_ends, per_coefs, per_n, s)
+            a, b, kc = _period_value(kind, coefs[i], per_starts, per_ends, per_coefs, per_n, s)
             out_theta[j] = theta_of(kc, a)
             out_v[j] = b
             continue

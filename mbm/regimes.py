@@ -679,7 +679,7 @@ def cycle_summary(regime, period, sign):
 # ---------------------------------------------------------------------------
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True)
 def _dd_potential(w2h, w2l, cdh, cdl, eh, el, gamma, xh, xl):
     # (C1): U(x) = 2ω² cos d sin²(x/2) + (ω² sin d − γ) sin x − γ(x − sin x) in
     # double-double; (w2h, w2l) = ω², (cdh, cdl) = cos d, (eh, el) = ω² sin d − γ.
