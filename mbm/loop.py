@@ -41,6 +41,7 @@ from .approximants.belendez2007 import belendez_anchor_kernel, belendez_eval_ker
 from .approximants.salas2022 import salas_torque_anchor, salas_torque_eval
 from .approximants.splitting import split_anchor, split_error_kernel, split_eval_kernel
 from .approximants.taylor import (
+    drive_phase_sincos,
     taylor_coefficients,
     taylor_driven_coefficients,
     taylor_error_kernel,
@@ -58,7 +59,11 @@ from .regimes import (
     LOCKED_WIDTH,
     REGIME_LOCKED,
     REGIME_NONE,
+    REGIME_PHASE_LOCKED,
     REGIME_RUNNING,
+    STROBE_CODE,
+    STROBE_TAG,
+    STROBE_WIDTH,
     SWITCH_SAFETY,
     cycle_coef,
     cycle_switch,
@@ -68,6 +73,12 @@ from .regimes import (
     locked_eval,
     locked_quick_reject,
     section_offset,
+    strobe_coef,
+    strobe_period,
+    strobe_phase,
+    strobe_split,
+    strobe_switch,
+    strobe_time,
 )
 
 __all__ = [
@@ -266,11 +277,38 @@ RUN = np.dtype(
         ("phi", np.float64),
         ("wind", np.float64),
         # AC drive A sin(Ωt + φ) added to γ (A = 0: none, the autonomous equation; a
-        # driven run anchors by anchor_driven at each window's start time and takes no
-        # regime: the regimes assume an autonomous equation)
+        # driven run anchors by anchor_driven at each window's start time, and of the
+        # regimes takes only the phase-locked one below: the others assume an
+        # autonomous equation)
         ("drive_amp", np.float64),
         ("drive_freq", np.float64),
         ("drive_phase", np.float64),
+        # phase-locked to the drive (mbm.regimes, S1-S5): the stroboscopic samples (the
+        # first sample's time origin t_s, the next sample's index n; the last sample as
+        # winding count, φ and θ', carried to the exact time; the turns p of the last
+        # deviations and how many in a row share it, up to 3; the three deviations
+        # before the last, θ and θ' parts) and, once switched, the anchor: its time and
+        # the drive's phase there (its state in str_k, str_phi, str_v, its p in str_p)
+        ("str_t0", np.float64),
+        ("str_n", np.int64),
+        ("str_k", np.float64),
+        ("str_phi", np.float64),
+        ("str_v", np.float64),
+        ("str_p", np.float64),
+        ("str_m", np.int64),
+        ("str_d1t", np.float64),
+        ("str_d1v", np.float64),
+        ("str_d2t", np.float64),
+        ("str_d2v", np.float64),
+        ("str_d3t", np.float64),
+        ("str_d3v", np.float64),
+        ("str_ta", np.float64),
+        ("str_psi", np.float64),
+        # the traces fitted at the last two samples and the last clean fit's spectral
+        # radius (nan: failed or none; S3)
+        ("str_tau1", np.float64),
+        ("str_tau2", np.float64),
+        ("str_rho", np.float64),
     ],
     align=True,
 )
@@ -317,14 +355,14 @@ def new_run(beta, gamma, omega, t0, theta0, v0, t_bound, kind, karg, controller,
             max_step, rtol, atol, error_order, max_windows, call_windows=0, max_dtheta=math.inf,
             regimes=1, drive_amplitude=0.0, drive_frequency=0.0, drive_phase=0.0):
     """A run record array of one row, at the start of its run (n_windows = j = status = 0;
-    regime switching on unless ``regimes=0`` or the run is driven, ``drive_amplitude`` ≠ 0)."""
-    if drive_amplitude != 0.0:
-        regimes = 0
+    regime switching on unless ``regimes=0``; a driven run, ``drive_amplitude`` ≠ 0, may
+    reach the phase-locked regime only)."""
     return np.array(
         [(beta, gamma, omega, t0, theta0, v0, t_bound, kind, karg, controller, h_abs,
           max_step, max_dtheta, rtol, atol, error_order, max_windows, call_windows, 0, 0, 0,
           regimes, REGIME_NONE, math.nan, 0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
-          math.nan, 0.0, 0.0, 0, 0.0, theta0, 0.0, drive_amplitude, drive_frequency, drive_phase)],
+          math.nan, 0.0, 0.0, 0, 0.0, theta0, 0.0, drive_amplitude, drive_frequency, drive_phase,
+          0.0, 0, 0.0, 0.0, 0.0, 0.0, 0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, math.nan, math.nan, math.nan)],
         dtype=RUN,
     )
 
@@ -660,6 +698,65 @@ def _cycle_value(kind, c, t):
 
 
 # ---------------------------------------------------------------------------
+# Phase-locked to the drive (mbm.regimes, S1-S5)
+# ---------------------------------------------------------------------------
+
+
+@numba.njit(**_INLINE)
+def _strobe_eval(kind, c, t):
+    """A phase-locked window (coefficients: regimes.strobe_coef) at time ``t`` (S5).
+
+    ``t`` is the absolute time (not from the window's start): t − t_a is formed
+    exactly.  Returns ``(φ, θ', k)``: θ = 2πk + φ (:func:`theta_of`), k the anchor's
+    winding count, the turns of the re-run so far and p per period passed.
+    """
+    phi_a, v_a, k_a, t_a, q, turns, psi = c[1], c[2], c[3], c[4], c[5], c[6], c[7]
+    beta, gamma, omega, amp, freq, rtol, atol = c[8], c[9], c[10], c[11], c[12], c[13], c[14]
+    code = int(c[15])
+    karg = code % STROBE_CODE
+    error_order = code // STROBE_CODE
+    p_hi, p_lo = strobe_period(freq, q)
+    n, s = strobe_split(t, t_a, p_hi, p_lo)
+    tt, kk, a0, a1, h = 0.0, 0.0, phi_a, v_a, -1.0
+    for _ in range(CYCLE_MAX_WINDOWS):
+        if not (-math.pi <= a0 <= math.pi):
+            kk, a0 = wrap(kk, a0)
+        # The tolerance scale of the anchor's period, the same in every period.
+        off = (k_a + kk) * _TWO_PI
+        # The drive at t_a + tt: phase Ω·tt + ψ_a (S5).
+        coef = anchor_driven(kind, karg, beta, gamma, omega, amp, freq, psi, tt, a0, a1)
+        if coef[0] != 0.0:
+            break
+        if h <= 0.0:
+            h = first_window(kind, coef, tt, a0, a1, off, 1.0, p_hi, omega, math.inf, rtol, atol,
+                             error_order)
+        st, t_new, th, v, h_next = adaptive_window(kind, coef, tt, a0, a1, off, 1.0, p_hi, h, math.inf,
+                                                   rtol, atol, error_order)
+        if st != STATUS_OK:
+            break
+        if t_new >= s:
+            if t_new != s:
+                th, v = evaluate(kind, coef, s - tt)
+            return th, v, k_a + kk + turns * n
+        tt, a0, a1, h = t_new, th, v, h_next
+    return math.nan, math.nan, 0.0
+
+
+# As the cycle's: compiled once (the drive is Taylor's only) and called, not inlined.
+@numba.njit(cache=True)
+def _strobe_eval_taylor(c, t):
+    return _strobe_eval(KIND_TAYLOR, c, t)
+
+
+@numba.njit(**_INLINE)
+def _strobe_value(kind, c, t):
+    """:func:`_strobe_eval` of kind ``kind`` through its compiled entry (Taylor only)."""
+    if kind == KIND_TAYLOR:
+        return _strobe_eval_taylor(c, t)
+    return math.nan, math.nan, 0.0
+
+
+# ---------------------------------------------------------------------------
 # The loop
 # ---------------------------------------------------------------------------
 
@@ -687,8 +784,11 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
     each evaluation re-taking at most one period of windows from the cycle's anchor.
 
     AC drive (``drive_amp`` ≠ 0): each window is anchored at its start time by
-    :func:`anchor_driven` (the drive's series enters the coefficients), and no regime
-    is tested (``regimes`` is set to 0: the regimes assume an autonomous equation).
+    :func:`anchor_driven` (the drive's series enters the coefficients).  The locked and
+    running regimes assume an autonomous equation and are not tested; instead the
+    stroboscopic samples at t_s + nT_d, T_d = 2π/Ω, are watched (S1–S4 there), and once
+    their deviations have converged for good the windows are the stored drive period
+    from the anchor sample (``regimes.STROBE_TAG``, S5), ``regime`` phase-locked.
 
     Parameters
     ----------
@@ -720,11 +820,10 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
     r = p[0]
     karg = r.karg
     beta, gamma, omega = r.beta, r.gamma, r.omega
-    # AC drive: anchored at each window's start time (anchor_driven); the regimes assume
-    # an autonomous equation, so a driven run takes none.
+    # AC drive: anchored at each window's start time (anchor_driven); the locked and
+    # running regimes assume an autonomous equation, so a driven run takes only the
+    # phase-locked one (can_strobe below).
     amp, freq, phase = r.drive_amp, r.drive_freq, r.drive_phase
-    if amp != 0.0:
-        r.regimes = 0
     t, y0, y1, t_bound = r.t, r.theta, r.v, r.t_bound
     h_abs, max_step, rtol, atol = r.h_abs, r.max_step, r.rtol, r.atol
     adaptive = r.controller == CONTROLLER_ADAPTIVE
@@ -757,16 +856,30 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
     # Locked regime (mbm.regimes, L5): tested before each window where it may apply
     # (windows from rtol/atol, forwards, β > 0, |γ| < ω², room for its formula in the
     # window store); the test depends on the state only, so a resumed run repeats it.
-    can_lock = (r.regimes != 0 and adaptive and direction > 0.0 and beta > 0.0
+    can_lock = (r.regimes != 0 and adaptive and direction > 0.0 and beta > 0.0 and amp == 0.0
                 and abs(gamma) < omega * omega and (width == 0 or width >= LOCKED_WIDTH))
     lk_d, lk_wl2, lk_g0, lk_g1 = 0.0, 1.0, 0.0, 0.0
     lk_ts, lk_bt, lk_bv = 0.0, math.inf, math.inf
     if can_lock:
         lk_d, lk_wl2, lk_g0, lk_g1 = locked_constants(beta, gamma, omega)
     # Running cycle (mbm.regimes, R1-R3): the return map watched after each window.
-    can_cycle = (r.regimes != 0 and adaptive and direction > 0.0 and beta > 0.0
+    can_cycle = (r.regimes != 0 and adaptive and direction > 0.0 and beta > 0.0 and amp == 0.0
                  and (width == 0 or width >= CYCLE_WIDTH))
     sec_off = section_offset(gamma, omega) if can_cycle else 0.0
+    # Phase-locked to the drive (mbm.regimes, S1-S5): stroboscopic samples at
+    # t_s + nT_d watched after each window of a driven run (Taylor, forwards, windows
+    # from rtol/atol, β > 0; not with max_dtheta, the short windows of solve_ivp's event
+    # search, each of which would re-take a period).  A fresh run sets the origin.
+    can_strobe = (r.regimes != 0 and adaptive and direction > 0.0 and beta > 0.0 and amp != 0.0
+                  and freq > 0.0 and kind == KIND_TAYLOR and r.max_dtheta == math.inf
+                  and (width == 0 or width >= STROBE_WIDTH))
+    sp_hi, sp_lo, sp_det = 0.0, 0.0, 0.0
+    if can_strobe:
+        sp_hi, sp_lo = strobe_period(freq, 1.0)
+        sp_det = math.exp(-beta * sp_hi)  # (S2): det DP, exactly e^{−βT_d}
+        if n_total == 0:
+            r.str_t0, r.str_n, r.str_m = t, 1, 0
+            r.str_tau1, r.str_tau2, r.str_rho = math.nan, math.nan, math.nan
     while direction * (t_bound - t) > 0.0:
         if n_total >= r.max_windows:
             status = STATUS_MAX_WINDOWS
@@ -790,6 +903,7 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
         off = k * _TWO_PI
         is_locked = False
         is_cycle = r.regime == REGIME_RUNNING
+        is_strobe = r.regime == REGIME_PHASE_LOCKED
         if is_cycle:
             pass
         elif can_lock and (r.regime == REGIME_LOCKED or not locked_quick_reject(
@@ -804,6 +918,16 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
                               r.cyc_sign, karg, error_order, r.cyc_wind)
             t_new = _window_end(t, direction, t_bound, max_step)
             th, v, k_new = _cycle_value(kind, coef, t_new - t)
+            st, h_next = STATUS_OK, h_abs
+            if not (math.isfinite(th) and math.isfinite(v)):
+                st = STATUS_NONFINITE
+        elif is_strobe:
+            # The rest of the run is the stored drive period from the anchor (S5); its
+            # formula takes the absolute time.
+            coef = strobe_coef(r.str_phi, r.str_v, r.str_k, r.str_ta, 1.0, r.str_p, r.str_psi, beta, gamma,
+                               omega, amp, freq, rtol, atol, karg, error_order)
+            t_new = _window_end(t, direction, t_bound, max_step)
+            th, v, k_new = _strobe_value(kind, coef, t_new)
             st, h_next = STATUS_OK, h_abs
             if not (math.isfinite(th) and math.isfinite(v)):
                 st = STATUS_NONFINITE
@@ -824,7 +948,7 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
             if coef[0] != 0.0:
                 status = STATUS_ANCHOR
                 break
-        if is_locked or is_cycle:
+        if is_locked or is_cycle or is_strobe:
             pass
         elif adaptive:
             if h_abs <= 0.0:
@@ -839,7 +963,7 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
         if st != STATUS_OK:
             status = st
             break
-        if kind == KIND_TAYLOR and not (is_locked or is_cycle):
+        if kind == KIND_TAYLOR and not (is_locked or is_cycle or is_strobe):
             # The window's outputs in one call, four times at once (the same Horner
             # steps per time as evaluate, so the same bits; an output at t_new is the
             # evaluation that produced the state).
@@ -861,6 +985,10 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
                 out_v[j] = b
             elif is_cycle:
                 a, b, kc = _cycle_value(kind, coef, t_eval[j] - t)
+                _put(out_theta, out_w, wrapped, j, kc, a)
+                out_v[j] = b
+            elif is_strobe:
+                a, b, kc = _strobe_value(kind, coef, t_eval[j])
                 _put(out_theta, out_w, wrapped, j, kc, a)
                 out_v[j] = b
             else:
@@ -903,6 +1031,48 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
                 r.sec_t, r.sec_v, r.sec_vmax = tx, vx, max(abs(vx), abs(v))
             elif m1 != m0:
                 r.sec_n, r.cyc_k = 0, 0
+        if can_strobe and r.regime == REGIME_NONE:
+            # The stroboscopic samples in (t, t_new] (mbm.regimes, S1-S4).
+            while True:
+                tn, rn = strobe_time(r.str_t0, float(r.str_n), sp_hi, sp_lo)
+                if not (tn <= t_new):
+                    break
+                a, b = evaluate(kind, coef, tn - t)
+                # (S1): carried to the exact time t_s + nT_d, to first order.
+                su, _ = drive_phase_sincos(freq, phase, tn)
+                acc = (gamma + amp * su) - beta * b - omega * omega * math.sin(a)
+                ac, bc = a + b * rn, b + acc * rn
+                if r.str_n >= 2:
+                    # (S1): the deviation over the last drive period, p turns.
+                    dphi = ac - r.str_phi
+                    m = np.floor(dphi / _TWO_PI + 0.5)
+                    turns = (k - r.str_k) + m
+                    dth = (dphi - m * TWO_PI_A) - m * TWO_PI_B
+                    dv = bc - r.str_v
+                    tau = math.nan
+                    if r.str_m >= 3 and turns == r.str_p:
+                        # (S4): the switch rule; the anchor is this sample at t_n itself.
+                        scale = SWITCH_SAFETY * min(atol + rtol * abs(b), omega * (atol + rtol * abs(off + a)))
+                        ok, tau, r.str_rho, _, _ = strobe_switch(
+                            r.str_d3t, r.str_d3v, r.str_d2t, r.str_d2v, r.str_d1t, r.str_d1v, dth, dv, sp_det,
+                            omega, scale, r.str_tau1, r.str_tau2, r.str_rho)
+                        if ok:
+                            r.regime = REGIME_PHASE_LOCKED
+                            r.t_regime = t_new
+                            r.str_ta, r.str_psi = tn, strobe_phase(freq, phase, tn)
+                            r.str_k, r.str_phi, r.str_v = k, a, b
+                            r.str_n += 1
+                            break
+                    if r.str_m > 0 and turns == r.str_p:
+                        r.str_d3t, r.str_d3v = r.str_d2t, r.str_d2v
+                        r.str_d2t, r.str_d2v = r.str_d1t, r.str_d1v
+                        r.str_m = min(r.str_m + 1, 3)
+                    else:
+                        r.str_p, r.str_m, r.str_rho = turns, 1, math.nan
+                    r.str_d1t, r.str_d1v = dth, dv
+                    r.str_tau2, r.str_tau1 = r.str_tau1, tau
+                r.str_k, r.str_phi, r.str_v = k, ac, bc
+                r.str_n += 1
         if store:
             if width > 0:
                 m = min(coef.size, width)
@@ -1023,6 +1193,13 @@ def _evaluate_windows(kind, starts, start_theta, coefs, n, direction, t, out_the
                 hi = mid - 1
         i = lo
         s = tj - starts[i]
+        if coefs.shape[1] >= STROBE_WIDTH and coefs[i, 0] == STROBE_TAG:
+            # A phase-locked window: the stored drive period from its anchor, at the
+            # absolute time (S5; at most a period of windows).
+            a, b, kc = _strobe_value(kind, coefs[i], tj)
+            out_theta[j] = theta_of(kc, a)
+            out_v[j] = b
+            continue
         if coefs.shape[1] >= CYCLE_WIDTH and coefs[i, 0] == CYCLE_TAG:
             # A running-cycle window: the stored period, shifted (at most a period of windows).
             a, b, kc = _cycle_value(kind, coefs[i], s)

@@ -28,7 +28,7 @@ from ._validate import (
 from .approximants import get_approximant
 from .choice import choose_approximant
 from .problem import Pendulum, identify_model
-from .regimes import REGIME_NAMES, cycle_summary
+from .regimes import REGIME_NAMES, REGIME_PHASE_LOCKED, cycle_summary, strobe_summary
 
 __all__ = ["MBM", "MBMEventPoints", "MBMDenseOutput", "MBMWindowsDenseOutput"]
 
@@ -233,13 +233,14 @@ class MBM(_MBMBase):
     n_windows : int
         Windows taken so far.
     regime : str or None
-        The long-horizon regime the run switched to (``"locked"`` or ``"running"``,
-        see :mod:`mbm.regimes`; the dense output beyond it is the closed form or the
-        stored period, shifted), or None.
+        The long-horizon regime the run switched to (``"locked"``, ``"running"`` or,
+        driven, ``"phase-locked"``, see :mod:`mbm.regimes`; the dense output beyond it
+        is the closed form or the stored period, shifted), or None.
     t_regime : float
         When it switched (nan before).
     period, mean_velocity : float
-        The running cycle's T_c and ⟨θ'⟩ = ±2π/T_c (nan unless running).
+        The running cycle's T_c and ⟨θ'⟩ = ±2π/T_c; phase-locked, 2π/Ω and pΩ (nan
+        otherwise; mean_velocity 0 when locked).
     """
 
     def __new__(cls, *args, anchors="windows", **kwargs):
@@ -342,6 +343,9 @@ class MBM(_MBMBase):
         self.t_regime = float(words[_W_T_REGIME])
         self.period, self.mean_velocity = cycle_summary(int(ints[_W_REGIME]), words[_W_CYC_T],
                                                         words[_W_CYC_SIGN])
+        if int(ints[_W_REGIME]) == REGIME_PHASE_LOCKED:
+            self.period, self.mean_velocity = strobe_summary(words[loop.WORD["str_p"]], 1.0,
+                                                             words[loop.WORD["drive_freq"]])
         if n == 0:
             return False, self._failure(int(ints[_W_STATUS]))
         self._windows = (win_t[: n + 1], np.ascontiguousarray(win_y[: n + 1, 0]), win_coef[:n], n)
