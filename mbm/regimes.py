@@ -796,19 +796,19 @@ def strobe_split(t, t_a, p_hi, p_lo):
     """
     th, tl = two_sum(t, -t_a)
     n = np.floor(th / p_hi)
-    s = 0.0
+    sh, sl = 0.0, 0.0
     for _ in range(3):
         mh, ml = dd_mul_d(p_hi, p_lo, n)
         sh, sl = dd_add(th, tl, -mh, -ml)
-        s = sh + sl
-        # The quotient's rounding can put s just outside [0, P): one period more or less.
-        if s < 0.0:
+        # The quotient's rounding can put s just outside [0, P) (compared in
+        # double-double: s may round to fl(P) while below P): one period more or less.
+        if sh < 0.0 or (sh == 0.0 and sl < 0.0):
             n -= 1.0
-        elif s >= p_hi:
+        elif sh > p_hi or (sh == p_hi and sl >= p_lo):
             n += 1.0
         else:
             break
-    return n, min(max(s, 0.0), p_hi)
+    return n, min(max(sh + sl, 0.0), p_hi)
 
 
 @numba.njit(cache=True, inline="always")
@@ -852,17 +852,27 @@ def strobe_switch(d3t, d3v, d2t, d2v, d1t, d1v, ct, cv, det, omega, scale, tau1,
     rho, bound : float
         The spectral radius used and B (S3); inf where a fit failed.
     """
+    # Scaled to the largest component (the squares below neither underflow nor overflow).
+    big = max(max(max(omega * abs(d3t), abs(d3v)), max(omega * abs(d2t), abs(d2v))),
+              max(max(omega * abs(d1t), abs(d1v)), max(omega * abs(ct), abs(cv))))
+    if big == 0.0:
+        # Converged to the bit: every later deviation is 0.
+        return True, math.nan, rho_clean, 0.0, 0.0
+    if not (big < math.inf):
+        return False, math.nan, rho_clean, math.inf, math.inf
+    w = omega / big
+    u = 1.0 / big
     # (S3): the equations x₂ + D·x₀ = τ·x₁ of the triples (d3, d2, d1) and (d2, d1, c).
-    a0, a1, a2, a3 = omega * d2t, d2v, omega * d1t, d1v
-    b0 = omega * (d1t + det * d3t)
-    b1 = d1v + det * d3v
-    b2 = omega * (ct + det * d2t)
-    b3 = cv + det * d2v
-    x1 = math.sqrt(omega * omega * ct * ct + cv * cv)
-    x0 = math.sqrt(omega * omega * d1t * d1t + d1v * d1v)
+    a0, a1, a2, a3 = w * d2t, u * d2v, w * d1t, u * d1v
+    b0 = w * (d1t + det * d3t)
+    b1 = u * (d1v + det * d3v)
+    b2 = w * (ct + det * d2t)
+    b3 = u * (cv + det * d2v)
+    x1 = big * math.sqrt((w * ct) ** 2 + (u * cv) ** 2)
+    x0 = big * math.sqrt(a2 * a2 + a3 * a3)
     s11 = a0 * a0 + a1 * a1 + a2 * a2 + a3 * a3
     if s11 == 0.0:
-        # Converged to the bit: every later deviation is 0 if the last ones are.
+        # d2 = d1 = 0: converged to the bit if the newest is 0 too.
         return x1 == 0.0, math.nan, rho_clean, 0.0, 0.0
     tau = (a0 * b0 + a1 * b1 + a2 * b2 + a3 * b3) / s11
     res = math.sqrt((b0 - tau * a0) ** 2 + (b1 - tau * a1) ** 2 + (b2 - tau * a2) ** 2
