@@ -5,7 +5,9 @@ equilibrium θ* = d + 2πk, d = arcsin(γ/ω²).  The window loop (:func:`mbm.lo
 asks :func:`locked_bound` before each window; when the bound on the neglected
 nonlinearity over the whole rest of the horizon is within the tolerance, the run
 takes one last "window" to ``t_bound`` whose formula is the linearized motion
-(:func:`locked_eval`), so the run costs its transient only.
+(:func:`locked_eval`), so the run costs its transient only.  The RUNNING cycle (R1–R3)
+and, for a driven run, the PHASE-LOCKED orbit of the stroboscopic map (S1–S5, a
+Shapiro step) end the same way: the rest is one stored period re-taken from an anchor.
 
 Derivation (the comments below cite these items)
 -------------------------------------------------
