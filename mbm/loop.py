@@ -756,6 +756,59 @@ def _strobe_value(kind, c, t):
     return math.nan, math.nan, 0.0
 
 
+@numba.njit(**_INLINE)
+def _strobe_samples(kind, p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det):
+    """The stroboscopic samples of the window [t, t_new] (formula ``coef``, winding count
+    ``k``, ``off`` = 2πk) and the switch rule at each (mbm.regimes, S1-S4): the run
+    record ``p[0]`` keeps the samples' state and, on a switch, the anchor.  ``sp_hi``,
+    ``sp_lo``: T_d (regimes.strobe_period); ``sp_det``: e^{−βT_d}.  Returns the next
+    sample's time (after t_new)."""
+    r = p[0]
+    beta, gamma, omega = r.beta, r.gamma, r.omega
+    amp, freq, phase = r.drive_amp, r.drive_freq, r.drive_phase
+    rtol, atol = r.rtol, r.atol
+    while True:
+        tn, rn = strobe_time(r.str_t0, float(r.str_n), sp_hi, sp_lo)
+        if not (tn <= t_new):
+            return tn
+        a, b = evaluate(kind, coef, tn - t)
+        # (S1): carried to the exact time t_s + nT_d, to first order.
+        su, _ = drive_phase_sincos(freq, phase, tn)
+        acc = (gamma + amp * su) - beta * b - omega * omega * math.sin(a)
+        ac, bc = a + b * rn, b + acc * rn
+        if r.str_n >= 2:
+            # (S1): the deviation over the last drive period, p turns.
+            dphi = ac - r.str_phi
+            m = np.floor(dphi / _TWO_PI + 0.5)
+            turns = (k - r.str_k) + m
+            dth = (dphi - m * TWO_PI_A) - m * TWO_PI_B
+            dv = bc - r.str_v
+            tau = math.nan
+            if r.str_m >= 3 and turns == r.str_p:
+                # (S4): the switch rule; the anchor is this sample at t_n itself.
+                scale = SWITCH_SAFETY * min(atol + rtol * abs(b), omega * (atol + rtol * abs(off + a)))
+                ok, tau, r.str_rho, _, _ = strobe_switch(
+                    r.str_d3t, r.str_d3v, r.str_d2t, r.str_d2v, r.str_d1t, r.str_d1v, dth, dv, sp_det,
+                    omega, scale, r.str_tau1, r.str_tau2, r.str_rho)
+                if ok:
+                    r.regime = REGIME_PHASE_LOCKED
+                    r.t_regime = t_new
+                    r.str_ta, r.str_psi = tn, strobe_phase(freq, phase, tn)
+                    r.str_k, r.str_phi, r.str_v = k, a, b
+                    r.str_n += 1
+                    return math.inf
+            if r.str_m > 0 and turns == r.str_p:
+                r.str_d3t, r.str_d3v = r.str_d2t, r.str_d2v
+                r.str_d2t, r.str_d2v = r.str_d1t, r.str_d1v
+                r.str_m = min(r.str_m + 1, 3)
+            else:
+                r.str_p, r.str_m, r.str_rho = turns, 1, math.nan
+            r.str_d1t, r.str_d1v = dth, dv
+            r.str_tau2, r.str_tau1 = r.str_tau1, tau
+        r.str_k, r.str_phi, r.str_v = k, ac, bc
+        r.str_n += 1
+
+
 # ---------------------------------------------------------------------------
 # The loop
 # ---------------------------------------------------------------------------
@@ -873,13 +926,15 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
     can_strobe = (r.regimes != 0 and adaptive and direction > 0.0 and beta > 0.0 and amp != 0.0
                   and freq > 0.0 and kind == KIND_TAYLOR and r.max_dtheta == math.inf
                   and (width == 0 or width >= STROBE_WIDTH))
-    sp_hi, sp_lo, sp_det = 0.0, 0.0, 0.0
+    sp_hi, sp_lo, sp_det, sp_next = 0.0, 0.0, 0.0, math.inf  # sp_next: the next sample's time
     if can_strobe:
         sp_hi, sp_lo = strobe_period(freq, 1.0)
         sp_det = math.exp(-beta * sp_hi)  # (S2): det DP, exactly e^{−βT_d}
         if n_total == 0:
             r.str_t0, r.str_n, r.str_m = t, 1, 0
             r.str_tau1, r.str_tau2, r.str_rho = math.nan, math.nan, math.nan
+        if r.regime == REGIME_NONE:
+            sp_next = strobe_time(r.str_t0, float(r.str_n), sp_hi, sp_lo)[0]
     while direction * (t_bound - t) > 0.0:
         if n_total >= r.max_windows:
             status = STATUS_MAX_WINDOWS
@@ -1031,48 +1086,9 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
                 r.sec_t, r.sec_v, r.sec_vmax = tx, vx, max(abs(vx), abs(v))
             elif m1 != m0:
                 r.sec_n, r.cyc_k = 0, 0
-        if can_strobe and r.regime == REGIME_NONE:
+        if sp_next <= t_new and r.regime == REGIME_NONE:
             # The stroboscopic samples in (t, t_new] (mbm.regimes, S1-S4).
-            while True:
-                tn, rn = strobe_time(r.str_t0, float(r.str_n), sp_hi, sp_lo)
-                if not (tn <= t_new):
-                    break
-                a, b = evaluate(kind, coef, tn - t)
-                # (S1): carried to the exact time t_s + nT_d, to first order.
-                su, _ = drive_phase_sincos(freq, phase, tn)
-                acc = (gamma + amp * su) - beta * b - omega * omega * math.sin(a)
-                ac, bc = a + b * rn, b + acc * rn
-                if r.str_n >= 2:
-                    # (S1): the deviation over the last drive period, p turns.
-                    dphi = ac - r.str_phi
-                    m = np.floor(dphi / _TWO_PI + 0.5)
-                    turns = (k - r.str_k) + m
-                    dth = (dphi - m * TWO_PI_A) - m * TWO_PI_B
-                    dv = bc - r.str_v
-                    tau = math.nan
-                    if r.str_m >= 3 and turns == r.str_p:
-                        # (S4): the switch rule; the anchor is this sample at t_n itself.
-                        scale = SWITCH_SAFETY * min(atol + rtol * abs(b), omega * (atol + rtol * abs(off + a)))
-                        ok, tau, r.str_rho, _, _ = strobe_switch(
-                            r.str_d3t, r.str_d3v, r.str_d2t, r.str_d2v, r.str_d1t, r.str_d1v, dth, dv, sp_det,
-                            omega, scale, r.str_tau1, r.str_tau2, r.str_rho)
-                        if ok:
-                            r.regime = REGIME_PHASE_LOCKED
-                            r.t_regime = t_new
-                            r.str_ta, r.str_psi = tn, strobe_phase(freq, phase, tn)
-                            r.str_k, r.str_phi, r.str_v = k, a, b
-                            r.str_n += 1
-                            break
-                    if r.str_m > 0 and turns == r.str_p:
-                        r.str_d3t, r.str_d3v = r.str_d2t, r.str_d2v
-                        r.str_d2t, r.str_d2v = r.str_d1t, r.str_d1v
-                        r.str_m = min(r.str_m + 1, 3)
-                    else:
-                        r.str_p, r.str_m, r.str_rho = turns, 1, math.nan
-                    r.str_d1t, r.str_d1v = dth, dv
-                    r.str_tau2, r.str_tau1 = r.str_tau1, tau
-                r.str_k, r.str_phi, r.str_v = k, ac, bc
-                r.str_n += 1
+            sp_next = _strobe_samples(kind, p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det)
         if store:
             if width > 0:
                 m = min(coef.size, width)

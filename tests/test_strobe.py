@@ -416,3 +416,24 @@ def test_iv_curve_is_exact_on_the_step():
     # The zero step p = 0: locked, ⟨θ'⟩ = 0 exactly.
     z = mbm.iv_curve(1.0, [0.3], drive_amplitude=1e-3, drive_frequency=0.9)
     assert z.mean_velocity[0] == 0.0 and z.regime[0] == "locked"
+
+
+def test_a_later_start_time_sets_the_samples():
+    # (S1): the samples are at t_s + nT_d with t_s the run's start, whatever t_s (the
+    # drive's phase there is the run's own): from t0 = 1e5 + 0.3 the run switches and
+    # agrees with the ordinary run from the same start.
+    t0 = 1.0e5 + 0.3
+    t = t0 + np.linspace(0.0, 3000.0, 301)
+    m = _model(STEP)
+    r = mbm.solve(m, (t0, t[-1]), Y0, rtol=1e-10, atol=1e-10, t_eval=t)
+    assert r.regime == "phase-locked" and t0 < r.t_regime < t0 + 1000.0 and r.mean_velocity == 1.0
+    b, g, w, amp, freq, phase = STEP
+    ap, kind, karg = mbm.fast.compiled(mbm.get_approximant("taylor"))
+    p = loop.new_run(b, g, w, t0, Y0[0], Y0[1], t[-1], kind, karg, loop.CONTROLLER_ADAPTIVE, -1.0, np.inf, 1e-10,
+                     1e-10, int(ap.error_order), 10**8, regimes=0, drive_amplitude=amp, drive_frequency=freq,
+                     drive_phase=phase)
+    out = np.full((2, t.size), np.nan)
+    loop.run(p, t, out, np.empty(0), np.empty((0, 2)), np.empty((0, 0)), np.zeros(1, np.int64))
+    assert p[0]["regime"] == regimes.REGIME_NONE
+    np.testing.assert_allclose(r.y[1], out[1], rtol=0, atol=2e-11)
+    assert np.all(np.abs(r.y[0] - out[0]) <= 2e-11 * (1 + np.abs(out[0])))
