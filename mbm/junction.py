@@ -27,7 +27,7 @@ AC drive and Shapiro steps: with ``drive_amplitude=A, drive_frequency=Ω`` the b
 γ + A sin(Ωt + φ) (a microwave current), integrated by the Taylor kind with the drive's
 series (:class:`mbm.Pendulum`).  A driven run has no running cycle of its own to time
 (the equation is not autonomous).  Where a run reaches the phase-locked regime
-(:mod:`mbm.regimes` S1–S5: it has converged to a periodic orbit of the stroboscopic
+(:mod:`mbm.regimes` S1–S6: it has converged to a periodic orbit of the stroboscopic
 map, θ(t + T_d) = θ(t) + 2πp, T_d = 2π/Ω), ⟨θ'⟩ = pΩ exactly.  Elsewhere ⟨θ'⟩ is measured over
 whole drive periods on the stroboscopic samples θ_k = θ(kT_d): after a
 settling time of :data:`DRIVE_SETTLE_DECAYS` decay times (a whole number of drive
@@ -390,7 +390,7 @@ def driven_mean_velocity(model, y0, integrate=integrate_mbm):
     the weighted average over all of them).  Every run of ``integrate`` spans whole
     drive periods from t = 0, so the drive's phase at each run's start is φ, as in one
     continued run.  Where a run reports the phase-locked regime (its result's
-    ``regime``, :mod:`mbm.regimes` S1–S5), ⟨θ'⟩ is its ``mean_velocity``, pΩ exactly,
+    ``regime``, :mod:`mbm.regimes` S1–S6), ⟨θ'⟩ is its ``mean_velocity``, pΩ exactly,
     and no more blocks are measured.
 
     Returns

@@ -283,7 +283,7 @@ RUN = np.dtype(
         ("drive_amp", np.float64),
         ("drive_freq", np.float64),
         ("drive_phase", np.float64),
-        # phase-locked to the drive (mbm.regimes, S1-S5): the stroboscopic samples (the
+        # phase-locked to the drive (mbm.regimes, S1-S6): the stroboscopic samples (the
         # first sample's time origin t_s, the next sample's index n; the last sample as
         # winding count, φ and θ', carried to the exact time; the turns p of the last
         # deviations and how many in a row share it, up to 3; the three deviations
@@ -305,10 +305,12 @@ RUN = np.dtype(
         ("str_ta", np.float64),
         ("str_psi", np.float64),
         # the traces fitted at the last two samples and the last clean fit's spectral
-        # radius (nan: failed or none; S3)
+        # radius (nan: failed or none; S4)
         ("str_tau1", np.float64),
         ("str_tau2", np.float64),
         ("str_rho", np.float64),
+        # the run's window count at the last sample (a period's windows: S6)
+        ("str_nw", np.int64),
     ],
     align=True,
 )
@@ -362,7 +364,7 @@ def new_run(beta, gamma, omega, t0, theta0, v0, t_bound, kind, karg, controller,
           max_step, max_dtheta, rtol, atol, error_order, max_windows, call_windows, 0, 0, 0,
           regimes, REGIME_NONE, math.nan, 0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
           math.nan, 0.0, 0.0, 0, 0.0, theta0, 0.0, drive_amplitude, drive_frequency, drive_phase,
-          0.0, 0, 0.0, 0.0, 0.0, 0.0, 0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, math.nan, math.nan, math.nan)],
+          0.0, 0, 0.0, 0.0, 0.0, 0.0, 0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, math.nan, math.nan, math.nan, 0)],
         dtype=RUN,
     )
 
@@ -698,13 +700,13 @@ def _cycle_value(kind, c, t):
 
 
 # ---------------------------------------------------------------------------
-# Phase-locked to the drive (mbm.regimes, S1-S5)
+# Phase-locked to the drive (mbm.regimes, S1-S6)
 # ---------------------------------------------------------------------------
 
 
 @numba.njit(**_INLINE)
 def _strobe_eval(kind, c, t):
-    """A phase-locked window (coefficients: regimes.strobe_coef) at time ``t`` (S5).
+    """A phase-locked window (coefficients: regimes.strobe_coef) at time ``t`` (S6).
 
     ``t`` is the absolute time (not from the window's start): t − t_a is formed
     exactly.  Returns ``(φ, θ', k)``: θ = 2πk + φ (:func:`theta_of`), k the anchor's
@@ -723,7 +725,7 @@ def _strobe_eval(kind, c, t):
             kk, a0 = wrap(kk, a0)
         # The tolerance scale of the anchor's period, the same in every period.
         off = (k_a + kk) * _TWO_PI
-        # The drive at t_a + tt: phase Ω·tt + ψ_a (S5).
+        # The drive at t_a + tt: phase Ω·tt + ψ_a (S6).
         coef = anchor_driven(kind, karg, beta, gamma, omega, amp, freq, psi, tt, a0, a1)
         if coef[0] != 0.0:
             break
@@ -757,12 +759,12 @@ def _strobe_value(kind, c, t):
 
 
 @numba.njit(**_INLINE)
-def _strobe_samples(kind, p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det):
+def _strobe_samples(kind, p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det, n_total):
     """The stroboscopic samples of the window [t, t_new] (formula ``coef``, winding count
-    ``k``, ``off`` = 2πk) and the switch rule at each (mbm.regimes, S1-S4): the run
+    ``k``, ``off`` = 2πk) and the switch rule at each (mbm.regimes, S1-S6): the run
     record ``p[0]`` keeps the samples' state and, on a switch, the anchor.  ``sp_hi``,
-    ``sp_lo``: T_d (regimes.strobe_period); ``sp_det``: e^{−βT_d}.  Returns the next
-    sample's time (after t_new)."""
+    ``sp_lo``: T_d (regimes.strobe_period); ``sp_det``: e^{−βT_d}; ``n_total``: the
+    run's windows before this one.  Returns the next sample's time (after t_new)."""
     r = p[0]
     beta, gamma, omega = r.beta, r.gamma, r.omega
     amp, freq, phase = r.drive_amp, r.drive_freq, r.drive_phase
@@ -785,12 +787,13 @@ def _strobe_samples(kind, p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det):
             dv = bc - r.str_v
             tau = math.nan
             if r.str_m >= 3 and turns == r.str_p:
-                # (S4): the switch rule; the anchor is this sample at t_n itself.
+                # (S5): the switch rule; the anchor is this sample at t_n itself.
                 scale = SWITCH_SAFETY * min(atol + rtol * abs(b), omega * (atol + rtol * abs(off + a)))
                 ok, tau, r.str_rho, _, _ = strobe_switch(
                     r.str_d3t, r.str_d3v, r.str_d2t, r.str_d2v, r.str_d1t, r.str_d1v, dth, dv, sp_det,
                     omega, scale, r.str_tau1, r.str_tau2, r.str_rho)
-                if ok:
+                # (S6): a period the stored re-run can take (it stops at CYCLE_MAX_WINDOWS).
+                if ok and n_total + 1 - r.str_nw <= CYCLE_MAX_WINDOWS // 2:
                     r.regime = REGIME_PHASE_LOCKED
                     r.t_regime = t_new
                     r.str_ta, r.str_psi = tn, strobe_phase(freq, phase, tn)
@@ -807,6 +810,7 @@ def _strobe_samples(kind, p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det):
             r.str_tau2, r.str_tau1 = r.str_tau1, tau
         r.str_k, r.str_phi, r.str_v = k, ac, bc
         r.str_n += 1
+        r.str_nw = n_total + 1
 
 
 # ---------------------------------------------------------------------------
@@ -839,9 +843,9 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
     AC drive (``drive_amp`` ≠ 0): each window is anchored at its start time by
     :func:`anchor_driven` (the drive's series enters the coefficients).  The locked and
     running regimes assume an autonomous equation and are not tested; instead the
-    stroboscopic samples at t_s + nT_d, T_d = 2π/Ω, are watched (S1–S4 there), and once
+    stroboscopic samples at t_s + nT_d, T_d = 2π/Ω, are watched (S1–S6 there), and once
     their deviations have converged for good the windows are the stored drive period
-    from the anchor sample (``regimes.STROBE_TAG``, S5), ``regime`` phase-locked.
+    from the anchor sample (``regimes.STROBE_TAG``, S6), ``regime`` phase-locked.
 
     Parameters
     ----------
@@ -919,7 +923,7 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
     can_cycle = (r.regimes != 0 and adaptive and direction > 0.0 and beta > 0.0 and amp == 0.0
                  and (width == 0 or width >= CYCLE_WIDTH))
     sec_off = section_offset(gamma, omega) if can_cycle else 0.0
-    # Phase-locked to the drive (mbm.regimes, S1-S5): stroboscopic samples at
+    # Phase-locked to the drive (mbm.regimes, S1-S6): stroboscopic samples at
     # t_s + nT_d watched after each window of a driven run (Taylor, forwards, windows
     # from rtol/atol, β > 0; not with max_dtheta, the short windows of solve_ivp's event
     # search, each of which would re-take a period).  A fresh run sets the origin.
@@ -977,7 +981,7 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
             if not (math.isfinite(th) and math.isfinite(v)):
                 st = STATUS_NONFINITE
         elif is_strobe:
-            # The rest of the run is the stored drive period from the anchor (S5); its
+            # The rest of the run is the stored drive period from the anchor (S6); its
             # formula takes the absolute time.
             coef = strobe_coef(r.str_phi, r.str_v, r.str_k, r.str_ta, 1.0, r.str_p, r.str_psi, beta, gamma,
                                omega, amp, freq, rtol, atol, karg, error_order)
@@ -1087,8 +1091,8 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
             elif m1 != m0:
                 r.sec_n, r.cyc_k = 0, 0
         if sp_next <= t_new and r.regime == REGIME_NONE:
-            # The stroboscopic samples in (t, t_new] (mbm.regimes, S1-S4).
-            sp_next = _strobe_samples(kind, p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det)
+            # The stroboscopic samples in (t, t_new] (mbm.regimes, S1-S6).
+            sp_next = _strobe_samples(kind, p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det, n_total)
         if store:
             if width > 0:
                 m = min(coef.size, width)
@@ -1211,7 +1215,7 @@ def _evaluate_windows(kind, starts, start_theta, coefs, n, direction, t, out_the
         s = tj - starts[i]
         if coefs.shape[1] >= STROBE_WIDTH and coefs[i, 0] == STROBE_TAG:
             # A phase-locked window: the stored drive period from its anchor, at the
-            # absolute time (S5; at most a period of windows).
+            # absolute time (S6; at most a period of windows).
             a, b, kc = _strobe_value(kind, coefs[i], tj)
             out_theta[j] = theta_of(kc, a)
             out_v[j] = b

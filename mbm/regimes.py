@@ -6,7 +6,7 @@ asks :func:`locked_bound` before each window; when the bound on the neglected
 nonlinearity over the whole rest of the horizon is within the tolerance, the run
 takes one last "window" to ``t_bound`` whose formula is the linearized motion
 (:func:`locked_eval`), so the run costs its transient only.  The RUNNING cycle (R1–R3)
-and, for a driven run, the PHASE-LOCKED orbit of the stroboscopic map (S1–S5, a
+and, for a driven run, the PHASE-LOCKED orbit of the stroboscopic map (S1–S6, a
 Shapiro step) end the same way: the rest is one stored period re-taken from an anchor.
 
 Derivation (the comments below cite these items)
@@ -126,43 +126,47 @@ norm, so for ρ < 1
 whatever the multipliers: complex, real or equal (the (1 − ρ)^{−2} covers the
 defective case).  A ratio of successive |Δ| is no such bound: with complex
 multipliers the ratios oscillate about √D, above it half the time, and in a skewed
-eigenbasis above 1.  τ is measured: each triple of successive deviations satisfies
-x₂ + D·x₀ = τx₁ in both components, so the last four deviations (θ components
-weighted by ω) give four equations for the one unknown, solved by least squares
-(:func:`strobe_switch`); their residual, at most STROBE_FIT_RESIDUAL of |x₁|, checks
-the linear model (a transient far from the orbit, chaos or a run between steps fails
-it), and the fits of three successive samples must agree to STROBE_TRACE_AGREE (at the
-noise floor a fit of noise passes now and then, with any τ: measured, one in ~30;
-three that agree do not).  ρ is taken at the largest |τ| of the three, widened by
-their spread and by STROBE_NOISE_WIDEN residuals times 1 + |τ| (the noise's share of
-τ: the residual is relative to |x₁|); ρ does not decrease as |τ| grows, so a fit
-biased by the noise is covered, and ρ is never below that of the last clean fit
-(residual ≤ STROBE_CLEAN_RESIDUAL: deviations far above the noise), without which
-there is no switch: at the computed map's noise floor (its controller's window
-choices: 1e-4 to 1e-3 of the tolerance) the noise itself can fit three agreeing
-traces, of any value.  Near τ² = 4D (equal multipliers) ρ is most sensitive
-to τ, and a run there may not switch at tight tolerances, where the deviations reach
-the switch level only near the computed map's noise floor.  From τ and the exact D: τ² < 4D is a complex pair, ρ = √D; else
-ρ = (|τ| + √(τ² − 4D))/2.  Because D is exact, one decaying mode is enough: a run
-passing a saddle orbit (μ₁ > 1 > μ₂ = D/μ₁), its deviations shrinking like μ₂ⁿ while
-the unstable part is still small, fits τ = μ₂ + D/μ₂ and shows ρ = μ₁ > 1.
+eigenbasis above 1.
 
-(S4) Switch rule.  In the norm |x| = √(ω²x_θ² + x_v²) the run switches at sample N when
-the last four deviations share one p, the fit passes, ρ ≤ STROBE_MAX_MULTIPLIER and
-B ≤ SWITCH_SAFETY · min(atol + rtol·|θ'_N|, ω(atol + rtol·|θ_N|)).  As
+(S4) Measured multipliers.  Each triple of successive deviations satisfies
+x₂ + D·x₀ = τx₁ in both components, so the last four deviations (θ components
+weighted by ω) give four equations for the one unknown τ, solved by least squares
+(:func:`strobe_switch`).  From τ and the exact D: τ² < 4D is a complex pair, ρ = √D;
+else ρ = (|τ| + √(τ² − 4D))/2.  Because D is exact, one decaying mode is enough: a run
+passing a saddle orbit (μ₁ > 1 > μ₂ = D/μ₁), its deviations shrinking like μ₂ⁿ while
+the unstable part is still small, fits τ = μ₂ + D/μ₂ and shows ρ = μ₁ > 1.  The fit is
+trusted only when (a) its residual is at most STROBE_FIT_RESIDUAL of |x₁| (the linear
+model holds: a transient far from the orbit, chaos or a run between steps fails it);
+(b) the fits of three successive samples agree to STROBE_TRACE_AGREE (at the noise
+floor a fit of noise passes (a) now and then, with any τ: measured, one in ~30; three
+that agree rarely do); ρ is then taken at the largest |τ| of the three, widened by
+their spread and by STROBE_NOISE_WIDEN residuals times 1 + |τ| (the noise's share of
+τ: the residual is relative to |x₁|), and ρ does not decrease as |τ| grows, so a fit
+biased by the noise is covered; (c) ρ is not below that of the last clean fit
+(residual ≤ STROBE_CLEAN_RESIDUAL: deviations far above the noise), and there has
+been one: at the computed map's noise floor (its controller's window choices, 1e-4 to
+1e-3 of the tolerance) the noise itself can fit three agreeing traces, of any value
+(measured: a complex pair on a run whose multipliers are real, 0.83 and 0.34).  Near
+τ² = 4D (equal multipliers) ρ is most sensitive to τ, and a run there may not switch
+at tight tolerances, where the deviations reach the switch level only near the noise
+floor.
+
+(S5) Switch rule.  In the norm |x| = √(ω²x_θ² + x_v²) the run switches at sample N when
+the last four deviations share one p, the fits pass (S4), ρ ≤ STROBE_MAX_MULTIPLIER and
+B ≤ SWITCH_SAFETY · min(atol + rtol·|θ'_N|, ω(atol + rtol·|θ_N|)) (S3, ρ from S4).  As
 z_{N+n} − z_N = Σ_{k=N}^{N+n−1} Δ_k, every later stroboscopic sample differs from the
 anchor z_N by at most B: within SWITCH_SAFETY of the tolerance scale in θ' and in ωθ
 (θ is weighted by ω, not left at rtol·|θ| of the wound angle: on an orbit locked to
 the drive a θ offset is not neutral, it becomes a θ' error within a period).  Between
 samples the deviation is carried by the flow over less than one drive period, as an
 error of the ordinary run at a sample is (the extension is the ordinary run from the
-anchor, S5).  Near a step's edge (a saddle-node of P: μ₁ → 1) ρ passes
+anchor, S6).  Near a step's edge (a saddle-node of P: μ₁ → 1) ρ passes
 STROBE_MAX_MULTIPLIER and the run waits; between steps (quasi-periodic motion) and on
 chaotic motion the deviations do not decay and the fit fails: no switch.  A
 subharmonic orbit (θ(t + qT_d) = θ(t) + 2πp, q > 1) is not detected (its period-1
 deviations do not decay): the ordinary run continues.
 
-(S5) Extension.  After the switch the motion is one stored drive period re-taken from
+(S6) Extension.  After the switch the motion is one stored drive period re-taken from
 the anchor (t_a = t_N, the anchor state the window's formula there): with
 t − t_a = nT_d + s, 0 ≤ s < T_d (:func:`strobe_split`: t − t_a exact, nT_d in
 double-double, so s has no n·eps·T_d drift), θ(t) = θ_p(s) + 2πpn, θ_p the run from the
@@ -171,9 +175,10 @@ anchor at local time 0 with the drive's phase Ωs + ψ_a, ψ_a = Ωt_a + φ redu
 t_a + s to a few ulps of π, for any n.  The re-run is the same approximant and
 controller (tolerance scale from the anchor's winding count), a function of the
 anchor only, so every path and the dense output give the same bits, and an evaluation
-costs at most one period of windows.  Unlike the running cycle's (R3) the period is
+costs at most one period of windows (a run whose last period took more than half
+CYCLE_MAX_WINDOWS, the re-run's limit, does not switch).  Unlike the running cycle's (R3) the period is
 exact and the orbit has no neutral direction, so the extension's error does not grow
-with n: it is the anchor's deviation (S4) plus one period of the ordinary windows'
+with n: it is the anchor's deviation (S5) plus one period of the ordinary windows'
 error.  The result's period is T_d and its mean velocity pΩ (:func:`strobe_summary`).
 """
 
@@ -267,19 +272,19 @@ CROSSING_ITERATIONS = 60
 # ~10-100 at the tolerances in use); past it the evaluation is NaN (a failure).
 CYCLE_MAX_WINDOWS = 100000
 
-# Phase-locked to the drive (S1-S5).  REGIME_LIBRATION may take 3: this one is 4.
+# Phase-locked to the drive (S1-S6).  REGIME_LIBRATION may take 3: this one is 4.
 REGIME_PHASE_LOCKED = 4
 REGIME_NAMES[REGIME_PHASE_LOCKED] = "phase-locked"
-# A phase-locked window's coefficient vector (S5): [STROBE_TAG, φ_a, θ'_a, k_a, t_a, q, p,
+# A phase-locked window's coefficient vector (S6): [STROBE_TAG, φ_a, θ'_a, k_a, t_a, q, p,
 # ψ_a, β, γ, ω, A, Ω, rtol, atol, karg + STROBE_CODE·error_order]: the anchor at
 # θ = 2πk_a + φ_a, θ'_a at time t_a, the period qT_d (q = 1), p turns per period, ψ_a
 # the drive's phase at t_a reduced to [−π, π].  16 wide: the narrowest Taylor vector
 # (taylor8: 5 + 11) holds it, so every path can store it.
 STROBE_TAG = 103.0
 STROBE_WIDTH = 16
-# (S5): karg and error_order share one entry (both below it; exact in a double).
+# (S6): karg and error_order share one entry (both below it; exact in a double).
 STROBE_CODE = 1024
-# (S4): a stroboscopic map whose spectral radius (from the fitted trace and the exact
+# (S5): a stroboscopic map whose spectral radius (from the fitted trace and the exact
 # determinant) is above this converges too slowly to trust the fits: no switch.  The
 # switch comes at |Δ| ≈ SWITCH_SAFETY·tol·(1 − ρ)², and the computed map's own noise
 # (the controller's window choices) is 1e-4 to 1e-3 of tol (measured on the n = 1 step
@@ -287,22 +292,22 @@ STROBE_CODE = 1024
 # 4 to 40 times the noise, at 0.9 they were as small as it (a run with ρ = 0.994 then
 # fitted 0.89 and switched at 1e-6).
 STROBE_MAX_MULTIPLIER = 0.8
-# (S3): the least-squares residual of x₂ + D·x₀ = τx₁ over the four equations, relative
+# (S4): the least-squares residual of x₂ + D·x₀ = τx₁ over the four equations, relative
 # to |x₁|, above which the deviations are not (yet) the linear map's: no switch.
 # Measured on the n = 1 step of β = 0.2, A = 2, Ω = 1: 1e-7 to 1e-3 while the
 # deviations are 1e3 times the computed map's noise or more, 1e-2 to 1 at its floor.
 STROBE_FIT_RESIDUAL = 0.05
-# (S3): the noise's share of τ taken as this many residuals (relative to |x₁|) times
+# (S4): the noise's share of τ taken as this many residuals (relative to |x₁|) times
 # 1 + |τ|, the coefficients of x₀-free noise in x₂ − τx₁: the residual of 4 equations
 # with 1 unknown sees 3 of the noise's 4 degrees of freedom, so it can read low.
 STROBE_NOISE_WIDEN = 2.0
-# (S3): a fit with a residual below this (relative to |x₁|) is clean: the deviations are
+# (S4): a fit with a residual below this (relative to |x₁|) is clean: the deviations are
 # far above the computed map's noise, and its ρ stands until the next clean fit.  At
 # the noise floor the noise itself can fit three agreeing traces (measured: τ = −0.92,
 # a complex pair, on a run whose multipliers are 0.83 and 0.34), so ρ is never taken
 # below the last clean fit's.  Clean fits read 1e-7 to 1e-4 on the step above.
 STROBE_CLEAN_RESIDUAL = 1e-3
-# (S3): the traces of three successive fits must agree to this (absolute; clean fits
+# (S4): the traces of three successive fits must agree to this (absolute; clean fits
 # agree to 1e-4 on that step, fits of round-off noise scatter by 0.1 to 1).
 STROBE_TRACE_AGREE = 0.01
 
@@ -708,13 +713,13 @@ def cycle_summary(regime, period, sign):
 
 
 # ---------------------------------------------------------------------------
-# Phase-locked to the drive (S1-S5)
+# Phase-locked to the drive (S1-S6)
 # ---------------------------------------------------------------------------
 
 
 @numba.njit(cache=True)
 def strobe_period(freq, q):
-    """The period qT_d = 2πq/Ω as a double-double (items S1, S5).
+    """The period qT_d = 2πq/Ω as a double-double (items S1, S6).
 
     Parameters
     ----------
@@ -755,7 +760,7 @@ def strobe_time(t_s, n, p_hi, p_lo):
 
 @numba.njit(cache=True)
 def strobe_phase(freq, phase, t):
-    """The drive's phase Ωt + φ reduced to [−π, π] (item S5).
+    """The drive's phase Ωt + φ reduced to [−π, π] (item S6).
 
     Ωt is an exact product and the reduction is :func:`mbm.special.dd.reduce_2pi`'s, so
     the result is good to a few ulps of π for any t (|Ωt| < 1e15).
@@ -779,7 +784,7 @@ def strobe_phase(freq, phase, t):
 
 @numba.njit(cache=True)
 def strobe_split(t, t_a, p_hi, p_lo):
-    """``(n, s)`` with t − t_a = nP + s, 0 ≤ s ≤ fl(P) (item S5).
+    """``(n, s)`` with t − t_a = nP + s, 0 ≤ s ≤ fl(P) (item S6).
 
     t − t_a is formed exactly (Knuth's sum) and nP in double-double, so s carries a few
     ulps of P whatever n (not n·eps·P).
@@ -815,14 +820,14 @@ def strobe_split(t, t_a, p_hi, p_lo):
 
 @numba.njit(cache=True, inline="always")
 def _spectral_radius(tau, det):
-    # (S3): max |μ| of μ² − τμ + D = 0.
+    # (S4): max |μ| of μ² − τμ + D = 0.
     disc = tau * tau - 4.0 * det
     return math.sqrt(det) if disc < 0.0 else 0.5 * (abs(tau) + math.sqrt(disc))
 
 
 @numba.njit(cache=True)
 def strobe_switch(d3t, d3v, d2t, d2v, d1t, d1v, ct, cv, det, omega, scale, tau1, tau2, rho_clean):
-    """Whether the stroboscopic deviations have converged enough to switch (items S3, S4).
+    """Whether the stroboscopic deviations have converged enough to switch (items S3-S5).
 
     Parameters
     ----------
@@ -833,7 +838,7 @@ def strobe_switch(d3t, d3v, d2t, d2v, d1t, d1v, ct, cv, det, omega, scale, tau1,
     omega : float
         ω: the θ parts are weighted by it.
     scale : float
-        SWITCH_SAFETY · min(atol + rtol·|θ'|, ω(atol + rtol·|θ|)) at the anchor (S4).
+        SWITCH_SAFETY · min(atol + rtol·|θ'|, ω(atol + rtol·|θ|)) at the anchor (S5).
     tau1, tau2 : float
         The traces fitted at the two samples before (nan where that fit failed or was
         not made).
@@ -864,7 +869,7 @@ def strobe_switch(d3t, d3v, d2t, d2v, d1t, d1v, ct, cv, det, omega, scale, tau1,
         return False, math.nan, rho_clean, math.inf, math.inf
     w = omega / big
     u = 1.0 / big
-    # (S3): the equations x₂ + D·x₀ = τ·x₁ of the triples (d3, d2, d1) and (d2, d1, c).
+    # (S4): the equations x₂ + D·x₀ = τ·x₁ of the triples (d3, d2, d1) and (d2, d1, c).
     a0, a1, a2, a3 = w * d2t, u * d2v, w * d1t, u * d1v
     b0 = w * (d1t + det * d3t)
     b1 = u * (d1v + det * d3v)
@@ -882,14 +887,14 @@ def strobe_switch(d3t, d3v, d2t, d2v, d1t, d1v, ct, cv, det, omega, scale, tau1,
     res_rel = res / math.sqrt(s11)
     if not (res_rel <= STROBE_FIT_RESIDUAL):
         return False, math.nan, rho_clean, math.inf, math.inf
-    # (S3): ρ of this fit, at |τ| widened by the residual's share of τ (ρ does not
+    # (S4): ρ of this fit, at |τ| widened by the residual's share of τ (ρ does not
     # decrease as |τ| grows); a clean fit's is remembered, for fits at the noise floor.
     rho = _spectral_radius(abs(tau) + STROBE_NOISE_WIDEN * res_rel * (1.0 + abs(tau)), det)
     if res_rel <= STROBE_CLEAN_RESIDUAL:
         rho_clean = rho
     if math.isnan(tau1) or math.isnan(tau2) or math.isnan(rho_clean):
         return False, tau, rho_clean, math.inf, math.inf
-    # (S3): three successive fits agreeing (noise passes one fit now and then, with a
+    # (S4): three successive fits agreeing (noise passes one fit now and then, with a
     # wrong τ, but not three that agree), ρ at the largest |τ| of them widened by their
     # spread, and not below the last clean fit's.
     lo = min(tau, min(tau1, tau2))
@@ -901,6 +906,7 @@ def strobe_switch(d3t, d3v, d2t, d2v, d1t, d1v, ct, cv, det, omega, scale, tau1,
     rho = max(_spectral_radius(tau_wide, det), rho_clean)
     if not (rho <= STROBE_MAX_MULTIPLIER):
         return False, tau, rho_clean, rho, math.inf
+    # (S3): the tail of the deviations still to come.
     g = 1.0 / ((1.0 - rho) * (1.0 - rho))
     bound = x1 * (g - 1.0) + det * x0 * g
     return bound <= scale, tau, rho_clean, rho, bound
@@ -909,7 +915,7 @@ def strobe_switch(d3t, d3v, d2t, d2v, d1t, d1v, ct, cv, det, omega, scale, tau1,
 @numba.njit(cache=True)
 def strobe_coef(phi_a, v_a, k_a, t_a, q, p, psi_a, beta, gamma, omega, amp, freq, rtol, atol, karg,
                 error_order):
-    """A phase-locked window's coefficient vector (layout: STROBE_TAG; item S5).
+    """A phase-locked window's coefficient vector (layout: STROBE_TAG; item S6).
 
     Parameters
     ----------
@@ -953,7 +959,7 @@ def strobe_coef(phi_a, v_a, k_a, t_a, q, p, psi_a, beta, gamma, omega, amp, freq
 
 
 def strobe_summary(p, q, freq):
-    """``(period, mean_velocity)`` of a phase-locked run: qT_d and pΩ/q (item S5).
+    """``(period, mean_velocity)`` of a phase-locked run: qT_d and pΩ/q (item S6).
 
     Parameters
     ----------

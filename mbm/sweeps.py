@@ -483,7 +483,7 @@ def sweep(*, beta, gamma, omega=1.0, theta0=0.0, theta_dot0=0.0, t_span, t_eval=
         above (dimensions after theirs, scalars as attributes) where any is not 0;
         all three 0 (the default): no drive, and neither dimensions nor attributes.
         A driven scene's only regime is the phase-locked one (a Shapiro step,
-        :mod:`mbm.regimes` S1–S5), where its ``"mean_velocity"`` is pΩ exactly;
+        :mod:`mbm.regimes` S1–S6), where its ``"mean_velocity"`` is pΩ exactly;
         elsewhere it is the two samples' estimate, not a whole-drive-period average
         (:func:`mbm.iv_curve` measures that).
     t_span : (float, float)

@@ -254,7 +254,7 @@ def test_dense_output_is_the_window_formula():
 def test_driven_scene_takes_only_the_phase_locked_regime():
     # The same scenes lock or reach their cycle undriven.  Weakly driven, the locked one
     # follows the drive on a periodic orbit of the stroboscopic map (p = 0 turns per
-    # drive period: mbm.regimes S1-S5, "phase-locked"); the running one is not locked to
+    # drive period: mbm.regimes S1-S6, "phase-locked"); the running one is not locked to
     # the drive and is integrated to the end (the locked and running regimes assume an
     # autonomous equation).
     t = np.linspace(0.0, 300.0, 31)

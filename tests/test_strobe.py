@@ -1,4 +1,4 @@
-"""The phase-locked regime of driven runs (mbm.regimes, S1–S5): switch, bound, horizon, paths.
+"""The phase-locked regime of driven runs (mbm.regimes, S1–S6): switch, bound, horizon, paths.
 
 A driven damped run on a Shapiro step converges to a periodic orbit of the
 stroboscopic map (θ(t + T_d) = θ(t) + 2πp, T_d = 2π/Ω); once the deviations of the
@@ -29,14 +29,14 @@ Y0 = (0.0, 0.0)
 EDGE_SLOW = ((0.2, 0.47, 1.0, 2.0, 1.0, 0.0), (0.2, 0.48, 1.0, 2.0, 1.0, 0.0))
 # Motions that are not locked to the drive with one period: chaotic (a 1e-10 change of
 # θ₀ grows to O(1) by t = 400 at 1e-12), period-doubled (⟨θ'⟩ = Ω/2: q = 2, not
-# detected, S4) and a fractional step of β = 2 (p/q = 4/5).
+# detected, S5) and a fractional step of β = 2 (p/q = 4/5).
 NOT_PERIOD_ONE = ((0.2, 0.2, 1.0, 1.0, 1.0, 0.0), (0.5, 0.6, 1.0, 1.0, 1.0, 0.0),
                   (0.2, 0.3, 1.0, 1.0, 1.0, 0.0), (2.0, 1.5, 1.0, 1.0, 1.0, 0.0))
 TOLS = (1e-8, 1e-10, 1e-12)
 # Long-double oracle horizon (its own error stays at 1e-16 on the stable orbit).
 T_REF = 2.0e4
 # The on-run's scaled errors after the switch may exceed the off-run's by at most the
-# switch's share SWITCH_SAFETY (S4) and the re-run's own windows (measured: 0.006 to
+# switch's share SWITCH_SAFETY (S5) and the re-run's own windows (measured: 0.006 to
 # 0.02 of the scale in all).
 needs_oracle = pytest.mark.skipif(
     not oracle_heyoka.available(),
@@ -106,7 +106,7 @@ def test_step_switches_and_agrees_with_heyoka(step_reference, tol):
         errs[name] = e_theta, e_v
         # Tolerance proportionality, both sides of the switch (scipy's scale).
         assert np.max(e_theta / scale_theta) <= 1.0 and np.max(e_v / scale_v) <= 1.0, name
-    # After it, θ' and ωθ (S4's norm) within the off-run's error plus the switch's share.
+    # After it, θ' and ωθ (S5's norm) within the off-run's error plus the switch's share.
     omega = STEP[2]
     for k, w in ((0, omega), (1, 1.0)):
         e_on = np.max(w * errs["on"][k][post] / scale_v[post])
@@ -117,7 +117,7 @@ def test_step_switches_and_agrees_with_heyoka(step_reference, tol):
 @needs_oracle
 @pytest.mark.parametrize("tol", TOLS)
 def test_every_later_sample_within_the_bound(tol):
-    # (S4): at the stroboscopic samples after the switch the extension differs from the
+    # (S5): at the stroboscopic samples after the switch the extension differs from the
     # continued ordinary run by at most B ≤ the switch scale (plus the two runs' own
     # noise per period: 1e-3 of the tolerance, measured on the ordinary run).
     n = np.arange(0, 3001)
@@ -130,7 +130,7 @@ def test_every_later_sample_within_the_bound(tol):
     d_theta = ((on[2] - off[2]) * 2 * np.pi + (on[0] - off[0]))[later]
     d_v = (on[1] - off[1])[later]
     dist = np.sqrt((omega * d_theta) ** 2 + d_v**2)
-    # The switch's scale at the anchor (S4: atol + rtol·|θ'| and ω(atol + rtol·|θ|)).
+    # The switch's scale at the anchor (S5: atol + rtol·|θ'| and ω(atol + rtol·|θ|)).
     scale = regimes.SWITCH_SAFETY * min(tol + tol * abs(r["str_v"]),
                                         omega * (tol + tol * abs(2 * np.pi * r["str_k"] + r["str_phi"])))
     assert np.max(dist) <= scale + 1e-3 * tol, (np.max(dist), scale)
@@ -197,7 +197,7 @@ def test_bound_waits_when_a_multiplier_is_near_one(mu1, mu2):
 
 
 def test_bound_sees_a_saddle_from_its_stable_mode():
-    # (S3): deviations shrinking like μ₂ⁿ near a saddle orbit (μ₁ = 1.3 > 1), the
+    # (S4): deviations shrinking like μ₂ⁿ near a saddle orbit (μ₁ = 1.3 > 1), the
     # unstable part 1e-14 of the stable one: D is exact, so τ = μ₂ + D/μ₂ shows μ₁.
     mu1, mu2 = 1.3, 0.4
     m = np.diag([mu1, mu2])
@@ -246,7 +246,7 @@ def test_long_horizon_costs_the_transient_only():
 
 @needs_oracle
 def test_value_at_a_late_time_is_one_period_of_windows(step_reference):
-    # (S5): the period is exact (s from t − t_a in double-double), so the extension at
+    # (S6): the period is exact (s from t − t_a in double-double), so the extension at
     # t ~ 1e6 is the stored period's value at s = (t − t_a) mod T_d plus p turns per
     # period.  The exact orbit has period T_d = 2π, so its state at t is its state at
     # t − nT_d (converged long before): the reference is heyoka's there, n turns added.
@@ -357,7 +357,7 @@ def test_other_steps_and_the_mirror():
 
 
 # ---------------------------------------------------------------------------
-# The kernels: stroboscopic times, the drive's phase, the split (S1, S5)
+# The kernels: stroboscopic times, the drive's phase, the split (S1, S6)
 # ---------------------------------------------------------------------------
 
 
