@@ -31,10 +31,11 @@ from .loop import (
     KIND_TAYLOR,
     _period_store,
     _period_value,
+    _strobe_value,
     evaluate,
     theta_of,
 )
-from .regimes import CYCLE_TAG, CYCLE_WIDTH, LOCKED_TAG, LOCKED_WIDTH, locked_eval
+from .regimes import CYCLE_TAG, CYCLE_WIDTH, LOCKED_TAG, LOCKED_WIDTH, STROBE_TAG, STROBE_WIDTH, locked_eval
 
 __all__ = ["evaluate_windows_into", "evaluate_windows_at", "evaluators"]
 
@@ -92,6 +93,14 @@ def _winding(kind, c, start_theta_i):
 @numba.njit(**_INLINE)
 def _evaluate_run(kind, c, t0, start_theta_i, t, lo, hi, out_theta, out_v):
     """Window ``c`` (start ``t0``) at ``t[lo:hi]``, as :func:`mbm.loop._evaluate_windows` per time."""
+    if kind == KIND_TAYLOR and c.size >= STROBE_WIDTH and c[0] == STROBE_TAG:
+        # A phase-locked window: the stored drive period from its anchor, at the
+        # absolute time (mbm.regimes S6).
+        for q in range(lo, hi):
+            a, b, kc = _strobe_value(kind, c, t[q])
+            out_theta[q] = theta_of(kc, a)
+            out_v[q] = b
+        return
     if (kind == KIND_TAYLOR or kind == KIND_SPLIT) and c.size >= CYCLE_WIDTH and c[0] == CYCLE_TAG:
         # A cycle window: the stored period (re-taken once for these times), shifted
         # (its own winding count).

@@ -26,7 +26,15 @@ from ._validate import (
 from .approximants import Approximant, get_approximant
 from .choice import auto_name, auto_reason
 from .problem import Pendulum
-from .regimes import REGIME_LIBRATION, REGIME_LOCKED, REGIME_NAMES, REGIME_RUNNING, cycle_summary
+from .regimes import (
+    REGIME_LIBRATION,
+    REGIME_LOCKED,
+    REGIME_NAMES,
+    REGIME_PHASE_LOCKED,
+    REGIME_RUNNING,
+    cycle_summary,
+    strobe_summary,
+)
 
 __all__ = ["Integrator", "solve", "solve_batch", "SolveResult", "solve_njit"]
 
@@ -53,6 +61,7 @@ _W_T, _W_THETA, _W_V, _W_TBOUND, _W_H = _W["t"], _W["theta"], _W["v"], _W["t_bou
 _W_STATUS, _W_J, _W_NW = _W["status"], _W["j"], _W["n_windows"]
 _W_REGIME, _W_T_REGIME, _W_CYC_T, _W_CYC_SIGN = (_W[k] for k in ("regime", "t_regime", "cyc_T",
                                                                  "cyc_sign"))
+_W_STR_P, _W_FREQ = _W["str_p"], _W["drive_freq"]
 
 _NO_TIMES = np.empty(0)
 _NO_OUT = np.empty((2, 0))
@@ -299,6 +308,8 @@ class Integrator:
             regime = int(ints[_W_REGIME])
             t_regime = float(words[_W_T_REGIME])
             period, mean_velocity = cycle_summary(regime, words[_W_CYC_T], words[_W_CYC_SIGN])
+            if regime == REGIME_PHASE_LOCKED:
+                period, mean_velocity = strobe_summary(words[_W_STR_P], 1.0, words[_W_FREQ])
         finally:
             self._records.append(record)
         winding = None
@@ -360,9 +371,12 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
         ``reason`` (what "auto" chose and why), ``regime`` (``"locked"`` when the run
         switched to the closed form of its equilibrium, ``"running"`` to its limit
         cycle, ``"libration"`` to the stored period of a conservative (β = 0) motion
-        trapped in a well, :mod:`mbm.regimes`; else None), ``t_regime`` (when; nan if
-        never), ``period`` and ``mean_velocity`` (the cycle's T_c and ±2π/T_c, a
-        libration's period and 0; nan otherwise, 0 once locked), ``winding`` (int64, shape (n,), with ``wrap=True``; else None).
+        trapped in a well, ``"phase-locked"`` (driven) to a periodic orbit of the
+        stroboscopic map locked to the drive, a Shapiro step, :mod:`mbm.regimes`; else
+        None), ``t_regime`` (when; nan if never), ``period`` and ``mean_velocity`` (the
+        cycle's T_c and ±2π/T_c; a libration's period and 0; phase-locked, the drive's
+        period 2π/Ω and pΩ, p the turns per drive period; 0 locked; nan otherwise),
+        ``winding`` (int64, shape (n,), with ``wrap=True``; else None).
         On a failure ``t``, ``y`` hold the outputs reached before it.
 
     Raises
@@ -456,8 +470,6 @@ def solve_njit(beta, gamma, omega, t0, theta0, v0, t_bound, t_eval, out, rtol, a
     r.max_windows = max_windows
     r.regimes, r.t_regime = 1, math.nan  # as loop.new_run: regime switching on
     if drive_amplitude != 0.0:
-        # as loop.new_run: a driven run takes no regime
-        r.regimes = 0
         r.drive_amp, r.drive_freq, r.drive_phase = drive_amplitude, drive_frequency, drive_phase
     win_t = np.empty(0)
     win_y = np.empty((0, 2))
@@ -627,7 +639,6 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
     if driven_call:
         p["drive_amp"], p["drive_freq"], p["drive_phase"] = amp, freq, phase
         driven = amp != 0.0
-        p["regimes"][driven] = 0  # as loop.new_run: a driven run takes no regime
         undamped &= ~driven
     names = np.empty(n, dtype=object)
     # "auto" resolves to at most two approximants (damped or not); a named one to one.
@@ -656,15 +667,18 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
         # A failed scene's outputs past its failure stay NaN; its count there is 0.
         winding = np.where(np.isnan(out[:, 2]), 0.0, out[:, 2]).astype(np.int64)
         out = np.ascontiguousarray(out[:, :2])
+    # Phase-locked scenes: period 2π/Ω and pΩ, as regimes.strobe_summary (q = 1).
+    locked_to_drive = p["regime"] == REGIME_PHASE_LOCKED
     return SolveResult(
         t=te, y=out, status=status, success=status == 0, winding=winding,
         n_windows=p["n_windows"].astype(np.int64), approximant=names.astype(str),
         regime=np.array([REGIME_NAMES[int(k)] for k in p["regime"]], dtype=object),
         t_regime=p["t_regime"].astype(np.float64),
         period=np.where((p["regime"] == REGIME_RUNNING) | (p["regime"] == REGIME_LIBRATION), p["cyc_T"],
-                        np.nan),
+                        np.divide(2.0 * np.pi, p["drive_freq"], out=np.full(n, np.nan), where=locked_to_drive)),
         mean_velocity=np.where(
             (p["regime"] == REGIME_LOCKED) | (p["regime"] == REGIME_LIBRATION), 0.0,
-            np.divide(p["cyc_sign"] * 2.0 * np.pi, p["cyc_T"], out=np.full(n, np.nan),
-                      where=p["regime"] == REGIME_RUNNING)),
+            np.where(locked_to_drive, p["str_p"] * p["drive_freq"],
+                     np.divide(p["cyc_sign"] * 2.0 * np.pi, p["cyc_T"], out=np.full(n, np.nan),
+                               where=p["regime"] == REGIME_RUNNING))),
     )

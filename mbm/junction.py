@@ -26,8 +26,10 @@ to locked the retrapping current (≈ 4β/π·ω² for small β, Melnikov's ener
 AC drive and Shapiro steps: with ``drive_amplitude=A, drive_frequency=Ω`` the bias is
 γ + A sin(Ωt + φ) (a microwave current), integrated by the Taylor kind with the drive's
 series (:class:`mbm.Pendulum`).  A driven run has no running cycle of its own to time
-(the equation is not autonomous; :mod:`mbm.regimes` is off), so ⟨θ'⟩ is measured over
-whole drive periods T_d = 2π/Ω on the stroboscopic samples θ_k = θ(kT_d): after a
+(the equation is not autonomous).  Where a run reaches the phase-locked regime
+(:mod:`mbm.regimes` S1–S6: it has converged to a periodic orbit of the stroboscopic
+map, θ(t + T_d) = θ(t) + 2πp, T_d = 2π/Ω), ⟨θ'⟩ = pΩ exactly.  Elsewhere ⟨θ'⟩ is measured over
+whole drive periods on the stroboscopic samples θ_k = θ(kT_d): after a
 settling time of :data:`DRIVE_SETTLE_DECAYS` decay times (a whole number of drive
 periods), blocks of M = :data:`DRIVE_AVERAGE_PERIODS` drive periods are measured, each
 by the weighted Birkhoff average of the increments,
@@ -63,12 +65,15 @@ import numpy as np
 
 from ._validate import check_positive, check_real, check_state
 from .problem import Pendulum
+from .regimes import REGIME_NAMES, REGIME_PHASE_LOCKED
 
 __all__ = ["iv_curve", "IVCurve", "mean_velocity", "driven_mean_velocity", "integrate_mbm", "LOCKED",
            "RUNNING"]
 
 LOCKED = "locked"
 RUNNING = "running"
+# The regime name of mbm.regimes's phase-locked runs (a result's ``regime``).
+PHASE_LOCKED = REGIME_NAMES[REGIME_PHASE_LOCKED]
 
 # Settling before a point is classified, in units of the slowest decay time 1/λ of the
 # locked state's linearization (λ = β/2 underdamped, β/2 − √(β²/4 − ω_l²) overdamped):
@@ -235,15 +240,28 @@ def _fast_angle(model):
 
 def integrate_mbm(model, y, span):
     """The runs behind :func:`iv_curve`: ``solve_ivp(method=mbm.MBM)`` over (0, span)
-    from ``y`` with dense output (the windows' formulas), all windows in one step."""
+    from ``y`` with dense output (the windows' formulas), all windows in one step.
+
+    The result also carries ``regime`` and ``mean_velocity``, the solver's (the
+    long-horizon regime the run reached, :mod:`mbm.regimes`)."""
     from scipy.integrate import solve_ivp
 
     from .solver import MBM
 
-    sol = solve_ivp(model, (0.0, span), y, method=MBM, rtol=RUN_RTOL, atol=RUN_ATOL,
+    solvers = []
+
+    class _Recorded(MBM):
+        # The solver itself, for the regime it reached (solve_ivp returns no method).
+        def __init__(self, *args, **kwargs):
+            super().__init__(*args, **kwargs)
+            solvers.append(self)
+
+    sol = solve_ivp(model, (0.0, span), y, method=_Recorded, rtol=RUN_RTOL, atol=RUN_ATOL,
                     windows_per_step=None, dense_output=True, model=model)
     if not sol.success:
         raise RuntimeError(f"gamma={model.gamma!r}: {sol.message}")
+    # The long-horizon regime reached (mbm.regimes), as mbm.MBM records it.
+    sol.regime, sol.mean_velocity = solvers[0].regime, solvers[0].mean_velocity
     return sol
 
 
@@ -371,7 +389,9 @@ def driven_mean_velocity(model, y0, integrate=integrate_mbm):
     agree to :data:`DRIVE_VELOCITY_TOL` (at most :data:`DRIVE_MAX_BLOCKS` blocks; then
     the weighted average over all of them).  Every run of ``integrate`` spans whole
     drive periods from t = 0, so the drive's phase at each run's start is φ, as in one
-    continued run.
+    continued run.  Where a run reports the phase-locked regime (its result's
+    ``regime``, :mod:`mbm.regimes` S1–S6), ⟨θ'⟩ is its ``mean_velocity``, pΩ exactly,
+    and no more blocks are measured.
 
     Returns
     -------
@@ -379,7 +399,8 @@ def driven_mean_velocity(model, y0, integrate=integrate_mbm):
         ``"locked"`` when θ gains less than π over the last block (the zero-voltage
         step), else ``"running"``.
     mean_velocity : float
-        ⟨θ'⟩ (the last block's when converged, else over all blocks measured).
+        ⟨θ'⟩: pΩ where a run reached the phase-locked regime, else the last block's
+        when converged, else over all blocks measured.
     period : float
         NaN (the drive sets the time scale; no cycle is timed).
     y : ndarray, shape (2,)
@@ -388,8 +409,11 @@ def driven_mean_velocity(model, y0, integrate=integrate_mbm):
     """
     period_d = 2.0 * math.pi / model.drive_frequency
     y = np.array(y0, dtype=float)
-    y = integrate(model, y, _drive_settle_periods(model) * period_d).y[:, -1].copy()
+    sol = integrate(model, y, _drive_settle_periods(model) * period_d)
+    y = sol.y[:, -1].copy()
     y[0] = math.remainder(y[0], 2.0 * math.pi)
+    if getattr(sol, "regime", None) == PHASE_LOCKED:
+        return _phase_locked(sol, y)
     m = DRIVE_AVERAGE_PERIODS
     weights = _birkhoff_weights(m)
     samples = np.arange(m + 1) * period_d
@@ -403,6 +427,8 @@ def driven_mean_velocity(model, y0, integrate=integrate_mbm):
         means.append(float(np.dot(weights, d)) / period_d)
         y = sol.y[:, -1].copy()
         y[0] = math.remainder(y[0], 2.0 * math.pi)
+        if getattr(sol, "regime", None) == PHASE_LOCKED:
+            return _phase_locked(sol, y)
         if len(means) >= 2 and abs(means[-1] - means[-2]) <= DRIVE_VELOCITY_TOL * model.omega:
             v = means[-1]
             break
@@ -411,6 +437,13 @@ def driven_mean_velocity(model, y0, integrate=integrate_mbm):
         v = float(np.dot(_birkhoff_weights(d.size), d)) / period_d
     regime = LOCKED if abs(float(np.sum(steps[-1]))) < math.pi else RUNNING
     return regime, v, math.nan, y
+
+
+def _phase_locked(sol, y):
+    # A run that reached the phase-locked regime: ⟨θ'⟩ = pΩ exactly; locked on the
+    # zero-voltage step p = 0 (as "θ gains less than π" over a block), else running.
+    v = float(sol.mean_velocity)
+    return (LOCKED if v == 0.0 else RUNNING), v, math.nan, y
 
 
 def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0=0.0,

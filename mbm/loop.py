@@ -41,6 +41,7 @@ from .approximants.belendez2007 import belendez_anchor_kernel, belendez_eval_ker
 from .approximants.salas2022 import salas_torque_anchor, salas_torque_eval
 from .approximants.splitting import split_anchor, split_error_kernel, split_eval_kernel
 from .approximants.taylor import (
+    drive_phase_sincos,
     taylor_coefficients,
     taylor_driven_coefficients,
     taylor_error_kernel,
@@ -60,7 +61,11 @@ from .regimes import (
     REGIME_LIBRATION,
     REGIME_LOCKED,
     REGIME_NONE,
+    REGIME_PHASE_LOCKED,
     REGIME_RUNNING,
+    STROBE_CODE,
+    STROBE_TAG,
+    STROBE_WIDTH,
     SWITCH_SAFETY,
     cycle_coef,
     cycle_switch,
@@ -71,6 +76,12 @@ from .regimes import (
     locked_quick_reject,
     libration_period,
     section_offset,
+    strobe_coef,
+    strobe_period,
+    strobe_phase,
+    strobe_split,
+    strobe_switch,
+    strobe_time,
 )
 from .special.dd import two_prod, two_sum
 
@@ -270,14 +281,43 @@ RUN = np.dtype(
         ("phi", np.float64),
         ("wind", np.float64),
         # AC drive A sin(Ωt + φ) added to γ (A = 0: none, the autonomous equation; a
-        # driven run anchors by anchor_driven at each window's start time and takes no
-        # regime: the regimes assume an autonomous equation)
+        # driven run anchors by anchor_driven at each window's start time, and of the
+        # regimes takes only the phase-locked one below: the others assume an
+        # autonomous equation)
         ("drive_amp", np.float64),
         ("drive_freq", np.float64),
         ("drive_phase", np.float64),
         # low part of the stored period (cyc_T + cyc_Tlo in double-double: a
         # libration's, mbm.regimes C3; 0 for the running cycle)
         ("cyc_Tlo", np.float64),
+        # phase-locked to the drive (mbm.regimes, S1-S6): the stroboscopic samples (the
+        # first sample's time origin t_s, the next sample's index n; the last sample as
+        # winding count, φ and θ', carried to the exact time; the turns p of the last
+        # deviations and how many in a row share it, up to 3; the three deviations
+        # before the last, θ and θ' parts) and, once switched, the anchor: its time and
+        # the drive's phase there (its state in str_k, str_phi, str_v, its p in str_p)
+        ("str_t0", np.float64),
+        ("str_n", np.int64),
+        ("str_k", np.float64),
+        ("str_phi", np.float64),
+        ("str_v", np.float64),
+        ("str_p", np.float64),
+        ("str_m", np.int64),
+        ("str_d1t", np.float64),
+        ("str_d1v", np.float64),
+        ("str_d2t", np.float64),
+        ("str_d2v", np.float64),
+        ("str_d3t", np.float64),
+        ("str_d3v", np.float64),
+        ("str_ta", np.float64),
+        ("str_psi", np.float64),
+        # the traces fitted at the last two samples and the last clean fit's spectral
+        # radius (nan: failed or none; S4)
+        ("str_tau1", np.float64),
+        ("str_tau2", np.float64),
+        ("str_rho", np.float64),
+        # the run's window count at the last sample (a period's windows: S6)
+        ("str_nw", np.int64),
     ],
     align=True,
 )
@@ -324,14 +364,14 @@ def new_run(beta, gamma, omega, t0, theta0, v0, t_bound, kind, karg, controller,
             max_step, rtol, atol, error_order, max_windows, call_windows=0, max_dtheta=math.inf,
             regimes=1, drive_amplitude=0.0, drive_frequency=0.0, drive_phase=0.0):
     """A run record array of one row, at the start of its run (n_windows = j = status = 0;
-    regime switching on unless ``regimes=0`` or the run is driven, ``drive_amplitude`` ≠ 0)."""
-    if drive_amplitude != 0.0:
-        regimes = 0
+    regime switching on unless ``regimes=0``; a driven run, ``drive_amplitude`` ≠ 0, may
+    reach the phase-locked regime only)."""
     return np.array(
         [(beta, gamma, omega, t0, theta0, v0, t_bound, kind, karg, controller, h_abs,
           max_step, max_dtheta, rtol, atol, error_order, max_windows, call_windows, 0, 0, 0,
           regimes, REGIME_NONE, math.nan, 0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
-          math.nan, 0.0, 0.0, 0, 0.0, theta0, 0.0, drive_amplitude, drive_frequency, drive_phase, 0.0)],
+          math.nan, 0.0, 0.0, 0, 0.0, theta0, 0.0, drive_amplitude, drive_frequency, drive_phase, 0.0,
+          0.0, 0, 0.0, 0.0, 0.0, 0.0, 0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, math.nan, math.nan, math.nan, 0)],
         dtype=RUN,
     )
 
@@ -764,6 +804,120 @@ def _period_value(kind, c, starts, ends, coefs, n, t):
 
 
 # ---------------------------------------------------------------------------
+# Phase-locked to the drive (mbm.regimes, S1-S6)
+# ---------------------------------------------------------------------------
+
+
+@numba.njit(**_INLINE)
+def _strobe_eval(kind, c, t):
+    """A phase-locked window (coefficients: regimes.strobe_coef) at time ``t`` (S6).
+
+    ``t`` is the absolute time (not from the window's start): t − t_a is formed
+    exactly.  Returns ``(φ, θ', k)``: θ = 2πk + φ (:func:`theta_of`), k the anchor's
+    winding count, the turns of the re-run so far and p per period passed.
+    """
+    phi_a, v_a, k_a, t_a, q, turns, psi = c[1], c[2], c[3], c[4], c[5], c[6], c[7]
+    beta, gamma, omega, amp, freq, rtol, atol = c[8], c[9], c[10], c[11], c[12], c[13], c[14]
+    code = int(c[15])
+    karg = code % STROBE_CODE
+    error_order = code // STROBE_CODE
+    p_hi, p_lo = strobe_period(freq, q)
+    n, s = strobe_split(t, t_a, p_hi, p_lo)
+    tt, kk, a0, a1, h = 0.0, 0.0, phi_a, v_a, -1.0
+    for _ in range(CYCLE_MAX_WINDOWS):
+        if not (-math.pi <= a0 <= math.pi):
+            kk, a0 = wrap(kk, a0)
+        # The tolerance scale of the anchor's period, the same in every period.
+        off = (k_a + kk) * _TWO_PI
+        # The drive at t_a + tt: phase Ω·tt + ψ_a (S6).
+        coef = anchor_driven(kind, karg, beta, gamma, omega, amp, freq, psi, tt, a0, a1)
+        if coef[0] != 0.0:
+            break
+        if h <= 0.0:
+            h = first_window(kind, coef, tt, a0, a1, off, 1.0, p_hi, omega, math.inf, rtol, atol,
+                             error_order)
+        st, t_new, th, v, h_next = adaptive_window(kind, coef, tt, a0, a1, off, 1.0, p_hi, h, math.inf,
+                                                   rtol, atol, error_order)
+        if st != STATUS_OK:
+            break
+        if t_new >= s:
+            if t_new != s:
+                th, v = evaluate(kind, coef, s - tt)
+            return th, v, k_a + kk + turns * n
+        tt, a0, a1, h = t_new, th, v, h_next
+    return math.nan, math.nan, 0.0
+
+
+# As the cycle's: compiled once (the drive is Taylor's only) and called, not inlined.
+@numba.njit(cache=True)
+def _strobe_eval_taylor(c, t):
+    return _strobe_eval(KIND_TAYLOR, c, t)
+
+
+@numba.njit(**_INLINE)
+def _strobe_value(kind, c, t):
+    """:func:`_strobe_eval` of kind ``kind`` through its compiled entry (Taylor only)."""
+    if kind == KIND_TAYLOR:
+        return _strobe_eval_taylor(c, t)
+    return math.nan, math.nan, 0.0
+
+
+@numba.njit(**_INLINE)
+def _strobe_samples(kind, p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det, n_total):
+    """The stroboscopic samples of the window [t, t_new] (formula ``coef``, winding count
+    ``k``, ``off`` = 2πk) and the switch rule at each (mbm.regimes, S1-S6): the run
+    record ``p[0]`` keeps the samples' state and, on a switch, the anchor.  ``sp_hi``,
+    ``sp_lo``: T_d (regimes.strobe_period); ``sp_det``: e^{−βT_d}; ``n_total``: the
+    run's windows before this one.  Returns the next sample's time (after t_new)."""
+    r = p[0]
+    beta, gamma, omega = r.beta, r.gamma, r.omega
+    amp, freq, phase = r.drive_amp, r.drive_freq, r.drive_phase
+    rtol, atol = r.rtol, r.atol
+    while True:
+        tn, rn = strobe_time(r.str_t0, float(r.str_n), sp_hi, sp_lo)
+        if not (tn <= t_new):
+            return tn
+        a, b = evaluate(kind, coef, tn - t)
+        # (S1): carried to the exact time t_s + nT_d, to first order.
+        su, _ = drive_phase_sincos(freq, phase, tn)
+        acc = (gamma + amp * su) - beta * b - omega * omega * math.sin(a)
+        ac, bc = a + b * rn, b + acc * rn
+        if r.str_n >= 2:
+            # (S1): the deviation over the last drive period, p turns.
+            dphi = ac - r.str_phi
+            m = np.floor(dphi / _TWO_PI + 0.5)
+            turns = (k - r.str_k) + m
+            dth = (dphi - m * TWO_PI_A) - m * TWO_PI_B
+            dv = bc - r.str_v
+            tau = math.nan
+            if r.str_m >= 3 and turns == r.str_p:
+                # (S5): the switch rule; the anchor is this sample at t_n itself.
+                scale = SWITCH_SAFETY * min(atol + rtol * abs(b), omega * (atol + rtol * abs(off + a)))
+                ok, tau, r.str_rho, _, _ = strobe_switch(
+                    r.str_d3t, r.str_d3v, r.str_d2t, r.str_d2v, r.str_d1t, r.str_d1v, dth, dv, sp_det,
+                    omega, scale, r.str_tau1, r.str_tau2, r.str_rho)
+                # (S6): a period the stored re-run can take (it stops at CYCLE_MAX_WINDOWS).
+                if ok and n_total + 1 - r.str_nw <= CYCLE_MAX_WINDOWS // 2:
+                    r.regime = REGIME_PHASE_LOCKED
+                    r.t_regime = t_new
+                    r.str_ta, r.str_psi = tn, strobe_phase(freq, phase, tn)
+                    r.str_k, r.str_phi, r.str_v = k, a, b
+                    r.str_n += 1
+                    return math.inf
+            if r.str_m > 0 and turns == r.str_p:
+                r.str_d3t, r.str_d3v = r.str_d2t, r.str_d2v
+                r.str_d2t, r.str_d2v = r.str_d1t, r.str_d1v
+                r.str_m = min(r.str_m + 1, 3)
+            else:
+                r.str_p, r.str_m, r.str_rho = turns, 1, math.nan
+            r.str_d1t, r.str_d1v = dth, dv
+            r.str_tau2, r.str_tau1 = r.str_tau1, tau
+        r.str_k, r.str_phi, r.str_v = k, ac, bc
+        r.str_n += 1
+        r.str_nw = n_total + 1
+
+
+# ---------------------------------------------------------------------------
 # The loop
 # ---------------------------------------------------------------------------
 
@@ -795,8 +949,11 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
     with winding sign 0.
 
     AC drive (``drive_amp`` ≠ 0): each window is anchored at its start time by
-    :func:`anchor_driven` (the drive's series enters the coefficients), and no regime
-    is tested (``regimes`` is set to 0: the regimes assume an autonomous equation).
+    :func:`anchor_driven` (the drive's series enters the coefficients).  The locked and
+    running regimes assume an autonomous equation and are not tested; instead the
+    stroboscopic samples at t_s + nT_d, T_d = 2π/Ω, are watched (S1–S6 there), and once
+    their deviations have converged for good the windows are the stored drive period
+    from the anchor sample (``regimes.STROBE_TAG``, S6), ``regime`` phase-locked.
 
     Parameters
     ----------
@@ -828,11 +985,10 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
     r = p[0]
     karg = r.karg
     beta, gamma, omega = r.beta, r.gamma, r.omega
-    # AC drive: anchored at each window's start time (anchor_driven); the regimes assume
-    # an autonomous equation, so a driven run takes none.
+    # AC drive: anchored at each window's start time (anchor_driven); the locked and
+    # running regimes assume an autonomous equation, so a driven run takes only the
+    # phase-locked one (can_strobe below).
     amp, freq, phase = r.drive_amp, r.drive_freq, r.drive_phase
-    if amp != 0.0:
-        r.regimes = 0
     t, y0, y1, t_bound = r.t, r.theta, r.v, r.t_bound
     h_abs, max_step, rtol, atol = r.h_abs, r.max_step, r.rtol, r.atol
     adaptive = r.controller == CONTROLLER_ADAPTIVE
@@ -865,26 +1021,42 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
     # Locked regime (mbm.regimes, L5): tested before each window where it may apply
     # (windows from rtol/atol, forwards, β > 0, |γ| < ω², room for its formula in the
     # window store); the test depends on the state only, so a resumed run repeats it.
-    can_lock = (r.regimes != 0 and adaptive and direction > 0.0 and beta > 0.0
+    can_lock = (r.regimes != 0 and adaptive and direction > 0.0 and beta > 0.0 and amp == 0.0
                 and abs(gamma) < omega * omega and (width == 0 or width >= LOCKED_WIDTH))
     lk_d, lk_wl2, lk_g0, lk_g1 = 0.0, 1.0, 0.0, 0.0
     lk_ts, lk_bt, lk_bv = 0.0, math.inf, math.inf
     if can_lock:
         lk_d, lk_wl2, lk_g0, lk_g1 = locked_constants(beta, gamma, omega)
     # Running cycle (mbm.regimes, R1-R3): the return map watched after each window.
-    can_cycle = (r.regimes != 0 and adaptive and direction > 0.0 and beta > 0.0
+    can_cycle = (r.regimes != 0 and adaptive and direction > 0.0 and beta > 0.0 and amp == 0.0
                  and (width == 0 or width >= CYCLE_WIDTH))
     sec_off = section_offset(gamma, omega) if can_cycle else 0.0
     # Libration (mbm.regimes, C1-C4): a conservative run trapped in a well is periodic
     # from its start; tested once, before a fresh run's first window.
-    can_librate = (r.regimes != 0 and adaptive and direction > 0.0 and beta == 0.0 and wraps
-                   and abs(gamma) < omega * omega and n_total == 0 and r.regime == REGIME_NONE
+    can_librate = (r.regimes != 0 and adaptive and direction > 0.0 and beta == 0.0 and amp == 0.0
+                   and wraps and abs(gamma) < omega * omega and n_total == 0 and r.regime == REGIME_NONE
                    and (width == 0 or width >= CYCLE_WIDTH))
     # The stored period of a cycle window (R3), built at the first one this call meets.
     per_n = -2
     per_starts = np.empty(0)
     per_ends = np.empty((0, 2))
     per_coefs = np.empty((0, 0))
+    # Phase-locked to the drive (mbm.regimes, S1-S6): stroboscopic samples at
+    # t_s + nT_d watched after each window of a driven run (Taylor, forwards, windows
+    # from rtol/atol, β > 0; not with max_dtheta, the short windows of solve_ivp's event
+    # search, each of which would re-take a period).  A fresh run sets the origin.
+    can_strobe = (r.regimes != 0 and adaptive and direction > 0.0 and beta > 0.0 and amp != 0.0
+                  and freq > 0.0 and kind == KIND_TAYLOR and r.max_dtheta == math.inf
+                  and (width == 0 or width >= STROBE_WIDTH))
+    sp_hi, sp_lo, sp_det, sp_next = 0.0, 0.0, 0.0, math.inf  # sp_next: the next sample's time
+    if can_strobe:
+        sp_hi, sp_lo = strobe_period(freq, 1.0)
+        sp_det = math.exp(-beta * sp_hi)  # (S2): det DP, exactly e^{−βT_d}
+        if n_total == 0:
+            r.str_t0, r.str_n, r.str_m = t, 1, 0
+            r.str_tau1, r.str_tau2, r.str_rho = math.nan, math.nan, math.nan
+        if r.regime == REGIME_NONE:
+            sp_next = strobe_time(r.str_t0, float(r.str_n), sp_hi, sp_lo)[0]
     while direction * (t_bound - t) > 0.0:
         if n_total >= r.max_windows:
             status = STATUS_MAX_WINDOWS
@@ -923,6 +1095,7 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
                     r.cyc_T, r.cyc_Tlo = lb_hi, lb_lo
         is_locked = False
         is_cycle = wraps and (r.regime == REGIME_RUNNING or r.regime == REGIME_LIBRATION)
+        is_strobe = r.regime == REGIME_PHASE_LOCKED
         if is_cycle:
             pass
         elif can_lock and (r.regime == REGIME_LOCKED or not locked_quick_reject(
@@ -939,6 +1112,16 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
             if per_n == -2:
                 per_starts, per_ends, per_coefs, per_n = _period_store(kind, coef)
             th, v, k_new = _period_value(kind, coef, per_starts, per_ends, per_coefs, per_n, t_new - t)
+            st, h_next = STATUS_OK, h_abs
+            if not (math.isfinite(th) and math.isfinite(v)):
+                st = STATUS_NONFINITE
+        elif is_strobe:
+            # The rest of the run is the stored drive period from the anchor (S6); its
+            # formula takes the absolute time.
+            coef = strobe_coef(r.str_phi, r.str_v, r.str_k, r.str_ta, 1.0, r.str_p, r.str_psi, beta, gamma,
+                               omega, amp, freq, rtol, atol, karg, error_order)
+            t_new = _window_end(t, direction, t_bound, max_step)
+            th, v, k_new = _strobe_value(kind, coef, t_new)
             st, h_next = STATUS_OK, h_abs
             if not (math.isfinite(th) and math.isfinite(v)):
                 st = STATUS_NONFINITE
@@ -959,7 +1142,7 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
             if coef[0] != 0.0:
                 status = STATUS_ANCHOR
                 break
-        if is_locked or is_cycle:
+        if is_locked or is_cycle or is_strobe:
             pass
         elif adaptive:
             if h_abs <= 0.0:
@@ -974,7 +1157,7 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
         if st != STATUS_OK:
             status = st
             break
-        if kind == KIND_TAYLOR and not (is_locked or is_cycle):
+        if kind == KIND_TAYLOR and not (is_locked or is_cycle or is_strobe):
             # The window's outputs in one call, four times at once (the same Horner
             # steps per time as evaluate, so the same bits; an output at t_new is the
             # evaluation that produced the state).
@@ -996,6 +1179,10 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
                 out_v[j] = b
             elif is_cycle:
                 a, b, kc = _period_value(kind, coef, per_starts, per_ends, per_coefs, per_n, t_eval[j] - t)
+                _put(out_theta, out_w, wrapped, j, kc, a)
+                out_v[j] = b
+            elif is_strobe:
+                a, b, kc = _strobe_value(kind, coef, t_eval[j])
                 _put(out_theta, out_w, wrapped, j, kc, a)
                 out_v[j] = b
             else:
@@ -1038,6 +1225,9 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
                 r.sec_t, r.sec_v, r.sec_vmax = tx, vx, max(abs(vx), abs(v))
             elif m1 != m0:
                 r.sec_n, r.cyc_k = 0, 0
+        if sp_next <= t_new and r.regime == REGIME_NONE:
+            # The stroboscopic samples in (t, t_new] (mbm.regimes, S1-S6).
+            sp_next = _strobe_samples(kind, p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det, n_total)
         if store:
             if width > 0:
                 m = min(coef.size, width)
@@ -1167,6 +1357,13 @@ def _evaluate_windows(kind, starts, start_theta, coefs, n, direction, t, out_the
                 hi = mid - 1
         i = lo
         s = tj - starts[i]
+        if coefs.shape[1] >= STROBE_WIDTH and coefs[i, 0] == STROBE_TAG:
+            # A phase-locked window: the stored drive period from its anchor, at the
+            # absolute time (S6; at most a period of windows).
+            a, b, kc = _strobe_value(kind, coefs[i], tj)
+            out_theta[j] = theta_of(kc, a)
+            out_v[j] = b
+            continue
         if (kind == KIND_TAYLOR or kind == KIND_SPLIT) and coefs.shape[1] >= CYCLE_WIDTH \
                 and coefs[i, 0] == CYCLE_TAG:
             # A cycle window: the stored period, shifted.

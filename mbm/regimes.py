@@ -5,8 +5,10 @@ equilibrium θ* = d + 2πk, d = arcsin(γ/ω²).  The window loop (:func:`mbm.lo
 asks :func:`locked_bound` before each window; when the bound on the neglected
 nonlinearity over the whole rest of the horizon is within the tolerance, the run
 takes one last "window" to ``t_bound`` whose formula is the linearized motion
-(:func:`locked_eval`), so the run costs its transient only.  Also implemented: the
-RUNNING cycle (R1-R3 below) and the conservative LIBRATION (C1-C4 below).
+(:func:`locked_eval`), so the run costs its transient only.  The RUNNING cycle (R1–R3),
+the conservative LIBRATION (C1–C4) and, for a driven run, the PHASE-LOCKED orbit of the
+stroboscopic map (S1–S6, a Shapiro step) end the same way: the rest is one stored
+period re-taken from an anchor.
 
 Derivation (the comments below cite these items)
 -------------------------------------------------
@@ -136,6 +138,91 @@ exact product, so T's rounding to a double (1e-16·T a period) does not accumula
 (atol + rtol·θ_min) and N·δT·(ω² + |γ|) ≤ SWITCH_SAFETY · atol (|θ''| ≤ ω² + |γ|),
 N the periods to t_bound plus one and θ_min ≤ |θ| over the orbit, and the span holds
 at least LIBRATION_MIN_PERIODS periods (shorter runs are cheaper window by window).
+
+PHASE-LOCKED to the drive (β > 0, A ≠ 0, Ω > 0; a driven run settling on a periodic
+orbit of the stroboscopic map, θ(t + T_d) = θ(t) + 2πp, T_d = 2π/Ω: a Shapiro step):
+
+(S1) Samples.  The stroboscopic map P takes the state at t to the state at t + T_d.
+The loop samples z_n = (θ, θ') at t_n = t_s + nT_d (t_s the run's start, n ≥ 1) by the
+formula of the window holding t_n, as outputs are.  t_s + nT_d is formed in
+double-double (:func:`strobe_period`, :func:`strobe_time`): t_n is its rounding and
+r_n = (t_s + nT_d) − t_n its residual, |r_n| ≤ ulp(t_n)/2, and the sample is carried to
+the exact stroboscopic time to first order, (θ + θ'r_n, θ' + θ''r_n) with θ'' from the
+equation, so the deviations below have no floor θ''·ulp(t_n) growing with t.  The
+deviation Δ_n = (θ_{n+1} − θ_n − 2πp, θ'_{n+1} − θ'_n), p the nearest integer to
+(θ_{n+1} − θ_n)/2π, is formed on the winding count and φ (mbm.loop "Winding"), free of
+the rounding of |θ|.
+
+(S2) Liouville.  The flow's divergence is −β everywhere, so det DP(z) = e^{−βT_d} =: D
+at every z, exactly (not an estimate).  Near a fixed point z* of P (mod 2πp),
+Δ_{n+1} = MΔ_n + O(|Δ_n|²), M = DP(z*), and its multipliers have μ₁μ₂ = D: a complex
+pair has |μ| = √D, a real pair μ₂ = D/μ₁.
+
+(S3) Tail.  By Cayley–Hamilton M² = τM − D·I (τ = tr M = μ₁ + μ₂), so
+M^k = U_{k−1}M − D·U_{k−2}, U_j = Σ_{i=0}^{j} μ₁^i μ₂^{j−i}, |U_j| ≤ (j + 1)ρ^j,
+ρ = max |μ_i|.  With x₀ = Δ_{N−2}, x₁ = Δ_{N−1} the last two deviations, the later ones
+x_k = U_{k−1}x₁ − D·U_{k−2}x₀ obey |x_k| ≤ kρ^{k−1}|x₁| + (k − 1)Dρ^{k−2}|x₀| in any
+norm, so for ρ < 1
+
+    Σ_{k≥2} |x_k| ≤ B = |x₁|((1 − ρ)^{−2} − 1) + D|x₀|(1 − ρ)^{−2},
+
+whatever the multipliers: complex, real or equal (the (1 − ρ)^{−2} covers the
+defective case).  A ratio of successive |Δ| is no such bound: with complex
+multipliers the ratios oscillate about √D, above it half the time, and in a skewed
+eigenbasis above 1.
+
+(S4) Measured multipliers.  Each triple of successive deviations satisfies
+x₂ + D·x₀ = τx₁ in both components, so the last four deviations (θ components
+weighted by ω) give four equations for the one unknown τ, solved by least squares
+(:func:`strobe_switch`).  From τ and the exact D: τ² < 4D is a complex pair, ρ = √D;
+else ρ = (|τ| + √(τ² − 4D))/2.  Because D is exact, one decaying mode is enough: a run
+passing a saddle orbit (μ₁ > 1 > μ₂ = D/μ₁), its deviations shrinking like μ₂ⁿ while
+the unstable part is still small, fits τ = μ₂ + D/μ₂ and shows ρ = μ₁ > 1.  The fit is
+trusted only when (a) its residual is at most STROBE_FIT_RESIDUAL of |x₁| (the linear
+model holds: a transient far from the orbit, chaos or a run between steps fails it);
+(b) the fits of three successive samples agree to STROBE_TRACE_AGREE (at the noise
+floor a fit of noise passes (a) now and then, with any τ: measured, one in ~30; three
+that agree rarely do); ρ is then taken at the largest |τ| of the three, widened by
+their spread and by STROBE_NOISE_WIDEN residuals times 1 + |τ| (the noise's share of
+τ: the residual is relative to |x₁|), and ρ does not decrease as |τ| grows, so a fit
+biased by the noise is covered; (c) ρ is not below that of the last clean fit
+(residual ≤ STROBE_CLEAN_RESIDUAL: deviations far above the noise), and there has
+been one: at the computed map's noise floor (its controller's window choices, 1e-4 to
+1e-3 of the tolerance) the noise itself can fit three agreeing traces, of any value
+(measured: a complex pair on a run whose multipliers are real, 0.83 and 0.34).  Near
+τ² = 4D (equal multipliers) ρ is most sensitive to τ, and a run there may not switch
+at tight tolerances, where the deviations reach the switch level only near the noise
+floor.
+
+(S5) Switch rule.  In the norm |x| = √(ω²x_θ² + x_v²) the run switches at sample N when
+the last four deviations share one p, the fits pass (S4), ρ ≤ STROBE_MAX_MULTIPLIER and
+B ≤ SWITCH_SAFETY · min(atol + rtol·|θ'_N|, ω(atol + rtol·|θ_N|)) (S3, ρ from S4).  As
+z_{N+n} − z_N = Σ_{k=N}^{N+n−1} Δ_k, every later stroboscopic sample differs from the
+anchor z_N by at most B: within SWITCH_SAFETY of the tolerance scale in θ' and in ωθ
+(θ is weighted by ω, not left at rtol·|θ| of the wound angle: on an orbit locked to
+the drive a θ offset is not neutral, it becomes a θ' error within a period).  Between
+samples the deviation is carried by the flow over less than one drive period, as an
+error of the ordinary run at a sample is (the extension is the ordinary run from the
+anchor, S6).  Near a step's edge (a saddle-node of P: μ₁ → 1) ρ passes
+STROBE_MAX_MULTIPLIER and the run waits; between steps (quasi-periodic motion) and on
+chaotic motion the deviations do not decay and the fit fails: no switch.  A
+subharmonic orbit (θ(t + qT_d) = θ(t) + 2πp, q > 1) is not detected (its period-1
+deviations do not decay): the ordinary run continues.
+
+(S6) Extension.  After the switch the motion is one stored drive period re-taken from
+the anchor (t_a = t_N, the anchor state the window's formula there): with
+t − t_a = nT_d + s, 0 ≤ s < T_d (:func:`strobe_split`: t − t_a exact, nT_d in
+double-double, so s has no n·eps·T_d drift), θ(t) = θ_p(s) + 2πpn, θ_p the run from the
+anchor at local time 0 with the drive's phase Ωs + ψ_a, ψ_a = Ωt_a + φ reduced to
+[−π, π] in double-double (:func:`strobe_phase`): the re-run's drive is the drive at
+t_a + s to a few ulps of π, for any n.  The re-run is the same approximant and
+controller (tolerance scale from the anchor's winding count), a function of the
+anchor only, so every path and the dense output give the same bits, and an evaluation
+costs at most one period of windows (a run whose last period took more than half
+CYCLE_MAX_WINDOWS, the re-run's limit, does not switch).  Unlike the running cycle's (R3) the period is
+exact and the orbit has no neutral direction, so the extension's error does not grow
+with n: it is the anchor's deviation (S5) plus one period of the ordinary windows'
+error.  The result's period is T_d and its mean velocity pΩ (:func:`strobe_summary`).
 """
 
 import math
@@ -160,6 +247,7 @@ from .special.dd import (
     dd_sqrt,
     reduce_2pi,
     two_prod,
+    two_sum,
 )
 
 __all__ = [
@@ -185,6 +273,16 @@ __all__ = [
     "cycle_summary",
     "REGIME_LIBRATION",
     "libration_period",
+    "REGIME_PHASE_LOCKED",
+    "STROBE_TAG",
+    "STROBE_WIDTH",
+    "strobe_period",
+    "strobe_time",
+    "strobe_phase",
+    "strobe_split",
+    "strobe_switch",
+    "strobe_coef",
+    "strobe_summary",
 ]
 
 # (L5): the remainder bound must be this fraction of the tolerance, so the switch adds
@@ -208,9 +306,10 @@ REGIME_NONE = 0
 REGIME_LOCKED = 1
 REGIME_RUNNING = 2
 REGIME_LIBRATION = 3
+REGIME_PHASE_LOCKED = 4
 #: The name of each regime (``regime`` of a result).
 REGIME_NAMES = {REGIME_NONE: None, REGIME_LOCKED: "locked", REGIME_RUNNING: "running",
-                REGIME_LIBRATION: "libration"}
+                REGIME_LIBRATION: "libration", REGIME_PHASE_LOCKED: "phase-locked"}
 
 # A locked window's coefficient vector, as stored in a run's window store:
 # [LOCKED_TAG, θ₀, x₀ = θ₀ − θ*, v₀, β/2, s², ω_l²], θ = θ₀ + (x − x₀) so that the
@@ -266,6 +365,43 @@ DD_X_MINUS_SIN_TERMS = 12
 # (R3): most windows one evaluation of the stored period may take (a period takes
 # ~10-100 at the tolerances in use); past it the evaluation is NaN (a failure).
 CYCLE_MAX_WINDOWS = 100000
+
+# Phase-locked to the drive (S1-S6).
+# A phase-locked window's coefficient vector (S6): [STROBE_TAG, φ_a, θ'_a, k_a, t_a, q, p,
+# ψ_a, β, γ, ω, A, Ω, rtol, atol, karg + STROBE_CODE·error_order]: the anchor at
+# θ = 2πk_a + φ_a, θ'_a at time t_a, the period qT_d (q = 1), p turns per period, ψ_a
+# the drive's phase at t_a reduced to [−π, π].  16 wide: the narrowest Taylor vector
+# (taylor8: 5 + 11) holds it, so every path can store it.
+STROBE_TAG = 103.0
+STROBE_WIDTH = 16
+# (S6): karg and error_order share one entry (both below it; exact in a double).
+STROBE_CODE = 1024
+# (S5): a stroboscopic map whose spectral radius (from the fitted trace and the exact
+# determinant) is above this converges too slowly to trust the fits: no switch.  The
+# switch comes at |Δ| ≈ SWITCH_SAFETY·tol·(1 − ρ)², and the computed map's own noise
+# (the controller's window choices) is 1e-4 to 1e-3 of tol (measured on the n = 1 step
+# of β = 0.2, A = 2, Ω = 1 at 1e-4 to 1e-8): at ρ = 0.8 the deviations are still
+# 4 to 40 times the noise, at 0.9 they were as small as it (a run with ρ = 0.994 then
+# fitted 0.89 and switched at 1e-6).
+STROBE_MAX_MULTIPLIER = 0.8
+# (S4): the least-squares residual of x₂ + D·x₀ = τx₁ over the four equations, relative
+# to |x₁|, above which the deviations are not (yet) the linear map's: no switch.
+# Measured on the n = 1 step of β = 0.2, A = 2, Ω = 1: 1e-7 to 1e-3 while the
+# deviations are 1e3 times the computed map's noise or more, 1e-2 to 1 at its floor.
+STROBE_FIT_RESIDUAL = 0.05
+# (S4): the noise's share of τ taken as this many residuals (relative to |x₁|) times
+# 1 + |τ|, the coefficients of x₀-free noise in x₂ − τx₁: the residual of 4 equations
+# with 1 unknown sees 3 of the noise's 4 degrees of freedom, so it can read low.
+STROBE_NOISE_WIDEN = 2.0
+# (S4): a fit with a residual below this (relative to |x₁|) is clean: the deviations are
+# far above the computed map's noise, and its ρ stands until the next clean fit.  At
+# the noise floor the noise itself can fit three agreeing traces (measured: τ = −0.92,
+# a complex pair, on a run whose multipliers are 0.83 and 0.34), so ρ is never taken
+# below the last clean fit's.  Clean fits read 1e-7 to 1e-4 on the step above.
+STROBE_CLEAN_RESIDUAL = 1e-3
+# (S4): the traces of three successive fits must agree to this (absolute; clean fits
+# agree to 1e-4 on that step, fits of round-off noise scatter by 0.1 to 1).
+STROBE_TRACE_AGREE = 0.01
 
 
 @numba.njit(cache=True)
@@ -837,3 +973,266 @@ def libration_period(gamma, omega, theta, v):
         prev_h, prev_l = th, tl
         m_nodes *= 2
     return nan, nan, nan, nan, nan
+
+
+# ---------------------------------------------------------------------------
+# Phase-locked to the drive (S1-S6)
+# ---------------------------------------------------------------------------
+
+
+@numba.njit(cache=True)
+def strobe_period(freq, q):
+    """The period qT_d = 2πq/Ω as a double-double (items S1, S6).
+
+    Parameters
+    ----------
+    freq : float
+        Ω > 0.
+    q : float
+        Drive periods per period of the orbit (an integer, 1).
+
+    Returns
+    -------
+    hi, lo : float
+    """
+    hi, lo = dd_div_d(TWO_PI_HI, TWO_PI_LO, freq)
+    return dd_mul_d(hi, lo, q)
+
+
+@numba.njit(cache=True)
+def strobe_time(t_s, n, p_hi, p_lo):
+    """The stroboscopic time t_s + n·P (item S1): its rounding and the residual.
+
+    Parameters
+    ----------
+    t_s : float
+        The first sample's time (the run's start).
+    n : float
+        Sample index (an integer).
+    p_hi, p_lo : float
+        P (:func:`strobe_period`).
+
+    Returns
+    -------
+    t_n, r_n : float
+        t_n = fl(t_s + nP) and r_n = (t_s + nP) − t_n (to double-double accuracy).
+    """
+    mh, ml = dd_mul_d(p_hi, p_lo, n)
+    return dd_add(mh, ml, t_s, 0.0)
+
+
+@numba.njit(cache=True)
+def strobe_phase(freq, phase, t):
+    """The drive's phase Ωt + φ reduced to [−π, π] (item S6).
+
+    Ωt is an exact product and the reduction is :func:`mbm.special.dd.reduce_2pi`'s, so
+    the result is good to a few ulps of π for any t (|Ωt| < 1e15).
+
+    Parameters
+    ----------
+    freq, phase : float
+        The drive's Ω and φ.
+    t : float
+        Time.
+
+    Returns
+    -------
+    float
+    """
+    p, e = two_prod(freq, t)
+    hi, e2 = two_sum(p, phase)
+    _, rh, rl = reduce_2pi(hi)
+    return rh + (rl + (e + e2))
+
+
+@numba.njit(cache=True)
+def strobe_split(t, t_a, p_hi, p_lo):
+    """``(n, s)`` with t − t_a = nP + s, 0 ≤ s ≤ fl(P) (item S6).
+
+    t − t_a is formed exactly (Knuth's sum) and nP in double-double, so s carries a few
+    ulps of P whatever n (not n·eps·P).
+
+    Parameters
+    ----------
+    t, t_a : float
+        The time and the anchor's time.
+    p_hi, p_lo : float
+        P (:func:`strobe_period`).
+
+    Returns
+    -------
+    n, s : float
+        n an integer (as a float).
+    """
+    th, tl = two_sum(t, -t_a)
+    n = np.floor(th / p_hi)
+    sh, sl = 0.0, 0.0
+    for _ in range(3):
+        mh, ml = dd_mul_d(p_hi, p_lo, n)
+        sh, sl = dd_add(th, tl, -mh, -ml)
+        # The quotient's rounding can put s just outside [0, P) (compared in
+        # double-double: s may round to fl(P) while below P): one period more or less.
+        if sh < 0.0 or (sh == 0.0 and sl < 0.0):
+            n -= 1.0
+        elif sh > p_hi or (sh == p_hi and sl >= p_lo):
+            n += 1.0
+        else:
+            break
+    return n, min(max(sh + sl, 0.0), p_hi)
+
+
+@numba.njit(cache=True, inline="always")
+def _spectral_radius(tau, det):
+    # (S4): max |μ| of μ² − τμ + D = 0.
+    disc = tau * tau - 4.0 * det
+    return math.sqrt(det) if disc < 0.0 else 0.5 * (abs(tau) + math.sqrt(disc))
+
+
+@numba.njit(cache=True)
+def strobe_switch(d3t, d3v, d2t, d2v, d1t, d1v, ct, cv, det, omega, scale, tau1, tau2, rho_clean):
+    """Whether the stroboscopic deviations have converged enough to switch (items S3-S5).
+
+    Parameters
+    ----------
+    d3t, d3v, d2t, d2v, d1t, d1v, ct, cv : float
+        The last four deviations Δ (θ and θ' parts), oldest first (ct, cv the newest).
+    det : float
+        D = e^{−βP} (S2).
+    omega : float
+        ω: the θ parts are weighted by it.
+    scale : float
+        SWITCH_SAFETY · min(atol + rtol·|θ'|, ω(atol + rtol·|θ|)) at the anchor (S5).
+    tau1, tau2 : float
+        The traces fitted at the two samples before (nan where that fit failed or was
+        not made).
+    rho_clean : float
+        The spectral radius of the last clean fit (residual ≤ STROBE_CLEAN_RESIDUAL;
+        nan: none yet).
+
+    Returns
+    -------
+    ok : bool
+        A clean fit seen, the three fits (this one, tau1, tau2) within
+        STROBE_FIT_RESIDUAL and within STROBE_TRACE_AGREE of each other,
+        ρ ≤ STROBE_MAX_MULTIPLIER and B ≤ scale.
+    tau : float
+        This sample's fitted trace (nan where the fit failed).
+    rho_clean : float
+        Updated: this fit's spectral radius if it is clean, else the one given.
+    rho, bound : float
+        The spectral radius used and B (S3); inf where a fit failed.
+    """
+    # Scaled to the largest component (the squares below neither underflow nor overflow).
+    big = max(max(max(omega * abs(d3t), abs(d3v)), max(omega * abs(d2t), abs(d2v))),
+              max(max(omega * abs(d1t), abs(d1v)), max(omega * abs(ct), abs(cv))))
+    if big == 0.0:
+        # Converged to the bit: every later deviation is 0.
+        return True, math.nan, rho_clean, 0.0, 0.0
+    if not (big < math.inf):
+        return False, math.nan, rho_clean, math.inf, math.inf
+    w = omega / big
+    u = 1.0 / big
+    # (S4): the equations x₂ + D·x₀ = τ·x₁ of the triples (d3, d2, d1) and (d2, d1, c).
+    a0, a1, a2, a3 = w * d2t, u * d2v, w * d1t, u * d1v
+    b0 = w * (d1t + det * d3t)
+    b1 = u * (d1v + det * d3v)
+    b2 = w * (ct + det * d2t)
+    b3 = u * (cv + det * d2v)
+    x1 = big * math.sqrt((w * ct) ** 2 + (u * cv) ** 2)
+    x0 = big * math.sqrt(a2 * a2 + a3 * a3)
+    s11 = a0 * a0 + a1 * a1 + a2 * a2 + a3 * a3
+    if s11 == 0.0:
+        # d2 = d1 = 0: converged to the bit if the newest is 0 too.
+        return x1 == 0.0, math.nan, rho_clean, 0.0, 0.0
+    tau = (a0 * b0 + a1 * b1 + a2 * b2 + a3 * b3) / s11
+    res = math.sqrt((b0 - tau * a0) ** 2 + (b1 - tau * a1) ** 2 + (b2 - tau * a2) ** 2
+                    + (b3 - tau * a3) ** 2)
+    res_rel = res / math.sqrt(s11)
+    if not (res_rel <= STROBE_FIT_RESIDUAL):
+        return False, math.nan, rho_clean, math.inf, math.inf
+    # (S4): ρ of this fit, at |τ| widened by the residual's share of τ (ρ does not
+    # decrease as |τ| grows); a clean fit's is remembered, for fits at the noise floor.
+    rho = _spectral_radius(abs(tau) + STROBE_NOISE_WIDEN * res_rel * (1.0 + abs(tau)), det)
+    if res_rel <= STROBE_CLEAN_RESIDUAL:
+        rho_clean = rho
+    if math.isnan(tau1) or math.isnan(tau2) or math.isnan(rho_clean):
+        return False, tau, rho_clean, math.inf, math.inf
+    # (S4): three successive fits agreeing (noise passes one fit now and then, with a
+    # wrong τ, but not three that agree), ρ at the largest |τ| of them widened by their
+    # spread, and not below the last clean fit's.
+    lo = min(tau, min(tau1, tau2))
+    hi = max(tau, max(tau1, tau2))
+    if not (hi - lo <= STROBE_TRACE_AGREE):
+        return False, tau, rho_clean, math.inf, math.inf
+    tau_wide = (max(abs(tau), max(abs(tau1), abs(tau2))) + (hi - lo)
+                + STROBE_NOISE_WIDEN * res_rel * (1.0 + abs(tau)))
+    rho = max(_spectral_radius(tau_wide, det), rho_clean)
+    if not (rho <= STROBE_MAX_MULTIPLIER):
+        return False, tau, rho_clean, rho, math.inf
+    # (S3): the tail of the deviations still to come.
+    g = 1.0 / ((1.0 - rho) * (1.0 - rho))
+    bound = x1 * (g - 1.0) + det * x0 * g
+    return bound <= scale, tau, rho_clean, rho, bound
+
+
+@numba.njit(cache=True)
+def strobe_coef(phi_a, v_a, k_a, t_a, q, p, psi_a, beta, gamma, omega, amp, freq, rtol, atol, karg,
+                error_order):
+    """A phase-locked window's coefficient vector (layout: STROBE_TAG; item S6).
+
+    Parameters
+    ----------
+    phi_a, v_a, k_a : float
+        The anchor: θ = 2πk_a + φ_a, θ'_a.
+    t_a : float
+        Its time (a stroboscopic sample's).
+    q, p : float
+        Drive periods per period (1) and turns per period.
+    psi_a : float
+        :func:`strobe_phase` at t_a.
+    beta, gamma, omega, amp, freq : float
+        The model and the drive's A, Ω.
+    rtol, atol : float
+        The tolerances the stored period is re-taken with.
+    karg, error_order : int
+        The approximant's kind argument and error order.
+
+    Returns
+    -------
+    ndarray, shape (STROBE_WIDTH,)
+    """
+    c = np.empty(STROBE_WIDTH)
+    c[0] = STROBE_TAG
+    c[1] = phi_a
+    c[2] = v_a
+    c[3] = k_a
+    c[4] = t_a
+    c[5] = q
+    c[6] = p
+    c[7] = psi_a
+    c[8] = beta
+    c[9] = gamma
+    c[10] = omega
+    c[11] = amp
+    c[12] = freq
+    c[13] = rtol
+    c[14] = atol
+    c[15] = karg + STROBE_CODE * error_order
+    return c
+
+
+def strobe_summary(p, q, freq):
+    """``(period, mean_velocity)`` of a phase-locked run: qT_d and pΩ/q (item S6).
+
+    Parameters
+    ----------
+    p, q : float
+        Turns per period and drive periods per period (the record's ``str_p``, 1).
+    freq : float
+        Ω.
+
+    Returns
+    -------
+    (float, float)
+    """
+    return float(q) * 2.0 * math.pi / float(freq), float(p) * float(freq) / float(q)

@@ -30,7 +30,7 @@ from ._validate import (
 from .approximants import get_approximant
 from .choice import auto_name, auto_reason
 from .problem import Pendulum, identify_model
-from .regimes import REGIME_NAMES, REGIME_NONE, cycle_summary
+from .regimes import REGIME_NAMES, REGIME_NONE, REGIME_PHASE_LOCKED, cycle_summary, strobe_summary
 
 __all__ = ["MBM", "MBMEventPoints", "MBMDenseOutput", "MBMWindowsDenseOutput"]
 
@@ -85,6 +85,7 @@ _W_CALL = tuple(loop.WORD[k] for k in ("beta", "gamma", "omega", "t", "theta", "
 assert loop.WORD["v"] == _W_THETA + 1  # θ, θ' adjacent: the state is one slice of the record
 _W_REGIME, _W_T_REGIME, _W_CYC_T, _W_CYC_SIGN = (loop.WORD[k] for k in ("regime", "t_regime", "cyc_T",
                                                                         "cyc_sign"))
+_W_STR_P = loop.WORD["str_p"]
 
 _PAUSED = loop.STATUS_PAUSED
 _NO_TIMES = np.empty(0)
@@ -261,14 +262,14 @@ class MBM(_MBMBase):
     n_windows : int
         Windows taken so far.
     regime : str or None
-        The long-horizon regime the run switched to (``"locked"``, ``"running"`` or
-        ``"libration"``, see :mod:`mbm.regimes`; the dense output beyond it is the
-        closed form or the stored period, shifted), or None.
+        The long-horizon regime the run switched to (``"locked"``, ``"running"``,
+        ``"libration"`` or, driven, ``"phase-locked"``, see :mod:`mbm.regimes`; the
+        dense output beyond it is the closed form or the stored period, shifted), or None.
     t_regime : float
         When it switched (nan before).
     period, mean_velocity : float
-        The running cycle's T_c and ⟨θ'⟩ = ±2π/T_c, a libration's period and 0
-        (nan otherwise; mean_velocity 0 once locked).
+        The running cycle's T_c and ⟨θ'⟩ = ±2π/T_c; a libration's period and 0;
+        phase-locked, 2π/Ω and pΩ (nan otherwise; mean_velocity 0 when locked).
     """
 
     def __new__(cls, *args, anchors="windows", **kwargs):
@@ -382,6 +383,9 @@ class MBM(_MBMBase):
             self.regime = REGIME_NAMES[regime]
             self.t_regime = words.item(_W_T_REGIME)
             self.period, self.mean_velocity = cycle_summary(regime, words[_W_CYC_T], words[_W_CYC_SIGN])
+            if regime == REGIME_PHASE_LOCKED:
+                self.period, self.mean_velocity = strobe_summary(words.item(_W_STR_P), 1.0,
+                                                                 words.item(_W_FREQ))
         if n == 0:
             return False, self._failure(ints.item(_W_STATUS))
         # θ at the starts: a view of the store's column (the evaluator takes strides).

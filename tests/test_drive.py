@@ -251,22 +251,31 @@ def test_dense_output_is_the_window_formula():
     assert steps > 10 and abs(solver.y[0]) > np.pi
 
 
-def test_regimes_off_for_a_driven_scene():
-    # The same scenes lock or reach their cycle undriven; driven (however weakly) they
-    # are integrated to the end.
+def test_driven_scene_takes_only_the_phase_locked_regime():
+    # The same scenes lock or reach their cycle undriven.  Weakly driven, the locked one
+    # follows the drive on a periodic orbit of the stroboscopic map (p = 0 turns per
+    # drive period: mbm.regimes S1-S6, "phase-locked"); the running one is not locked to
+    # the drive and is integrated to the end (the locked and running regimes assume an
+    # autonomous equation).
     t = np.linspace(0.0, 300.0, 31)
-    for beta, gamma, regime in ((1.0, 0.3, "locked"), (0.1, 1.2, "running")):
+    for beta, gamma, regime, driven_regime in ((1.0, 0.3, "locked", "phase-locked"),
+                                               (0.1, 1.2, "running", None)):
         r0 = mbm.solve(mbm.Pendulum(beta, gamma), (0.0, 300.0), Y0, rtol=1e-8, atol=1e-8, t_eval=t)
         r1 = mbm.solve(mbm.Pendulum(beta, gamma, 1.0, 1e-3, 0.9), (0.0, 300.0), Y0, rtol=1e-8, atol=1e-8,
                        t_eval=t)
-        assert r0.regime == regime and r1.regime is None and math.isnan(r1.t_regime)
-        assert r1.n_windows > r0.n_windows
+        assert r0.regime == regime and r1.regime == driven_regime
+        if driven_regime is None:
+            assert math.isnan(r1.t_regime) and r1.n_windows > r0.n_windows
+        else:
+            assert r1.mean_velocity == 0.0 and r1.period == 2.0 * math.pi / 0.9 and r1.t_regime < 300.0
         b = mbm.solve_batch(beta, gamma, 1.0, Y0, (0.0, 300.0), t, rtol=1e-8, atol=1e-8,
                             drive_amplitude=[0.0, 1e-3], drive_frequency=0.9)
-        assert list(b.regime) == [regime, None]
+        assert list(b.regime) == [regime, driven_regime]
+        np.testing.assert_array_equal(b.y[1], r1.y)
         ivp = solve_ivp(mbm.Pendulum(beta, gamma, 1.0, 1e-3, 0.9), (0.0, 300.0), Y0, method=mbm.MBM,
-                        rtol=1e-8, atol=1e-8, windows_per_step=None)
+                        rtol=1e-8, atol=1e-8, windows_per_step=None, t_eval=t)
         assert ivp.success
+        np.testing.assert_array_equal(ivp.y, r1.y)
 
 
 # ---------------------------------------------------------------------------

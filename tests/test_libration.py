@@ -249,3 +249,10 @@ def test_wound_start_and_wrapped_outputs(heyoka_ref):
     ref = np.asarray(heyoka_ref(0.0, 0.4, 1.0, y0, t), dtype=np.longdouble)
     err = np.abs((plain.y - ref).astype(float)) / (1e-12 + 1e-12 * np.abs(ref.astype(float)))
     assert err.max() <= 1.0
+
+
+def test_a_driven_conservative_run_takes_no_libration():
+    # The drive breaks the energy's conservation: the period test is never made.
+    model = mbm.Pendulum(0.0, 0.4, drive_amplitude=0.1, drive_frequency=0.7)
+    r = mbm.solve(model, (0.0, 500.0), SCENE[1], rtol=1e-8, atol=1e-8)
+    assert r.success and r.regime is None and math.isnan(r.period)
