@@ -7,7 +7,7 @@ at T = 2e4, rtol = atol = 1e-12, max|θ − θ_ref| / max(1, |θ_ref|) over 201 
 against heyoka in 80-bit long double (tol 1e-19).
 
 Against heyoka (issue 13's targets: P4 at T = 1e4, P5 at T = 1e3, and both at 1e6; the
-conservative libration beside them): mbm.solve at rtol = atol = 1e-10 and heyoka's
+conservative libration and a driven scene on a Shapiro step beside them): mbm.solve at rtol = atol = 1e-10 and heyoka's
 scalar integrator (built once per tolerance, its JIT not timed) at the largest of
 HEYOKA_TOLS whose error, max|θ − θ_ref| / max(1, |θ_ref|) over the 201 outputs, is at
 most mbm's; the ratio is heyoka's median time over mbm's.
@@ -47,6 +47,11 @@ HEYOKA_CASES = {
     "P4": ("P4 (β 0.01, γ 0.3, θ₀ 1)", (1e4, 1e6)),
     "P5": ("P5 running (β 0.1, γ 1.2)", (1e3, 1e6)),
     "libration": ("conservative trapped (β 0, γ 0.4, θ₀ 0.9)", (1e3, 1e6)),
+}
+# Driven scenes (issue 14): name -> (β, γ, ω, A, Ω, θ₀, θ̇₀, horizons); the n = 1
+# Shapiro step of tests/test_strobe.py (phase-locked after t ≈ 280 at rtol 1e-10).
+DRIVEN_CASES = {
+    "Shapiro step n = 1 (β 0.2, γ 0.2, A 2, Ω 1)": (0.2, 0.2, 1.0, 2.0, 1.0, 0.0, 0.0, (1e3, 1e4)),
 }
 # heyoka's tolerance ladder, loosest first: the first whose error is at most mbm's is
 # the matched one (heyoka's error does not always fall with tol: each is measured).
@@ -145,6 +150,62 @@ def run_heyoka(repeats=3, cases=None):
     return rows
 
 
+def _driven_heyoka(fp_type, tol):
+    import heyoka as hy
+
+    x, v = hy.make_vars("x", "v")
+    # par: β, γ, ω², A, Ω (phase 0).
+    torque = hy.par[1] + hy.par[3] * hy.sin(hy.par[4] * hy.time)
+    sys_ = [(x, v), (v, torque - hy.par[0] * v - hy.par[2] * hy.sin(x))]
+    kw = {} if fp_type is float else {"fp_type": fp_type}
+    return hy.taylor_adaptive(sys_, np.zeros(2, dtype=fp_type), tol=fp_type(tol),
+                              pars=np.zeros(5, dtype=fp_type), **kw)
+
+
+def _driven_propagate(ta, fp_type, scene, te):
+    b, g, w, A, W, th, v = scene
+    ta.time = fp_type(0.0)
+    ta.state[0], ta.state[1] = fp_type(th), fp_type(v)
+    ta.pars[0], ta.pars[1], ta.pars[2] = fp_type(b), fp_type(g), fp_type(w) * fp_type(w)
+    ta.pars[3], ta.pars[4] = fp_type(A), fp_type(W)
+    out = ta.propagate_grid(np.asarray(te, dtype=fp_type))[-1]
+    return np.asarray(out[:, 0], dtype=float)
+
+
+def run_driven(repeats=3, cases=None):
+    """mbm.solve against heyoka on driven scenes at matched error; returns row dicts."""
+    ld = np.longdouble
+    ref_ta = _driven_heyoka(ld, 1e-19)
+    tas = {}
+    rows = []
+    for label, (b, g, w, A, W, th, v, horizons) in (DRIVEN_CASES if cases is None else cases).items():
+        scene = (b, g, w, A, W, th, v)
+        model = mbm.Pendulum(b, g, w, drive_amplitude=A, drive_frequency=W)
+        for T in horizons:
+            te = np.linspace(0.0, T, 201)
+            ref = _driven_propagate(ref_ta, ld, scene, te)
+            r = mbm.solve(model, (0.0, T), [th, v], rtol=TOL, atol=TOL, t_eval=te)
+            err = _error(r.y[0], ref)
+            t_mbm = _median(lambda: mbm.solve(model, (0.0, T), [th, v], rtol=TOL, atol=TOL, t_eval=te),
+                            repeats)
+            matched, best = None, (np.inf, None)
+            for tol in HEYOKA_TOLS:
+                if tol not in tas:
+                    tas[tol] = _driven_heyoka(float, tol)
+                e = _error(_driven_propagate(tas[tol], float, scene, te), ref)
+                best = min(best, (e, tol))
+                if e <= max(err, MATCH_FLOOR):
+                    matched = tol
+                    break
+            tol = best[1] if matched is None else matched
+            rows.append({"case": label, "T": T, "mbm_error": err, "mbm_time": t_mbm, "regime": r.regime,
+                         "heyoka_tol": matched, "heyoka_best": best,
+                         "heyoka_error": _error(_driven_propagate(tas[tol], float, scene, te), ref),
+                         "heyoka_time": _median(lambda: _driven_propagate(tas[tol], float, scene, te),
+                                                repeats)})
+    return rows
+
+
 def render(rows, heyoka_rows=()):
     """Markdown of :func:`run`'s rows."""
     lines = [
@@ -203,7 +264,7 @@ def main(argv=None):
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--out", default=None)
     args = ap.parse_args(argv)
-    text = render(run(args.repeats), run_heyoka(args.repeats))
+    text = render(run(args.repeats), run_heyoka(args.repeats) + run_driven(args.repeats))
     print(text)
     if args.out:
         Path(args.out).write_text(text)

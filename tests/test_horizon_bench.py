@@ -28,3 +28,12 @@ def test_unmatched_heyoka_is_said_so():
              "heyoka_tol": None, "heyoka_best": (3e-12, 1e-15), "heyoka_error": 3e-12, "heyoka_time": 2e-3}]
     text = hb.render([], rows)
     assert "| none matched: best 1e-15 | 3.0e-12 | 2.000 | ≥ 2.0 |" in text
+
+
+def test_driven_rows_are_matched():
+    case = {"step": (0.2, 0.2, 1.0, 2.0, 1.0, 0.0, 0.0, (100.0,))}
+    (row,) = hb.run_driven(repeats=1, cases=case)
+    assert row["mbm_error"] <= 1e-9 and row["heyoka_time"] > 0 and row["mbm_time"] > 0
+    if row["heyoka_tol"] is not None:
+        assert row["heyoka_error"] <= max(row["mbm_error"], hb.MATCH_FLOOR)
+    assert "| step | 100 |" in hb.render([], [row])
