@@ -42,12 +42,13 @@ from .approximants.salas2022 import salas_torque_anchor, salas_torque_eval
 from .approximants.splitting import split_anchor, split_error_kernel, split_eval_kernel
 from .approximants.taylor import (
     drive_phase_sincos,
-    taylor_coefficients,
-    taylor_driven_coefficients,
+    taylor_coefficients_into,
+    taylor_driven_coefficients_into,
     taylor_error_kernel,
     taylor_eval_kernel,
     taylor_eval_range,
     taylor_window_kernel,
+    taylor_workspace,
 )
 from .regimes import (
     CROSSING_ITERATIONS,
@@ -382,10 +383,15 @@ def new_run(beta, gamma, omega, t0, theta0, v0, t_bound, kind, karg, controller,
 
 
 @numba.njit(**_INLINE)
-def anchor(kind, karg, beta, gamma, omega, theta0, v0):
-    """Coefficient vector of approximant ``kind`` anchored at (θ₀, θ̇₀); coef[0] = status."""
+def anchor(kind, karg, beta, gamma, omega, theta0, v0, ws_coef, ws_scratch):
+    """Coefficient vector of approximant ``kind`` anchored at (θ₀, θ̇₀); coef[0] = status.
+
+    Kind "taylor" writes it into the run's workspace ``ws_coef``, ``ws_scratch``
+    (:func:`mbm.approximants.taylor.taylor_workspace`; no allocation per window), so
+    the vector lives until the next anchor; the other kinds return a new array.
+    """
     if kind == KIND_TAYLOR:
-        return taylor_coefficients(beta, gamma, omega, theta0, v0, karg)
+        return taylor_coefficients_into(beta, gamma, omega, theta0, v0, karg, ws_coef, ws_scratch)
     elif kind == KIND_EXACT:
         return belendez_anchor_kernel(beta, gamma, omega, theta0, v0)
     elif kind == KIND_SPLIT:
@@ -399,12 +405,13 @@ def anchor(kind, karg, beta, gamma, omega, theta0, v0):
 
 
 @numba.njit(**_INLINE)
-def anchor_driven(kind, karg, beta, gamma, omega, amp, freq, phase, t0, theta0, v0):
+def anchor_driven(kind, karg, beta, gamma, omega, amp, freq, phase, t0, theta0, v0, ws_coef, ws_scratch):
     """:func:`anchor` of the driven equation (torque γ + A sin(Ωt + φ)), the window
-    starting at time ``t0``; only kind "taylor" integrates a drive (the others: a bad
-    status, never the autonomous formula)."""
+    starting at time ``t0``, into the workspace as :func:`anchor`; only kind "taylor"
+    integrates a drive (the others: a bad status, never the autonomous formula)."""
     if kind == KIND_TAYLOR:
-        return taylor_driven_coefficients(beta, gamma, omega, amp, freq, phase, t0, theta0, v0, karg)
+        return taylor_driven_coefficients_into(beta, gamma, omega, amp, freq, phase, t0, theta0, v0, karg,
+                                               ws_coef, ws_scratch)
     bad = np.full(1, np.nan)
     bad[0] = -1.0
     return bad
@@ -699,10 +706,11 @@ def _period_windows(kind, c):
     # Allocated at the first window, when its width is known (one anchor call site:
     # each inlined anchor is the whole recurrence, compiled again).
     coefs = np.empty((0, 0))
+    ws_coef, ws_scratch = taylor_workspace(karg)
     starts[0], ends[0, 0], ends[0, 1] = 0.0, theta_c, v_c
     tt, a0, a1, h = 0.0, theta_c, v_c, -1.0
     for n in range(CYCLE_MAX_WINDOWS):
-        coef = anchor(kind, karg, beta, gamma, omega, a0, a1)
+        coef = anchor(kind, karg, beta, gamma, omega, a0, a1, ws_coef, ws_scratch)
         if coef[0] != 0.0:
             break
         if n == 0:
@@ -824,13 +832,14 @@ def _strobe_eval(kind, c, t):
     p_hi, p_lo = strobe_period(freq, q)
     n, s = strobe_split(t, t_a, p_hi, p_lo)
     tt, kk, a0, a1, h = 0.0, 0.0, phi_a, v_a, -1.0
+    ws_coef, ws_scratch = taylor_workspace(karg)
     for _ in range(CYCLE_MAX_WINDOWS):
         if not (-math.pi <= a0 <= math.pi):
             kk, a0 = wrap(kk, a0)
         # The tolerance scale of the anchor's period, the same in every period.
         off = (k_a + kk) * _TWO_PI
         # The drive at t_a + tt: phase Ω·tt + ψ_a (S6).
-        coef = anchor_driven(kind, karg, beta, gamma, omega, amp, freq, psi, tt, a0, a1)
+        coef = anchor_driven(kind, karg, beta, gamma, omega, amp, freq, psi, tt, a0, a1, ws_coef, ws_scratch)
         if coef[0] != 0.0:
             break
         if h <= 0.0:
@@ -1036,6 +1045,8 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
     can_librate = (r.regimes != 0 and adaptive and direction > 0.0 and beta == 0.0 and amp == 0.0
                    and wraps and abs(gamma) < omega * omega and n_total == 0 and r.regime == REGIME_NONE
                    and (width == 0 or width >= CYCLE_WIDTH))
+    # One coefficient workspace for the call's windows (anchor).
+    ws_coef, ws_scratch = taylor_workspace(karg)
     # The stored period of a cycle window (R3), built at the first one this call meets.
     per_n = -2
     per_starts = np.empty(0)
@@ -1136,9 +1147,10 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
                 r.t_regime = t
         else:
             if amp == 0.0:
-                coef = anchor(kind, karg, beta, gamma, omega, y0, y1)
+                coef = anchor(kind, karg, beta, gamma, omega, y0, y1, ws_coef, ws_scratch)
             else:
-                coef = anchor_driven(kind, karg, beta, gamma, omega, amp, freq, phase, t, y0, y1)
+                coef = anchor_driven(kind, karg, beta, gamma, omega, amp, freq, phase, t, y0, y1, ws_coef,
+                                     ws_scratch)
             if coef[0] != 0.0:
                 status = STATUS_ANCHOR
                 break
@@ -1164,7 +1176,10 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
             j2 = j
             while j2 < ne and (direction * (t_eval[j2] - t_new) <= 0.0):
                 j2 += 1
-            taylor_eval_range(coef, t, t_eval, j, j2, out_theta, out_v)
+            if j2 > j:
+                # (Not called for an empty range: the call alone, its arrays passed and
+                # reference-counted, cost ~25 ns of a ~400 ns window.)
+                taylor_eval_range(coef, t, t_eval, j, j2, out_theta, out_v)
             if k != 0.0 or wrapped:
                 for i in range(j, j2):
                     _put(out_theta, out_w, wrapped, i, k, out_theta[i])

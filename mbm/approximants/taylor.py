@@ -106,6 +106,7 @@ from numba import njit
 
 from ..special.dd import two_prod, two_sum
 from .base import Approximant, register
+from .taylor_unrolled import taylor24_driven_series, taylor24_series
 
 __all__ = [
     "taylor_coefficients",
@@ -212,14 +213,72 @@ def _start(a, scratch, nt, theta0, v0):
 @njit(cache=True, inline="always")
 def _sin_order(k, off, br, sn, cn):
     # Order k of s = sin θ and c = cos θ from s' = cθ', c' = −sθ' (the module's
-    # "Coefficients"): k s_k = Σ b_j c_{k−j}, k c_k = −Σ b_j s_{k−j}; writes s_k, c_k
-    # and returns s_k.
-    ss = 0.0
-    cc = 0.0
-    for m in range(k):
-        bb = br[off + m]
-        ss += bb * cn[m]
-        cc += bb * sn[m]
+    # "Coefficients"): k s_k = Σ_{m<k} T_m with T_m = b_{k−m} c_m (and likewise c_k);
+    # writes s_k, c_k and returns s_k.  The order of the sum: the middle terms
+    # T_1 … T_{k−2} in four accumulators (T_m into accumulator (m − 1) mod 4), those
+    # added left to right, then T_0 (b_k, the newest b), then T_{k−1} (c_{k−1}, from
+    # the order before): independent chains, and the newest inputs enter last, so an
+    # order's sum waits little on the one before.  The straight-line kernels of
+    # mbm.approximants.taylor_unrolled add in this order too (the same bits).
+    if k == 1:
+        ss = br[off] * cn[0]
+        cc = br[off] * sn[0]
+    elif k == 2:
+        ss = br[off] * cn[0] + br[off + 1] * cn[1]
+        cc = br[off] * sn[0] + br[off + 1] * sn[1]
+    else:
+        last = k - 2  # the middle terms are m = 1 .. last
+        s0 = br[off + 1] * cn[1]
+        c0 = br[off + 1] * sn[1]
+        s1 = s2 = s3 = c1 = c2 = c3 = 0.0
+        if last >= 2:
+            s1 = br[off + 2] * cn[2]
+            c1 = br[off + 2] * sn[2]
+        if last >= 3:
+            s2 = br[off + 3] * cn[3]
+            c2 = br[off + 3] * sn[3]
+        if last >= 4:
+            s3 = br[off + 4] * cn[4]
+            c3 = br[off + 4] * sn[4]
+        m = 5
+        while m + 3 <= last:
+            b0 = br[off + m]
+            b1 = br[off + m + 1]
+            b2 = br[off + m + 2]
+            b3 = br[off + m + 3]
+            s0 += b0 * cn[m]
+            s1 += b1 * cn[m + 1]
+            s2 += b2 * cn[m + 2]
+            s3 += b3 * cn[m + 3]
+            c0 += b0 * sn[m]
+            c1 += b1 * sn[m + 1]
+            c2 += b2 * sn[m + 2]
+            c3 += b3 * sn[m + 3]
+            m += 4
+        if m <= last:
+            s0 += br[off + m] * cn[m]
+            c0 += br[off + m] * sn[m]
+            m += 1
+        if m <= last:
+            s1 += br[off + m] * cn[m]
+            c1 += br[off + m] * sn[m]
+            m += 1
+        if m <= last:
+            s2 += br[off + m] * cn[m]
+            c2 += br[off + m] * sn[m]
+        ss = s0
+        cc = c0
+        if last >= 2:
+            ss += s1
+            cc += c1
+        if last >= 3:
+            ss += s2
+            cc += c2
+        if last >= 4:
+            ss += s3
+            cc += c3
+        ss = (ss + br[off] * cn[0]) + br[off + k - 1] * cn[k - 1]
+        cc = (cc + br[off] * sn[0]) + br[off + k - 1] * sn[k - 1]
     sk = ss * _INV_K[k]
     sn[k] = sk
     cn[k] = -cc * _INV_K[k]
@@ -257,7 +316,6 @@ def taylor_coefficients_into(beta, gamma, omega, theta0, v0, n_order, coef, scra
         or ``coef[:HEADER]`` with status STATUS_BAD_ORDER for a degree outside
         1 .. MAX_ORDER or buffers too small for it.
     """
-    nt = n_order + N_EXTRA  # highest coefficient index computed
     ok, coef = _header(coef, scratch, n_order, beta, gamma, omega)
     if not ok:
         return coef
@@ -267,8 +325,22 @@ def taylor_coefficients_into(beta, gamma, omega, theta0, v0, n_order, coef, scra
         coef[0] = STATUS_BAD_STATE
         return coef
 
-    w2 = omega * omega
     a = coef[HEADER:]
+    if n_order == 24:
+        # The same recurrence written out (mbm.approximants._unrolled_gen): same bits.
+        taylor24_series(beta, gamma, omega, theta0, v0, a)
+    else:
+        series_loop(beta, gamma, omega, theta0, v0, n_order, a, scratch)
+    return coef
+
+
+@njit(cache=True)
+def series_loop(beta, gamma, omega, theta0, v0, n_order, a, scratch):
+    """The recurrence's loop form: a₀ … a_{N+2} into ``a`` (``scratch`` as
+    :func:`taylor_workspace`'s); the degrees of :mod:`mbm.approximants.taylor_unrolled`
+    take the written-out form, of the same bits."""
+    nt = n_order + N_EXTRA
+    w2 = omega * omega
     # Scratch (the caller's buffer): s_m, c_m in natural order and b_j = j a_j (the θ'
     # coefficients) stored backwards, br[nt − j] = b_j, so that both convolution sums
     # Σ_{j=1}^{k} b_j c_{k−j} = Σ_{m=0}^{k−1} c_m br[nt − k + m] run forward from m = 0
@@ -283,7 +355,6 @@ def taylor_coefficients_into(beta, gamma, omega, theta0, v0, n_order, coef, scra
         sk = _sin_order(k, off, br, sn, cn)
         a[k + 2] = (-beta * br[off - 1] - w2 * sk) * _INV_K12[k]
         br[off - 2] = (k + 2.0) * a[k + 2]
-    return coef
 
 
 @njit(cache=True)
@@ -356,7 +427,6 @@ def taylor_driven_coefficients_into(beta, gamma, omega, amp, freq, phase, t0, th
     ndarray
         A view of ``coef`` (the layout at module top).
     """
-    nt = n_order + N_EXTRA  # highest coefficient index computed
     ok, coef = _header(coef, scratch, n_order, beta, gamma, omega)
     if not ok:
         return coef
@@ -367,14 +437,27 @@ def taylor_driven_coefficients_into(beta, gamma, omega, amp, freq, phase, t0, th
         coef[0] = STATUS_BAD_STATE
         return coef
 
-    w2 = omega * omega
     a = coef[HEADER:]
-    # The scratch layout of taylor_coefficients_into (b_j backwards, s_m and c_m forwards).
-    br, sn, cn, s0 = _start(a, scratch, nt, theta0, v0)
+    u, w = drive_phase_sincos(freq, phase, t0)
+    if n_order == 24:
+        # The same recurrence written out (mbm.approximants._unrolled_gen): same bits.
+        taylor24_driven_series(beta, gamma, omega, amp, freq, u, w, theta0, v0, a)
+    else:
+        driven_series_loop(beta, gamma, omega, amp, freq, u, w, theta0, v0, n_order, a, scratch)
+    return coef
+
+
+@njit(cache=True)
+def driven_series_loop(beta, gamma, omega, amp, freq, u, w, theta0, v0, n_order, a, scratch):
+    """:func:`series_loop` of the driven recurrence, the drive's phase as u = sin ψ,
+    w = cos ψ (:func:`drive_phase_sincos`)."""
+    nt = n_order + N_EXTRA
+    w2 = omega * omega
     # d_k = f_k · u_k: f_k = A Ω^k / k!, u_k = sin(ψ + kπ/2), w_k = cos(ψ + kπ/2), and
     # (u, w) ← (w, −u) from one order to the next (exact: a swap and a sign).
-    u, w = drive_phase_sincos(freq, phase, t0)
     f = amp
+    # The scratch layout of series_loop (b_j backwards, s_m and c_m forwards).
+    br, sn, cn, s0 = _start(a, scratch, nt, theta0, v0)
     a[2] = 0.5 * ((gamma + f * u) - beta * v0 - w2 * s0)
     br[nt - 2] = 2.0 * a[2]
     for k in range(1, nt - 1):
@@ -384,7 +467,6 @@ def taylor_driven_coefficients_into(beta, gamma, omega, amp, freq, phase, t0, th
         u, w = w, -u
         a[k + 2] = (f * u - beta * br[off - 1] - w2 * sk) * _INV_K12[k]
         br[off - 2] = (k + 2.0) * a[k + 2]
-    return coef
 
 
 @njit(cache=True)
