@@ -16,6 +16,7 @@ from . import loop
 from ._validate import (
     DEFAULT_MAX_WINDOWS,
     RTOL_FLOOR,
+    _FLOAT64,
     as_t_eval,
     check_max_windows,
     check_positive,
@@ -64,6 +65,10 @@ _W = loop.WORD
 _W_T, _W_THETA, _W_V, _W_TBOUND, _W_H = _W["t"], _W["theta"], _W["v"], _W["t_bound"], _W["h_abs"]
 _W_CYC_T, _W_CYC_SIGN = _W["cyc_T"], _W["cyc_sign"]
 _W_STR_P, _W_FREQ = _W["str_p"], _W["drive_freq"]
+# Bound once: Integrator.solve's fast path reads no module attributes (each read is a
+# few percent of its fixed cost).
+_PAUSED, _OK, _MESSAGES = loop.STATUS_PAUSED, loop.STATUS_OK, loop.STATUS_MESSAGES
+_NDARRAY, _EMPTY, _NAN = np.ndarray, np.empty, math.nan
 
 
 class SolveResult(dict):
@@ -390,13 +395,17 @@ class Integrator:
             if wrap:
                 raise ValueError("wrap=True needs t_eval (the window ends are reported as θ)")
         else:
-            te = as_t_eval(t_eval)
-            y = np.empty((3 if wrap else 2, te.size))
+            te = t_eval
+            # as_t_eval's test, inline (the common t_eval passes it: no call)
+            if not (type(te) is _NDARRAY and te.ndim == 1 and te.dtype is _FLOAT64 and te.flags.carray):
+                te = as_t_eval(t_eval)
+            y = _EMPTY((3 if wrap else 2, te.size))
         h = self._h
         if self._span_plan:
             h = loop.plan_windows(self.approximant, None, self.max_step, abs(t1 - t0))[1]
+        records = self._records
         try:
-            buf = self._records.pop()
+            buf = records.pop()
         except IndexError:
             buf = np.empty((2, self._words.size))
             buf[0] = self._words
@@ -407,7 +416,7 @@ class Integrator:
                 win_y = np.empty((ENDS_CAPACITY + 1, 2))
                 status, n, n_windows, regime, t_regime = self._ends(
                     buf, True, t0, theta0, v0, t1, h, win_t, win_y)
-                while status == loop.STATUS_PAUSED:  # chunked: Ctrl-C gets in between calls
+                while status == _PAUSED:  # chunked: Ctrl-C gets in between calls
                     if n + 1 == win_t.size:
                         win_t = np.concatenate((win_t, np.empty(win_t.size)))
                         win_y = np.concatenate((win_y, np.empty((win_y.shape[0], 2))))
@@ -420,30 +429,30 @@ class Integrator:
                     buf, True, t0, theta0, v0, t1, h, te, y)
                 if problem:
                     raise t_eval_error(problem, t0, t1)
-                while status == loop.STATUS_PAUSED:
+                while status == _PAUSED:
                     status, j, n_windows, regime, t_regime = self._outputs(
                         buf, False, t0, theta0, v0, t1, h, te, y)[1:]
                 t = te
                 if j != te.size:
                     t, y = te[:j], y[:, :j]
             if regime == REGIME_NONE:
-                period = mean_velocity = math.nan
+                period = mean_velocity = _NAN
             else:
                 words = buf[1]
                 period, mean_velocity = cycle_summary(regime, words[_W_CYC_T], words[_W_CYC_SIGN])
                 if regime == REGIME_PHASE_LOCKED:
                     period, mean_velocity = strobe_summary(words[_W_STR_P], 1.0, words[_W_FREQ])
         finally:
-            self._records.append(buf)
+            records.append(buf)
         r = SolveResult(self._base)
         if wrap:
             r["winding"] = y[2].astype(np.int64)
             y = y[:2]
         r["t"] = t
         r["y"] = y
-        r["success"] = status == loop.STATUS_OK
+        r["success"] = status == _OK
         r["status"] = status
-        r["message"] = loop.STATUS_MESSAGES[status]
+        r["message"] = _MESSAGES[status]
         r["n_windows"] = n_windows
         r["regime"] = REGIME_NAMES[regime]
         r["t_regime"] = t_regime
@@ -514,8 +523,8 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
     """
     if not isinstance(model, Pendulum):
         raise TypeError(f"model must be an mbm.Pendulum, got {type(model).__name__}")
-    t_span = check_span(t_span)
-    y0 = _state(y0)
+    t0, t1 = check_span(t_span)
+    theta0, v0 = _state(y0)
     if (type(approximant) is str and type(rtol) is float and type(atol) is float
             and rtol >= RTOL_FLOOR and (tau is None or type(tau) is float)):
         # The common call: an Integrator per option set, cached (an Integrator is not
@@ -524,7 +533,7 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
     else:
         ig = Integrator(model, rtol=rtol, atol=atol, approximant=approximant, tau=tau,
                         max_step=max_step, max_windows=max_windows)
-    return ig._solve(t_span[0], t_span[1], y0[0], y0[1], t_eval, wrap)
+    return ig._solve(t0, t1, theta0, v0, t_eval, wrap)  # span and state checked above
 
 
 @functools.lru_cache(maxsize=INTEGRATOR_CACHE)
