@@ -268,7 +268,7 @@ ENTRIES = {
 assert set(ENTRIES) == set(loop.RUNNERS)
 
 # The keys of a result, in their order (its repr's); the constant ones are filled in
-# per Integrator (_Integrator._base).
+# per Integrator (Integrator._base).
 _RESULT_KEYS = ("t", "y", "success", "status", "message", "n_windows", "approximant", "reason",
                 "regime", "t_regime", "period", "mean_velocity", "winding")
 
