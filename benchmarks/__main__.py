@@ -4,6 +4,7 @@ From the root of a checkout::
 
     python -m benchmarks [--quick] [--out docs/benchmark.md] ...   # the tables
     python -m benchmarks extras [--overheads] [--out FILE] ...     # benchmarks.extras
+    python -m benchmarks overheads [--update FILE] ...              # benchmarks.overheads
     python -m benchmarks readme [--check]                          # README quotes <- docs/
 """
 
@@ -14,7 +15,7 @@ import shlex
 import sys
 from pathlib import Path
 
-from . import extras, harness, references, report
+from . import extras, harness, overheads, references, report
 from .scenes import SCENES
 
 __all__ = ["main", "tables_main", "readme_main"]
@@ -146,11 +147,14 @@ def readme_main(argv=None):
 
 
 def main(argv=None):
-    """Dispatch: ``extras ...`` to :func:`benchmarks.extras.main`, ``readme ...`` to
-    :func:`readme_main`, anything else to :func:`tables_main`."""
+    """Dispatch: ``extras ...`` to :func:`benchmarks.extras.main`, ``overheads ...`` to
+    :func:`benchmarks.overheads.main`, ``readme ...`` to :func:`readme_main`, anything
+    else to :func:`tables_main`."""
     argv = list(sys.argv[1:] if argv is None else argv)
     if argv and argv[0] == "extras":
         return extras.main(argv[1:])
+    if argv and argv[0] == "overheads":
+        return overheads.main(argv[1:])
     if argv and argv[0] == "readme":
         return readme_main(argv[1:])
     return tables_main(argv)

@@ -22,7 +22,9 @@ Run ``python -m benchmarks extras --out docs/benchmark_extras.md`` (about 15 min
    the 201 outputs, the Taylor degree), :func:`overheads`, and each degree's cheapest
    time at equal error, :func:`degrees_at_equal_error`.  The fixed cost is split by
    timing *public* calls that differ in one thing (no window, one window, a whole
-   run; with and without outputs), not mbm's internals.
+   run; with and without outputs), not mbm's internals.  With it, the fixed cost per call of
+   ``Integrator.solve`` and :func:`mbm.solve` and of their compiled part alone
+   (:mod:`benchmarks.overheads`, which also runs on its own in seconds).
 
 Times are medians of ``repeats`` runs after a warm-up (single runs where marked).
 """
@@ -40,6 +42,7 @@ import mbm
 from mbm import scenes as catalogue
 
 from . import harness, peers, references
+from . import overheads as per_call
 from .registry import RTOL_SWEEP
 from .report import block, json_default
 from .scenes import N_OUTPUT, SCENES, BenchScene
@@ -522,7 +525,10 @@ def format_overheads(ov):
             cells = [("—" if r[t] is None else f"{_us(r[t][0])} ({r[t][1]:g})") for t in targets]
             table.append(f"| {r['scene']} | {r['degree']} | " + " | ".join(cells) + " |")
         lines += block("overheads-equal-error", table)
-    return "\n".join(lines) + "\n"
+    text = "\n".join(lines) + "\n"
+    if ov.get("per_call"):
+        text += "\n" + per_call.format_fixed_costs(ov["per_call"])
+    return text
 
 
 def _machine_lines(machine):
@@ -630,6 +636,7 @@ def main(argv=None):
         ov = overheads(repeats=20 if args.quick else 200)
         ov["equal_error"] = degrees_at_equal_error(scenes=("P1",) if args.quick else DEGREE_SCENES,
                                                    repeats=3 if args.quick else 20)
+        ov["per_call"] = per_call.fixed_costs(repeats=20 if args.quick else per_call.DEFAULT_REPEATS)
         text += "\n" + format_overheads(ov)
         data = {"overheads": ov}
     else:

@@ -22,6 +22,9 @@ __all__ = [
     "check_state",
     "check_tolerances",
     "check_t_eval",
+    "as_t_eval",
+    "t_eval_problem",
+    "t_eval_error",
     "check_max_windows",
     "warn_extraneous",
 ]
@@ -36,6 +39,10 @@ RTOL_FLOOR = 100 * np.finfo(float).eps
 # (≤ 10⁵), so only a runaway (e.g. a backward run of a damped scene, which grows like
 # e^{β|t|}) reaches it.
 DEFAULT_MAX_WINDOWS = 10**7
+
+# The native float64 dtype (an identity test is the cheap one; an equal dtype that is
+# another object takes the conversion, which then copies nothing).
+_FLOAT64 = np.dtype(np.float64)
 
 def check_real(name, value):
     """``value`` as a finite float, or an error naming ``name``."""
@@ -110,10 +117,11 @@ def check_tolerances(rtol, atol, stacklevel=3):
 
 
 @numba.njit(cache=True)
-def _t_eval_problem(t_eval, t0, t1, strict):
-    # 0 ok, 1 non-finite, 2 outside t_span, 3 not sorted in the direction of
-    # integration.  Compiled: on a short run this check is a visible part of the
-    # per-call cost.
+def t_eval_problem(t_eval, t0, t1, strict):
+    """0 if ``t_eval`` passes :func:`check_t_eval`, else what is wrong: 1 non-finite,
+    2 outside t_span, 3 not sorted in the direction of integration (``strict``:
+    strictly).  Compiled in one pass (also called from :mod:`mbm.fast`'s compiled
+    entry, so a short run pays no separate dispatch for it)."""
     lo, hi = min(t0, t1), max(t0, t1)
     direction = 1.0 if t1 >= t0 else -1.0
     for i in range(t_eval.size):
@@ -129,22 +137,40 @@ def _t_eval_problem(t_eval, t0, t1, strict):
     return 0
 
 
+def as_t_eval(t_eval):
+    """``t_eval`` as a C-contiguous, aligned, writeable 1-D float64 array (the array
+    itself when it is one), unchecked: :func:`check_t_eval` without its check, for
+    callers that run :func:`t_eval_problem` in compiled code of their own (a read-only
+    or unaligned array is copied: compiled code would otherwise be specialized again
+    for it, minutes of compiling)."""
+    te = t_eval
+    # flags.carray: C-contiguous, aligned and writeable (what compiled code is typed for).
+    if not (type(te) is np.ndarray and te.ndim == 1 and te.dtype is _FLOAT64 and te.flags.carray):
+        te = np.ascontiguousarray(t_eval, dtype=float).reshape(-1)
+        if not te.flags.carray:
+            te = te.copy()
+    return te
+
+
+def t_eval_error(problem, t0, t1, strict=False):
+    """The ValueError of a :func:`t_eval_problem` code (1, 2 or 3)."""
+    if problem == 1:
+        return ValueError("t_eval must be finite")
+    if problem == 2:
+        return ValueError(f"t_eval must lie within t_span {(t0, t1)!r}")
+    return ValueError(
+        f"t_eval must be {'strictly monotonic' if strict else 'sorted'} in the direction of "
+        f"integration ({'increasing' if t1 >= t0 else 'decreasing'})"
+    )
+
+
 def check_t_eval(t_eval, t0, t1, strict=False):
     """``t_eval`` as a contiguous float array within the span, sorted in the direction
     of integration (``strict``: strictly), or a ValueError."""
-    te = t_eval
-    if not (type(te) is np.ndarray and te.ndim == 1 and te.dtype == np.float64 and te.flags.c_contiguous):
-        te = np.ascontiguousarray(t_eval, dtype=float).reshape(-1)
-    problem = _t_eval_problem(te, t0, t1, strict)
-    if problem == 1:
-        raise ValueError("t_eval must be finite")
-    if problem == 2:
-        raise ValueError(f"t_eval must lie within t_span {(t0, t1)!r}")
-    if problem == 3:
-        raise ValueError(
-            f"t_eval must be {'strictly monotonic' if strict else 'sorted'} in the direction of "
-            f"integration ({'increasing' if t1 >= t0 else 'decreasing'})"
-        )
+    te = as_t_eval(t_eval)
+    problem = t_eval_problem(te, t0, t1, strict)
+    if problem != 0:
+        raise t_eval_error(problem, t0, t1, strict)
     return te
 
 

@@ -16,12 +16,16 @@ from . import loop
 from ._validate import (
     DEFAULT_MAX_WINDOWS,
     RTOL_FLOOR,
+    _FLOAT64,
+    as_t_eval,
     check_max_windows,
     check_positive,
     check_span,
     check_state,
     check_t_eval,
     check_tolerances,
+    t_eval_error,
+    t_eval_problem,
 )
 from .approximants import Approximant, get_approximant
 from .choice import auto_name, auto_reason
@@ -30,6 +34,7 @@ from .regimes import (
     REGIME_LIBRATION,
     REGIME_LOCKED,
     REGIME_NAMES,
+    REGIME_NONE,
     REGIME_PHASE_LOCKED,
     REGIME_RUNNING,
     cycle_summary,
@@ -58,18 +63,12 @@ BATCH_POLL = 0.05
 
 _W = loop.WORD
 _W_T, _W_THETA, _W_V, _W_TBOUND, _W_H = _W["t"], _W["theta"], _W["v"], _W["t_bound"], _W["h_abs"]
-_W_STATUS, _W_J, _W_NW = _W["status"], _W["j"], _W["n_windows"]
-_W_REGIME, _W_T_REGIME, _W_CYC_T, _W_CYC_SIGN = (_W[k] for k in ("regime", "t_regime", "cyc_T",
-                                                                 "cyc_sign"))
+_W_CYC_T, _W_CYC_SIGN = _W["cyc_T"], _W["cyc_sign"]
 _W_STR_P, _W_FREQ = _W["str_p"], _W["drive_freq"]
-
-_NO_TIMES = np.empty(0)
-_NO_OUT = np.empty((2, 0))
-_NO_WIN_T = np.empty(0)
-_NO_WIN_Y = np.empty((0, 2))
-_NO_WIN_COEF = np.empty((0, 0))
-# The cancel flag of single-scene runs: never set (they stop between calls instead).
-_NEVER = np.zeros(1, dtype=np.int64)
+# Bound once: Integrator.solve's fast path reads no module attributes (each read is a
+# few percent of its fixed cost).
+_PAUSED, _OK, _MESSAGES = loop.STATUS_PAUSED, loop.STATUS_OK, loop.STATUS_MESSAGES
+_NDARRAY, _EMPTY, _NAN = np.ndarray, np.empty, math.nan
 
 
 class SolveResult(dict):
@@ -148,27 +147,130 @@ def _state(y0):
     return float(y[0]), float(y[1])
 
 
-def _finish(run, p, ints, te, out):
-    """Run ``p`` (its words as int64: ``ints``) to its end by the loop entry ``run``,
-    filling ``out`` at ``te``; chunked so Ctrl-C gets in."""
-    while True:
-        run(p, te, out, _NO_WIN_T, _NO_WIN_Y, _NO_WIN_COEF, _NEVER)
-        if ints[_W_STATUS] != loop.STATUS_PAUSED:
-            return
+# The compiled entries of Integrator.solve, two per kind (each calls its own kind's
+# loop entry only, so a first run compiles the kinds it uses): with t_eval
+# (_outputs_*) and with the window ends (_ends_*).  In one dispatch an entry checks
+# t_eval (as check_t_eval; nothing is run when it fails), copies the template record
+# into the call's words, sets the span, the state and the first window, runs the loop
+# and returns what the result needs.  Folding these into one call cut
+# Integrator.solve's fixed cost by about 2 µs (the separate dispatches of
+# check_t_eval and of the loop entry with its 7 arguments, the word writes and int64
+# reads from Python): benchmarks/overheads.py.
+#
+# Arguments: buf (float64, shape (2, words): row 0 the Integrator's template record,
+# row 1 the call's record, both as float64 words), fresh (False: resume the paused run
+# in row 1 as it stands), t0, theta0, v0, t1, h (the first window's h_abs), then
+# t_eval, out or win_t, win_y (as loop.run's).  Returns (problem, status, j,
+# n_windows, regime, t_regime) with t_eval (problem: the t_eval_problem code, 0: ran),
+# (status, n, n_windows, regime, t_regime) with the window ends (n: the windows this
+# call took).
 
 
-def _finish_ends(run, p, ints):
-    """Run ``p`` to its end by the loop entry ``run``, recording the state at every window end."""
-    win_t = np.empty(ENDS_CAPACITY + 1)
-    win_y = np.empty((ENDS_CAPACITY + 1, 2))
-    n = 0
-    while True:
-        n += run(p, _NO_TIMES, _NO_OUT, win_t[n:], win_y[n:], _NO_WIN_COEF, _NEVER)
-        if ints[_W_STATUS] != loop.STATUS_PAUSED:
-            return win_t[: n + 1], win_y[: n + 1].T
-        if n + 1 == win_t.size:
-            win_t = np.concatenate((win_t, np.empty(win_t.size)))
-            win_y = np.concatenate((win_y, np.empty((win_y.shape[0], 2))))
+@numba.njit(cache=True, inline="always")
+def _start(buf, fresh, t0, theta0, v0, t1, h):
+    words = buf[1]
+    if fresh:
+        words[:] = buf[0]
+        words[_W_T] = t0
+        words[_W_THETA] = theta0
+        words[_W_V] = v0
+        words[_W_TBOUND] = t1
+        words[_W_H] = h
+    return words.view(loop.RUN)
+
+
+@numba.njit(cache=True, inline="always")
+def _outputs(kind, buf, fresh, t0, theta0, v0, t1, h, t_eval, out):
+    if fresh:
+        problem = t_eval_problem(t_eval, t0, t1, False)
+        if problem != 0:
+            return problem, 0, 0, 0, 0, math.nan
+    p = _start(buf, fresh, t0, theta0, v0, t1, h)
+    win_t, win_y, win_coef = np.empty(0), np.empty((0, 2)), np.empty((0, 0))
+    never = np.zeros(1, np.int64)
+    if kind == loop.KIND_TAYLOR:
+        loop.run_taylor(p, t_eval, out, win_t, win_y, win_coef, never)
+    elif kind == loop.KIND_EXACT:
+        loop.run_exact(p, t_eval, out, win_t, win_y, win_coef, never)
+    elif kind == loop.KIND_SALAS_TORQUE:
+        loop.run_salas_torque(p, t_eval, out, win_t, win_y, win_coef, never)
+    else:
+        loop.run_split(p, t_eval, out, win_t, win_y, win_coef, never)
+    r = p[0]
+    return 0, r.status, r.j, r.n_windows, r.regime, r.t_regime
+
+
+@numba.njit(cache=True, inline="always")
+def _ends(kind, buf, fresh, t0, theta0, v0, t1, h, win_t, win_y):
+    p = _start(buf, fresh, t0, theta0, v0, t1, h)
+    t_eval, out, win_coef = np.empty(0), np.empty((2, 0)), np.empty((0, 0))
+    never = np.zeros(1, np.int64)
+    if kind == loop.KIND_TAYLOR:
+        n = loop.run_taylor(p, t_eval, out, win_t, win_y, win_coef, never)
+    elif kind == loop.KIND_EXACT:
+        n = loop.run_exact(p, t_eval, out, win_t, win_y, win_coef, never)
+    elif kind == loop.KIND_SALAS_TORQUE:
+        n = loop.run_salas_torque(p, t_eval, out, win_t, win_y, win_coef, never)
+    else:
+        n = loop.run_split(p, t_eval, out, win_t, win_y, win_coef, never)
+    r = p[0]
+    return r.status, n, r.n_windows, r.regime, r.t_regime
+
+
+# The kind is a constant in each entry: numba prunes the other kinds' calls.
+@numba.njit(cache=True)
+def _outputs_taylor(buf, fresh, t0, theta0, v0, t1, h, t_eval, out):
+    return _outputs(loop.KIND_TAYLOR, buf, fresh, t0, theta0, v0, t1, h, t_eval, out)
+
+
+@numba.njit(cache=True)
+def _outputs_exact(buf, fresh, t0, theta0, v0, t1, h, t_eval, out):
+    return _outputs(loop.KIND_EXACT, buf, fresh, t0, theta0, v0, t1, h, t_eval, out)
+
+
+@numba.njit(cache=True)
+def _outputs_salas_torque(buf, fresh, t0, theta0, v0, t1, h, t_eval, out):
+    return _outputs(loop.KIND_SALAS_TORQUE, buf, fresh, t0, theta0, v0, t1, h, t_eval, out)
+
+
+@numba.njit(cache=True)
+def _outputs_split(buf, fresh, t0, theta0, v0, t1, h, t_eval, out):
+    return _outputs(loop.KIND_SPLIT, buf, fresh, t0, theta0, v0, t1, h, t_eval, out)
+
+
+@numba.njit(cache=True)
+def _ends_taylor(buf, fresh, t0, theta0, v0, t1, h, win_t, win_y):
+    return _ends(loop.KIND_TAYLOR, buf, fresh, t0, theta0, v0, t1, h, win_t, win_y)
+
+
+@numba.njit(cache=True)
+def _ends_exact(buf, fresh, t0, theta0, v0, t1, h, win_t, win_y):
+    return _ends(loop.KIND_EXACT, buf, fresh, t0, theta0, v0, t1, h, win_t, win_y)
+
+
+@numba.njit(cache=True)
+def _ends_salas_torque(buf, fresh, t0, theta0, v0, t1, h, win_t, win_y):
+    return _ends(loop.KIND_SALAS_TORQUE, buf, fresh, t0, theta0, v0, t1, h, win_t, win_y)
+
+
+@numba.njit(cache=True)
+def _ends_split(buf, fresh, t0, theta0, v0, t1, h, win_t, win_y):
+    return _ends(loop.KIND_SPLIT, buf, fresh, t0, theta0, v0, t1, h, win_t, win_y)
+
+
+#: The compiled entries (with t_eval, with the window ends) of each kind id.
+ENTRIES = {
+    loop.KIND_TAYLOR: (_outputs_taylor, _ends_taylor),
+    loop.KIND_EXACT: (_outputs_exact, _ends_exact),
+    loop.KIND_SALAS_TORQUE: (_outputs_salas_torque, _ends_salas_torque),
+    loop.KIND_SPLIT: (_outputs_split, _ends_split),
+}
+assert set(ENTRIES) == set(loop.RUNNERS)
+
+# The keys of a result, in their order (its repr's); the constant ones are filled in
+# per Integrator (Integrator._base).
+_RESULT_KEYS = ("t", "y", "success", "status", "message", "n_windows", "approximant", "reason",
+                "regime", "t_regime", "period", "mean_velocity", "winding")
 
 
 class Integrator:
@@ -238,7 +340,7 @@ class Integrator:
         # The plan of a span of length 0 (only an exact flow's h depends on the span).
         self._plan = _plan(ap, self._tau, self.max_step, 0.0, 0.0)
         self._span_plan = self._tau is None and ap.exact and not math.isfinite(self.max_step)
-        self._run = loop.RUNNERS[kind]
+        self._outputs, self._ends = ENTRIES[kind]
         controller, h_abs, error_order = self._plan
         beta, gamma, omega = model.params
         amp, freq, phase = model.drive
@@ -246,22 +348,18 @@ class Integrator:
                                 h_abs, self.max_step, self.rtol, self.atol, error_order,
                                 check_max_windows(max_windows), CALL_WINDOWS, drive_amplitude=amp,
                                 drive_frequency=freq, drive_phase=phase)
-        # The record's words as float64: each call copies them into a record of its own.
+        # The record's words as float64: each call's compiled entry copies them into
+        # words of its own.
         self._words = template.view(np.float64).copy()
-        # Records ready for a call: (words, record view, int64 view).  Taken and put
-        # back per call (list pop/append are atomic, so threads sharing an Integrator
-        # each get their own): viewing a float64 array as the record dtype costs
-        # ~1.2 µs, a third of a short call's fixed cost, so the views are made once.
+        self._h = float(self._words[_W_H])
+        # Buffers ready for a call (row 0 these words, row 1 the call's: see ENTRIES),
+        # taken and put back per call (list pop/append are atomic, so threads sharing
+        # an Integrator each get their own).
         self._records = []
-
-    def _record(self):
-        try:
-            words, p, ints = self._records.pop()
-        except IndexError:
-            words = self._words.copy()
-            return words, words.view(loop.RUN), words.view(np.int64)
-        words[:] = self._words
-        return words, p, ints
+        # A result's entries that are the same for every call (copied per call: a
+        # dict copy and ten stores are cheaper than a dict built from keywords).
+        self._base = dict.fromkeys(_RESULT_KEYS)
+        self._base.update(approximant=ap.name, reason=self.reason)
 
     def solve(self, t_span, y0, t_eval=None, wrap=False):
         """Solve from ``y0`` over ``t_span``: what :func:`solve` returns.
@@ -285,44 +383,82 @@ class Integrator:
         """
         t0, t1 = check_span(t_span)
         theta0, v0 = _state(y0)
-        te = None if t_eval is None else check_t_eval(t_eval, t0, t1)
+        return self._solve(t0, t1, theta0, v0, t_eval, wrap)
+
+    def _solve(self, t0, t1, theta0, v0, t_eval, wrap):
+        # solve with the span and the state checked (float t0, t1, theta0, v0).
         if wrap is not False and wrap is not True:
+            if t_eval is not None:
+                check_t_eval(t_eval, t0, t1)  # a bad t_eval is named first
             raise ValueError(f"wrap must be True or False, got {wrap!r}")
-        if wrap and te is None:
-            raise ValueError("wrap=True needs t_eval (the window ends are reported as θ)")
-        record = self._record()
-        words, p, ints = record
+        if t_eval is None:
+            if wrap:
+                raise ValueError("wrap=True needs t_eval (the window ends are reported as θ)")
+        else:
+            te = t_eval
+            # as_t_eval's test, inline (the common t_eval passes it: no call)
+            if not (type(te) is _NDARRAY and te.ndim == 1 and te.dtype is _FLOAT64 and te.flags.carray):
+                te = as_t_eval(t_eval)
+            y = _EMPTY((3 if wrap else 2, te.size))
+        h = self._h
+        if self._span_plan:
+            h = loop.plan_windows(self.approximant, None, self.max_step, abs(t1 - t0))[1]
+        records = self._records
         try:
-            words[_W_T], words[_W_THETA], words[_W_V], words[_W_TBOUND] = t0, theta0, v0, t1
-            if self._span_plan:
-                words[_W_H] = loop.plan_windows(self.approximant, None, self.max_step, abs(t1 - t0))[1]
-            if te is None:
-                t, y = _finish_ends(self._run, p, ints)
+            buf = records.pop()
+        except IndexError:
+            buf = np.empty((2, self._words.size))
+            buf[0] = self._words
+        try:
+            if t_eval is None:
+                # The window ends: stored from the start, the store grown as it fills.
+                win_t = np.empty(ENDS_CAPACITY + 1)
+                win_y = np.empty((ENDS_CAPACITY + 1, 2))
+                status, n, n_windows, regime, t_regime = self._ends(
+                    buf, True, t0, theta0, v0, t1, h, win_t, win_y)
+                while status == _PAUSED:  # chunked: Ctrl-C gets in between calls
+                    if n + 1 == win_t.size:
+                        win_t = np.concatenate((win_t, np.empty(win_t.size)))
+                        win_y = np.concatenate((win_y, np.empty((win_y.shape[0], 2))))
+                    status, k, n_windows, regime, t_regime = self._ends(
+                        buf, False, t0, theta0, v0, t1, h, win_t[n:], win_y[n:])
+                    n += k
+                t, y = win_t[: n + 1], win_y[: n + 1].T
             else:
-                y = np.empty((3 if wrap else 2, te.size))
-                _finish(self._run, p, ints, te, y)
-                n_filled = int(ints[_W_J])
-                t, y = (te, y) if n_filled == te.size else (te[:n_filled], y[:, :n_filled])
-            status = int(ints[_W_STATUS])
-            n_windows = int(ints[_W_NW])
-            regime = int(ints[_W_REGIME])
-            t_regime = float(words[_W_T_REGIME])
-            period, mean_velocity = cycle_summary(regime, words[_W_CYC_T], words[_W_CYC_SIGN])
-            if regime == REGIME_PHASE_LOCKED:
-                period, mean_velocity = strobe_summary(words[_W_STR_P], 1.0, words[_W_FREQ])
+                problem, status, j, n_windows, regime, t_regime = self._outputs(
+                    buf, True, t0, theta0, v0, t1, h, te, y)
+                if problem:
+                    raise t_eval_error(problem, t0, t1)
+                while status == _PAUSED:
+                    status, j, n_windows, regime, t_regime = self._outputs(
+                        buf, False, t0, theta0, v0, t1, h, te, y)[1:]
+                t = te
+                if j != te.size:
+                    t, y = te[:j], y[:, :j]
+            if regime == REGIME_NONE:
+                period = mean_velocity = _NAN
+            else:
+                words = buf[1]
+                period, mean_velocity = cycle_summary(regime, words[_W_CYC_T], words[_W_CYC_SIGN])
+                if regime == REGIME_PHASE_LOCKED:
+                    period, mean_velocity = strobe_summary(words[_W_STR_P], 1.0, words[_W_FREQ])
         finally:
-            self._records.append(record)
-        winding = None
+            records.append(buf)
+        r = SolveResult(self._base)
         if wrap:
-            winding = y[2].astype(np.int64)
+            r["winding"] = y[2].astype(np.int64)
             y = y[:2]
-        return SolveResult(
-            t=t, y=y, success=status == loop.STATUS_OK, status=status,
-            message=loop.STATUS_MESSAGES[status], n_windows=n_windows,
-            approximant=self.approximant.name, reason=self.reason,
-            regime=REGIME_NAMES[regime], t_regime=t_regime, period=period,
-            mean_velocity=mean_velocity, winding=winding,
-        )
+        r["t"] = t
+        r["y"] = y
+        r["success"] = status == _OK
+        r["status"] = status
+        r["message"] = _MESSAGES[status]
+        r["n_windows"] = n_windows
+        r["regime"] = REGIME_NAMES[regime]
+        r["t_regime"] = t_regime
+        r["period"] = period
+        r["mean_velocity"] = mean_velocity
+        return r
 
 
 def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="auto",
@@ -387,8 +523,8 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
     """
     if not isinstance(model, Pendulum):
         raise TypeError(f"model must be an mbm.Pendulum, got {type(model).__name__}")
-    t_span = check_span(t_span)
-    y0 = _state(y0)
+    t0, t1 = check_span(t_span)
+    theta0, v0 = _state(y0)
     if (type(approximant) is str and type(rtol) is float and type(atol) is float
             and rtol >= RTOL_FLOOR and (tau is None or type(tau) is float)):
         # The common call: an Integrator per option set, cached (an Integrator is not
@@ -397,7 +533,7 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
     else:
         ig = Integrator(model, rtol=rtol, atol=atol, approximant=approximant, tau=tau,
                         max_step=max_step, max_windows=max_windows)
-    return ig.solve(t_span, y0, t_eval, wrap)
+    return ig._solve(t0, t1, theta0, v0, t_eval, wrap)  # span and state checked above
 
 
 @functools.lru_cache(maxsize=INTEGRATOR_CACHE)

@@ -139,3 +139,32 @@ def test_extras_command_line():
         main(["extras", "--repeats", "0"])
     with pytest.raises(SystemExit):
         main(["extras", "--reference", "cvode"])
+
+
+def test_fixed_cost_per_call_section(tmp_path):
+    # benchmarks.overheads: Integrator.solve, mbm.solve and their compiled part, per call.
+    from benchmarks import overheads as per_call
+
+    fc = per_call.fixed_costs(repeats=3, block=2)
+    names = [r[0] for r in fc["rows"]]
+    assert "Integrator.solve, zero-length span (no window)" in names
+    assert "compiled entry in a compiled loop, span 1e-9" in names
+    assert all(m > 0 and lo > 0 and lo <= m for _, m, lo in fc["rows"])
+    assert len(fc["derived"]) == 4 and fc["setup"]["approximant"] == "taylor"
+    section = per_call.format_fixed_costs(fc)
+    assert per_call.BLOCK_NAME in extract_blocks(section)
+    # --update rewrites only its block of a file, or appends the section
+    doc = tmp_path / "doc.md"
+    doc.write_text("# Title\n\nkept\n")
+    per_call.update_file(doc, section)
+    once = doc.read_text()
+    assert once.startswith("# Title\n\nkept\n") and extract_blocks(once)[per_call.BLOCK_NAME]
+    other = per_call.format_fixed_costs(dict(fc, rows=[(n, 1e-6, 1e-6) for n in names]))
+    per_call.update_file(doc, other)
+    twice = doc.read_text()
+    assert twice.count(f"block {per_call.BLOCK_NAME} ") == 1 and "| 1.00 | 1.00 |" in twice
+    assert extract_blocks(twice)[per_call.BLOCK_NAME] == extract_blocks(other)[per_call.BLOCK_NAME]
+    # the section goes into extras' overheads report when measured there
+    assert section in bx.format_overheads({"fixed": {}, "degrees": [], "per_call": fc})
+    with pytest.raises(SystemExit):
+        main(["overheads", "--repeats", "0"])
