@@ -61,7 +61,7 @@ _W_T, _W_THETA, _W_V, _W_TBOUND, _W_H = _W["t"], _W["theta"], _W["v"], _W["t_bou
 _W_STATUS, _W_J, _W_NW = _W["status"], _W["j"], _W["n_windows"]
 _W_REGIME, _W_T_REGIME, _W_CYC_T, _W_CYC_SIGN = (_W[k] for k in ("regime", "t_regime", "cyc_T",
                                                                  "cyc_sign"))
-_W_STR_P, _W_FREQ = _W["str_p"], _W["drive_freq"]
+_W_STR_P, _W_STR_Q, _W_FREQ = _W["str_p"], _W["str_q"], _W["drive_freq"]
 
 _NO_TIMES = np.empty(0)
 _NO_OUT = np.empty((2, 0))
@@ -309,7 +309,7 @@ class Integrator:
             t_regime = float(words[_W_T_REGIME])
             period, mean_velocity = cycle_summary(regime, words[_W_CYC_T], words[_W_CYC_SIGN])
             if regime == REGIME_PHASE_LOCKED:
-                period, mean_velocity = strobe_summary(words[_W_STR_P], 1.0, words[_W_FREQ])
+                period, mean_velocity = strobe_summary(words[_W_STR_P], words[_W_STR_Q], words[_W_FREQ])
         finally:
             self._records.append(record)
         winding = None
@@ -667,18 +667,21 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
         # A failed scene's outputs past its failure stay NaN; its count there is 0.
         winding = np.where(np.isnan(out[:, 2]), 0.0, out[:, 2]).astype(np.int64)
         out = np.ascontiguousarray(out[:, :2])
-    # Phase-locked scenes: period 2π/Ω and pΩ, as regimes.strobe_summary (q = 1).
+    # Phase-locked scenes: period q·2π/Ω and pΩ/q, as regimes.strobe_summary (the same
+    # operations, so the same bits).
     locked_to_drive = p["regime"] == REGIME_PHASE_LOCKED
+    str_q = np.where(locked_to_drive, p["str_q"], 1.0)
     return SolveResult(
         t=te, y=out, status=status, success=status == 0, winding=winding,
         n_windows=p["n_windows"].astype(np.int64), approximant=names.astype(str),
         regime=np.array([REGIME_NAMES[int(k)] for k in p["regime"]], dtype=object),
         t_regime=p["t_regime"].astype(np.float64),
         period=np.where((p["regime"] == REGIME_RUNNING) | (p["regime"] == REGIME_LIBRATION), p["cyc_T"],
-                        np.divide(2.0 * np.pi, p["drive_freq"], out=np.full(n, np.nan), where=locked_to_drive)),
+                        np.divide(str_q * 2.0 * np.pi, p["drive_freq"], out=np.full(n, np.nan),
+                                  where=locked_to_drive)),
         mean_velocity=np.where(
             (p["regime"] == REGIME_LOCKED) | (p["regime"] == REGIME_LIBRATION), 0.0,
-            np.where(locked_to_drive, p["str_p"] * p["drive_freq"],
+            np.where(locked_to_drive, p["str_p"] * p["drive_freq"] / str_q,
                      np.divide(p["cyc_sign"] * 2.0 * np.pi, p["cyc_T"], out=np.full(n, np.nan),
                                where=p["regime"] == REGIME_RUNNING))),
     )

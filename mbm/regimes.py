@@ -283,6 +283,8 @@ __all__ = [
     "strobe_switch",
     "strobe_coef",
     "strobe_summary",
+    "STROBE_MAX_PERIODS",
+    "STROBE_RING",
 ]
 
 # (L5): the remainder bound must be this fraction of the tolerance, so the switch adds
@@ -402,6 +404,16 @@ STROBE_CLEAN_RESIDUAL = 1e-3
 # (S4): the traces of three successive fits must agree to this (absolute; clean fits
 # agree to 1e-4 on that step, fits of round-off noise scatter by 0.1 to 1).
 STROBE_TRACE_AGREE = 0.01
+# (S7): the longest orbit looked for, in drive periods (q ≤ this): each output after a
+# switch re-takes up to q periods of windows and the test needs 4q + 1 samples, and
+# 4 covers the widest fractional steps (p/2, p/3, p/4) and two period doublings.
+STROBE_MAX_PERIODS = 4
+# (S7): the samples kept for the maps P^q (the four q-deviations span 4q + 1 samples).
+STROBE_RING = 4 * STROBE_MAX_PERIODS
+# (S7): for each proper divisor d of q the samples d drive periods apart must differ by
+# more than this many switch scales: both are within one scale of their classes'
+# limits, so those differ by 98 scales, ten tolerances: the orbit's period is not d.
+STROBE_DISTINCT = 100.0
 
 
 @numba.njit(cache=True)
