@@ -997,13 +997,16 @@ def _strobe_subharmonic(p, k, phi, v, scale, sp_hi, n_total):
             # (S6): q periods the stored re-run can take.
             nw = r.str_ring[4 * ((n - q) % STROBE_RING) + 3]
             ok = ok and n_total + 1 - nw <= CYCLE_MAX_WINDOWS // 2
-            # (S7): the classes d periods apart have distinct limits, for every d | q,
-            # d < q: each limit is within its class's bound of the sample.
+            base = q * STROBE_MAX_PERIODS
             for d in range(1, q):
+                # (S7): every other class within the scale of its limit, and the classes
+                # d periods apart with distinct limits, for every d | q, d < q.
+                b_d = r.str_qb[base + (n - d) % q]
+                ok = ok and b_d <= scale
                 if ok and q % d == 0:
                     _, sdt, sdv = _strobe_dev(r, n, n, d, k, phi, v)
                     sep = math.sqrt((omega * sdt) ** 2 + sdv * sdv)
-                    ok = sep - bound - r.str_qb[q * STROBE_MAX_PERIODS + (n - d) % q] > STROBE_DISTINCT * scale
+                    ok = sep - bound - b_d > STROBE_DISTINCT * scale
         else:
             r.str_qrho[q] = math.nan
             # Not (yet) the linear map's deviations: this class's last bound is void.
