@@ -374,8 +374,10 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
         trapped in a well, ``"phase-locked"`` (driven) to a periodic orbit of the
         stroboscopic map locked to the drive, a Shapiro step, :mod:`mbm.regimes`; else
         None), ``t_regime`` (when; nan if never), ``period`` and ``mean_velocity`` (the
-        cycle's T_c and ±2π/T_c; a libration's period and 0; phase-locked, the drive's
-        period 2π/Ω and pΩ, p the turns per drive period; 0 locked; nan otherwise),
+        cycle's T_c and ±2π/T_c; a libration's period and 0; phase-locked, the orbit's
+        period q·2π/Ω and (p/q)Ω, p the turns per q drive periods (q = 1 on an integer
+        Shapiro step, up to STROBE_MAX_PERIODS on a fractional one); 0 locked; nan
+        otherwise),
         ``winding`` (int64, shape (n,), with ``wrap=True``; else None).
         On a failure ``t``, ``y`` hold the outputs reached before it.
 

@@ -823,7 +823,7 @@ def _period_value(kind, c, starts, ends, coefs, n, t):
 
 
 # ---------------------------------------------------------------------------
-# Phase-locked to the drive (mbm.regimes, S1-S6)
+# Phase-locked to the drive (mbm.regimes, S1-S7)
 # ---------------------------------------------------------------------------
 
 
@@ -884,7 +884,7 @@ def _strobe_value(kind, c, t):
 @numba.njit(**_INLINE)
 def _strobe_samples(kind, p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det, n_total):
     """The stroboscopic samples of the window [t, t_new] (formula ``coef``, winding count
-    ``k``, ``off`` = 2πk) and the switch rule at each (mbm.regimes, S1-S6): the run
+    ``k``, ``off`` = 2πk) and the switch rule at each (mbm.regimes, S1-S7): the run
     record ``p[0]`` keeps the samples' state and, on a switch, the anchor.  ``sp_hi``,
     ``sp_lo``: T_d (regimes.strobe_period); ``sp_det``: e^{−βT_d}; ``n_total``: the
     run's windows before this one.  Returns the next sample's time (after t_new)."""
@@ -1056,7 +1056,7 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
     AC drive (``drive_amp`` ≠ 0): each window is anchored at its start time by
     :func:`anchor_driven` (the drive's series enters the coefficients).  The locked and
     running regimes assume an autonomous equation and are not tested; instead the
-    stroboscopic samples at t_s + nT_d, T_d = 2π/Ω, are watched (S1–S6 there), and once
+    stroboscopic samples at t_s + nT_d, T_d = 2π/Ω, are watched (S1–S7 there), and once
     their deviations have converged for good the windows are the stored drive period
     from the anchor sample (``regimes.STROBE_TAG``, S6), ``regime`` phase-locked.
 
@@ -1146,7 +1146,7 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
     per_starts = np.empty(0)
     per_ends = np.empty((0, 2))
     per_coefs = np.empty((0, 0))
-    # Phase-locked to the drive (mbm.regimes, S1-S6): stroboscopic samples at
+    # Phase-locked to the drive (mbm.regimes, S1-S7): stroboscopic samples at
     # t_s + nT_d watched after each window of a driven run (Taylor, forwards, windows
     # from rtol/atol, β > 0; not with max_dtheta, the short windows of solve_ivp's event
     # search, each of which would re-take a period).  A fresh run sets the origin.
@@ -1337,7 +1337,7 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
             elif m1 != m0:
                 r.sec_n, r.cyc_k = 0, 0
         if sp_next <= t_new and r.regime == REGIME_NONE:
-            # The stroboscopic samples in (t, t_new] (mbm.regimes, S1-S6).
+            # The stroboscopic samples in (t, t_new] (mbm.regimes, S1-S7).
             sp_next = _strobe_samples(kind, p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det, n_total)
         if store:
             if width > 0:

@@ -416,7 +416,7 @@ DD_X_MINUS_SIN_TERMS = 12
 # ~10-100 at the tolerances in use); past it the evaluation is NaN (a failure).
 CYCLE_MAX_WINDOWS = 100000
 
-# Phase-locked to the drive (S1-S6).
+# Phase-locked to the drive (S1-S7).
 # A phase-locked window's coefficient vector (S6): [STROBE_TAG, φ_a, θ'_a, k_a, t_a, q, p,
 # ψ_a, β, γ, ω, A, Ω, rtol, atol, karg + STROBE_CODE·error_order]: the anchor at
 # θ = 2πk_a + φ_a, θ'_a at time t_a, the period qT_d (q ≥ 1, S7), p turns per period, ψ_a
@@ -1036,7 +1036,7 @@ def libration_period(gamma, omega, theta, v):
 
 
 # ---------------------------------------------------------------------------
-# Phase-locked to the drive (S1-S6)
+# Phase-locked to the drive (S1-S7)
 # ---------------------------------------------------------------------------
 
 

@@ -269,7 +269,8 @@ class MBM(_MBMBase):
         When it switched (nan before).
     period, mean_velocity : float
         The running cycle's T_c and ⟨θ'⟩ = ±2π/T_c; a libration's period and 0;
-        phase-locked, 2π/Ω and pΩ (nan otherwise; mean_velocity 0 when locked).
+        phase-locked, q·2π/Ω and (p/q)Ω, p turns per q drive periods (nan otherwise;
+        mean_velocity 0 when locked).
     """
 
     def __new__(cls, *args, anchors="windows", **kwargs):
