@@ -94,8 +94,8 @@ def _winding(kind, c, start_theta_i):
 def _evaluate_run(kind, c, t0, start_theta_i, t, lo, hi, out_theta, out_v):
     """Window ``c`` (start ``t0``) at ``t[lo:hi]``, as :func:`mbm.loop._evaluate_windows` per time."""
     if kind == KIND_TAYLOR and c.size >= STROBE_WIDTH and c[0] == STROBE_TAG:
-        # A phase-locked window: the stored drive period from its anchor, at the
-        # absolute time (mbm.regimes S6).
+        # A phase-locked window: the stored period (q drive periods) from its anchor,
+        # at the absolute time (mbm.regimes S6, S7).
         for q in range(lo, hi):
             a, b, kc = _strobe_value(kind, c, t[q])
             out_theta[q] = theta_of(kc, a)

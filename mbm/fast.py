@@ -64,7 +64,7 @@ BATCH_POLL = 0.05
 _W = loop.WORD
 _W_T, _W_THETA, _W_V, _W_TBOUND, _W_H = _W["t"], _W["theta"], _W["v"], _W["t_bound"], _W["h_abs"]
 _W_CYC_T, _W_CYC_SIGN = _W["cyc_T"], _W["cyc_sign"]
-_W_STR_P, _W_FREQ = _W["str_p"], _W["drive_freq"]
+_W_STR_P, _W_STR_Q, _W_FREQ = _W["str_p"], _W["str_q"], _W["drive_freq"]
 # Bound once: Integrator.solve's fast path reads no module attributes (each read is a
 # few percent of its fixed cost).
 _PAUSED, _OK, _MESSAGES = loop.STATUS_PAUSED, loop.STATUS_OK, loop.STATUS_MESSAGES
@@ -441,7 +441,7 @@ class Integrator:
                 words = buf[1]
                 period, mean_velocity = cycle_summary(regime, words[_W_CYC_T], words[_W_CYC_SIGN])
                 if regime == REGIME_PHASE_LOCKED:
-                    period, mean_velocity = strobe_summary(words[_W_STR_P], 1.0, words[_W_FREQ])
+                    period, mean_velocity = strobe_summary(words[_W_STR_P], words[_W_STR_Q], words[_W_FREQ])
         finally:
             records.append(buf)
         r = SolveResult(self._base)
@@ -510,8 +510,10 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
         trapped in a well, ``"phase-locked"`` (driven) to a periodic orbit of the
         stroboscopic map locked to the drive, a Shapiro step, :mod:`mbm.regimes`; else
         None), ``t_regime`` (when; nan if never), ``period`` and ``mean_velocity`` (the
-        cycle's T_c and ±2π/T_c; a libration's period and 0; phase-locked, the drive's
-        period 2π/Ω and pΩ, p the turns per drive period; 0 locked; nan otherwise),
+        cycle's T_c and ±2π/T_c; a libration's period and 0; phase-locked, the orbit's
+        period q·2π/Ω and (p/q)Ω, p the turns per q drive periods (q = 1 on an integer
+        Shapiro step, up to STROBE_MAX_PERIODS on a fractional one); 0 locked; nan
+        otherwise),
         ``winding`` (int64, shape (n,), with ``wrap=True``; else None).
         On a failure ``t``, ``y`` hold the outputs reached before it.
 
@@ -803,18 +805,21 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
         # A failed scene's outputs past its failure stay NaN; its count there is 0.
         winding = np.where(np.isnan(out[:, 2]), 0.0, out[:, 2]).astype(np.int64)
         out = np.ascontiguousarray(out[:, :2])
-    # Phase-locked scenes: period 2π/Ω and pΩ, as regimes.strobe_summary (q = 1).
+    # Phase-locked scenes: period q·2π/Ω and pΩ/q, as regimes.strobe_summary (the same
+    # operations, so the same bits).
     locked_to_drive = p["regime"] == REGIME_PHASE_LOCKED
+    str_q = np.where(locked_to_drive, p["str_q"], 1.0)
     return SolveResult(
         t=te, y=out, status=status, success=status == 0, winding=winding,
         n_windows=p["n_windows"].astype(np.int64), approximant=names.astype(str),
         regime=np.array([REGIME_NAMES[int(k)] for k in p["regime"]], dtype=object),
         t_regime=p["t_regime"].astype(np.float64),
         period=np.where((p["regime"] == REGIME_RUNNING) | (p["regime"] == REGIME_LIBRATION), p["cyc_T"],
-                        np.divide(2.0 * np.pi, p["drive_freq"], out=np.full(n, np.nan), where=locked_to_drive)),
+                        np.divide(str_q * 2.0 * np.pi, p["drive_freq"], out=np.full(n, np.nan),
+                                  where=locked_to_drive)),
         mean_velocity=np.where(
             (p["regime"] == REGIME_LOCKED) | (p["regime"] == REGIME_LIBRATION), 0.0,
-            np.where(locked_to_drive, p["str_p"] * p["drive_freq"],
+            np.where(locked_to_drive, p["str_p"] * p["drive_freq"] / str_q,
                      np.divide(p["cyc_sign"] * 2.0 * np.pi, p["cyc_T"], out=np.full(n, np.nan),
                                where=p["regime"] == REGIME_RUNNING))),
     )

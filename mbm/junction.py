@@ -27,8 +27,9 @@ AC drive and Shapiro steps: with ``drive_amplitude=A, drive_frequency=Ω`` the b
 γ + A sin(Ωt + φ) (a microwave current), integrated by the Taylor kind with the drive's
 series (:class:`mbm.Pendulum`).  A driven run has no running cycle of its own to time
 (the equation is not autonomous).  Where a run reaches the phase-locked regime
-(:mod:`mbm.regimes` S1–S6: it has converged to a periodic orbit of the stroboscopic
-map, θ(t + T_d) = θ(t) + 2πp, T_d = 2π/Ω), ⟨θ'⟩ = pΩ exactly.  Elsewhere ⟨θ'⟩ is measured over
+(:mod:`mbm.regimes` S1–S7: it has converged to a periodic orbit of the stroboscopic
+map, θ(t + qT_d) = θ(t) + 2πp, T_d = 2π/Ω, q ≤ STROBE_MAX_PERIODS drive periods),
+⟨θ'⟩ = (p/q)Ω exactly.  Elsewhere ⟨θ'⟩ is measured over
 whole drive periods on the stroboscopic samples θ_k = θ(kT_d): after a
 settling time of :data:`DRIVE_SETTLE_DECAYS` decay times (a whole number of drive
 periods), blocks of M = :data:`DRIVE_AVERAGE_PERIODS` drive periods are measured, each
@@ -390,7 +391,7 @@ def driven_mean_velocity(model, y0, integrate=integrate_mbm):
     the weighted average over all of them).  Every run of ``integrate`` spans whole
     drive periods from t = 0, so the drive's phase at each run's start is φ, as in one
     continued run.  Where a run reports the phase-locked regime (its result's
-    ``regime``, :mod:`mbm.regimes` S1–S6), ⟨θ'⟩ is its ``mean_velocity``, pΩ exactly,
+    ``regime``, :mod:`mbm.regimes` S1–S7), ⟨θ'⟩ is its ``mean_velocity``, (p/q)Ω exactly,
     and no more blocks are measured.
 
     Returns
@@ -399,7 +400,7 @@ def driven_mean_velocity(model, y0, integrate=integrate_mbm):
         ``"locked"`` when θ gains less than π over the last block (the zero-voltage
         step), else ``"running"``.
     mean_velocity : float
-        ⟨θ'⟩: pΩ where a run reached the phase-locked regime, else the last block's
+        ⟨θ'⟩: (p/q)Ω where a run reached the phase-locked regime, else the last block's
         when converged, else over all blocks measured.
     period : float
         NaN (the drive sets the time scale; no cycle is timed).
@@ -440,7 +441,7 @@ def driven_mean_velocity(model, y0, integrate=integrate_mbm):
 
 
 def _phase_locked(sol, y):
-    # A run that reached the phase-locked regime: ⟨θ'⟩ = pΩ exactly; locked on the
+    # A run that reached the phase-locked regime: ⟨θ'⟩ = (p/q)Ω exactly; locked on the
     # zero-voltage step p = 0 (as "θ gains less than π" over a block), else running.
     v = float(sol.mean_velocity)
     return (LOCKED if v == 0.0 else RUNNING), v, math.nan, y

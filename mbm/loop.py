@@ -65,6 +65,9 @@ from .regimes import (
     REGIME_PHASE_LOCKED,
     REGIME_RUNNING,
     STROBE_CODE,
+    STROBE_DISTINCT,
+    STROBE_MAX_PERIODS,
+    STROBE_RING,
     STROBE_TAG,
     STROBE_WIDTH,
     SWITCH_SAFETY,
@@ -323,6 +326,18 @@ RUN = np.dtype(
         ("str_rho", np.float64),
         # the run's window count at the last sample (a period's windows: S6)
         ("str_nw", np.int64),
+        # subharmonic orbits (mbm.regimes S7): the switched orbit's period in drive
+        # periods q (1 for S1-S6); the last STROBE_RING samples, sample n at words
+        # 4(n mod STROBE_RING) on (winding count, φ, θ' carried to the exact time, the
+        # run's window count there); per q (index q): the traces fitted at the last two
+        # samples, the last clean fit's spectral radius, and per class n mod q the last
+        # finite tail bound B, at q·STROBE_MAX_PERIODS + (n mod q) (inf: none)
+        ("str_q", np.float64),
+        ("str_ring", np.float64, (4 * STROBE_RING,)),
+        ("str_qtau1", np.float64, (STROBE_MAX_PERIODS + 1,)),
+        ("str_qtau2", np.float64, (STROBE_MAX_PERIODS + 1,)),
+        ("str_qrho", np.float64, (STROBE_MAX_PERIODS + 1,)),
+        ("str_qb", np.float64, ((STROBE_MAX_PERIODS + 1) * STROBE_MAX_PERIODS,)),
     ],
     align=True,
 )
@@ -332,7 +347,8 @@ RUN = np.dtype(
 #: setting and reading fields through float64/int64 views of a record: a field access
 #: through the record costs ~0.3 µs, a copy of a structured array ~3.5 µs, a view ~0.1.
 WORD = {name: RUN.fields[name][1] // 8 for name in RUN.names}
-assert RUN.itemsize == 8 * len(RUN.names)
+assert RUN.itemsize == sum(RUN.fields[name][0].itemsize for name in RUN.names)
+assert all(RUN.fields[name][1] % 8 == 0 for name in RUN.names)
 
 
 def kind_of(approximant):
@@ -376,7 +392,10 @@ def new_run(beta, gamma, omega, t0, theta0, v0, t_bound, kind, karg, controller,
           max_step, max_dtheta, rtol, atol, error_order, max_windows, call_windows, 0, 0, 0,
           regimes, REGIME_NONE, math.nan, 0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
           math.nan, 0.0, 0.0, 0, 0.0, theta0, 0.0, drive_amplitude, drive_frequency, drive_phase, 0.0,
-          0.0, 0, 0.0, 0.0, 0.0, 0.0, 0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, math.nan, math.nan, math.nan, 0)],
+          0.0, 0, 0.0, 0.0, 0.0, 0.0, 0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, math.nan, math.nan, math.nan, 0,
+          1.0, np.zeros(4 * STROBE_RING), np.full(STROBE_MAX_PERIODS + 1, math.nan),
+          np.full(STROBE_MAX_PERIODS + 1, math.nan), np.full(STROBE_MAX_PERIODS + 1, math.nan),
+          np.full((STROBE_MAX_PERIODS + 1) * STROBE_MAX_PERIODS, math.inf))],
         dtype=RUN,
     )
 
@@ -832,7 +851,7 @@ def _period_value(kind, c, starts, ends, coefs, n, t):
 
 
 # ---------------------------------------------------------------------------
-# Phase-locked to the drive (mbm.regimes, S1-S6)
+# Phase-locked to the drive (mbm.regimes, S1-S7)
 # ---------------------------------------------------------------------------
 
 
@@ -894,7 +913,7 @@ def _strobe_value(kind, c, t):
 @numba.njit(**_INLINE)
 def _strobe_samples(kind, p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det, n_total):
     """The stroboscopic samples of the window [t, t_new] (formula ``coef``, winding count
-    ``k``, ``off`` = 2πk) and the switch rule at each (mbm.regimes, S1-S6): the run
+    ``k``, ``off`` = 2πk) and the switch rule at each (mbm.regimes, S1-S7): the run
     record ``p[0]`` keeps the samples' state and, on a switch, the anchor.  ``sp_hi``,
     ``sp_lo``: T_d (regimes.strobe_period); ``sp_det``: e^{−βT_d}; ``n_total``: the
     run's windows before this one.  Returns the next sample's time (after t_new)."""
@@ -941,9 +960,95 @@ def _strobe_samples(kind, p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det, n_tot
                 r.str_p, r.str_m, r.str_rho = turns, 1, math.nan
             r.str_d1t, r.str_d1v = dth, dv
             r.str_tau2, r.str_tau1 = r.str_tau1, tau
+        # (S7): the maps P^q, q = 2 .. STROBE_MAX_PERIODS (q = 1 first, above).
+        scale = SWITCH_SAFETY * min(atol + rtol * abs(b), omega * (atol + rtol * abs(off + a)))
+        qs, ps = _strobe_subharmonic(p, k, ac, bc, scale, sp_hi, n_total)
+        if qs > 0:
+            r.regime = REGIME_PHASE_LOCKED
+            r.t_regime = t_new
+            r.str_ta, r.str_psi = tn, strobe_phase(freq, phase, tn)
+            r.str_k, r.str_phi, r.str_v = k, a, b
+            r.str_p, r.str_q = ps, float(qs)
+            r.str_n += 1
+            return math.inf
+        slot = 4 * (r.str_n % STROBE_RING)
+        r.str_ring[slot] = k
+        r.str_ring[slot + 1] = ac
+        r.str_ring[slot + 2] = bc
+        r.str_ring[slot + 3] = float(n_total + 1)
         r.str_k, r.str_phi, r.str_v = k, ac, bc
         r.str_n += 1
         r.str_nw = n_total + 1
+
+
+@numba.njit(**_INLINE)
+def _strobe_dev(r, n, i, d, k, phi, v):
+    """``(turns, Δθ, Δθ')`` of z_i − z_{i−d} (S1's arithmetic; S7): samples before the
+    current one, index ``n`` (state ``k``, ``phi``, ``v``), from the record's ring."""
+    ring = r.str_ring
+    if i == n:
+        k1, f1, v1 = k, phi, v
+    else:
+        s1 = 4 * (i % STROBE_RING)
+        k1, f1, v1 = ring[s1], ring[s1 + 1], ring[s1 + 2]
+    s0 = 4 * ((i - d) % STROBE_RING)
+    dphi = f1 - ring[s0 + 1]
+    m = np.floor(dphi / _TWO_PI + 0.5)
+    turns = (k1 - ring[s0]) + m
+    return turns, (dphi - m * TWO_PI_A) - m * TWO_PI_B, v1 - ring[s0 + 2]
+
+
+@numba.njit(**_INLINE)
+def _strobe_subharmonic(p, k, phi, v, scale, sp_hi, n_total):
+    """The switch rule of the maps P^q, q = 2 .. STROBE_MAX_PERIODS, at the current
+    sample (index ``str_n``, state ``k``, ``phi``, ``v`` carried to the exact time;
+    mbm.regimes S7), smallest q first: ``(q, p)`` of the orbit to switch to, or (0, 0).
+    ``scale``: S5's at this sample; ``sp_hi``: T_d; ``n_total``: the run's windows
+    before this window.  Updates the fits' state of every q tested."""
+    r = p[0]
+    beta, omega = r.beta, r.omega
+    n = r.str_n
+    for q in range(2, STROBE_MAX_PERIODS + 1):
+        if n < 4 * q + 1:
+            break
+        # The last four deviations of P^q, z_i − z_{i−q}, i = n − 3q, .., n.
+        p3, d3t, d3v = _strobe_dev(r, n, n - 3 * q, q, k, phi, v)
+        p2, d2t, d2v = _strobe_dev(r, n, n - 2 * q, q, k, phi, v)
+        p1, d1t, d1v = _strobe_dev(r, n, n - q, q, k, phi, v)
+        p0, ct, cv = _strobe_dev(r, n, n, q, k, phi, v)
+        tau, bound, ok = math.nan, math.inf, False
+        if p3 == p0 and p2 == p0 and p1 == p0:
+            # (S7): S3-S5 on P^q, det DP^q = e^{−βqT_d} exactly.
+            det = math.exp(-beta * (q * sp_hi))
+            ok, tau, r.str_qrho[q], _, bound = strobe_switch(
+                d3t, d3v, d2t, d2v, d1t, d1v, ct, cv, det, omega, scale, r.str_qtau1[q], r.str_qtau2[q],
+                r.str_qrho[q])
+            # (S6): q periods the stored re-run can take.
+            nw = r.str_ring[4 * ((n - q) % STROBE_RING) + 3]
+            ok = ok and n_total + 1 - nw <= CYCLE_MAX_WINDOWS // 2
+            base = q * STROBE_MAX_PERIODS
+            for d in range(1, q):
+                # (S7): every other class within the scale of its limit, and the classes
+                # d periods apart with distinct limits, for every d | q, d < q.
+                b_d = r.str_qb[base + (n - d) % q]
+                ok = ok and b_d <= scale
+                if ok and q % d == 0:
+                    _, sdt, sdv = _strobe_dev(r, n, n, d, k, phi, v)
+                    sep = math.sqrt((omega * sdt) ** 2 + sdv * sdv)
+                    ok = sep - bound - b_d > STROBE_DISTINCT * scale
+        else:
+            r.str_qrho[q] = math.nan
+            # Not (yet) the linear map's deviations: this class's last bound is void.
+            r.str_qb[q * STROBE_MAX_PERIODS + n % q] = math.inf
+        r.str_qtau2[q] = r.str_qtau1[q]
+        r.str_qtau1[q] = tau
+        if bound < math.inf:
+            # (S7): a tail bound covers every later sample of its class, so a class's
+            # last finite one stands until its next.
+            r.str_qb[q * STROBE_MAX_PERIODS + n % q] = bound
+        if ok:
+            return q, p0
+    return 0, 0.0
 
 
 # ---------------------------------------------------------------------------
@@ -980,7 +1085,7 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
     AC drive (``drive_amp`` ≠ 0): each window is anchored at its start time by
     :func:`anchor_driven` (the drive's series enters the coefficients).  The locked and
     running regimes assume an autonomous equation and are not tested; instead the
-    stroboscopic samples at t_s + nT_d, T_d = 2π/Ω, are watched (S1–S6 there), and once
+    stroboscopic samples at t_s + nT_d, T_d = 2π/Ω, are watched (S1–S7 there), and once
     their deviations have converged for good the windows are the stored drive period
     from the anchor sample (``regimes.STROBE_TAG``, S6), ``regime`` phase-locked.
 
@@ -1074,7 +1179,7 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
     per_starts = np.empty(0)
     per_ends = np.empty((0, 2))
     per_coefs = np.empty((0, 0))
-    # Phase-locked to the drive (mbm.regimes, S1-S6): stroboscopic samples at
+    # Phase-locked to the drive (mbm.regimes, S1-S7): stroboscopic samples at
     # t_s + nT_d watched after each window of a driven run (Taylor, forwards, windows
     # from rtol/atol, β > 0; not with max_dtheta, the short windows of solve_ivp's event
     # search, each of which would re-take a period).  A fresh run sets the origin.
@@ -1088,6 +1193,12 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
         if n_total == 0:
             r.str_t0, r.str_n, r.str_m = t, 1, 0
             r.str_tau1, r.str_tau2, r.str_rho = math.nan, math.nan, math.nan
+            # (S7): the maps P^q, q > 1.
+            r.str_q = 1.0
+            for q in range(STROBE_MAX_PERIODS + 1):
+                r.str_qtau1[q], r.str_qtau2[q], r.str_qrho[q] = math.nan, math.nan, math.nan
+            for q in range((STROBE_MAX_PERIODS + 1) * STROBE_MAX_PERIODS):
+                r.str_qb[q] = math.inf
         if r.regime == REGIME_NONE:
             sp_next = strobe_time(r.str_t0, float(r.str_n), sp_hi, sp_lo)[0]
     while direction * (t_bound - t) > 0.0:
@@ -1149,10 +1260,10 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
             if not (math.isfinite(th) and math.isfinite(v)):
                 st = STATUS_NONFINITE
         elif is_strobe:
-            # The rest of the run is the stored drive period from the anchor (S6); its
-            # formula takes the absolute time.
-            coef = strobe_coef(r.str_phi, r.str_v, r.str_k, r.str_ta, 1.0, r.str_p, r.str_psi, beta, gamma,
-                               omega, amp, freq, rtol, atol, karg, error_order)
+            # The rest of the run is the stored period (q drive periods, S7) from the
+            # anchor (S6); its formula takes the absolute time.
+            coef = strobe_coef(r.str_phi, r.str_v, r.str_k, r.str_ta, r.str_q, r.str_p, r.str_psi, beta,
+                               gamma, omega, amp, freq, rtol, atol, karg, error_order)
             t_new = _window_end(t, direction, t_bound, max_step)
             th, v, k_new = _strobe_value(kind, coef, t_new)
             st, h_next = STATUS_OK, h_abs
@@ -1264,7 +1375,7 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
             elif m1 != m0:
                 r.sec_n, r.cyc_k = 0, 0
         if sp_next <= t_new and r.regime == REGIME_NONE:
-            # The stroboscopic samples in (t, t_new] (mbm.regimes, S1-S6).
+            # The stroboscopic samples in (t, t_new] (mbm.regimes, S1-S7).
             sp_next = _strobe_samples(kind, p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det, n_total)
         if store:
             if width > 0:

@@ -7,8 +7,8 @@ nonlinearity over the whole rest of the horizon is within the tolerance, the run
 takes one last "window" to ``t_bound`` whose formula is the linearized motion
 (:func:`locked_eval`), so the run costs its transient only.  The RUNNING cycle (R1–R3),
 the conservative LIBRATION (C1–C4) and, for a driven run, the PHASE-LOCKED orbit of the
-stroboscopic map (S1–S6, a Shapiro step) end the same way: the rest is one stored
-period re-taken from an anchor.
+stroboscopic map (S1–S7, a Shapiro step, integer or fractional) end the same way: the
+rest is one stored period re-taken from an anchor.
 
 Derivation (the comments below cite these items)
 -------------------------------------------------
@@ -140,7 +140,8 @@ N the periods to t_bound plus one and θ_min ≤ |θ| over the orbit, and the sp
 at least LIBRATION_MIN_PERIODS periods (shorter runs are cheaper window by window).
 
 PHASE-LOCKED to the drive (β > 0, A ≠ 0, Ω > 0; a driven run settling on a periodic
-orbit of the stroboscopic map, θ(t + T_d) = θ(t) + 2πp, T_d = 2π/Ω: a Shapiro step):
+orbit of the stroboscopic map, θ(t + T_d) = θ(t) + 2πp, T_d = 2π/Ω: a Shapiro step;
+S7 for θ(t + qT_d) = θ(t) + 2πp, the fractional steps):
 
 (S1) Samples.  The stroboscopic map P takes the state at t to the state at t + T_d.
 The loop samples z_n = (θ, θ') at t_n = t_s + nT_d (t_s the run's start, n ≥ 1) by the
@@ -206,8 +207,8 @@ error of the ordinary run at a sample is (the extension is the ordinary run from
 anchor, S6).  Near a step's edge (a saddle-node of P: μ₁ → 1) ρ passes
 STROBE_MAX_MULTIPLIER and the run waits; between steps (quasi-periodic motion) and on
 chaotic motion the deviations do not decay and the fit fails: no switch.  A
-subharmonic orbit (θ(t + qT_d) = θ(t) + 2πp, q > 1) is not detected (its period-1
-deviations do not decay): the ordinary run continues.
+subharmonic orbit (θ(t + qT_d) = θ(t) + 2πp, q > 1) is no fixed point of P: its
+period-1 deviations do not decay, and S7 takes it.
 
 (S6) Extension.  After the switch the motion is one stored drive period re-taken from
 the anchor (t_a = t_N, the anchor state the window's formula there): with
@@ -222,7 +223,54 @@ costs at most one period of windows (a run whose last period took more than half
 CYCLE_MAX_WINDOWS, the re-run's limit, does not switch).  Unlike the running cycle's (R3) the period is
 exact and the orbit has no neutral direction, so the extension's error does not grow
 with n: it is the anchor's deviation (S5) plus one period of the ordinary windows'
-error.  The result's period is T_d and its mean velocity pΩ (:func:`strobe_summary`).
+error.  The result's period is T_d and its mean velocity pΩ (:func:`strobe_summary`;
+q drive periods and pΩ/q for the orbits of S7).
+
+(S7) Subharmonic orbits (q > 1).  An orbit θ(t + qT_d) = θ(t) + 2πp, q > 1 (a
+fractional step, ⟨θ'⟩ = (p/q)Ω, or a period-doubled one) is a fixed point of P^q.
+After S5's test at each sample z_N (q = 1 first), the maps P^q, q = 2 ..
+STROBE_MAX_PERIODS (smallest first), are tested on the same samples: the deviations
+Δ^q_i = z_i − z_{i−q} − 2πp (S1's arithmetic, p the turns over q periods), the four
+of the anchor's class Δ^q_{N−3q}, Δ^q_{N−2q}, Δ^q_{N−q}, Δ^q_N sharing one p, and
+S2–S5 word for word with P^q for P: det DP^q = e^{−βqT_d} exactly (Liouville over
+qT_d), the tail B of S3 over the samples N + jq, the fit and its trust (S4: the three
+successive fits are at the samples N − 2, N − 1, N, of different classes, and estimate
+one trace: DP^q at z_{i+1} is DP(z_i)·DP^q(z_i)·DP(z_i)^{−1}), ρ ≤
+STROBE_MAX_MULTIPLIER and B within S5's scale.  Each class c (the samples i ≡ c mod q)
+keeps its last finite tail bound B_c (void once its four deviations' turns disagree):
+by S3, B_c bounds the sum of all the class's deviations after the sample it was fitted
+at, so every later sample of the class is within B_c of the class's limit z*_c, a point
+of the exact orbit.  The switch asks B_c within the scale for every class, not the
+anchor's alone: then every later sample, the extension's among them (S6: the re-run
+from z_N is the ordinary run's continuation), is within the scale of the orbit's, and
+between samples the deviation is carried by the flow over less than one drive period,
+as in S5.  The anchor's class alone would not do: the flow over i < q drive periods
+can amplify its deviation (measured: by 50 over two drive periods on β = 0.5, γ = 0.52,
+A = 2, Ω = 0.5, q = 4, where the extension was then 2.7 tolerances off).
+
+The smallest q.  A fixed point of P^d is one of P^q for every multiple q of d, and
+there P^q contracts faster (its multipliers are those of P^d to the power q/d): on an
+orbit of period d, P^q's bound can pass before P^d's.  So the switch to q also asks
+that the orbit's period is no proper divisor d of q: with
+sep_d = |z_N − z_{N−d} − 2πm| (S5's norm, m the nearest integer) the limits of the
+classes of N and N − d differ by at least sep_d − B_N − B_{N−d}, and the rule asks
+that this exceed STROBE_DISTINCT·scale for every d | q, d < q.  On an orbit of period d
+those two limits coincide (mod 2π: the class of N − d is the image of N's under
+P^{q−d}, and q − d is a multiple of d), so no orbit of period d is reported as q: a
+q = 1 orbit never as q = 2 (a run that switched under S5 switches at the same sample,
+bit for bit), a q = 2 orbit never as q = 4.  Orbits of more than STROBE_MAX_PERIODS
+drive periods are not detected: the ordinary run continues.
+
+The extension is S6 with qT_d for T_d: one stored period of q drive periods re-taken
+from the anchor (split on qT_d in double-double; the drive's phase Ωs + ψ_a, s < qT_d),
+θ(t) = θ_p(s) + 2πpn; an evaluation costs at most q drive periods of windows (a run
+whose last q periods took more than half CYCLE_MAX_WINDOWS does not switch).  The
+result's period is qT_d and its mean velocity pΩ/q (:func:`strobe_summary`; p and q
+may share a factor: a period-doubled orbit of the n = 1 step is p = q = 2, ⟨θ'⟩ = Ω).
+The computed map's noise per sample is that of q drive periods of windows (measured
+1e-3 to 1e-2 of the tolerance at q = 4): with ρ near STROBE_MAX_MULTIPLIER the
+deviations can reach it before B passes, and such a run may not switch at some
+tolerances (as S4's near τ² = 4D).
 """
 
 import math
@@ -283,6 +331,8 @@ __all__ = [
     "strobe_switch",
     "strobe_coef",
     "strobe_summary",
+    "STROBE_MAX_PERIODS",
+    "STROBE_RING",
 ]
 
 # (L5): the remainder bound must be this fraction of the tolerance, so the switch adds
@@ -366,10 +416,10 @@ DD_X_MINUS_SIN_TERMS = 12
 # ~10-100 at the tolerances in use); past it the evaluation is NaN (a failure).
 CYCLE_MAX_WINDOWS = 100000
 
-# Phase-locked to the drive (S1-S6).
+# Phase-locked to the drive (S1-S7).
 # A phase-locked window's coefficient vector (S6): [STROBE_TAG, φ_a, θ'_a, k_a, t_a, q, p,
 # ψ_a, β, γ, ω, A, Ω, rtol, atol, karg + STROBE_CODE·error_order]: the anchor at
-# θ = 2πk_a + φ_a, θ'_a at time t_a, the period qT_d (q = 1), p turns per period, ψ_a
+# θ = 2πk_a + φ_a, θ'_a at time t_a, the period qT_d (q ≥ 1, S7), p turns per period, ψ_a
 # the drive's phase at t_a reduced to [−π, π].  16 wide: the narrowest Taylor vector
 # (taylor8: 5 + 11) holds it, so every path can store it.
 STROBE_TAG = 103.0
@@ -402,6 +452,16 @@ STROBE_CLEAN_RESIDUAL = 1e-3
 # (S4): the traces of three successive fits must agree to this (absolute; clean fits
 # agree to 1e-4 on that step, fits of round-off noise scatter by 0.1 to 1).
 STROBE_TRACE_AGREE = 0.01
+# (S7): the longest orbit looked for, in drive periods (q ≤ this): each output after a
+# switch re-takes up to q periods of windows and the test needs 4q + 1 samples, and
+# 4 covers the widest fractional steps (p/2, p/3, p/4) and two period doublings.
+STROBE_MAX_PERIODS = 4
+# (S7): the samples kept for the maps P^q (the four q-deviations span 4q + 1 samples).
+STROBE_RING = 4 * STROBE_MAX_PERIODS
+# (S7): for each proper divisor d of q the samples d drive periods apart must differ by
+# more than this many switch scales: both are within one scale of their classes'
+# limits, so those differ by 98 scales, ten tolerances: the orbit's period is not d.
+STROBE_DISTINCT = 100.0
 
 
 @numba.njit(cache=True)
@@ -976,7 +1036,7 @@ def libration_period(gamma, omega, theta, v):
 
 
 # ---------------------------------------------------------------------------
-# Phase-locked to the drive (S1-S6)
+# Phase-locked to the drive (S1-S7)
 # ---------------------------------------------------------------------------
 
 
@@ -989,7 +1049,7 @@ def strobe_period(freq, q):
     freq : float
         Ω > 0.
     q : float
-        Drive periods per period of the orbit (an integer, 1).
+        Drive periods per period of the orbit (an integer, 1 to STROBE_MAX_PERIODS: S7).
 
     Returns
     -------
@@ -1187,7 +1247,7 @@ def strobe_coef(phi_a, v_a, k_a, t_a, q, p, psi_a, beta, gamma, omega, amp, freq
     t_a : float
         Its time (a stroboscopic sample's).
     q, p : float
-        Drive periods per period (1) and turns per period.
+        Drive periods per period (1 to STROBE_MAX_PERIODS, S7) and turns per period.
     psi_a : float
         :func:`strobe_phase` at t_a.
     beta, gamma, omega, amp, freq : float
@@ -1227,7 +1287,7 @@ def strobe_summary(p, q, freq):
     Parameters
     ----------
     p, q : float
-        Turns per period and drive periods per period (the record's ``str_p``, 1).
+        Turns per period and drive periods per period (the record's ``str_p``, ``str_q``).
     freq : float
         Ω.
 

@@ -85,7 +85,7 @@ _W_CALL = tuple(loop.WORD[k] for k in ("beta", "gamma", "omega", "t", "theta", "
 assert loop.WORD["v"] == _W_THETA + 1  # θ, θ' adjacent: the state is one slice of the record
 _W_REGIME, _W_T_REGIME, _W_CYC_T, _W_CYC_SIGN = (loop.WORD[k] for k in ("regime", "t_regime", "cyc_T",
                                                                         "cyc_sign"))
-_W_STR_P = loop.WORD["str_p"]
+_W_STR_P, _W_STR_Q = loop.WORD["str_p"], loop.WORD["str_q"]
 
 _PAUSED = loop.STATUS_PAUSED
 _NO_TIMES = np.empty(0)
@@ -269,7 +269,8 @@ class MBM(_MBMBase):
         When it switched (nan before).
     period, mean_velocity : float
         The running cycle's T_c and ⟨θ'⟩ = ±2π/T_c; a libration's period and 0;
-        phase-locked, 2π/Ω and pΩ (nan otherwise; mean_velocity 0 when locked).
+        phase-locked, q·2π/Ω and (p/q)Ω, p turns per q drive periods (nan otherwise;
+        mean_velocity 0 when locked).
     """
 
     def __new__(cls, *args, anchors="windows", **kwargs):
@@ -384,8 +385,8 @@ class MBM(_MBMBase):
             self.t_regime = words.item(_W_T_REGIME)
             self.period, self.mean_velocity = cycle_summary(regime, words[_W_CYC_T], words[_W_CYC_SIGN])
             if regime == REGIME_PHASE_LOCKED:
-                self.period, self.mean_velocity = strobe_summary(words.item(_W_STR_P), 1.0,
-                                                                 words.item(_W_FREQ))
+                self.period, self.mean_velocity = strobe_summary(
+                    words.item(_W_STR_P), words.item(_W_STR_Q), words.item(_W_FREQ))
         if n == 0:
             return False, self._failure(ints.item(_W_STATUS))
         # θ at the starts: a view of the store's column (the evaluator takes strides).

@@ -312,7 +312,7 @@ def _solve_block(*arrays, names, fixed, t_span, times, variables, options):
             advance = theta1 - y[:, 0, 0]
             if "mean_velocity" in variables:
                 # Exact where the run switched to a regime (2π/T_c on the running cycle,
-                # 0 once locked, pΩ phase-locked to a drive); else the two samples' estimate.
+                # 0 once locked, (p/q)Ω phase-locked to a drive); else the two samples' estimate.
                 exact = np.isfinite(res.mean_velocity) & ok
                 found["mean_velocity"] = np.where(exact, res.mean_velocity, advance / (t1 - t_mid))
             if "regime" in variables:
@@ -483,7 +483,7 @@ def sweep(*, beta, gamma, omega=1.0, theta0=0.0, theta_dot0=0.0, t_span, t_eval=
         above (dimensions after theirs, scalars as attributes) where any is not 0;
         all three 0 (the default): no drive, and neither dimensions nor attributes.
         A driven scene's only regime is the phase-locked one (a Shapiro step,
-        :mod:`mbm.regimes` S1–S6), where its ``"mean_velocity"`` is pΩ exactly;
+        :mod:`mbm.regimes` S1–S7), where its ``"mean_velocity"`` is (p/q)Ω exactly;
         elsewhere it is the two samples' estimate, not a whole-drive-period average
         (:func:`mbm.iv_curve` measures that).
     t_span : (float, float)
@@ -499,8 +499,8 @@ def sweep(*, beta, gamma, omega=1.0, theta0=0.0, theta_dot0=0.0, t_span, t_eval=
             ``theta_final``, ``theta_dot_final``: θ(t1), θ'(t1).
         ``"mean_velocity"``
             ``mean_velocity``: exact where the run reached a regime (``mbm.solve``'s
-            ``regime``): 2π/T_c on the running limit cycle, 0 once locked, pΩ once
-            phase-locked to a drive.  Elsewhere
+            ``regime``): 2π/T_c on the running limit cycle, 0 once locked, (p/q)Ω
+            once phase-locked to a drive.  Elsewhere
             (θ(t1) − θ(t_m)) / (t1 − t_m); for t0 = 0, (θ(T) − θ(T/2)) / (T/2): two
             samples, not an average over a cycle, off by at most 2·(swing of
             θ − ⟨θ'⟩t) / (t1 − t_m), i.e. O(P/T) for a cycle of period P.
