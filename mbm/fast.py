@@ -62,6 +62,8 @@ INTEGRATOR_CACHE = 256
 BATCH_POLL = 0.05
 
 _W = loop.WORD
+_KIND_TAYLOR, _KIND_EXACT = loop.KIND_TAYLOR, loop.KIND_EXACT
+_KIND_SALAS_TORQUE, _KIND_SPLIT = loop.KIND_SALAS_TORQUE, loop.KIND_SPLIT
 _W_T, _W_THETA, _W_V, _W_TBOUND, _W_H = _W["t"], _W["theta"], _W["v"], _W["t_bound"], _W["h_abs"]
 _W_CYC_T, _W_CYC_SIGN = _W["cyc_T"], _W["cyc_sign"]
 _W_STR_P, _W_STR_Q, _W_FREQ = _W["str_p"], _W["str_q"], _W["drive_freq"]
@@ -188,11 +190,11 @@ def _outputs(kind, buf, fresh, t0, theta0, v0, t1, h, t_eval, out):
     p = _start(buf, fresh, t0, theta0, v0, t1, h)
     win_t, win_y, win_coef = np.empty(0), np.empty((0, 2)), np.empty((0, 0))
     never = np.zeros(1, np.int64)
-    if kind == loop.KIND_TAYLOR:
+    if kind == _KIND_TAYLOR:
         loop.run_taylor(p, t_eval, out, win_t, win_y, win_coef, never)
-    elif kind == loop.KIND_EXACT:
+    elif kind == _KIND_EXACT:
         loop.run_exact(p, t_eval, out, win_t, win_y, win_coef, never)
-    elif kind == loop.KIND_SALAS_TORQUE:
+    elif kind == _KIND_SALAS_TORQUE:
         loop.run_salas_torque(p, t_eval, out, win_t, win_y, win_coef, never)
     else:
         loop.run_split(p, t_eval, out, win_t, win_y, win_coef, never)
@@ -205,11 +207,11 @@ def _ends(kind, buf, fresh, t0, theta0, v0, t1, h, win_t, win_y):
     p = _start(buf, fresh, t0, theta0, v0, t1, h)
     t_eval, out, win_coef = np.empty(0), np.empty((2, 0)), np.empty((0, 0))
     never = np.zeros(1, np.int64)
-    if kind == loop.KIND_TAYLOR:
+    if kind == _KIND_TAYLOR:
         n = loop.run_taylor(p, t_eval, out, win_t, win_y, win_coef, never)
-    elif kind == loop.KIND_EXACT:
+    elif kind == _KIND_EXACT:
         n = loop.run_exact(p, t_eval, out, win_t, win_y, win_coef, never)
-    elif kind == loop.KIND_SALAS_TORQUE:
+    elif kind == _KIND_SALAS_TORQUE:
         n = loop.run_salas_torque(p, t_eval, out, win_t, win_y, win_coef, never)
     else:
         n = loop.run_split(p, t_eval, out, win_t, win_y, win_coef, never)
@@ -217,45 +219,47 @@ def _ends(kind, buf, fresh, t0, theta0, v0, t1, h, win_t, win_y):
     return r.status, n, r.n_windows, r.regime, r.t_regime
 
 
-# The kind is a constant in each entry: numba prunes the other kinds' calls.
+# The kind is a constant in each entry: numba prunes the other kinds' calls (compared
+# with module globals: numba's dead-branch pruning sees a global, not ``loop.KIND_*``,
+# an attribute of a module, and without it every entry compiled all four loops).
 @numba.njit(cache=True)
 def _outputs_taylor(buf, fresh, t0, theta0, v0, t1, h, t_eval, out):
-    return _outputs(loop.KIND_TAYLOR, buf, fresh, t0, theta0, v0, t1, h, t_eval, out)
+    return _outputs(_KIND_TAYLOR, buf, fresh, t0, theta0, v0, t1, h, t_eval, out)
 
 
 @numba.njit(cache=True)
 def _outputs_exact(buf, fresh, t0, theta0, v0, t1, h, t_eval, out):
-    return _outputs(loop.KIND_EXACT, buf, fresh, t0, theta0, v0, t1, h, t_eval, out)
+    return _outputs(_KIND_EXACT, buf, fresh, t0, theta0, v0, t1, h, t_eval, out)
 
 
 @numba.njit(cache=True)
 def _outputs_salas_torque(buf, fresh, t0, theta0, v0, t1, h, t_eval, out):
-    return _outputs(loop.KIND_SALAS_TORQUE, buf, fresh, t0, theta0, v0, t1, h, t_eval, out)
+    return _outputs(_KIND_SALAS_TORQUE, buf, fresh, t0, theta0, v0, t1, h, t_eval, out)
 
 
 @numba.njit(cache=True)
 def _outputs_split(buf, fresh, t0, theta0, v0, t1, h, t_eval, out):
-    return _outputs(loop.KIND_SPLIT, buf, fresh, t0, theta0, v0, t1, h, t_eval, out)
+    return _outputs(_KIND_SPLIT, buf, fresh, t0, theta0, v0, t1, h, t_eval, out)
 
 
 @numba.njit(cache=True)
 def _ends_taylor(buf, fresh, t0, theta0, v0, t1, h, win_t, win_y):
-    return _ends(loop.KIND_TAYLOR, buf, fresh, t0, theta0, v0, t1, h, win_t, win_y)
+    return _ends(_KIND_TAYLOR, buf, fresh, t0, theta0, v0, t1, h, win_t, win_y)
 
 
 @numba.njit(cache=True)
 def _ends_exact(buf, fresh, t0, theta0, v0, t1, h, win_t, win_y):
-    return _ends(loop.KIND_EXACT, buf, fresh, t0, theta0, v0, t1, h, win_t, win_y)
+    return _ends(_KIND_EXACT, buf, fresh, t0, theta0, v0, t1, h, win_t, win_y)
 
 
 @numba.njit(cache=True)
 def _ends_salas_torque(buf, fresh, t0, theta0, v0, t1, h, win_t, win_y):
-    return _ends(loop.KIND_SALAS_TORQUE, buf, fresh, t0, theta0, v0, t1, h, win_t, win_y)
+    return _ends(_KIND_SALAS_TORQUE, buf, fresh, t0, theta0, v0, t1, h, win_t, win_y)
 
 
 @numba.njit(cache=True)
 def _ends_split(buf, fresh, t0, theta0, v0, t1, h, win_t, win_y):
-    return _ends(loop.KIND_SPLIT, buf, fresh, t0, theta0, v0, t1, h, win_t, win_y)
+    return _ends(_KIND_SPLIT, buf, fresh, t0, theta0, v0, t1, h, win_t, win_y)
 
 
 #: The compiled entries (with t_eval, with the window ends) of each kind id.
