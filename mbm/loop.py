@@ -981,7 +981,10 @@ def _strobe_samples(kind, p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det, n_tot
         r.str_nw = n_total + 1
 
 
-@numba.njit(**_INLINE)
+# _strobe_dev and _strobe_subharmonic are called, not inlined: they are kind-free, run once
+# per drive period of a driven run, and inlined at their call sites they added ~10 s to
+# run_taylor's compile from an empty cache (49 -> 39 s, measured).
+@numba.njit(cache=True)
 def _strobe_dev(r, n, i, d, k, phi, v):
     """``(turns, Δθ, Δθ')`` of z_i − z_{i−d} (S1's arithmetic; S7): samples before the
     current one, index ``n`` (state ``k``, ``phi``, ``v``), from the record's ring."""
@@ -998,7 +1001,7 @@ def _strobe_dev(r, n, i, d, k, phi, v):
     return turns, (dphi - m * TWO_PI_A) - m * TWO_PI_B, v1 - ring[s0 + 2]
 
 
-@numba.njit(**_INLINE)
+@numba.njit(cache=True)
 def _strobe_subharmonic(p, k, phi, v, scale, sp_hi, n_total):
     """The switch rule of the maps P^q, q = 2 .. STROBE_MAX_PERIODS, at the current
     sample (index ``str_n``, state ``k``, ``phi``, ``v`` carried to the exact time;
