@@ -39,38 +39,10 @@ TOLS = (1e-8, 1e-10, 1e-12)
 ORACLE_CASES = ([(HALF, tol) for tol in TOLS] + [(HALF_OVERDAMPED, tol) for tol in (1e-8, 1e-10)]
                 + [(SIXTEEN_THIRDS, tol) for tol in TOLS] + [(PERIOD_FOUR, tol) for tol in TOLS])
 T_REF = 2.0e4
-needs_oracle = pytest.mark.skipif(
-    not oracle_heyoka.available(),
-    reason="the oracle needs heyoka (the test extra) and an 80-bit long double (x86-64)")
-
-LD = np.longdouble
-TWO_PI_LD = 2 * LD(np.pi)
-
-
-def _run(params, y0, T, t, tol, regimes_on=1, call_windows=0):
-    """The loop by hand (mbm.solve's defaults), θ wrapped with its winding count."""
-    beta, gamma, omega, amp, freq, phase = params
-    ap, kind, karg = mbm.fast.compiled(mbm.get_approximant("taylor"))
-    p = loop.new_run(beta, gamma, omega, 0.0, y0[0], y0[1], T, kind, karg, loop.CONTROLLER_ADAPTIVE,
-                     -1.0, np.inf, tol, tol, int(ap.error_order), 10**8, call_windows=call_windows,
-                     regimes=regimes_on, drive_amplitude=amp, drive_frequency=freq, drive_phase=phase)
-    out = np.full((3, t.size), np.nan)
-    while True:
-        loop.run(p, t, out, np.empty(0), np.empty((0, 2)), np.empty((0, 0)), np.zeros(1, np.int64))
-        if p[0]["status"] != loop.STATUS_PAUSED:
-            break
-    assert p[0]["status"] == 0
-    return out, p[0]
-
-
-def _theta_ld(out):
-    # θ = 2π·winding + φ, in long double (no rounding of the wound angle).
-    return out[2].astype(LD) * TWO_PI_LD + out[0].astype(LD)
-
-
-def _model(params):
-    return mbm.Pendulum(*params[:3], drive_amplitude=params[3], drive_frequency=params[4],
-                        drive_phase=params[5])
+from driven_run import LD, TWO_PI_LD, needs_oracle  # noqa: E402  tests/data
+from driven_run import model as _model  # noqa: E402
+from driven_run import run as _run  # noqa: E402
+from driven_run import theta_ld as _theta_ld  # noqa: E402
 
 
 _REFS = {}

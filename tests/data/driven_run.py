@@ -1,0 +1,43 @@
+"""Helpers shared by the driven-run tests (tests/test_strobe.py, tests/test_subharmonic.py):
+the window loop run by hand with θ wrapped, θ in long double, the driven model."""
+
+import numpy as np
+import pytest
+
+import mbm
+import oracle_heyoka
+from mbm import loop
+
+LD = np.longdouble
+TWO_PI_LD = 2 * LD(np.pi)
+
+needs_oracle = pytest.mark.skipif(
+    not oracle_heyoka.available(),
+    reason="the oracle needs heyoka (the test extra) and an 80-bit long double (x86-64)")
+
+
+def run(params, y0, T, t, tol, regimes_on=1, call_windows=0):
+    """The loop by hand (mbm.solve's defaults), θ wrapped with its winding count."""
+    beta, gamma, omega, amp, freq, phase = params
+    ap, kind, karg = mbm.fast.compiled(mbm.get_approximant("taylor"))
+    p = loop.new_run(beta, gamma, omega, 0.0, y0[0], y0[1], T, kind, karg, loop.CONTROLLER_ADAPTIVE,
+                     -1.0, np.inf, tol, tol, int(ap.error_order), 10**8, call_windows=call_windows,
+                     regimes=regimes_on, drive_amplitude=amp, drive_frequency=freq, drive_phase=phase)
+    out = np.full((3, t.size), np.nan)
+    while True:
+        loop.run(p, t, out, np.empty(0), np.empty((0, 2)), np.empty((0, 0)), np.zeros(1, np.int64))
+        if p[0]["status"] != loop.STATUS_PAUSED:
+            break
+    assert p[0]["status"] == 0
+    return out, p[0]
+
+
+def theta_ld(out):
+    """θ = 2π·winding + φ, in long double (no rounding of the wound angle)."""
+    return out[2].astype(LD) * TWO_PI_LD + out[0].astype(LD)
+
+
+def model(params):
+    """The driven Pendulum of (β, γ, ω, A, Ω, φ)."""
+    return mbm.Pendulum(*params[:3], drive_amplitude=params[3], drive_frequency=params[4],
+                        drive_phase=params[5])
