@@ -53,7 +53,8 @@ def _taylor_run(gamma, omega, y0, T, t, tol, regimes_on):
 @pytest.fixture(scope="module")
 def heyoka_ref():
     if not oracle_heyoka.available():
-        pytest.skip("numpy.longdouble is a double here")
+        pytest.skip("the heyoka long-double oracle needs an 80-bit long double (x86-64); "
+                    "numpy.longdouble is a double here")
     return oracle_heyoka.reference
 
 
