@@ -27,7 +27,10 @@ and from θ'' = γ − βθ' − ω² sin θ at power t^k:
     (k+1)(k+2) a_{k+2} = γ δ_{k0} − β (k+1) a_{k+1} − ω² s_k,   k ≥ 0.
 
 Each order costs 2k multiply-adds for (s_k, c_k), so the N coefficients cost
-about N² operations; there is one sin and one cos per window.
+about N² operations; there is one sin and one cos per window.  At the default
+degree 24 the recurrence runs as vector code (:mod:`mbm.approximants.taylor_simd`:
+the same sums, paired in four-lane multiplies and reordered so that each order waits
+on the one before through one multiply and one add).
 
 AC drive
 --------
@@ -106,7 +109,7 @@ from numba import njit
 
 from ..special.dd import two_prod, two_sum
 from .base import Approximant, register
-from .taylor_unrolled import taylor24_driven_series, taylor24_series
+from .taylor_simd import SIMD_ORDER, taylor24_driven_series, taylor24_series
 
 __all__ = [
     "taylor_coefficients",
@@ -184,12 +187,24 @@ def _header(coef, scratch, n_order, beta, gamma, omega):
         bad[0] = STATUS_BAD_ORDER
         return False, bad
     coef = coef[: HEADER + nt + 1]
+    _header_into(coef, n_order, beta, gamma, omega)
+    return True, coef
+
+
+@njit(cache=True, inline="always")
+def _header_into(coef, n_order, beta, gamma, omega):
+    # The header of the layout at module top (status OK).
     coef[0] = STATUS_OK
     coef[1] = n_order
     coef[2] = beta
     coef[3] = gamma
     coef[4] = omega
-    return True, coef
+
+
+@njit(cache=True, inline="always")
+def _finite5(beta, gamma, omega, theta0, v0):
+    return (math.isfinite(theta0) and math.isfinite(v0) and math.isfinite(beta)
+            and math.isfinite(gamma) and math.isfinite(omega))
 
 
 @njit(cache=True, inline="always")
@@ -218,8 +233,8 @@ def _sin_order(k, off, br, sn, cn):
     # T_1 … T_{k−2} in four accumulators (T_m into accumulator (m − 1) mod 4), those
     # added left to right, then T_0 (b_k, the newest b), then T_{k−1} (c_{k−1}, from
     # the order before): independent chains, and the newest inputs enter last, so an
-    # order's sum waits little on the one before.  The straight-line kernels of
-    # mbm.approximants.taylor_unrolled add in this order too (the same bits).
+    # order's sum waits little on the one before.  (Degree SIMD_ORDER takes the
+    # vector kernel of mbm.approximants.taylor_simd, the same sums in another order.)
     if k == 1:
         ss = br[off] * cn[0]
         cc = br[off] * sn[0]
@@ -316,29 +331,34 @@ def taylor_coefficients_into(beta, gamma, omega, theta0, v0, n_order, coef, scra
         or ``coef[:HEADER]`` with status STATUS_BAD_ORDER for a degree outside
         1 .. MAX_ORDER or buffers too small for it.
     """
+    if (n_order == SIMD_ORDER and coef.size == HEADER + SIMD_ORDER + N_EXTRA + 1
+            and _finite5(beta, gamma, omega, theta0, v0)):
+        # The run's own workspace at the vector kernel's degree: header and
+        # coefficients stored in place, no view made.
+        _header_into(coef, n_order, beta, gamma, omega)
+        taylor24_series(beta, gamma, omega, theta0, v0, coef)
+        return coef
     ok, coef = _header(coef, scratch, n_order, beta, gamma, omega)
     if not ok:
         return coef
-    if not (math.isfinite(theta0) and math.isfinite(v0) and math.isfinite(beta)
-            and math.isfinite(gamma) and math.isfinite(omega)):
+    if not _finite5(beta, gamma, omega, theta0, v0):
         coef[:] = np.nan
         coef[0] = STATUS_BAD_STATE
         return coef
 
-    a = coef[HEADER:]
-    if n_order == 24:
-        # The same recurrence written out (mbm.approximants._unrolled_gen): same bits.
-        taylor24_series(beta, gamma, omega, theta0, v0, a)
+    if n_order == SIMD_ORDER:
+        # The same recurrence in vector instructions (mbm.approximants.taylor_simd).
+        taylor24_series(beta, gamma, omega, theta0, v0, coef)
     else:
-        series_loop(beta, gamma, omega, theta0, v0, n_order, a, scratch)
+        series_loop(beta, gamma, omega, theta0, v0, n_order, coef[HEADER:], scratch)
     return coef
 
 
 @njit(cache=True)
 def series_loop(beta, gamma, omega, theta0, v0, n_order, a, scratch):
     """The recurrence's loop form: a₀ … a_{N+2} into ``a`` (``scratch`` as
-    :func:`taylor_workspace`'s); the degrees of :mod:`mbm.approximants.taylor_unrolled`
-    take the written-out form, of the same bits."""
+    :func:`taylor_workspace`'s); degree SIMD_ORDER takes the vector kernel of
+    :mod:`mbm.approximants.taylor_simd` instead (the same recurrence, rounded apart)."""
     nt = n_order + N_EXTRA
     w2 = omega * omega
     # Scratch (the caller's buffer): s_m, c_m in natural order and b_j = j a_j (the θ'
@@ -427,23 +447,28 @@ def taylor_driven_coefficients_into(beta, gamma, omega, amp, freq, phase, t0, th
     ndarray
         A view of ``coef`` (the layout at module top).
     """
+    finite = (_finite5(beta, gamma, omega, theta0, v0) and math.isfinite(amp) and math.isfinite(freq)
+              and math.isfinite(phase) and math.isfinite(t0))
+    if n_order == SIMD_ORDER and coef.size == HEADER + SIMD_ORDER + N_EXTRA + 1 and finite:
+        # The workspace in place, as taylor_coefficients_into.
+        _header_into(coef, n_order, beta, gamma, omega)
+        u, w = drive_phase_sincos(freq, phase, t0)
+        taylor24_driven_series(beta, gamma, omega, amp, freq, u, w, theta0, v0, coef)
+        return coef
     ok, coef = _header(coef, scratch, n_order, beta, gamma, omega)
     if not ok:
         return coef
-    if not (math.isfinite(theta0) and math.isfinite(v0) and math.isfinite(beta)
-            and math.isfinite(gamma) and math.isfinite(omega) and math.isfinite(amp)
-            and math.isfinite(freq) and math.isfinite(phase) and math.isfinite(t0)):
+    if not finite:
         coef[:] = np.nan
         coef[0] = STATUS_BAD_STATE
         return coef
 
-    a = coef[HEADER:]
     u, w = drive_phase_sincos(freq, phase, t0)
-    if n_order == 24:
-        # The same recurrence written out (mbm.approximants._unrolled_gen): same bits.
-        taylor24_driven_series(beta, gamma, omega, amp, freq, u, w, theta0, v0, a)
+    if n_order == SIMD_ORDER:
+        # The same recurrence in vector instructions (mbm.approximants.taylor_simd).
+        taylor24_driven_series(beta, gamma, omega, amp, freq, u, w, theta0, v0, coef)
     else:
-        driven_series_loop(beta, gamma, omega, amp, freq, u, w, theta0, v0, n_order, a, scratch)
+        driven_series_loop(beta, gamma, omega, amp, freq, u, w, theta0, v0, n_order, coef[HEADER:], scratch)
     return coef
 
 

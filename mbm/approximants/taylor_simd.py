@@ -1,0 +1,200 @@
+r"""The degree-24 Taylor recurrence in vector instructions (a numba intrinsic).
+
+:mod:`mbm.approximants.taylor`'s recurrence (its "Coefficients"), emitted as LLVM IR
+at compile time: packed pairs of sin θ and cos θ coefficients, four lanes per
+multiply, and the recurrence rearranged so that each order waits on the one before
+through one multiply and one add.  The scalar written-out form was bound by its
+instruction count (~2000 scalar multiplies, adds and spills per anchor at degree 24,
+about a third of a window); this form needs about a third of them.
+
+Rearranged recurrence
+---------------------
+With b_j = j a_j, s_m, c_m the coefficients of sin θ and cos θ, and n_m = −c_m, write
+X_m = (s_m, n_m) and Y_m = (n_m, s_m) (lane 0, lane 1).  The module's convolution
+k s_k = Σ_{m<k} b_{k−m} c_m, k c_k = −Σ_{m<k} b_{k−m} s_m reads, order k ≥ 3,
+
+    X_k = ((W_k·(−1/k, 1/k) + Y_{k−2}·(−b₂/k, b₂/k)) + b_k·(c₀/k, s₀/k)) + Y_{k−1}·(−b₁/k, b₁/k),
+    W_k = Σ_{m=1}^{k−3} b_{k−m} Y_m,
+
+(X₁ = b₁(c₀, s₀); X₂ without W and the Y_{k−2} term): the three terms of the newest
+inputs (b_k, Y_{k−1}, Y_{k−2}) are added last, each scaled by a factor formed off the
+critical path, and W_k, whose inputs are three orders old, is summed meanwhile in four
+lanes (the pairs m, m + 1 packed: (n_m, s_m, n_{m+1}, s_{m+1}) × (b_{k−m}, b_{k−m},
+b_{k−m−1}, b_{k−m−1}), two accumulators, then lanes 0 + 2 and 1 + 3).  The θ
+coefficients follow from
+
+    b_{k+2} = (d_k/(k+1) + (−β/(k+1)) b_{k+1}) + (−ω²/(k+1)) s_k,   a_{k+2} = b_{k+2}/(k+2),
+
+with d_k the drive's series (0 undriven; the driven form as taylor.py's).  The sums
+are the module's in another order and another rounding (each operation is IEEE, no
+reassociation is allowed to the compiler, so the bits are the same on every machine);
+tests/test_taylor_simd.py bounds every coefficient against a 50-digit recurrence as
+for the loop form.
+"""
+
+import math
+
+from llvmlite import ir
+from numba import njit, types
+from numba.core.extending import intrinsic
+
+__all__ = ["SIMD_ORDER", "taylor24_series", "taylor24_driven_series"]
+
+# The degree emitted: the "auto" rule's (taylor.TAYLOR_DEFAULT_ORDER); each degree is
+# one more emitted kernel to compile, so only the one the runs use.
+SIMD_ORDER = 24
+
+# Coefficients past a_N (taylor.N_EXTRA: the error estimate's two).
+N_EXTRA = 2
+
+# Where a₀ sits in the coefficient vector (taylor.HEADER): a_k is stored at the
+# constant index HEADER + k, so the anchor makes no view of the vector.
+HEADER = 5
+
+_DBL = ir.DoubleType()
+_I32 = ir.IntType(32)
+_I64 = ir.IntType(64)
+_V2 = ir.VectorType(_DBL, 2)
+_V4 = ir.VectorType(_DBL, 4)
+
+
+def _emit(builder, data, n_order, beta, gamma, w2, s0, c0, theta0, v0, drive):
+    """Emit the recurrence (module docstring) storing a₀ … a_{N+2} at data[HEADER + k].
+
+    ``drive`` is None or the IR values (f, freq, u, w) of taylor.py's driven form.
+    """
+    nt = n_order + N_EXTRA
+
+    def cst(x):
+        return ir.Constant(_DBL, float(x))
+
+    def v2const(x, y):
+        return ir.Constant(_V2, [cst(x), cst(y)])
+
+    def pack2(x, y):
+        v = builder.insert_element(ir.Constant(_V2, ir.Undefined), x, ir.Constant(_I32, 0))
+        return builder.insert_element(v, y, ir.Constant(_I32, 1))
+
+    def shuffle(a, b, mask):
+        return builder.shuffle_vector(a, b, ir.Constant(ir.VectorType(_I32, len(mask)), list(mask)))
+
+    def lane(v, i):
+        return builder.extract_element(v, ir.Constant(_I32, i))
+
+    def store(k, val):
+        builder.store(val, builder.gep(data, [ir.Constant(_I64, HEADER + k)]), align=8)
+
+    mul, add, sub = builder.fmul, builder.fadd, builder.fsub
+    store(0, theta0)
+    store(1, v0)
+    b = {1: v0}
+    if drive is None:
+        g0 = gamma
+    else:
+        f, freq, u, w = drive
+        g0 = add(gamma, mul(f, u))
+    a2 = mul(cst(0.5), sub(sub(g0, mul(beta, v0)), mul(w2, s0)))
+    store(2, a2)
+    b[2] = mul(cst(2.0), a2)
+    cs0 = pack2(c0, s0)
+    nb1 = mul(v2const(-1.0, 1.0), pack2(v0, v0))
+    nb2 = mul(v2const(-1.0, 1.0), pack2(b[2], b[2]))
+    Y = {0: pack2(builder.fneg(c0), s0)}
+    YY = {}  # YY[m] = (Y_m, Y_{m+1}) for odd m
+    BB = {}  # BB[j] = (b_j, b_j, b_{j−1}, b_{j−1})
+
+    def bb(j):
+        if j not in BB:
+            BB[j] = shuffle(pack2(b[j], b[j]), pack2(b[j - 1], b[j - 1]), (0, 1, 2, 3))
+        return BB[j]
+
+    for k in range(1, nt - 1):
+        inv = 1.0 / k
+        if k == 1:
+            x = mul(pack2(b[1], b[1]), cs0)
+        else:
+            # The deep middle W_k (m = 1 … k − 3), four lanes.
+            acc = [None, None]
+            m, i = 1, 0
+            while m + 1 <= k - 3:
+                if m not in YY:
+                    YY[m] = shuffle(Y[m], Y[m + 1], (0, 1, 2, 3))
+                t = mul(bb(k - m), YY[m])
+                acc[i] = t if acc[i] is None else add(acc[i], t)
+                m += 2
+                i ^= 1
+            wk = None
+            if acc[0] is not None:
+                a4 = acc[0] if acc[1] is None else add(acc[0], acc[1])
+                wk = add(shuffle(a4, a4, (0, 1)), shuffle(a4, a4, (2, 3)))
+            if m <= k - 3:
+                t = mul(pack2(b[k - m], b[k - m]), Y[m])
+                wk = t if wk is None else add(wk, t)
+            x = None
+            if wk is not None:
+                x = mul(wk, v2const(-inv, inv))
+            if k >= 3:
+                t = mul(Y[k - 2], mul(nb2, v2const(inv, inv)))
+                x = t if x is None else add(x, t)
+            t = mul(pack2(b[k], b[k]), mul(cs0, v2const(inv, inv)))
+            x = t if x is None else add(x, t)
+            x = add(x, mul(Y[k - 1], mul(nb1, v2const(inv, inv))))
+        Y[k] = shuffle(x, x, (1, 0))
+        sk = lane(x, 0)
+        # b_{k+2} and a_{k+2}.
+        inv1 = cst(1.0 / (k + 1.0))
+        acc_b = mul(mul(builder.fneg(beta), inv1), b[k + 1])
+        if drive is not None:
+            f = mul(mul(f, freq), cst(inv))
+            u, w = w, builder.fneg(u)
+            acc_b = add(mul(mul(f, u), inv1), acc_b)
+        bk2 = add(acc_b, mul(mul(builder.fneg(w2), inv1), sk))
+        b[k + 2] = bk2
+        store(k + 2, mul(bk2, cst(1.0 / (k + 2.0))))
+
+
+def _coef_data(context, builder, aryty, ary):
+    return context.make_array(aryty)(context, builder, ary).data
+
+
+@intrinsic
+def _series(typingctx, beta, gamma, w2, s0, c0, theta0, v0, coef):
+    sig = types.none(beta, gamma, w2, s0, c0, theta0, v0, coef)
+
+    def codegen(context, builder, signature, args):
+        data = _coef_data(context, builder, signature.args[-1], args[-1])
+        _emit(builder, data, SIMD_ORDER, *args[:-1], None)
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
+@intrinsic
+def _driven_series(typingctx, beta, gamma, w2, f, freq, u, w, s0, c0, theta0, v0, coef):
+    sig = types.none(beta, gamma, w2, f, freq, u, w, s0, c0, theta0, v0, coef)
+
+    def codegen(context, builder, signature, args):
+        data = _coef_data(context, builder, signature.args[-1], args[-1])
+        beta_, gamma_, w2_, f_, freq_, u_, w_, s0_, c0_, theta0_, v0_ = args[:-1]
+        _emit(builder, data, SIMD_ORDER, beta_, gamma_, w2_, s0_, c0_, theta0_, v0_, (f_, freq_, u_, w_))
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
+@njit(cache=True)
+def taylor24_series(beta, gamma, omega, theta0, v0, coef):
+    """a₀ … a_26 of the recurrence at degree 24, written into ``coef[5:]``.
+
+    ``coef`` must hold at least HEADER + 27 floats (the caller checks:
+    :func:`mbm.approximants.taylor.taylor_coefficients_into`).
+    """
+    _series(beta, gamma, omega * omega, math.sin(theta0), math.cos(theta0), theta0, v0, coef)
+
+
+@njit(cache=True)
+def taylor24_driven_series(beta, gamma, omega, f, freq, u, w, theta0, v0, coef):
+    """:func:`taylor24_series` of the driven recurrence, the drive as f = A, u = sin ψ,
+    w = cos ψ (:func:`mbm.approximants.taylor.taylor_driven_coefficients_into`)."""
+    _driven_series(beta, gamma, omega * omega, f, freq, u, w, math.sin(theta0), math.cos(theta0), theta0, v0,
+                   coef)
