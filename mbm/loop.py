@@ -47,7 +47,7 @@ from .approximants.taylor import (
     taylor_error_kernel,
     taylor_eval_kernel,
     taylor_eval_range,
-    taylor_window_kernel,
+    taylor_window_log,
     taylor_workspace,
 )
 from .regimes import (
@@ -469,18 +469,25 @@ def estimate(kind, coef, h):
 
 
 @numba.njit(**_INLINE)
-def prior_window(kind, coef, y0, y1, rtol, atol):
+def prior_window(kind, coef, y0, y1, rtol, atol, log_eps):
     """A-priori window length of an anchored approximant, or inf where it has none.
 
     Kind "taylor": :func:`mbm.approximants.taylor.taylor_window_kernel` with the
     neglected terms at 1/:data:`TAYLOR_WINDOW_MARGIN` of scipy's scale atol + rtol·|y|
-    per component (and not below :data:`TAYLOR_WINDOW_FLOOR`·(atol/rtol + |y|)).  Other kinds:
-    inf (their windows come from the estimate's h^(p+1) scaling alone).
+    per component (and not below :data:`TAYLOR_WINDOW_FLOOR`·(atol/rtol + |y|)), its
+    logarithm ``log_eps`` from :func:`window_log_eps`.  Other kinds: inf (their
+    windows come from the estimate's h^(p+1) scaling alone).
     """
     if kind == KIND_TAYLOR:
-        eps = max(rtol / TAYLOR_WINDOW_MARGIN, TAYLOR_WINDOW_FLOOR)
-        return taylor_window_kernel(coef, y0, y1, rtol, atol, eps)
+        return taylor_window_log(coef, y0, y1, rtol, atol, log_eps)
     return math.inf
+
+
+@numba.njit(**_INLINE)
+def window_log_eps(rtol):
+    """ln of :func:`prior_window`'s per-window target eps (a constant of the run, formed
+    once per loop call: a log per window was ~10 ns of it)."""
+    return math.log(max(rtol / TAYLOR_WINDOW_MARGIN, TAYLOR_WINDOW_FLOOR))
 
 
 @numba.njit(**_INLINE)
@@ -533,11 +540,11 @@ def fixed_window(kind, coef, t, direction, t_bound, tau):
 
 @numba.njit(**_INLINE)
 def first_window(kind, coef, t, y0, y1, off, direction, t_bound, omega, max_step, rtol, atol,
-                 error_order):
+                 error_order, log_eps):
     """Initial adaptive window length: the a-priori window (:func:`prior_window`) where
     the kind has one, else searched from the anchored formula's own error estimate.
     ``off`` (2π × the winding count) is added to θ where it sets the tolerance's scale."""
-    prior = prior_window(kind, coef, off + y0, y1, rtol, atol)
+    prior = prior_window(kind, coef, off + y0, y1, rtol, atol, log_eps)
     if prior < math.inf:
         return min(prior, max_step)
     h_abs = min(FIRST_WINDOW_PERIODS * 2.0 * math.pi / omega, max_step)
@@ -556,7 +563,7 @@ def first_window(kind, coef, t, y0, y1, off, direction, t_bound, omega, max_step
 
 @numba.njit(**_INLINE)
 def adaptive_window(kind, coef, t, y0, y1, off, direction, t_bound, h_abs, max_step, rtol, atol,
-                    error_order):
+                    error_order, log_eps):
     """Adaptive controller: one accepted window under rtol/atol.
 
     The window tried is ``h_abs`` (the previous proposal, or ``first_step``), no longer
@@ -570,7 +577,7 @@ def adaptive_window(kind, coef, t, y0, y1, off, direction, t_bound, h_abs, max_s
     tolerance's scale (scipy's atol + rtol·|y| of the whole angle).
     """
     min_h = MIN_WINDOW_ULPS * _EPS * max(abs(t), 1e-300)
-    prior = prior_window(kind, coef, off + y0, y1, rtol, atol)
+    prior = prior_window(kind, coef, off + y0, y1, rtol, atol, log_eps)
     h_abs = min(h_abs, max_step, prior)
     rejected = False
     inv = -1.0 / (error_order + 1.0)
@@ -738,6 +745,7 @@ def _period_windows(kind, c):
     beta, gamma, omega, rtol, atol = c[5], c[6], c[7], c[8], c[9]
     karg = int(c[11])
     error_order = int(c[12])
+    log_eps = window_log_eps(rtol)
     off = c[13] * _TWO_PI
     cap = PERIOD_STORE_START
     starts = np.empty(cap + 1)
@@ -756,9 +764,9 @@ def _period_windows(kind, c):
             coefs = np.empty((cap, coef.size))
         if h <= 0.0:
             h = first_window(kind, coef, tt, a0, a1, off, 1.0, period, omega, math.inf, rtol, atol,
-                             error_order)
+                             error_order, log_eps)
         st, t_new, th, v, h_next = adaptive_window(kind, coef, tt, a0, a1, off, 1.0, period, h, math.inf,
-                                                   rtol, atol, error_order)
+                                                   rtol, atol, error_order, log_eps)
         if st != STATUS_OK:
             break
         # Element loops, not slice assignments: those compile numpy's broadcast-error
@@ -868,6 +876,7 @@ def _strobe_eval(kind, c, t):
     code = int(c[15])
     karg = code % STROBE_CODE
     error_order = code // STROBE_CODE
+    log_eps = window_log_eps(rtol)
     p_hi, p_lo = strobe_period(freq, q)
     n, s = strobe_split(t, t_a, p_hi, p_lo)
     tt, kk, a0, a1, h = 0.0, 0.0, phi_a, v_a, -1.0
@@ -883,9 +892,9 @@ def _strobe_eval(kind, c, t):
             break
         if h <= 0.0:
             h = first_window(kind, coef, tt, a0, a1, off, 1.0, p_hi, omega, math.inf, rtol, atol,
-                             error_order)
+                             error_order, log_eps)
         st, t_new, th, v, h_next = adaptive_window(kind, coef, tt, a0, a1, off, 1.0, p_hi, h, math.inf,
-                                                   rtol, atol, error_order)
+                                                   rtol, atol, error_order, log_eps)
         if st != STATUS_OK:
             break
         if t_new >= s:
@@ -1130,6 +1139,7 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
     h_abs, max_step, rtol, atol = r.h_abs, r.max_step, r.rtol, r.atol
     adaptive = r.controller == CONTROLLER_ADAPTIVE
     error_order = r.error_order
+    log_eps = window_log_eps(rtol)
     direction = 1.0 if t_bound >= t else -1.0
     budget = r.call_windows
     store = win_t.size > 0
@@ -1160,10 +1170,11 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
     # window store); the test depends on the state only, so a resumed run repeats it.
     can_lock = (r.regimes != 0 and adaptive and direction > 0.0 and beta > 0.0 and amp == 0.0
                 and abs(gamma) < omega * omega and (width == 0 or width >= LOCKED_WIDTH))
-    lk_d, lk_wl2, lk_g0, lk_g1 = 0.0, 1.0, 0.0, 0.0
+    lk_d, lk_wl2, lk_g0, lk_g1, lk_sd = 0.0, 1.0, 0.0, 0.0, 0.0
     lk_ts, lk_bt, lk_bv = 0.0, math.inf, math.inf
     if can_lock:
         lk_d, lk_wl2, lk_g0, lk_g1 = locked_constants(beta, gamma, omega)
+        lk_sd = abs(math.sin(lk_d))
     # Running cycle (mbm.regimes, R1-R3): the return map watched after each window.
     can_cycle = (r.regimes != 0 and adaptive and direction > 0.0 and beta > 0.0 and amp == 0.0
                  and (width == 0 or width >= CYCLE_WIDTH))
@@ -1246,7 +1257,7 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
         if is_cycle:
             pass
         elif can_lock and (r.regime == REGIME_LOCKED or not locked_quick_reject(
-                off + y0, y1, lk_d, lk_wl2, lk_g0, omega, rtol, atol)):
+                off + y0, y1, lk_d, lk_sd, lk_wl2, lk_g0, omega, rtol, atol)):
             lk_ts, lk_bt, lk_bv = locked_bound(beta, gamma, omega, y0, y1, lk_d, lk_wl2, lk_g0, lk_g1)
             is_locked = (lk_bt <= SWITCH_SAFETY * (atol + rtol * abs(off + lk_ts))
                          and lk_bv <= SWITCH_SAFETY * atol)
@@ -1295,9 +1306,9 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
         elif adaptive:
             if h_abs <= 0.0:
                 h_abs = first_window(kind, coef, t, y0, y1, off, direction, t_bound, omega, max_step, rtol,
-                                     atol, error_order)
+                                     atol, error_order, log_eps)
             st, t_new, th, v, h_next = adaptive_window(
-                kind, coef, t, y0, y1, off, direction, t_bound, h_abs, max_step, rtol, atol, error_order
+                kind, coef, t, y0, y1, off, direction, t_bound, h_abs, max_step, rtol, atol, error_order, log_eps
             )
         else:
             st, t_new, th, v = fixed_window(kind, coef, t, direction, t_bound, min(h_abs, max_step))

@@ -562,7 +562,7 @@ def _nearest_k(theta, d):
 
 
 @numba.njit(cache=True, inline="always")
-def locked_quick_reject(theta, v, d, wl2, g0, omega, rtol, atol):
+def locked_quick_reject(theta, v, d, sd, wl2, g0, omega, rtol, atol):
     """True when the locked test surely fails (cheap; run before every window).
 
     A necessary condition only (the linear amplitude estimate times QUICK_FACTOR must
@@ -574,6 +574,8 @@ def locked_quick_reject(theta, v, d, wl2, g0, omega, rtol, atol):
         The state.
     d, wl2, g0 : float
         From :func:`locked_constants`.
+    sd : float
+        |sin d| (formed once per run: a sin per window was ~10 % of the test).
     omega, rtol, atol : float
         The model's ω and the run's tolerances.
 
@@ -585,7 +587,7 @@ def locked_quick_reject(theta, v, d, wl2, g0, omega, rtol, atol):
     ts = d + 2.0 * math.pi * k
     x = theta - ts
     a = QUICK_FACTOR * math.sqrt(x * x + v * v / wl2)
-    return omega * omega * _rho(abs(math.sin(d)), a) * g0 > SWITCH_SAFETY * (atol + rtol * abs(ts))
+    return omega * omega * _rho(sd, a) * g0 > SWITCH_SAFETY * (atol + rtol * abs(ts))
 
 
 @numba.njit(cache=True, inline="always")

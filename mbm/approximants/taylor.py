@@ -123,6 +123,7 @@ __all__ = [
     "taylor_eval_range",
     "taylor_error_kernel",
     "taylor_window_kernel",
+    "taylor_window_log",
     "radius_estimate",
     "taylor_radius_kernel",
     "TAYLOR_ORDERS",
@@ -669,6 +670,12 @@ def taylor_window_kernel(coef, theta0, v0, rtol, atol, eps):
         The window length; ``inf`` when N < 3 (no rule: the caller falls back to
         its estimate) or when the coefficients vanish (rest at an equilibrium).
     """
+    return taylor_window_log(coef, theta0, v0, rtol, atol, math.log(eps))
+
+
+@njit(cache=True)
+def taylor_window_log(coef, theta0, v0, rtol, atol, log_eps):
+    """:func:`taylor_window_kernel` with ln eps given (the loop forms it once per run)."""
     n = int(coef[1])
     if n < 3:
         return math.inf
@@ -679,9 +686,9 @@ def taylor_window_kernel(coef, theta0, v0, rtol, atol, eps):
     s1 = r + abs(v0)
     n1 = max(abs(a[p - 1]) / s0, p * abs(a[p]) / s1)
     n2 = max(abs(a[p]) / s0, (p + 1.0) * abs(a[p + 1]) / s1)
-    # In logarithms: three logs and one exp cost less than three pows and an exp
-    # (the a-priori window's share of a window fell from ~40 to ~20 ns at N = 24: the
-    # kernel table of docs/oracle.md).
+    # In logarithms: two logs and one exp cost less than two pows and an exp (the
+    # a-priori window's share of a window fell from ~40 to ~20 ns at N = 24: the kernel
+    # table of docs/oracle.md), and ln eps, a constant of the run, comes from the caller.
     log_rho = math.inf
     if n1 > 0.0:
         log_rho = -math.log(n1) / (p - 1.0)
@@ -689,7 +696,7 @@ def taylor_window_kernel(coef, theta0, v0, rtol, atol, eps):
         log_rho = min(log_rho, -math.log(n2) / p)
     if log_rho == math.inf:
         return math.inf
-    return math.exp(log_rho + math.log(eps) / p - WINDOW_SAFETY_EXP / (p - 1.0))
+    return math.exp(log_rho + log_eps / p - WINDOW_SAFETY_EXP / (p - 1.0))
 
 
 # One anchor kernel per registered degree: the kernel signature has no room for
