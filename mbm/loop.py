@@ -59,6 +59,7 @@ from .regimes import (
     LOCKED_TAG,
     LIBRATION_MIN_PERIODS,
     LOCKED_WIDTH,
+    LOCKED2_WIDTH,
     REGIME_LIBRATION,
     REGIME_LOCKED,
     REGIME_NONE,
@@ -73,7 +74,8 @@ from .regimes import (
     SWITCH_SAFETY,
     cycle_coef,
     cycle_switch,
-    locked_bound,
+    locked2_quick,
+    locked_choice,
     locked_coef,
     locked_constants,
     locked_eval,
@@ -1083,8 +1085,9 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
     Long horizons (:mod:`mbm.regimes`): with ``regimes`` set, before each window the
     state is tested for the locked regime; once the bound on the neglected
     nonlinearity over the rest of the horizon is within the tolerance (L5 there),
-    the window (to ``t_bound``, or ``max_step`` long) is the linearized closed form,
-    stored with coefficient layout ``regimes.LOCKED_TAG``, and ``regime``,
+    the window (to ``t_bound``, or ``max_step`` long) is the linearized closed form
+    (or, where only its bound passes, the second-order one, L6-L7: where the window
+    store has room for it), stored with coefficient layout ``regimes.LOCKED_TAG``, and ``regime``,
     ``t_regime`` record the switch.  After each window the return map of θ ≡ θ_s
     (mod 2π) is watched (R1, R2 there); once it has converged for the rest of the
     horizon, the windows are the stored period shifted (``regimes.CYCLE_TAG``, R3),
@@ -1170,11 +1173,16 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
     # window store); the test depends on the state only, so a resumed run repeats it.
     can_lock = (r.regimes != 0 and adaptive and direction > 0.0 and beta > 0.0 and amp == 0.0
                 and abs(gamma) < omega * omega and (width == 0 or width >= LOCKED_WIDTH))
-    lk_d, lk_wl2, lk_g0, lk_g1, lk_sd = 0.0, 1.0, 0.0, 0.0, 0.0
-    lk_ts, lk_bt, lk_bv = 0.0, math.inf, math.inf
+    lk_d, lk_wl2, lk_g0, lk_g1, lk_sd, lk_q2 = 0.0, 1.0, 0.0, 0.0, 0.0, 0.0
+    lk_ts, lk_order = 0.0, 0
+    # The second-order form (L6, L7) where its coefficients fit the window store.
+    can_lock2 = can_lock and (width == 0 or width >= LOCKED2_WIDTH)
     if can_lock:
         lk_d, lk_wl2, lk_g0, lk_g1 = locked_constants(beta, gamma, omega)
         lk_sd = abs(math.sin(lk_d))
+        if can_lock2:
+            lk_q2 = locked2_quick(beta, gamma, omega, lk_d, lk_wl2, lk_g0)
+            can_lock2 = lk_q2 > 0.0
     # Running cycle (mbm.regimes, R1-R3): the return map watched after each window.
     can_cycle = (r.regimes != 0 and adaptive and direction > 0.0 and beta > 0.0 and amp == 0.0
                  and (width == 0 or width >= CYCLE_WIDTH))
@@ -1257,10 +1265,10 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
         if is_cycle:
             pass
         elif can_lock and (r.regime == REGIME_LOCKED or not locked_quick_reject(
-                off + y0, y1, lk_d, lk_sd, lk_wl2, lk_g0, omega, rtol, atol)):
-            lk_ts, lk_bt, lk_bv = locked_bound(beta, gamma, omega, y0, y1, lk_d, lk_wl2, lk_g0, lk_g1)
-            is_locked = (lk_bt <= SWITCH_SAFETY * (atol + rtol * abs(off + lk_ts))
-                         and lk_bv <= SWITCH_SAFETY * atol)
+                off + y0, y1, lk_d, lk_sd, lk_wl2, lk_g0, omega, rtol, atol, lk_q2)):
+            lk_order, lk_ts = locked_choice(beta, gamma, omega, y0, y1, lk_d, lk_wl2, lk_g0, lk_g1, rtol, atol,
+                                            off, can_lock2)
+            is_locked = lk_order > 0
         k_new = k
         if is_cycle:
             # The rest of the run is the stored period, shifted (mbm.regimes, R3).
@@ -1285,7 +1293,7 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
                 st = STATUS_NONFINITE
         elif is_locked:
             # The rest of the run is the linearized closed form (mbm.regimes, L2, L5).
-            coef = locked_coef(beta, lk_wl2, lk_ts, y0, y1)
+            coef = locked_coef(beta, lk_wl2, lk_ts, y0, y1, gamma, lk_order)
             t_new = _window_end(t, direction, t_bound, max_step)
             th, v = locked_eval(coef, t_new - t)
             st, h_next = STATUS_OK, h_abs

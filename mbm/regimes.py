@@ -62,6 +62,33 @@ exact motion through the state reached by at most that, for any horizon (the err
 the run carried into the switch is then propagated by a contracting linear flow).
 Rounding in H₀ and U is covered by the margin AMPLITUDE_MARGIN on A.
 
+(L6) Second order (under-damped, s² > 0).  L4's G₀ grows like 1/β: it bounds the
+response to the quadratic term −ω² r₂(x) = (γ/2)x² as if that forcing resonated, which
+it does not (x_lin² has frequencies 0 and 2s).  The second-order form x_L = x_lin + x₂
+solves it exactly: with z = C e^{λt}, λ = −β/2 + is, C = x₀ − i b/s (x_lin = Re z),
+x_lin² = (Re(z²) + |z|²)/2, and x₂'' + βx₂' + ω_l² x₂ = (γ/4)(Re(C² e^{2λt}) + |C|² e^{−βt}),
+x₂(0) = x₂'(0) = 0, is
+
+    x₂ = e^{−βt}(Q_r cos 2st − Q_i sin 2st) + M e^{−βt} + E·(D_r cos st − D_i sin st),
+
+Q = (γ/4)C²/P(2λ), M = (γ/4)|C|²/ω_l², P(μ) = μ² + βμ + ω_l² (P(2λ) = ω_l² − 4s² − 2iβs,
+never 0: no resonance), D_r = −(Q_r + M), D_i = (x_p'(0) − (β/2)D_r)/s with
+x_p'(0) = −βQ_r − 2sQ_i − βM (the homogeneous part that makes x₂(0) = x₂'(0) = 0).
+|x₂| ≤ X₂ = |Q| + |M| + |D| for all t ≥ 0.
+
+(L7) Its bound.  e₂ = x − x_L solves the oscillator forced by −ω²(r(x) − r₂(x_lin)), and
+|r(x) − r₂(x)| ≤ ρ₃(A) = cos d·A³/6 + |sin d|·A⁴/24 (Lagrange remainders of sin and cos),
+|r₂(x) − r₂(x_lin)| = (|sin d|/2)|x − x_lin||x + x_lin| ≤ (|sin d|/2)(X₂ + E)(A + |C|),
+E = sup|e₂| (finite: x, x_L are bounded), so with q = ω²G₀(|sin d|/2)(A + |C|) < 1
+
+    E ≤ ω²G₀ (ρ₃(A) + (|sin d|/2)(A + |C|)X₂) / (1 − q),
+    sup|e₂'| ≤ ω²G₁ (ρ₃(A) + (|sin d|/2)(A + |C|)(X₂ + E)).
+
+The neglected terms are cubic, not quadratic, in A: on P4 (β = 0.01, γ = 0.3) at
+1e-10 the switch comes at A ≈ 6e-5 instead of 7e-7, a third of the transient earlier.
+The run takes the first-order form where its bound passes (L5), else the second-order
+one where this bound does (:func:`locked_choice`); the switch rule is L5's for either.
+
 RUNNING cycle (β > 0; a rotation settling on the limit cycle θ(t + T_c) = θ(t) ± 2π):
 
 (R1) Section.  After each window the loop looks for a crossing of a level
@@ -308,6 +335,12 @@ __all__ = [
     "locked_constants",
     "section_offset",
     "locked_quick_reject",
+    "locked_amplitude",
+    "locked2_terms",
+    "locked2_bound",
+    "locked2_quick",
+    "locked_choice",
+    "LOCKED2_WIDTH",
     "locked_bound",
     "locked_coef",
     "locked_eval",
@@ -367,6 +400,9 @@ REGIME_NAMES = {REGIME_NONE: None, REGIME_LOCKED: "locked", REGIME_RUNNING: "run
 # anchor status, 0.0, so the tag tells a locked window from any other.
 LOCKED_TAG = 101.0
 LOCKED_WIDTH = 7
+# The second-order window (L6) appends [2.0, Q_r, Q_i, M, D_r, D_i]: coef[7] = 2 marks it
+# (a first-order vector stored zero-padded reads 0 there).
+LOCKED2_WIDTH = 13
 # A running-cycle window's coefficient vector (R3): [CYCLE_TAG, θ_c, v_c, T_c, t_off,
 # β, γ, ω, rtol, atol, winding sign, kind argument, error order, k_c, T_lo]; t_off is
 # the time from the cycle's anchor crossing to the window's start, the anchor is at
@@ -562,7 +598,7 @@ def _nearest_k(theta, d):
 
 
 @numba.njit(cache=True, inline="always")
-def locked_quick_reject(theta, v, d, sd, wl2, g0, omega, rtol, atol):
+def locked_quick_reject(theta, v, d, sd, wl2, g0, omega, rtol, atol, q2):
     """True when the locked test surely fails (cheap; run before every window).
 
     A necessary condition only (the linear amplitude estimate times QUICK_FACTOR must
@@ -578,6 +614,9 @@ def locked_quick_reject(theta, v, d, sd, wl2, g0, omega, rtol, atol):
         |sin d| (formed once per run: a sin per window was ~10 % of the test).
     omega, rtol, atol : float
         The model's ω and the run's tolerances.
+    q2 : float
+        ω²G₀ cos d / 6, the leading term of L7's bound per A³ (a lower estimate of
+        it), or 0 where the second-order form is not available.
 
     Returns
     -------
@@ -587,7 +626,10 @@ def locked_quick_reject(theta, v, d, sd, wl2, g0, omega, rtol, atol):
     ts = d + 2.0 * math.pi * k
     x = theta - ts
     a = QUICK_FACTOR * math.sqrt(x * x + v * v / wl2)
-    return omega * omega * _rho(sd, a) * g0 > SWITCH_SAFETY * (atol + rtol * abs(ts))
+    tol = SWITCH_SAFETY * (atol + rtol * abs(ts))
+    if omega * omega * _rho(sd, a) * g0 <= tol:
+        return False
+    return not (q2 > 0.0 and q2 * a * a * a <= tol)
 
 
 @numba.njit(cache=True, inline="always")
@@ -642,6 +684,23 @@ def locked_bound(beta, gamma, omega, theta, v, d, wl2, g0, g1):
         :func:`locked_eval` from this state; inf when the state is not trapped in the
         well of θ* (on or above its lower saddle).
     """
+    ts, amp = locked_amplitude(gamma, omega, theta, v, d)
+    r = omega * omega * _rho(abs(math.sin(d)), amp)
+    return ts, r * g0, r * g1
+
+
+@numba.njit(cache=True)
+def locked_amplitude(gamma, omega, theta, v, d):
+    """The nearest stable equilibrium and the amplitude bound A of item L3.
+
+    Returns
+    -------
+    theta_star : float
+        d + 2πk nearest θ.
+    amp : float
+        A ≥ sup_t |θ(t) − θ*| of the exact motion from (θ, θ'); inf when the state is
+        not trapped in the well of θ*.
+    """
     w2 = omega * omega
     k = _nearest_k(theta, d)
     ts = d + 2.0 * math.pi * k
@@ -653,7 +712,7 @@ def locked_bound(beta, gamma, omega, theta, v, d, wl2, g0, g1):
     h0 = 0.5 * v * v + _potential(w2, gamma, d, x)
     barrier = min(ur, ul)
     if not (xl < x < xr) or not (h0 * (1.0 + AMPLITUDE_MARGIN) < barrier):
-        return ts, math.inf, math.inf
+        return ts, math.inf
     amp = 0.0
     wl2 = w2 * math.cos(d)
     for side in range(2):
@@ -670,13 +729,128 @@ def locked_bound(beta, gamma, omega, theta, v, d, wl2, g0, g1):
                 else:
                     lo = mid
         amp = max(amp, abs(hi))
-    amp = max(amp, abs(x)) * (1.0 + AMPLITUDE_MARGIN)
-    r = w2 * _rho(abs(math.sin(d)), amp)
-    return ts, r * g0, r * g1
+    return ts, max(amp, abs(x)) * (1.0 + AMPLITUDE_MARGIN)
 
 
 @numba.njit(cache=True)
-def locked_coef(beta, wl2, theta_star, theta, v):
+def locked2_terms(beta, gamma, wl2, x0, v0):
+    """The second-order term x₂ of item L6 from the anchor offset (x₀, x₀').
+
+    Returns
+    -------
+    qr, qi, m, dr, di : float
+        Q, M, D of L6 (under-damped: s² = ω_l² − β²/4 > 0).
+    c_abs : float
+        |C| = sqrt(x₀² + (b/s)²), b = x₀' + βx₀/2 (sup |x_lin| over t ≥ 0).
+    x2 : float
+        X₂ = |Q| + |M| + |D| ≥ sup |x₂|.
+    """
+    hb = 0.5 * beta
+    s = math.sqrt(wl2 - hb * hb)
+    b = v0 + hb * x0
+    cr, ci = x0, -b / s
+    kq = 0.25 * gamma
+    # C² / P(2λ), P(2λ) = (ω_l² − 4s²) − 2iβs.
+    c2r, c2i = cr * cr - ci * ci, 2.0 * cr * ci
+    pr, pi = wl2 - 4.0 * s * s, -2.0 * beta * s
+    den = pr * pr + pi * pi
+    qr = kq * (c2r * pr + c2i * pi) / den
+    qi = kq * (c2i * pr - c2r * pi) / den
+    c_abs2 = cr * cr + ci * ci
+    m = kq * c_abs2 / wl2
+    dr = -(qr + m)
+    xp1 = -beta * qr - 2.0 * s * qi - beta * m
+    di = (xp1 - hb * dr) / s
+    x2 = math.hypot(qr, qi) + abs(m) + math.hypot(dr, di)
+    return qr, qi, m, dr, di, math.sqrt(c_abs2), x2
+
+
+@numba.njit(cache=True)
+def locked2_bound(beta, gamma, omega, d, wl2, g0, g1, amp, x0, v0):
+    """L7's bounds on the second-order form's deviation over any horizon.
+
+    Parameters
+    ----------
+    beta, gamma, omega : float
+        The model (under-damped about θ*: ω_l² > β²/4).
+    d, wl2, g0, g1 : float
+        From :func:`locked_constants`.
+    amp : float
+        A from :func:`locked_amplitude`.
+    x0, v0 : float
+        The anchor's offset θ − θ* and θ'.
+
+    Returns
+    -------
+    bound_theta, bound_v : float
+        sup over t ≥ 0 of |θ − θ_L| and |θ' − θ_L'|; inf where q ≥ 1 or A is inf.
+    """
+    if not (amp < math.inf) or not (wl2 - 0.25 * beta * beta > 0.0):
+        return math.inf, math.inf
+    w2 = omega * omega
+    sd = abs(math.sin(d))
+    _, _, _, _, _, c_abs, x2 = locked2_terms(beta, gamma, wl2, x0, v0)
+    rho3 = math.cos(d) * amp * amp * amp / 6.0 + sd * amp * amp * amp * amp / 24.0
+    lip = 0.5 * sd * (amp + c_abs)
+    q = w2 * g0 * lip
+    if not (q < 1.0):
+        return math.inf, math.inf
+    e = w2 * g0 * (rho3 + lip * x2) / (1.0 - q)
+    ev = w2 * g1 * (rho3 + lip * (x2 + e))
+    return e, ev
+
+
+@numba.njit(cache=True)
+def locked_choice(beta, gamma, omega, theta, v, d, wl2, g0, g1, rtol, atol, off, second):
+    """Whether the locked closed form may take over from (θ, θ'), and of which order (L5, L7).
+
+    Parameters
+    ----------
+    beta, gamma, omega : float
+        The model, β > 0, |γ| < ω².
+    theta, v : float
+        The state (θ reduced by the loop's winding: ``off`` + θ is the angle).
+    d, wl2, g0, g1 : float
+        From :func:`locked_constants`.
+    rtol, atol : float
+        The run's tolerances.
+    off : float
+        2π × the winding count (the tolerance's scale is that of the whole angle).
+    second : bool
+        Whether the second-order form may be taken (room for LOCKED2_WIDTH).
+
+    Returns
+    -------
+    order : int
+        0 (no switch), 1 (L2) or 2 (L6): the first-order form where its bound passes.
+    theta_star : float
+        The equilibrium (of θ's reduced value).
+    """
+    ts, amp = locked_amplitude(gamma, omega, theta, v, d)
+    if not (amp < math.inf):
+        return 0, ts
+    tol_t = SWITCH_SAFETY * (atol + rtol * abs(off + ts))
+    tol_v = SWITCH_SAFETY * atol
+    r = omega * omega * _rho(abs(math.sin(d)), amp)
+    if r * g0 <= tol_t and r * g1 <= tol_v:
+        return 1, ts
+    if second:
+        bt, bv = locked2_bound(beta, gamma, omega, d, wl2, g0, g1, amp, theta - ts, v)
+        if bt <= tol_t and bv <= tol_v:
+            return 2, ts
+    return 0, ts
+
+
+@numba.njit(cache=True)
+def locked2_quick(beta, gamma, omega, d, wl2, g0):
+    """q2 of :func:`locked_quick_reject`: ω²G₀ cos d / 6 where L6 applies, else 0."""
+    if not (wl2 - 0.25 * beta * beta > 0.0):
+        return 0.0
+    return omega * omega * g0 * math.cos(d) / 6.0
+
+
+@numba.njit(cache=True)
+def locked_coef(beta, wl2, theta_star, theta, v, gamma=0.0, order=1):
     """The locked window's coefficient vector anchored at (θ, θ').
 
     Parameters
@@ -687,13 +861,18 @@ def locked_coef(beta, wl2, theta_star, theta, v):
         The equilibrium (from :func:`locked_bound`).
     theta, v : float
         The anchor state.
+    gamma : float, optional
+        γ (the second order's forcing γx²/2; unused at order 1).
+    order : int, optional
+        1 (L2) or 2 (L6, under-damped only: :func:`locked_choice` says which).
 
     Returns
     -------
-    ndarray, shape (LOCKED_WIDTH,)
-        [LOCKED_TAG, θ₀, x₀, v₀, β/2, s², ω_l²] (see LOCKED_TAG).
+    ndarray, shape (LOCKED_WIDTH,) or (LOCKED2_WIDTH,)
+        [LOCKED_TAG, θ₀, x₀, v₀, β/2, s², ω_l²], at order 2 followed by
+        [2, Q_r, Q_i, M, D_r, D_i] (see LOCKED_TAG).
     """
-    c = np.empty(LOCKED_WIDTH)
+    c = np.empty(LOCKED2_WIDTH if order == 2 else LOCKED_WIDTH)
     c[0] = LOCKED_TAG
     c[1] = theta
     c[2] = theta - theta_star
@@ -701,12 +880,15 @@ def locked_coef(beta, wl2, theta_star, theta, v):
     c[4] = 0.5 * beta
     c[5] = wl2 - 0.25 * beta * beta
     c[6] = wl2
+    if order == 2:
+        qr, qi, m, dr, di, _, _ = locked2_terms(beta, gamma, wl2, c[2], v)
+        c[7], c[8], c[9], c[10], c[11], c[12] = 2.0, qr, qi, m, dr, di
     return c
 
 
 @numba.njit(cache=True, inline="always")
 def locked_eval(coef, t):
-    """The linearized motion of a locked window (item L2).
+    """The linearized motion of a locked window (item L2; with L6's x₂ at order 2).
 
     Parameters
     ----------
@@ -739,6 +921,21 @@ def locked_eval(coef, t):
         es = e * t
     x = x0 * ec + b * es
     xd = x0 * (-hb * ec - s2 * es) + b * (ec - hb * es)
+    if coef.size >= LOCKED2_WIDTH and coef[7] == 2.0 and t != 0.0:
+        # (L6): x₂ and x₂' (zero at the anchor by construction, skipped there so
+        # that t = 0 is the anchor bit for bit).
+        qr, qi, m, dr, di = coef[8], coef[9], coef[10], coef[11], coef[12]
+        s = math.sqrt(s2)
+        e = math.exp(-hb * t)
+        c1 = math.cos(s * t)
+        s1 = math.sin(s * t)
+        e2 = e * e
+        c2 = c1 * c1 - s1 * s1
+        sn2 = 2.0 * s1 * c1
+        beta = 2.0 * hb
+        x = x + (e2 * (qr * c2 - qi * sn2) + m * e2 + e * (dr * c1 - di * s1))
+        xd = xd + (e2 * ((-beta * qr - 2.0 * s * qi) * c2 - (-beta * qi + 2.0 * s * qr) * sn2) - beta * m * e2
+                   + e * ((-hb * dr - s * di) * c1 - (-hb * di + s * dr) * s1))
     return th0 + (x - x0), xd
 
 

@@ -122,6 +122,77 @@ def test_locked_bound_holds_against_heyoka(heyoka_ref, seed):
     assert np.max(np.abs((v - ref[1]).astype(float))) <= bv
 
 
+@pytest.mark.parametrize("seed", range(8))
+def test_second_order_form_and_its_bound_against_heyoka(heyoka_ref, seed):
+    # (L6, L7) Under-damped, weak damping included (where L4's G₀ ~ 1/β): from states
+    # whose second-order bound is measurable (1e-10 to 1e-4) the exact motion stays
+    # within it of x_lin + x₂ over many decay times, and the second-order form is far
+    # closer than the linear one (the neglected terms are cubic, not quadratic).
+    rng = np.random.default_rng(500 + seed)
+    beta = rng.choice([0.01, 0.03, 0.2, 1.0]) * rng.uniform(0.8, 1.2)
+    omega = rng.choice([0.5, 1.0, 2.0])
+    gamma = rng.uniform(-0.9, 0.9) * omega**2
+    d, wl2, g0, g1 = regimes.locked_constants(beta, gamma, omega)
+    amp = rng.uniform(2e-3, 2e-2)
+    phase = rng.uniform(0.0, 2 * np.pi)
+    k = rng.integers(-3, 4)
+    y0 = (d + 2 * np.pi * k + amp * math.cos(phase), amp * math.sqrt(wl2) * math.sin(phase))
+    ts, a_bound = regimes.locked_amplitude(gamma, omega, y0[0], y0[1], d)
+    bt, bv = regimes.locked2_bound(beta, gamma, omega, d, wl2, g0, g1, a_bound, y0[0] - ts, y0[1])
+    assert math.isfinite(bt) and math.isfinite(bv)
+    t = np.linspace(0.0, 30.0 / beta + 50.0, 3001)
+    ref = heyoka_ref(beta, gamma, omega, y0, t)
+    th, v = np.empty_like(t), np.empty_like(t)
+    regimes.locked_eval_array(regimes.locked_coef(beta, wl2, ts, y0[0], y0[1], gamma, 2), t, th, v)
+    e2 = np.max(np.abs((th - ref[0]).astype(float)))
+    assert e2 <= bt
+    assert np.max(np.abs((v - ref[1]).astype(float))) <= bv
+    th1, v1 = np.empty_like(t), np.empty_like(t)
+    regimes.locked_eval_array(regimes.locked_coef(beta, wl2, ts, y0[0], y0[1]), t, th1, v1)
+    e1 = np.max(np.abs((th1 - ref[0]).astype(float)))
+    if abs(gamma) > 0.1 * omega**2:  # a quadratic term to remove
+        assert e2 <= 0.2 * e1
+
+
+def test_second_order_coef_layout_and_anchor():
+    beta, gamma, omega = 0.02, 0.4, 1.0
+    d, wl2, g0, g1 = regimes.locked_constants(beta, gamma, omega)
+    c = regimes.locked_coef(beta, wl2, d, d + 1e-3, -2e-3, gamma, 2)
+    assert c.size == regimes.LOCKED2_WIDTH and c[0] == regimes.LOCKED_TAG and c[7] == 2.0
+    assert regimes.locked_eval(c, 0.0) == regimes.locked_eval(regimes.locked_coef(beta, wl2, d, d + 1e-3, -2e-3),
+                                                                0.0)
+    # Zero-padded first-order vector (a window store row) reads as first order.
+    c1 = np.zeros(regimes.LOCKED2_WIDTH)
+    c1[:regimes.LOCKED_WIDTH] = regimes.locked_coef(beta, wl2, d, d + 1e-3, -2e-3)
+    assert regimes.locked_eval(c1, 3.0) == regimes.locked_eval(c1[:regimes.LOCKED_WIDTH], 3.0)
+    # x₂ solves x₂'' + βx₂' + ω_l² x₂ = (γ/2) x_lin² from rest: central differences
+    # (an amplitude where x₂ ~ 1e-4 stands well above the differences' rounding).
+    c = regimes.locked_coef(beta, wl2, d, d + 0.05, -0.02, gamma, 2)
+    h = 1e-3
+    for t in (0.7, 5.0, 40.0):
+        x = [regimes.locked_eval(c, t + j * h)[0] - regimes.locked_eval(c[:regimes.LOCKED_WIDTH], t + j * h)[0]
+             for j in (-1, 0, 1)]
+        xl = regimes.locked_eval(c[:regimes.LOCKED_WIDTH], t)[0] - d
+        res = (x[2] - 2 * x[1] + x[0]) / h**2 + beta * (x[2] - x[0]) / (2 * h) + wl2 * x[1] - 0.5 * gamma * xl**2
+        assert abs(res) <= 1e-5 * abs(0.5 * gamma * xl**2) + 1e-9
+
+
+def test_second_order_switches_earlier_on_weak_damping():
+    # P4 (β = 0.01, γ = 0.3): the first-order bound needs A ~ 1e-6, the second ~ 1e-4.
+    model = mbm.Pendulum(0.01, 0.3)
+    kw = dict(rtol=1e-10, atol=1e-10)
+    r = mbm.solve(model, (0.0, 1e4), [1.0, 0.0], t_eval=np.linspace(0.0, 1e4, 201), **kw)
+    d, wl2, g0, g1 = regimes.locked_constants(0.01, 0.3, 1.0)
+    assert r.regime == "locked" and r.t_regime < 2200.0
+    ends = mbm.solve(model, (0.0, 1e4), [1.0, 0.0], **kw)
+    order, ts = regimes.locked_choice(0.01, 0.3, 1.0, ends.y[0, -2], ends.y[1, -2], d, wl2, g0, g1, 1e-10,
+                                      1e-10, 0.0, True)
+    assert order == 2
+    # Without room for the second-order vector the first-order switch only.
+    assert regimes.locked_choice(0.01, 0.3, 1.0, ends.y[0, -2], ends.y[1, -2], d, wl2, g0, g1, 1e-10, 1e-10,
+                                 0.0, False)[0] == 0
+
+
 def test_locked_bound_is_infinite_where_the_motion_is_not_trapped():
     beta, gamma, omega = 0.1, 0.5, 1.0
     d, wl2, g0, g1 = regimes.locked_constants(beta, gamma, omega)
@@ -227,7 +298,10 @@ def test_every_path_gives_the_same_answer_and_regime():
     d, wl2, g0, g1 = regimes.locked_constants(0.3, 0.5, 1.0)
     ends = mbm.solve(model, (0.0, T), y0, **kw)
     assert ends.t[-2] == fast.t_regime and ends.t[-1] == T
-    coef = regimes.locked_coef(0.3, wl2, d, ends.y[0, -2], ends.y[1, -2])
+    order, ts = regimes.locked_choice(0.3, 0.5, 1.0, ends.y[0, -2], ends.y[1, -2], d, wl2, g0, g1, kw["rtol"],
+                                      kw["atol"], 0.0, True)
+    assert order in (1, 2) and ts == d
+    coef = regimes.locked_coef(0.3, wl2, d, ends.y[0, -2], ends.y[1, -2], 0.5, order)
     for tq in (fast.t_regime + 0.37, 512.25, T):
         np.testing.assert_array_equal(ivp1.sol(tq), regimes.locked_eval(coef, tq - fast.t_regime))
     # One solve_ivp step past the switch, ending at t_bound on the closed form.
@@ -301,7 +375,12 @@ def test_no_early_switch_near_the_saddle_or_the_bifurcation(heyoka_ref):
         ends = mbm.solve(model, (0.0, T), y0, **kw)
         assert ends.regime == "locked"
         x = ends.y[0, -2] - d - 2 * np.pi * round((ends.y[0, -2] - d) / (2 * np.pi))
-        assert abs(x) < 1e-4 and ends.t[-2] == ends.t_regime
+        # Small against the ~2.6 rad to the saddle (the second-order form, L6, takes over
+        # at ~1e-4 here, the first-order one at ~1e-6), and the switch the rule's own.
+        assert abs(x) < 1e-3 and ends.t[-2] == ends.t_regime
+        order, _ = regimes.locked_choice(beta, gamma, 1.0, ends.y[0, -2], ends.y[1, -2], d, wl2, g0, g1,
+                                         kw["rtol"], kw["atol"], 0.0, True)
+        assert order > 0
         t = np.linspace(0.0, T, 201)
         r = mbm.solve(model, (0.0, T), y0, t_eval=t, **kw)
         _, p_off = _taylor_run(beta, gamma, 1.0, np.array(y0), T, t, 1e-10, 0)
