@@ -904,11 +904,14 @@ def locked_eval(coef, t):
     """
     th0, x0, v0, hb, s2, wl2 = coef[1], coef[2], coef[3], coef[4], coef[5], coef[6]
     b = v0 + hb * x0
+    s = e = c1 = s1 = 0.0
     if s2 > 0.0:
         s = math.sqrt(s2)
         e = math.exp(-hb * t)
-        ec = e * math.cos(s * t)
-        es = e * math.sin(s * t) / s
+        c1 = math.cos(s * t)
+        s1 = math.sin(s * t)
+        ec = e * c1
+        es = e * s1 / s
     elif s2 < 0.0:
         mu = math.sqrt(-s2)
         lam1 = -wl2 / (hb + mu)
@@ -921,14 +924,10 @@ def locked_eval(coef, t):
         es = e * t
     x = x0 * ec + b * es
     xd = x0 * (-hb * ec - s2 * es) + b * (ec - hb * es)
-    if coef.size >= LOCKED2_WIDTH and coef[7] == 2.0 and t != 0.0:
+    if coef.size >= LOCKED2_WIDTH and coef[7] == 2.0 and t != 0.0 and s2 > 0.0:
         # (L6): x₂ and x₂' (zero at the anchor by construction, skipped there so
         # that t = 0 is the anchor bit for bit).
         qr, qi, m, dr, di = coef[8], coef[9], coef[10], coef[11], coef[12]
-        s = math.sqrt(s2)
-        e = math.exp(-hb * t)
-        c1 = math.cos(s * t)
-        s1 = math.sin(s * t)
         e2 = e * e
         c2 = c1 * c1 - s1 * s1
         sn2 = 2.0 * s1 * c1
