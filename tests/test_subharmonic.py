@@ -42,7 +42,7 @@ T_REF = 2.0e4
 from driven_run import LD, TWO_PI_LD, needs_oracle  # noqa: E402  tests/data
 from driven_run import model as _model  # noqa: E402
 from driven_run import run as _run  # noqa: E402
-from driven_run import theta_ld as _theta_ld  # noqa: E402
+from driven_run import assert_switch_within_tolerance  # noqa: E402
 
 
 _REFS = {}
@@ -71,25 +71,9 @@ def test_fractional_step_switches_and_agrees_with_heyoka(step, tol):
     assert r_off["regime"] == regimes.REGIME_NONE
     ts = r_on["t_regime"]
     assert 100.0 < ts < 3000.0
-    pre, post = t <= ts, t > ts
-    # Before the switch the run is the ordinary one, bit for bit.
-    np.testing.assert_array_equal(on[:, pre], off[:, pre])
-    scale_theta = tol + tol * np.abs(ref[0].astype(float))
-    scale_v = tol + tol * np.abs(ref[1].astype(float))
-    errs = {}
-    for name, out in (("on", on), ("off", off)):
-        e_theta = np.abs((_theta_ld(out) - ref[0]).astype(float))
-        e_v = np.abs((out[1].astype(LD) - ref[1]).astype(float))
-        errs[name] = e_theta, e_v
-        # Tolerance proportionality, both sides of the switch (scipy's scale).
-        assert np.max(e_theta / scale_theta) <= 1.0 and np.max(e_v / scale_v) <= 1.0, name
-    # After it, θ' and ωθ (S5's norm) within the off-run's error plus the switch's share
-    # (measured: 0.002 to 0.07 of the scale in all).
-    omega = params[2]
-    for k, w in ((0, omega), (1, 1.0)):
-        e_on = np.max(w * errs["on"][k][post] / scale_v[post])
-        e_off = np.max(w * errs["off"][k][post] / scale_v[post])
-        assert e_on <= e_off + regimes.SWITCH_SAFETY, (k, e_on, e_off)
+    # Bit for bit before the switch; tolerance proportionality on both sides; after it
+    # within the unswitched run's error plus the switch's share.
+    assert_switch_within_tolerance(on, off, ref, t, ts, tol, params[2])
 
 
 @pytest.mark.parametrize("step", (HALF, PERIOD_FOUR), ids=("1/2", "2/4"))

@@ -41,3 +41,30 @@ def model(params):
     """The driven Pendulum of (β, γ, ω, A, Ω, φ)."""
     return mbm.Pendulum(*params[:3], drive_amplitude=params[3], drive_frequency=params[4],
                         drive_phase=params[5])
+
+
+def assert_switch_within_tolerance(on, off, ref, t, ts, tol, omega):
+    """The phase-locked switch's accuracy claims, shared by test_strobe and test_subharmonic.
+
+    ``on``/``off`` are a run with and without the regime switch (at time ``ts``) at the
+    times ``t``, ``ref`` the long-double reference.  Before the switch the two runs agree
+    bit for bit; both meet tolerance proportionality (scipy's scale) on both sides; after
+    it, θ' and ωθ (S5's norm) stay within the unswitched run's error plus the switch's
+    share (regimes.SWITCH_SAFETY).
+    """
+    from mbm import regimes
+
+    pre, post = t <= ts, t > ts
+    np.testing.assert_array_equal(on[:, pre], off[:, pre])
+    scale_theta = tol + tol * np.abs(ref[0].astype(float))
+    scale_v = tol + tol * np.abs(ref[1].astype(float))
+    errs = {}
+    for name, out in (("on", on), ("off", off)):
+        e_theta = np.abs((theta_ld(out) - ref[0]).astype(float))
+        e_v = np.abs((out[1].astype(LD) - ref[1]).astype(float))
+        errs[name] = e_theta, e_v
+        assert np.max(e_theta / scale_theta) <= 1.0 and np.max(e_v / scale_v) <= 1.0, name
+    for k, w in ((0, omega), (1, 1.0)):
+        e_on = np.max(w * errs["on"][k][post] / scale_v[post])
+        e_off = np.max(w * errs["off"][k][post] / scale_v[post])
+        assert e_on <= e_off + regimes.SWITCH_SAFETY, (k, e_on, e_off)
