@@ -38,7 +38,7 @@ from llvmlite import ir
 from numba import njit, types
 from numba.core.extending import intrinsic
 
-__all__ = ["SIMD_ORDER", "taylor24_series", "taylor24_driven_series"]
+__all__ = ["SIMD_ORDER", "LANES", "taylor24_series", "taylor24_driven_series", "taylor24_lanes", "horner24_lanes"]
 
 # The degree emitted: the "auto" rule's (taylor.TAYLOR_DEFAULT_ORDER); each degree is
 # one more emitted kernel to compile, so only the one the runs use.
@@ -46,6 +46,10 @@ SIMD_ORDER = 24
 
 # Coefficients past a_N (taylor.N_EXTRA: the error estimate's two).
 N_EXTRA = 2
+
+# Scenes per call of the across-scene form (:func:`taylor24_lanes`): AVX-512's eight
+# doubles (LLVM splits the vectors into halves on AVX2; the bits do not depend on it).
+LANES = 8
 
 # Where a₀ sits in the coefficient vector (taylor.HEADER): a_k is stored at the
 # constant index HEADER + k, so the anchor makes no view of the vector.
@@ -153,6 +157,80 @@ def _emit(builder, data, n_order, beta, gamma, w2, s0, c0, theta0, v0, drive):
         store(k + 2, mul(bk2, cst(1.0 / (k + 2.0))))
 
 
+class _LaneBuilder:
+    """The subset of llvmlite's IRBuilder that :func:`_emit` calls, over ``LANES`` scenes.
+
+    Each scalar of :func:`_emit` is one <LANES x double> value (lane i: scene i), each
+    of its <2 x double> and <4 x double> vectors a list of 2 or 4 of them; every
+    operation is the scalar one applied lane-wise, so each scene's coefficients are the
+    same IEEE operations in the same order as :func:`_emit` on one scene: the same bits.
+    A store of a_k goes to row i, column HEADER + k of the (LANES, stride) array at
+    ``data``.
+    """
+
+    def __init__(self, builder, data, stride, soa):
+        self.b = builder
+        self.data = data
+        self.stride = stride
+        self.soa = soa
+        self.vt = ir.VectorType(_DBL, LANES)
+
+    def _val(self, x):
+        # An operand: a lane vector or a list of them as is; a constant splat over lanes.
+        if isinstance(x, ir.Constant):
+            if isinstance(x.type, ir.VectorType):
+                if x.constant is ir.Undefined:
+                    return [None] * x.type.count
+                return [self._val(c) for c in x.constant]
+            return ir.Constant(self.vt, [ir.Constant(_DBL, x.constant)] * LANES)
+        return x
+
+    def _map(self, op, a, b):
+        a, b = self._val(a), self._val(b)
+        if isinstance(a, list):
+            return [op(x, y) for x, y in zip(a, b)]
+        return op(a, b)
+
+    def fmul(self, a, b):
+        return self._map(self.b.fmul, a, b)
+
+    def fadd(self, a, b):
+        return self._map(self.b.fadd, a, b)
+
+    def fsub(self, a, b):
+        return self._map(self.b.fsub, a, b)
+
+    def fneg(self, a):
+        a = self._val(a)
+        if isinstance(a, list):
+            return [self.b.fneg(x) for x in a]
+        return self.b.fneg(a)
+
+    def insert_element(self, vec, x, idx):
+        v = list(self._val(vec))
+        v[idx.constant] = self._val(x)
+        return v
+
+    def extract_element(self, vec, idx):
+        return self._val(vec)[idx.constant]
+
+    def shuffle_vector(self, a, b, mask):
+        both = list(self._val(a)) + list(self._val(b))
+        return [both[m.constant if isinstance(m, ir.Constant) else m] for m in mask.constant]
+
+    def gep(self, data, idx):
+        return idx[0].constant
+
+    def store(self, val, col, align=8):
+        # Row col − HEADER of the (N + 3, LANES) array at ``soa``: a_k of every lane.
+        ptr = self.b.gep(self.soa, [ir.Constant(_I64, (col - HEADER) * LANES)])
+        self.b.store(val, self.b.bitcast(ptr, self.vt.as_pointer()), align=8)
+        for i in range(LANES):
+            x = self.b.extract_element(val, ir.Constant(_I32, i))
+            off = self.b.add(self.b.mul(ir.Constant(_I64, i), self.stride), ir.Constant(_I64, col))
+            self.b.store(x, self.b.gep(self.data, [off]), align=align)
+
+
 def _coef_data(context, builder, aryty, ary):
     return context.make_array(aryty)(context, builder, ary).data
 
@@ -180,6 +258,109 @@ def _driven_series(typingctx, beta, gamma, w2, f, freq, u, w, s0, c0, theta0, v0
         return context.get_dummy_value()
 
     return sig, codegen
+
+
+def _c2(arr):
+    return (isinstance(arr, types.Array) and arr.layout == "C" and arr.ndim == 2
+            and arr.dtype == types.float64)
+
+
+@intrinsic
+def _lane_series(typingctx, ins, coefs, soa):
+    if not (_c2(ins) and _c2(coefs) and _c2(soa)):
+        return None
+    sig = types.none(ins, coefs, soa)
+
+    def codegen(context, builder, signature, args):
+        ins_ary = context.make_array(signature.args[0])(context, builder, args[0])
+        out_ary = context.make_array(signature.args[1])(context, builder, args[1])
+        soa_ary = context.make_array(signature.args[2])(context, builder, args[2])
+        stride = builder.extract_value(out_ary.shape, 1)
+        vt = ir.VectorType(_DBL, LANES)
+        rows = []
+        for q in range(7):
+            ptr = builder.gep(ins_ary.data, [ir.Constant(_I64, q * LANES)])
+            rows.append(builder.load(builder.bitcast(ptr, vt.as_pointer()), align=8))
+        _emit(_LaneBuilder(builder, out_ary.data, stride, soa_ary.data), None, SIMD_ORDER, *rows, None)
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
+@njit(cache=True)
+def taylor24_lanes(ins, coefs, soa):
+    """a₀ … a_26 of :func:`taylor24_series` for ``LANES`` scenes at once.
+
+    ``ins`` is a C-contiguous (7, LANES) array: rows β, γ, ω², sin θ₀, cos θ₀, θ₀, θ̇₀ of
+    each scene (lane); ``coefs`` a C-contiguous (LANES, W) array, W ≥ HEADER + 27, whose
+    row i receives scene i's coefficients at columns HEADER … HEADER + 26 (the header is
+    the caller's), and ``soa`` a C-contiguous (27, LANES) array whose row k receives
+    a_k of every lane (for :func:`horner24_lanes`).  Each scene's coefficients are bit
+    for bit :func:`taylor24_series`'s.
+    """
+    if ins.shape[0] != 7 or ins.shape[1] != LANES or coefs.shape[0] != LANES \
+            or coefs.shape[1] < HEADER + SIMD_ORDER + N_EXTRA + 1 \
+            or soa.shape[0] != SIMD_ORDER + N_EXTRA + 1 or soa.shape[1] != LANES:
+        raise ValueError("taylor24_lanes: ins must be (7, LANES), coefs (LANES, >= HEADER + 27), "
+                         "soa (27, LANES)")
+    _lane_series(ins, coefs, soa)
+
+
+@intrinsic
+def _horner_lanes(typingctx, soa, s, out):
+    if not (_c2(soa) and _c2(out) and isinstance(s, types.Array) and s.layout == "C" and s.ndim == 1
+            and s.dtype == types.float64):
+        return None
+    sig = types.none(soa, s, out)
+
+    def codegen(context, builder, signature, args):
+        vt = ir.VectorType(_DBL, LANES)
+        soa_d = context.make_array(signature.args[0])(context, builder, args[0]).data
+        s_d = context.make_array(signature.args[1])(context, builder, args[1]).data
+        out_d = context.make_array(signature.args[2])(context, builder, args[2]).data
+
+        def vptr(data, i):
+            return builder.bitcast(builder.gep(data, [ir.Constant(_I64, i * LANES)]), vt.as_pointer())
+
+        def row(k):
+            return builder.load(vptr(soa_d, k), align=8)
+
+        def splat(x):
+            return ir.Constant(vt, [ir.Constant(_DBL, float(x))] * LANES)
+
+        mul, add = builder.fmul, builder.fadd
+        n = SIMD_ORDER
+        t = builder.load(vptr(s_d, 0), align=8)
+        an = row(n)
+        p = an
+        q = mul(splat(n), an)
+        for k in range(n - 1, 1, -1):
+            ak = row(k)
+            p = add(mul(p, t), ak)
+            q = add(mul(q, t), mul(splat(k), ak))
+        a1 = row(1)
+        p = add(mul(p, t), a1)
+        q = add(mul(q, t), a1)
+        builder.store(add(row(0), mul(t, p)), vptr(out_d, 0), align=8)
+        builder.store(q, vptr(out_d, 1), align=8)
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
+@njit(cache=True)
+def horner24_lanes(soa, s, out):
+    """θ, θ' of ``LANES`` degree-24 Taylor polynomials at their times ``s``.
+
+    ``soa`` as :func:`taylor24_lanes` writes it, ``s`` (LANES,), ``out`` (2, LANES):
+    row 0 θ, row 1 θ'.  Each lane is bit for bit
+    :func:`mbm.approximants.taylor.taylor_eval_kernel` of its coefficients (the same
+    Horner steps, lane-wise).
+    """
+    if soa.shape[0] != SIMD_ORDER + N_EXTRA + 1 or soa.shape[1] != LANES or s.size != LANES \
+            or out.shape[0] != 2 or out.shape[1] != LANES:
+        raise ValueError("horner24_lanes: soa must be (27, LANES), s (LANES,), out (2, LANES)")
+    _horner_lanes(soa, s, out)
 
 
 @njit(cache=True)

@@ -1,0 +1,146 @@
+"""solve_batch in lockstep lanes (mbm.loop._run_lanes) and its across-scene kernels.
+
+The lanes' anchor (taylor24_lanes) and window-end Horner (horner24_lanes) apply the
+one-scene kernels' operations lane-wise, so they must give those kernels' bits; and a
+scene run in a lane, handed to the one-scene loop at a regime switch, a failure, its
+window limit or the interrupt flag, must give the record and outputs of that loop alone.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+import mbm
+from mbm import loop
+from mbm.approximants.taylor import HEADER, taylor_eval_kernel
+from mbm.approximants.taylor_simd import LANES, SIMD_ORDER, horner24_lanes, taylor24_lanes, taylor24_series
+from mbm.special.jit import unmanaged
+
+NT = SIMD_ORDER + 3
+
+
+def _lane_inputs(rng):
+    b = rng.uniform(0.0, 2.0, LANES)
+    g = rng.uniform(-2.0, 2.0, LANES)
+    w = rng.uniform(0.2, 3.0, LANES)
+    th = rng.uniform(-20.0, 20.0, LANES)
+    v = rng.uniform(-6.0, 6.0, LANES)
+    ins = np.ascontiguousarray([b, g, w * w, [math.sin(x) for x in th], [math.cos(x) for x in th], th, v])
+    return b, g, w, th, v, ins
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_lane_anchor_is_the_one_scene_kernel_bit_for_bit(seed):
+    rng = np.random.default_rng(seed)
+    for _ in range(25):
+        b, g, w, th, v, ins = _lane_inputs(rng)
+        coefs = np.zeros((LANES, HEADER + NT))
+        soa = np.zeros((NT, LANES))
+        taylor24_lanes(ins, coefs, soa)
+        np.testing.assert_array_equal(soa.T, coefs[:, HEADER:])
+        for i in range(LANES):
+            ref = np.zeros(HEADER + NT)
+            taylor24_series(b[i], g[i], w[i], th[i], v[i], ref)
+            np.testing.assert_array_equal(coefs[i, HEADER:], ref[HEADER:])
+
+
+def test_lane_horner_is_taylor_eval_kernel_bit_for_bit():
+    rng = np.random.default_rng(7)
+    for _ in range(25):
+        b, g, w, th, v, ins = _lane_inputs(rng)
+        coefs = np.zeros((LANES, HEADER + NT))
+        soa = np.zeros((NT, LANES))
+        taylor24_lanes(ins, coefs, soa)
+        coefs[:, 1] = SIMD_ORDER
+        s = rng.uniform(-0.5, 0.5, LANES)
+        s[0] = 0.0
+        out = np.zeros((2, LANES))
+        horner24_lanes(soa, s, out)
+        for i in range(LANES):
+            th_i, v_i = taylor_eval_kernel(coefs[i], s[i])
+            assert out[0, i] == th_i and out[1, i] == v_i
+        assert out[0, 0] == th[0]  # the anchor exactly at s = 0
+
+
+def test_lane_kernels_check_their_shapes():
+    with pytest.raises(ValueError, match="taylor24_lanes"):
+        taylor24_lanes(np.zeros((7, LANES)), np.zeros((LANES, HEADER + NT)), np.zeros((NT, LANES - 1)))
+    with pytest.raises(ValueError, match="horner24_lanes"):
+        horner24_lanes(np.zeros((NT, LANES)), np.zeros(LANES - 1), np.zeros((2, LANES)))
+
+
+def test_unmanaged_view_shares_the_memory():
+    import numba
+
+    @numba.njit
+    def write_through(a):
+        u = unmanaged(a)
+        u[1] = 5.0
+        return u.size, u[0]
+
+    a = np.arange(4.0)
+    assert write_through(a) == (4, 0.0) and a[1] == 5.0
+
+
+def _scenes(n, seed):
+    # Every regime the lanes meet or hand over: locked, running (bistable band
+    # included), damped untorqued, torqued from far away, and a few that are never
+    # lane scenes (β = 0, librations and rotations).
+    rng = np.random.default_rng(seed)
+    b = rng.uniform(0.0, 1.0, n)
+    b[: n // 10] = 0.0
+    g = rng.uniform(-2.0, 2.0, n)
+    w = rng.uniform(0.5, 2.0, n)
+    y0 = np.c_[rng.uniform(-3.0, 3.0, n), rng.uniform(-3.0, 3.0, n)]
+    return b, g, w, y0
+
+
+def _assert_batch_is_each_solve(b, g, w, y0, span, te, **kw):
+    r = mbm.solve_batch(b, g, w, y0, span, te, **kw)
+    for i in range(b.size):
+        s = mbm.solve(mbm.Pendulum(b[i], g[i], w[i]), span, y0[i], t_eval=te, **kw)
+        # A failed scene: solve returns the outputs reached, solve_batch NaN after them.
+        m = s.y.shape[1]
+        np.testing.assert_array_equal(r.y[i][:, :m], s.y)
+        assert np.all(np.isnan(r.y[i][:, m:]))
+        assert r.n_windows[i] == s.n_windows and r.status[i] == s.status and r.regime[i] == s.regime
+        np.testing.assert_array_equal(r.t_regime[i], s.t_regime)
+        if kw.get("wrap"):
+            np.testing.assert_array_equal(r.winding[i][:m], s.winding)
+    return r
+
+
+@pytest.mark.parametrize("tol,wrap", [(1e-6, False), (1e-10, True)])
+def test_lane_batch_is_each_scene_alone(tol, wrap):
+    # More scenes than one lane group (loop.LANE_GROUP), so groups refill their lanes.
+    b, g, w, y0 = _scenes(300, 11)
+    te = np.linspace(0.0, 150.0, 16)
+    r = _assert_batch_is_each_solve(b, g, w, y0, (0.0, 150.0), te, rtol=tol, atol=tol, wrap=wrap)
+    assert {"locked", "running"} <= set(r.regime)
+
+
+def test_lane_batch_backwards_and_window_limit():
+    b, g, w, y0 = _scenes(40, 12)
+    te = np.linspace(0.0, -30.0, 7)
+    _assert_batch_is_each_solve(b, g, w, y0, (0.0, -30.0), te, rtol=1e-8, atol=1e-8)
+    # A window limit reached inside the lanes: the status and the outputs up to it.
+    te = np.linspace(0.0, 50.0, 6)
+    r = _assert_batch_is_each_solve(b, g, w, y0, (0.0, 50.0), te, rtol=1e-8, atol=1e-8, max_windows=30)
+    assert np.any(r.status == loop.STATUS_MAX_WINDOWS)
+
+
+def test_lane_eligibility():
+    p = np.zeros(3, dtype=loop.RUN)
+    p["kind"], p["karg"], p["controller"] = loop.KIND_TAYLOR, SIMD_ORDER, loop.CONTROLLER_ADAPTIVE
+    p["beta"], p["max_dtheta"] = 0.1, np.inf
+    p["karg"][1] = 12  # another degree: the one-scene loop
+    p["drive_amp"][2] = 0.5  # driven: the one-scene loop
+
+    import numba
+
+    @numba.njit
+    def eligible(p):
+        return [loop.lane_eligible(p[i]) for i in range(p.size)]
+
+    assert eligible(p) == [True, False, False]
