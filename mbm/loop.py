@@ -2,9 +2,15 @@
 
 Every path runs a scene through :func:`_run`: :class:`mbm.MBM` (a step of one or
 more windows, their formulas stored for the dense output), :func:`mbm.solve`
-(outputs at ``t_eval`` or the window ends) and :func:`mbm.solve_batch` (one run
-per scene under ``prange``).  So the paths take the same windows and give the same
-answers bit for bit.
+(outputs at ``t_eval`` or the window ends) and :func:`mbm.solve_batch` (groups of
+scenes under ``prange``).  So the paths take the same windows and give the same
+answers bit for bit.  A batch group (:func:`_run_lanes`) is a scheduler over the same
+window: LANES scenes advance one ordinary Taylor window per round in lockstep, _run's
+tests, controller and output steps per lane, the anchors and the first tries' window
+ends computed for all lanes at once by lane-wise copies of the one-scene kernels (the
+same operations per lane, so the same bits); every other window (a regime's, a
+failure's, the run's end) is _run's own, the lane handing its scene over as a paused
+run.
 
 A window, as (3.29)–(3.31) of the second paper: the approximant is anchored at the
 state reached (:func:`anchor`), and the state at the window end is the formula's
