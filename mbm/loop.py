@@ -98,7 +98,6 @@ from .regimes import (
     strobe_time,
 )
 from .special.dd import two_prod, two_sum
-from .special.jit import unmanaged
 
 __all__ = [
     "RUN",
@@ -573,6 +572,21 @@ def first_window(kind, coef, t, y0, y1, off, direction, t_bound, omega, max_step
 
 
 @numba.njit(**_INLINE)
+def _accepted_factor(err, theta, v, prior, inv, rejected):
+    """:func:`adaptive_window`'s test of a try: the factor of the next proposal when the
+    try is accepted (scaled estimate ≤ 1, finite), else 0."""
+    if math.isfinite(err) and err <= 1.0 and math.isfinite(theta) and math.isfinite(v):
+        if prior < math.inf:
+            fac = MAX_FACTOR
+        else:
+            fac = MAX_FACTOR if err == 0.0 else min(MAX_FACTOR, SAFETY * err**inv)
+        if rejected:
+            fac = min(1.0, fac)
+        return fac
+    return 0.0
+
+
+@numba.njit(**_INLINE)
 def adaptive_window(kind, coef, t, y0, y1, off, direction, t_bound, h_abs, max_step, rtol, atol,
                     error_order, log_eps):
     """Adaptive controller: one accepted window under rtol/atol.
@@ -598,13 +612,8 @@ def adaptive_window(kind, coef, t, y0, y1, off, direction, t_bound, h_abs, max_s
         t_new = _window_end(t, direction, t_bound, h_abs)
         theta, v, et, ev = step(kind, coef, t_new - t, True)
         err = _error_norm(et, ev, off + y0, y1, off + theta, v, rtol, atol)
-        if math.isfinite(err) and err <= 1.0 and math.isfinite(theta) and math.isfinite(v):
-            if prior < math.inf:
-                fac = MAX_FACTOR
-            else:
-                fac = MAX_FACTOR if err == 0.0 else min(MAX_FACTOR, SAFETY * err**inv)
-            if rejected:
-                fac = min(1.0, fac)
+        fac = _accepted_factor(err, theta, v, prior, inv, rejected)
+        if fac > 0.0:
             return STATUS_OK, t_new, theta, v, h_abs * fac
         if math.isfinite(err):
             h_abs *= max(MIN_FACTOR, SAFETY * err**inv)
@@ -645,6 +654,18 @@ def wrap(k, phi):
         phi = (phi + TWO_PI_A) + TWO_PI_B
         m -= 1.0
     return k + m, phi
+
+
+@numba.njit(**_INLINE)
+def _reduce_phi(k, phi):
+    """(k, φ) before a window: φ reduced to (−π, π] where that leaves θ's value unchanged
+    to the bit (so a window's start repeats the state the last one ended at; else next
+    time)."""
+    if not (-math.pi <= phi <= math.pi):
+        k2, phi2 = wrap(k, phi)
+        if theta_of(k2, phi2) == theta_of(k, phi):
+            return k2, phi2
+    return k, phi
 
 
 @numba.njit(**_INLINE)
@@ -1288,12 +1309,8 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
         max_step = r.max_step
         if r.max_dtheta < math.inf and y1 != 0.0:
             max_step = min(max_step, r.max_dtheta / abs(y1))
-        if wraps and not (-math.pi <= y0 <= math.pi):
-            # Reduce φ to (−π, π] where that leaves θ's value unchanged to the bit (so
-            # a window's start repeats the state the last one ended at; else next time).
-            k2, y2 = wrap(k, y0)
-            if theta_of(k2, y2) == theta_of(k, y0):
-                k, y0 = k2, y2
+        if wraps:
+            k, y0 = _reduce_phi(k, y0)
         # θ's scale for the tolerances (scipy's rtol·|θ| of the whole angle).
         off = k * _TWO_PI
         if can_librate:
@@ -1605,10 +1622,8 @@ def _run_lanes(p, ids, t_eval, out, cancel):
     hv = np.zeros((2, LANES))
     for q in range(LANES):
         lanes[q].scene = -1
-    # The lanes' coefficient rows, as views made once (a view per window costs its
-    # reference count's atomics).
-    rows = (unmanaged(coefs[0]), unmanaged(coefs[1]), unmanaged(coefs[2]), unmanaged(coefs[3]),
-            unmanaged(coefs[4]), unmanaged(coefs[5]), unmanaged(coefs[6]), unmanaged(coefs[7]))
+    # The lanes' coefficient rows, as views made once.
+    rows = (coefs[0], coefs[1], coefs[2], coefs[3], coefs[4], coefs[5], coefs[6], coefs[7])
     ne = t_eval.size
     wrapped = out.shape[1] == 3
     nxt = 0
@@ -1632,11 +1647,8 @@ def _run_lanes(p, ids, t_eval, out, cancel):
                     or cancel[0] != 0 or not (math.isfinite(y0) and math.isfinite(y1))):
                 _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel)
                 continue
-            if not (-math.pi <= y0 <= math.pi):
-                k2, y2 = wrap(k, y0)
-                if theta_of(k2, y2) == theta_of(k, y0):
-                    k, y0 = k2, y2
-                    ln.wind, ln.phi = k, y0
+            k, y0 = _reduce_phi(k, y0)
+            ln.wind, ln.phi = k, y0
             off = k * _TWO_PI
             if ln.can_lock != 0 and not locked_quick_reject(
                     off + y0, y1, ln.lk_d, ln.lk_sd, ln.lk_wl2, ln.lk_g0, r.omega, r.rtol, r.atol, ln.lk_q2):
@@ -1701,12 +1713,8 @@ def _run_lanes(p, ids, t_eval, out, cancel):
                 th, v = hv[0, q], hv[1, q]
                 et, ev = estimate(KIND_TAYLOR, coef, hs[q])
                 err = _error_norm(et, ev, off + y0, y1, off + th, v, rtol, atol)
-                if math.isfinite(err) and err <= 1.0 and math.isfinite(th) and math.isfinite(v):
-                    if ln.prior < math.inf:
-                        fac = MAX_FACTOR
-                    else:
-                        fac = MAX_FACTOR if err == 0.0 else min(
-                            MAX_FACTOR, SAFETY * err ** (-1.0 / (r.error_order + 1.0)))
+                fac = _accepted_factor(err, th, v, ln.prior, -1.0 / (r.error_order + 1.0), False)
+                if fac > 0.0:
                     h_next = ln.h_try * fac
                     accepted = True
             if not accepted:
@@ -1717,8 +1725,8 @@ def _run_lanes(p, ids, t_eval, out, cancel):
                 if st != STATUS_OK:
                     _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel)
                     continue
-            # The window's outputs, as _run's Taylor branch (the views of out made
-            # only here: each is reference-counted, an atomic add and subtract).
+            # The window's outputs, as _run's Taylor branch (the views of out made only
+            # for a window that has outputs).
             j = ln.j
             j2 = j
             while j2 < ne and (direction * (t_eval[j2] - t_new) <= 0.0):

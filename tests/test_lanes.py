@@ -15,7 +15,6 @@ import mbm
 from mbm import loop
 from mbm.approximants.taylor import HEADER, taylor_eval_kernel
 from mbm.approximants.taylor_simd import LANES, SIMD_ORDER, horner24_lanes, taylor24_lanes, taylor24_series
-from mbm.special.jit import unmanaged
 
 NT = SIMD_ORDER + 3
 
@@ -68,19 +67,6 @@ def test_lane_kernels_check_their_shapes():
         taylor24_lanes(np.zeros((7, LANES)), np.zeros((LANES, HEADER + NT)), np.zeros((NT, LANES - 1)))
     with pytest.raises(ValueError, match="horner24_lanes"):
         horner24_lanes(np.zeros((NT, LANES)), np.zeros(LANES - 1), np.zeros((2, LANES)))
-
-
-def test_unmanaged_view_shares_the_memory():
-    import numba
-
-    @numba.njit
-    def write_through(a):
-        u = unmanaged(a)
-        u[1] = 5.0
-        return u.size, u[0]
-
-    a = np.arange(4.0)
-    assert write_through(a) == (4, 0.0) and a[1] == 5.0
 
 
 def _scenes(n, seed):
