@@ -1101,6 +1101,21 @@ def _strobe_subharmonic(p, k, phi, v, scale, sp_hi, n_total):
 
 
 @numba.njit(**_INLINE)
+def _lock_setup(beta, gamma, omega, can_lock, can_lock2):
+    """The locked test's constants of a run (L5; |sin d| and the second-order quick
+    test's q₂ where ``can_lock2``): ``(d, ω_l², G₀, G₁, |sin d|, q₂, can_lock2)``, the
+    second-order form off where its quick test rules it out."""
+    d, wl2, g0, g1, sd, q2 = 0.0, 1.0, 0.0, 0.0, 0.0, 0.0
+    if can_lock:
+        d, wl2, g0, g1 = locked_constants(beta, gamma, omega)
+        sd = abs(math.sin(d))
+        if can_lock2:
+            q2 = locked2_quick(beta, gamma, omega, d, wl2, g0)
+            can_lock2 = q2 > 0.0
+    return d, wl2, g0, g1, sd, q2, can_lock2
+
+
+@numba.njit(**_INLINE)
 def _cycle_watch(kind, r, coef, t, t_new, y0, th, v, k, off, sec_off, sec_acc, beta, gamma, omega, t_bound,
                  rtol, atol):
     """After an ordinary window [t, t_new] from φ = ``y0`` to (``th``, ``v``): the return
@@ -1246,16 +1261,10 @@ def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
     # window store); the test depends on the state only, so a resumed run repeats it.
     can_lock = (r.regimes != 0 and adaptive and direction > 0.0 and beta > 0.0 and amp == 0.0
                 and abs(gamma) < omega * omega and (width == 0 or width >= LOCKED_WIDTH))
-    lk_d, lk_wl2, lk_g0, lk_g1, lk_sd, lk_q2 = 0.0, 1.0, 0.0, 0.0, 0.0, 0.0
     lk_ts, lk_order = 0.0, 0
     # The second-order form (L6, L7) where its coefficients fit the window store.
-    can_lock2 = can_lock and (width == 0 or width >= LOCKED2_WIDTH)
-    if can_lock:
-        lk_d, lk_wl2, lk_g0, lk_g1 = locked_constants(beta, gamma, omega)
-        lk_sd = abs(math.sin(lk_d))
-        if can_lock2:
-            lk_q2 = locked2_quick(beta, gamma, omega, lk_d, lk_wl2, lk_g0)
-            can_lock2 = lk_q2 > 0.0
+    lk_d, lk_wl2, lk_g0, lk_g1, lk_sd, lk_q2, can_lock2 = _lock_setup(
+        beta, gamma, omega, can_lock, can_lock and (width == 0 or width >= LOCKED2_WIDTH))
     # Running cycle (mbm.regimes, R1-R3): the return map watched after each window.
     can_cycle = (r.regimes != 0 and adaptive and direction > 0.0 and beta > 0.0 and amp == 0.0
                  and (width == 0 or width >= CYCLE_WIDTH))
@@ -1559,13 +1568,8 @@ def _lane_start(r, i, ln, coefs, lane):
     ln.log_eps = window_log_eps(r.rtol)
     beta, gamma, omega = r.beta, r.gamma, r.omega
     can_lock = r.regimes != 0 and ln.direction > 0.0 and abs(gamma) < omega * omega
-    can_lock2 = can_lock
-    ln.lk_d, ln.lk_wl2, ln.lk_g0, ln.lk_g1, ln.lk_sd, ln.lk_q2 = 0.0, 1.0, 0.0, 0.0, 0.0, 0.0
-    if can_lock:
-        ln.lk_d, ln.lk_wl2, ln.lk_g0, ln.lk_g1 = locked_constants(beta, gamma, omega)
-        ln.lk_sd = abs(math.sin(ln.lk_d))
-        ln.lk_q2 = locked2_quick(beta, gamma, omega, ln.lk_d, ln.lk_wl2, ln.lk_g0)
-        can_lock2 = ln.lk_q2 > 0.0
+    ln.lk_d, ln.lk_wl2, ln.lk_g0, ln.lk_g1, ln.lk_sd, ln.lk_q2, can_lock2 = _lock_setup(
+        beta, gamma, omega, can_lock, can_lock)
     ln.can_lock, ln.can_lock2 = can_lock, can_lock2
     can_cycle = r.regimes != 0 and ln.direction > 0.0
     ln.can_cycle = can_cycle
