@@ -29,15 +29,23 @@ from .loop import (
     KIND_SALAS_TORQUE,
     KIND_SPLIT,
     KIND_TAYLOR,
+    RS_CYCLE,
+    RS_PLAIN,
+    RS_STROBE,
     _period_store,
     _period_value,
     _strobe_value,
     evaluate,
     theta_of,
 )
+from .regimes import (
+    REGIME_LIBRATION,
+    REGIME_PHASE_LOCKED,
+    REGIME_RUNNING,
+)
 from .regimes import CYCLE_TAG, CYCLE_WIDTH, LOCKED_TAG, LOCKED_WIDTH, STROBE_TAG, STROBE_WIDTH, locked_eval
 
-__all__ = ["evaluate_windows_into", "evaluate_windows_at", "evaluators"]
+__all__ = ["evaluate_windows_into", "evaluate_windows_at", "evaluators", "dense_set", "DENSE_TABLE"]
 
 _INLINE = dict(cache=True, inline="always")
 # One turn, as the loop's winding count is recovered (mbm.loop._evaluate_windows).
@@ -91,24 +99,36 @@ def _winding(kind, c, start_theta_i):
 
 
 @numba.njit(**_INLINE)
-def _evaluate_run(kind, c, t0, start_theta_i, t, lo, hi, out_theta, out_v):
-    """Window ``c`` (start ``t0``) at ``t[lo:hi]``, as :func:`mbm.loop._evaluate_windows` per time."""
+def _evaluate_run(kind, dset, c, t0, start_theta_i, t, lo, hi, out_theta, out_v):
+    """Window ``c`` (start ``t0``) at ``t[lo:hi]``, as :func:`mbm.loop._evaluate_windows` per time.
+
+    ``dset``: which stored periods the entry evaluates (RS_CYCLE, RS_STROBE; RS_PLAIN:
+    ordinary and locked windows only), so that a run that never reached them compiles
+    neither; a window of a set the entry lacks is NaN, never another formula.
+    """
     if kind == KIND_TAYLOR and c.size >= STROBE_WIDTH and c[0] == STROBE_TAG:
         # A phase-locked window: the stored period (q drive periods) from its anchor,
         # at the absolute time (mbm.regimes S6, S7).
         for q in range(lo, hi):
-            a, b, kc = _strobe_value(kind, c, t[q])
+            a, b, kc = math.nan, math.nan, 0.0
+            if dset == RS_STROBE:
+                a, b, kc = _strobe_value(kind, c, t[q])
             out_theta[q] = theta_of(kc, a)
             out_v[q] = b
         return
     if (kind == KIND_TAYLOR or kind == KIND_SPLIT) and c.size >= CYCLE_WIDTH and c[0] == CYCLE_TAG:
         # A cycle window: the stored period (re-taken once for these times), shifted
         # (its own winding count).
-        p_starts, p_ends, p_coefs, p_n = _period_store(kind, c)
-        for q in range(lo, hi):
-            a, b, kc = _period_value(kind, c, p_starts, p_ends, p_coefs, p_n, t[q] - t0)
-            out_theta[q] = theta_of(kc, a)
-            out_v[q] = b
+        if dset == RS_CYCLE:
+            p_starts, p_ends, p_coefs, p_n = _period_store(kind, c)
+            for q in range(lo, hi):
+                a, b, kc = _period_value(kind, c, p_starts, p_ends, p_coefs, p_n, t[q] - t0)
+                out_theta[q] = theta_of(kc, a)
+                out_v[q] = b
+        else:
+            for q in range(lo, hi):
+                out_theta[q] = math.nan
+                out_v[q] = math.nan
         return
     ki = _winding(kind, c, start_theta_i)
     if c.size >= LOCKED_WIDTH and c[0] == LOCKED_TAG:
@@ -129,7 +149,7 @@ def _evaluate_run(kind, c, t0, start_theta_i, t, lo, hi, out_theta, out_v):
 
 
 @numba.njit(**_INLINE)
-def _evaluate_windows(kind, starts, start_theta, coefs, n, direction, t, out):
+def _evaluate_windows(kind, dset, starts, start_theta, coefs, n, direction, t, out):
     """``n`` stored windows at times ``t`` into ``out`` (rows θ, θ'), in runs of times per window."""
     out_theta = out[0]
     out_v = out[1]
@@ -141,72 +161,45 @@ def _evaluate_windows(kind, starts, start_theta, coefs, n, direction, t, out):
         j2 = j + 1
         while j2 < m and _holds(starts, n, direction, i, t[j2]):
             j2 += 1
-        _evaluate_run(kind, coefs[i], starts[i], start_theta[i], t, j, j2, out_theta, out_v)
+        _evaluate_run(kind, dset, coefs[i], starts[i], start_theta[i], t, j, j2, out_theta, out_v)
         j = j2
 
 
 @numba.njit(**_INLINE)
-def _evaluate_at(kind, starts, start_theta, coefs, n, direction, tj):
+def _evaluate_at(kind, dset, starts, start_theta, coefs, n, direction, tj):
     # One time: a new array [θ, θ'].
     i = _find(starts, n, direction, 0, tj)
     t = np.empty(1)
     t[0] = tj
     out = np.empty((2, 1))
-    _evaluate_run(kind, coefs[i], starts[i], start_theta[i], t, 0, 1, out[0], out[1])
+    _evaluate_run(kind, dset, coefs[i], starts[i], start_theta[i], t, 0, 1, out[0], out[1])
     y = np.empty(2)
     y[0] = out[0, 0]
     y[1] = out[1, 0]
     return y
 
 
-# One entry per kind, the kind a constant (numba prunes the other kinds' branches), as
-# mbm.loop's runners and evaluators.
-@numba.njit(cache=True)
-def _into_taylor(starts, start_theta, coefs, n, direction, t, out):
-    _evaluate_windows(KIND_TAYLOR, starts, start_theta, coefs, n, direction, t, out)
+def _entries(kind, dset):
+    # One pair of entries per (kind, stored-period set), both constants of the closures
+    # (numba prunes the other kinds' and sets' branches), as mbm.loop's runners.
+    @numba.njit(cache=True)
+    def into(starts, start_theta, coefs, n, direction, t, out):
+        _evaluate_windows(kind, dset, starts, start_theta, coefs, n, direction, t, out)
+
+    @numba.njit(cache=True)
+    def at(starts, start_theta, coefs, n, direction, tj):
+        return _evaluate_at(kind, dset, starts, start_theta, coefs, n, direction, tj)
+
+    return into, at
 
 
-@numba.njit(cache=True)
-def _into_exact(starts, start_theta, coefs, n, direction, t, out):
-    _evaluate_windows(KIND_EXACT, starts, start_theta, coefs, n, direction, t, out)
-
-
-@numba.njit(cache=True)
-def _into_salas_torque(starts, start_theta, coefs, n, direction, t, out):
-    _evaluate_windows(KIND_SALAS_TORQUE, starts, start_theta, coefs, n, direction, t, out)
-
-
-@numba.njit(cache=True)
-def _into_split(starts, start_theta, coefs, n, direction, t, out):
-    _evaluate_windows(KIND_SPLIT, starts, start_theta, coefs, n, direction, t, out)
-
-
-@numba.njit(cache=True)
-def _at_taylor(starts, start_theta, coefs, n, direction, tj):
-    return _evaluate_at(KIND_TAYLOR, starts, start_theta, coefs, n, direction, tj)
-
-
-@numba.njit(cache=True)
-def _at_exact(starts, start_theta, coefs, n, direction, tj):
-    return _evaluate_at(KIND_EXACT, starts, start_theta, coefs, n, direction, tj)
-
-
-@numba.njit(cache=True)
-def _at_salas_torque(starts, start_theta, coefs, n, direction, tj):
-    return _evaluate_at(KIND_SALAS_TORQUE, starts, start_theta, coefs, n, direction, tj)
-
-
-@numba.njit(cache=True)
-def _at_split(starts, start_theta, coefs, n, direction, tj):
-    return _evaluate_at(KIND_SPLIT, starts, start_theta, coefs, n, direction, tj)
-
-
-#: Kind id -> compiled entry filling ``out`` at an array of times.
-INTO = {KIND_TAYLOR: _into_taylor, KIND_EXACT: _into_exact, KIND_SALAS_TORQUE: _into_salas_torque,
-        KIND_SPLIT: _into_split}
-#: Kind id -> compiled entry returning ``[θ, θ']`` at one time.
-AT = {KIND_TAYLOR: _at_taylor, KIND_EXACT: _at_exact, KIND_SALAS_TORQUE: _at_salas_torque,
-      KIND_SPLIT: _at_split}
+#: The sets of windows a dense output evaluates: ordinary and locked (RS_PLAIN), and
+#: with them a stored period (RS_CYCLE, RS_STROBE: the kinds that reach it).
+DENSE_TABLE = tuple(
+    [(kd, RS_PLAIN) for kd in (KIND_TAYLOR, KIND_EXACT, KIND_SALAS_TORQUE, KIND_SPLIT)]
+    + [(KIND_TAYLOR, RS_CYCLE), (KIND_SPLIT, RS_CYCLE), (KIND_TAYLOR, RS_STROBE)]
+)
+_EVALUATORS = {key: _entries(*key) for key in DENSE_TABLE}
 
 
 def _fallback_into(kind):
@@ -225,14 +218,35 @@ def _fallback_at(kind):
     return at
 
 
-_EVALUATORS = {kind: (INTO[kind], AT[kind]) for kind in INTO}
+def dense_set(regime):
+    """The stored-period set (a key of :data:`DENSE_TABLE` with the kind) that evaluates
+    the windows of a run whose regime is ``regime`` now (its windows so far: ordinary,
+    locked, and the stored period it switched to)."""
+    if regime == REGIME_RUNNING or regime == REGIME_LIBRATION:
+        return RS_CYCLE
+    if regime == REGIME_PHASE_LOCKED:
+        return RS_STROBE
+    return RS_PLAIN
 
 
-def evaluators(kind):
+def _windows_set(coefs, n):
+    # The stored-period set of n stored windows, read off their tags (c[0]).
+    if coefs.ndim != 2 or coefs.shape[1] < min(CYCLE_WIDTH, STROBE_WIDTH) or n < 1:
+        return RS_PLAIN
+    tags = coefs[:n, 0]
+    if coefs.shape[1] >= STROBE_WIDTH and np.any(tags == STROBE_TAG):
+        return RS_STROBE
+    if np.any(tags == CYCLE_TAG):
+        return RS_CYCLE
+    return RS_PLAIN
+
+
+def evaluators(kind, dset=RS_PLAIN):
     """``(into, at)``: the entries of :func:`evaluate_windows_into` and
     :func:`evaluate_windows_at` for kind ``kind`` (their arguments less ``kind``), for
-    a caller that evaluates one kind many times."""
-    return _EVALUATORS.get(kind) or (_fallback_into(kind), _fallback_at(kind))
+    a caller that evaluates one kind many times; ``dset`` (:func:`dense_set`) names
+    the stored periods the windows may hold (RS_PLAIN: none)."""
+    return _EVALUATORS.get((kind, dset)) or (_fallback_into(kind), _fallback_at(kind))
 
 
 def evaluate_windows_into(kind, starts, start_theta, coefs, n, direction, t, out):
@@ -258,9 +272,9 @@ def evaluate_windows_into(kind, starts, start_theta, coefs, n, direction, t, out
         Filled with θ (row 0) and θ' (row 1): the values of
         :func:`mbm.loop.evaluate_windows` bit for bit.
     """
-    evaluators(kind)[0](starts, start_theta, coefs, n, direction, t, out)
+    evaluators(kind, _windows_set(coefs, n))[0](starts, start_theta, coefs, n, direction, t, out)
 
 
 def evaluate_windows_at(kind, starts, start_theta, coefs, n, direction, tj):
     """:func:`evaluate_windows_into` at one time ``tj`` (a float): a new array ``[θ, θ']``."""
-    return evaluators(kind)[1](starts, start_theta, coefs, n, direction, tj)
+    return evaluators(kind, _windows_set(coefs, n))[1](starts, start_theta, coefs, n, direction, tj)

@@ -172,7 +172,11 @@ def _state(y0):
 def _start(buf, fresh, t0, theta0, v0, t1, h):
     words = buf[1]
     if fresh:
-        words[:] = buf[0]
+        # An element loop: a slice assignment compiles numpy's broadcast-error
+        # machinery and its message formatting (seconds of a first call).
+        tpl = buf[0]
+        for i in range(words.size):
+            words[i] = tpl[i]
         words[_W_T] = t0
         words[_W_THETA] = theta0
         words[_W_V] = v0
@@ -182,7 +186,7 @@ def _start(buf, fresh, t0, theta0, v0, t1, h):
 
 
 @numba.njit(cache=True, inline="always")
-def _outputs(kind, buf, fresh, t0, theta0, v0, t1, h, t_eval, out):
+def _outputs(kind, rset, buf, fresh, t0, theta0, v0, t1, h, t_eval, out):
     if fresh:
         problem = t_eval_problem(t_eval, t0, t1, False)
         if problem != 0:
@@ -190,86 +194,44 @@ def _outputs(kind, buf, fresh, t0, theta0, v0, t1, h, t_eval, out):
     p = _start(buf, fresh, t0, theta0, v0, t1, h)
     win_t, win_y, win_coef = np.empty(0), np.empty((0, 2)), np.empty((0, 0))
     never = np.zeros(1, np.int64)
-    if kind == _KIND_TAYLOR:
-        loop.run_taylor(p, t_eval, out, win_t, win_y, win_coef, never)
-    elif kind == _KIND_EXACT:
-        loop.run_exact(p, t_eval, out, win_t, win_y, win_coef, never)
-    elif kind == _KIND_SALAS_TORQUE:
-        loop.run_salas_torque(p, t_eval, out, win_t, win_y, win_coef, never)
-    else:
-        loop.run_split(p, t_eval, out, win_t, win_y, win_coef, never)
+    loop._dispatch(kind, rset, p, t_eval, out, win_t, win_y, win_coef, never)
     r = p[0]
     return 0, r.status, r.j, r.n_windows, r.regime, r.t_regime
 
 
 @numba.njit(cache=True, inline="always")
-def _ends(kind, buf, fresh, t0, theta0, v0, t1, h, win_t, win_y):
+def _ends(kind, rset, buf, fresh, t0, theta0, v0, t1, h, win_t, win_y):
     p = _start(buf, fresh, t0, theta0, v0, t1, h)
     t_eval, out, win_coef = np.empty(0), np.empty((2, 0)), np.empty((0, 0))
     never = np.zeros(1, np.int64)
-    if kind == _KIND_TAYLOR:
-        n = loop.run_taylor(p, t_eval, out, win_t, win_y, win_coef, never)
-    elif kind == _KIND_EXACT:
-        n = loop.run_exact(p, t_eval, out, win_t, win_y, win_coef, never)
-    elif kind == _KIND_SALAS_TORQUE:
-        n = loop.run_salas_torque(p, t_eval, out, win_t, win_y, win_coef, never)
-    else:
-        n = loop.run_split(p, t_eval, out, win_t, win_y, win_coef, never)
+    n = loop._dispatch(kind, rset, p, t_eval, out, win_t, win_y, win_coef, never)
     r = p[0]
     return r.status, n, r.n_windows, r.regime, r.t_regime
 
 
-# The kind is a constant in each entry: numba prunes the other kinds' calls (compared
-# with module globals: numba's dead-branch pruning sees a global, not ``loop.KIND_*``,
-# an attribute of a module, and without it every entry compiled all four loops).
-@numba.njit(cache=True)
-def _outputs_taylor(buf, fresh, t0, theta0, v0, t1, h, t_eval, out):
-    return _outputs(_KIND_TAYLOR, buf, fresh, t0, theta0, v0, t1, h, t_eval, out)
+def _entries(kind, rset):
+    # kind and rset are constants of the closures: numba prunes every other entry of
+    # the loop (loop._dispatch), and caches each closure apart.
+    @numba.njit(cache=True)
+    def outputs(buf, fresh, t0, theta0, v0, t1, h, t_eval, out):
+        return _outputs(kind, rset, buf, fresh, t0, theta0, v0, t1, h, t_eval, out)
+
+    @numba.njit(cache=True)
+    def ends(buf, fresh, t0, theta0, v0, t1, h, win_t, win_y):
+        return _ends(kind, rset, buf, fresh, t0, theta0, v0, t1, h, win_t, win_y)
+
+    return outputs, ends
 
 
-@numba.njit(cache=True)
-def _outputs_exact(buf, fresh, t0, theta0, v0, t1, h, t_eval, out):
-    return _outputs(_KIND_EXACT, buf, fresh, t0, theta0, v0, t1, h, t_eval, out)
+#: The compiled entries (with t_eval, with the window ends) of each (kind id, regime
+#: set) of the loop's table (mbm.loop.RUN_TABLE).
+ENTRIES = {key: _entries(*key) for key in loop.RUN_TABLE}
 
 
-@numba.njit(cache=True)
-def _outputs_salas_torque(buf, fresh, t0, theta0, v0, t1, h, t_eval, out):
-    return _outputs(_KIND_SALAS_TORQUE, buf, fresh, t0, theta0, v0, t1, h, t_eval, out)
+def _entries_of(kind, words):
+    # The entries that run the record in ``words`` (float64 words of a RUN) now.
+    return ENTRIES[(kind, loop.set_of(words.view(loop.RUN)[0]))]
 
-
-@numba.njit(cache=True)
-def _outputs_split(buf, fresh, t0, theta0, v0, t1, h, t_eval, out):
-    return _outputs(_KIND_SPLIT, buf, fresh, t0, theta0, v0, t1, h, t_eval, out)
-
-
-@numba.njit(cache=True)
-def _ends_taylor(buf, fresh, t0, theta0, v0, t1, h, win_t, win_y):
-    return _ends(_KIND_TAYLOR, buf, fresh, t0, theta0, v0, t1, h, win_t, win_y)
-
-
-@numba.njit(cache=True)
-def _ends_exact(buf, fresh, t0, theta0, v0, t1, h, win_t, win_y):
-    return _ends(_KIND_EXACT, buf, fresh, t0, theta0, v0, t1, h, win_t, win_y)
-
-
-@numba.njit(cache=True)
-def _ends_salas_torque(buf, fresh, t0, theta0, v0, t1, h, win_t, win_y):
-    return _ends(_KIND_SALAS_TORQUE, buf, fresh, t0, theta0, v0, t1, h, win_t, win_y)
-
-
-@numba.njit(cache=True)
-def _ends_split(buf, fresh, t0, theta0, v0, t1, h, win_t, win_y):
-    return _ends(_KIND_SPLIT, buf, fresh, t0, theta0, v0, t1, h, win_t, win_y)
-
-
-#: The compiled entries (with t_eval, with the window ends) of each kind id.
-ENTRIES = {
-    loop.KIND_TAYLOR: (_outputs_taylor, _ends_taylor),
-    loop.KIND_EXACT: (_outputs_exact, _ends_exact),
-    loop.KIND_SALAS_TORQUE: (_outputs_salas_torque, _ends_salas_torque),
-    loop.KIND_SPLIT: (_outputs_split, _ends_split),
-}
-assert set(ENTRIES) == set(loop.RUNNERS)
 
 # The keys of a result, in their order (its repr's); the constant ones are filled in
 # per Integrator (Integrator._base).
@@ -344,7 +306,6 @@ class Integrator:
         # The plan of a span of length 0 (only an exact flow's h depends on the span).
         self._plan = _plan(ap, self._tau, self.max_step, 0.0, 0.0)
         self._span_plan = self._tau is None and ap.exact and not math.isfinite(self.max_step)
-        self._outputs, self._ends = ENTRIES[kind]
         controller, h_abs, error_order = self._plan
         beta, gamma, omega = model.params
         amp, freq, phase = model.drive
@@ -355,6 +316,9 @@ class Integrator:
         # The record's words as float64: each call's compiled entry copies them into
         # words of its own.
         self._words = template.view(np.float64).copy()
+        self._kind = kind
+        # The entries of a fresh run (a regime switch resumes through its set's own).
+        self._outputs, self._ends = _entries_of(kind, self._words)
         self._h = float(self._words[_W_H])
         # Buffers ready for a call (row 0 these words, row 1 the call's: see ENTRIES),
         # taken and put back per call (list pop/append are atomic, so threads sharing
@@ -420,11 +384,14 @@ class Integrator:
                 win_y = np.empty((ENDS_CAPACITY + 1, 2))
                 status, n, n_windows, regime, t_regime = self._ends(
                     buf, True, t0, theta0, v0, t1, h, win_t, win_y)
+                ends, chosen = self._ends, REGIME_NONE
                 while status == _PAUSED:  # chunked: Ctrl-C gets in between calls
                     if n + 1 == win_t.size:
                         win_t = np.concatenate((win_t, np.empty(win_t.size)))
                         win_y = np.concatenate((win_y, np.empty((win_y.shape[0], 2))))
-                    status, k, n_windows, regime, t_regime = self._ends(
+                    if regime != chosen:  # a regime switch: its set's entry
+                        ends, chosen = _entries_of(self._kind, buf[1])[1], regime
+                    status, k, n_windows, regime, t_regime = ends(
                         buf, False, t0, theta0, v0, t1, h, win_t[n:], win_y[n:])
                     n += k
                 t, y = win_t[: n + 1], win_y[: n + 1].T
@@ -433,8 +400,11 @@ class Integrator:
                     buf, True, t0, theta0, v0, t1, h, te, y)
                 if problem:
                     raise t_eval_error(problem, t0, t1)
+                outputs, chosen = self._outputs, REGIME_NONE
                 while status == _PAUSED:
-                    status, j, n_windows, regime, t_regime = self._outputs(
+                    if regime != chosen:  # a regime switch: its set's entry
+                        outputs, chosen = _entries_of(self._kind, buf[1])[0], regime
+                    status, j, n_windows, regime, t_regime = outputs(
                         buf, False, t0, theta0, v0, t1, h, te, y)[1:]
                 t = te
                 if j != te.size:

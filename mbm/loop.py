@@ -30,12 +30,21 @@ reached back, so a caller may resume a run where it stopped.
 Compiled dispatch: numba cannot cache a kernel that takes another kernel as an
 argument, so the approximants the loop runs are chosen by an integer kind
 (:data:`COMPILED_KINDS`, from the approximant's declared ``compiled_kind``) in
-:func:`anchor`, :func:`evaluate` and :func:`estimate`.  The loop is compiled once
-per kind (:func:`run_taylor`, ...: :func:`_run` with the kind a constant, the
-other kinds' branches pruned), so a first run compiles only the kernels it uses.
-Adding a compiled approximant means, all in this file: one entry in
-:data:`COMPILED_KINDS`, one branch in each of those three functions, and its
-entries in :data:`RUNNERS` and the evaluators.
+:func:`anchor`, :func:`evaluate` and :func:`estimate`.  The loop has one compiled
+entry per (kind, regime set) of :data:`RUN_TABLE` (:data:`RUNNERS`, made by
+:func:`_runner` with both constants of the closure, so numba prunes the other kinds'
+and regimes' branches): a scene compiles only the approximant kernels and the
+regimes it can reach (:func:`regime_set`: an undriven damped scene the locked regime
+and the return map's watch, never the drive's stroboscopic watch nor the libration;
+the stored period's windows only once a run has switched to them, the loop pausing
+at the switch so that its caller resumes it through the new set's entry,
+:func:`run`, :func:`_run_chain`).  The controllers and the watches are compiled once
+per kind and called (:func:`first_window_for`, :func:`adaptive_window_for`,
+:func:`_cycle_watch_for`), not inlined: numba's inlining copies the callee's IR at
+every call site, which was most of a first call's compile.  Adding a compiled
+approximant means: one entry in :data:`COMPILED_KINDS`, one branch in each of
+:func:`anchor`, :func:`evaluate`, :func:`estimate`, its rows in :data:`RUN_TABLE`
+(and :func:`_dispatch`) and the evaluators of :mod:`mbm.dense`.
 """
 
 import math
@@ -123,14 +132,25 @@ __all__ = [
     "step",
     "prior_window",
     "fixed_window",
-    "adaptive_window",
-    "first_window",
+    "adaptive_window_for",
+    "first_window_for",
     "run",
     "run_taylor",
     "run_exact",
     "run_salas_torque",
     "run_split",
     "RUNNERS",
+    "RUN_TABLE",
+    "CHAINS",
+    "RS_PLAIN",
+    "RS_DAMPED",
+    "RS_CONSERVATIVE",
+    "RS_DRIVEN",
+    "RS_CYCLE",
+    "RS_STROBE",
+    "regime_set",
+    "set_of",
+    "runner_for",
     "run_batch",
     "evaluate_windows",
     "WRAPPING_KINDS",
@@ -208,31 +228,22 @@ _EPS = 2.220446049250313e-16
 TWO_PI_A = math.ldexp(round(math.ldexp(2.0 * math.pi, 29)), -29)
 TWO_PI_B = (2.0 * math.pi - TWO_PI_A) + 2.4492935982947064e-16
 
-# The per-window pieces are inlined into each kind's entry (run_taylor, ...): with
-# the kind a constant there, numba prunes the other kinds' branches before compiling.
+# The small per-window pieces are inlined into their callers, where the kind is a
+# constant (numba prunes the other kinds' branches before compiling); large ones are
+# compiled once per kind and called (first_window_for, ...).
 _INLINE = dict(cache=True, inline="always")
 
-STATUS_OK = 0
-STATUS_TOO_SMALL = 1
-STATUS_ANCHOR = 2
-STATUS_NONFINITE = 3
-STATUS_MAX_WINDOWS = 4
-STATUS_INTERRUPTED = 5
-# Not a failure: the call stopped at its window budget or a full window store and
-# the run may be resumed (the caller's loop, which is where Ctrl-C is honoured).
-STATUS_PAUSED = -1
-
-#: What each status means (the ``message`` of a result).
-STATUS_MESSAGES = {
-    STATUS_OK: "The solver successfully reached the end of the integration interval.",
-    STATUS_TOO_SMALL: "Required window is below the spacing of floating point numbers "
-    "(the tolerance cannot be met).",
-    STATUS_ANCHOR: "The approximant cannot be anchored at the state reached (outside its domain).",
-    STATUS_NONFINITE: "The approximant produced a non-finite state (outside its domain).",
-    STATUS_MAX_WINDOWS: "The run took max_windows windows without reaching the end of the "
-    "interval (raise max_windows for a longer run).",
-    STATUS_INTERRUPTED: "Interrupted (KeyboardInterrupt) before the end of the interval.",
-}
+# The statuses (code, name, message): mbm.status's one table, as every path reports them.
+from .status import (  # noqa: E402
+    STATUS_ANCHOR,
+    STATUS_INTERRUPTED,
+    STATUS_MAX_WINDOWS,
+    STATUS_MESSAGES,
+    STATUS_NONFINITE,
+    STATUS_OK,
+    STATUS_PAUSED,
+    STATUS_TOO_SMALL,
+)
 
 
 #: The run record.  One row per scene; :func:`run` reads every field and writes the
@@ -548,27 +559,34 @@ def fixed_window(kind, coef, t, direction, t_bound, tau):
     return STATUS_OK, t_new, theta, v
 
 
-@numba.njit(**_INLINE)
-def first_window(kind, coef, t, y0, y1, off, direction, t_bound, omega, max_step, rtol, atol,
-                 error_order, log_eps):
-    """Initial adaptive window length: the a-priori window (:func:`prior_window`) where
-    the kind has one, else searched from the anchored formula's own error estimate.
-    ``off`` (2π × the winding count) is added to θ where it sets the tolerance's scale."""
-    prior = prior_window(kind, coef, off + y0, y1, rtol, atol, log_eps)
-    if prior < math.inf:
-        return min(prior, max_step)
-    h_abs = min(FIRST_WINDOW_PERIODS * 2.0 * math.pi / omega, max_step)
-    inv = -1.0 / (error_order + 1.0)
-    for _ in range(FIRST_WINDOW_ITERS):
-        h = _window_end(t, direction, t_bound, h_abs) - t
-        theta, v, et, ev = step(kind, coef, h, True)
-        err = _error_norm(et, ev, off + y0, y1, off + theta, v, rtol, atol)
-        if not (math.isfinite(err) and math.isfinite(theta) and math.isfinite(v)):
-            h_abs *= MIN_FACTOR
-            continue
-        fac = MAX_FACTOR if err == 0.0 else SAFETY * err**inv
-        h_abs = min(h_abs * min(MAX_FACTOR, max(MIN_FACTOR, fac)), max_step)
-    return h_abs
+def first_window_for(kind):
+    """:func:`first_window` compiled for kind ``kind`` (a constant of the closure: numba prunes
+    the other kinds' kernels), called rather than inlined: inlining copies the
+    callee's IR at each site, which was most of a first call's compile."""
+
+    @numba.njit(cache=True)
+    def first_window(coef, t, y0, y1, off, direction, t_bound, omega, max_step, rtol, atol,
+                     error_order, log_eps):
+        """Initial adaptive window length: the a-priori window (:func:`prior_window`) where
+        the kind has one, else searched from the anchored formula's own error estimate.
+        ``off`` (2π × the winding count) is added to θ where it sets the tolerance's scale."""
+        prior = prior_window(kind, coef, off + y0, y1, rtol, atol, log_eps)
+        if prior < math.inf:
+            return min(prior, max_step)
+        h_abs = min(FIRST_WINDOW_PERIODS * 2.0 * math.pi / omega, max_step)
+        inv = -1.0 / (error_order + 1.0)
+        for _ in range(FIRST_WINDOW_ITERS):
+            h = _window_end(t, direction, t_bound, h_abs) - t
+            theta, v, et, ev = step(kind, coef, h, True)
+            err = _error_norm(et, ev, off + y0, y1, off + theta, v, rtol, atol)
+            if not (math.isfinite(err) and math.isfinite(theta) and math.isfinite(v)):
+                h_abs *= MIN_FACTOR
+                continue
+            fac = MAX_FACTOR if err == 0.0 else SAFETY * err**inv
+            h_abs = min(h_abs * min(MAX_FACTOR, max(MIN_FACTOR, fac)), max_step)
+        return h_abs
+
+    return first_window
 
 
 @numba.njit(**_INLINE)
@@ -586,40 +604,80 @@ def _accepted_factor(err, theta, v, prior, inv, rejected):
     return 0.0
 
 
-@numba.njit(**_INLINE)
-def adaptive_window(kind, coef, t, y0, y1, off, direction, t_bound, h_abs, max_step, rtol, atol,
-                    error_order, log_eps):
-    """Adaptive controller: one accepted window under rtol/atol.
+def adaptive_window_for(kind):
+    """:func:`adaptive_window` compiled for kind ``kind`` (a constant of the closure: numba prunes
+    the other kinds' kernels), called rather than inlined: inlining copies the
+    callee's IR at each site, which was most of a first call's compile."""
 
-    The window tried is ``h_abs`` (the previous proposal, or ``first_step``), no longer
-    than ``max_step`` nor than the kind's a-priori window (:func:`prior_window`).  It
-    is accepted when the scaled estimate is ≤ 1 (scipy's test), else shortened by the
-    estimate's h^(p+1) scaling and retried.  Returns ``(status, t_new, theta, v,
-    h_next)``.  The proposal h_next: with an a-priori window, MAX_FACTOR × this window
-    (the next anchor's own prior decides; the cap only lets a ``first_step`` grow);
-    without, scipy's factor from the estimate.  After a rejection, no longer than the
-    window accepted.  ``off`` (2π × the winding count) is added to θ where it sets the
-    tolerance's scale (scipy's atol + rtol·|y| of the whole angle).
-    """
-    min_h = MIN_WINDOW_ULPS * _EPS * max(abs(t), 1e-300)
-    prior = prior_window(kind, coef, off + y0, y1, rtol, atol, log_eps)
-    h_abs = min(h_abs, max_step, prior)
-    rejected = False
-    inv = -1.0 / (error_order + 1.0)
-    while True:
-        if h_abs < min_h:
-            return STATUS_TOO_SMALL, t, y0, y1, h_abs
-        t_new = _window_end(t, direction, t_bound, h_abs)
-        theta, v, et, ev = step(kind, coef, t_new - t, True)
-        err = _error_norm(et, ev, off + y0, y1, off + theta, v, rtol, atol)
-        fac = _accepted_factor(err, theta, v, prior, inv, rejected)
-        if fac > 0.0:
-            return STATUS_OK, t_new, theta, v, h_abs * fac
-        if math.isfinite(err):
-            h_abs *= max(MIN_FACTOR, SAFETY * err**inv)
-        else:
-            h_abs *= MIN_FACTOR
-        rejected = True
+    @numba.njit(cache=True)
+    def adaptive_window(coef, t, y0, y1, off, direction, t_bound, h_abs, max_step, rtol, atol,
+                        error_order, log_eps):
+        """Adaptive controller: one accepted window under rtol/atol.
+
+        The window tried is ``h_abs`` (the previous proposal, or ``first_step``), no longer
+        than ``max_step`` nor than the kind's a-priori window (:func:`prior_window`).  It
+        is accepted when the scaled estimate is ≤ 1 (scipy's test), else shortened by the
+        estimate's h^(p+1) scaling and retried.  Returns ``(status, t_new, theta, v,
+        h_next)``.  The proposal h_next: with an a-priori window, MAX_FACTOR × this window
+        (the next anchor's own prior decides; the cap only lets a ``first_step`` grow);
+        without, scipy's factor from the estimate.  After a rejection, no longer than the
+        window accepted.  ``off`` (2π × the winding count) is added to θ where it sets the
+        tolerance's scale (scipy's atol + rtol·|y| of the whole angle).
+        """
+        min_h = MIN_WINDOW_ULPS * _EPS * max(abs(t), 1e-300)
+        prior = prior_window(kind, coef, off + y0, y1, rtol, atol, log_eps)
+        h_abs = min(h_abs, max_step, prior)
+        rejected = False
+        inv = -1.0 / (error_order + 1.0)
+        while True:
+            if h_abs < min_h:
+                return STATUS_TOO_SMALL, t, y0, y1, h_abs
+            t_new = _window_end(t, direction, t_bound, h_abs)
+            theta, v, et, ev = step(kind, coef, t_new - t, True)
+            err = _error_norm(et, ev, off + y0, y1, off + theta, v, rtol, atol)
+            fac = _accepted_factor(err, theta, v, prior, inv, rejected)
+            if fac > 0.0:
+                return STATUS_OK, t_new, theta, v, h_abs * fac
+            if math.isfinite(err):
+                h_abs *= max(MIN_FACTOR, SAFETY * err**inv)
+            else:
+                h_abs *= MIN_FACTOR
+            rejected = True
+
+    return adaptive_window
+
+
+_first_window_taylor = first_window_for(KIND_TAYLOR)
+_first_window_split = first_window_for(KIND_SPLIT)
+_adaptive_window_taylor = adaptive_window_for(KIND_TAYLOR)
+_adaptive_window_split = adaptive_window_for(KIND_SPLIT)
+
+
+@numba.njit(**_INLINE)
+def _first(kind, coef, t, y0, y1, off, direction, t_bound, omega, max_step, rtol, atol, error_order, log_eps):
+    """:func:`first_window` of kind ``kind`` through its compiled entry; h = −1 (no
+    window) for a kind without an error estimate."""
+    if kind == KIND_TAYLOR:
+        return _first_window_taylor(coef, t, y0, y1, off, direction, t_bound, omega, max_step, rtol, atol,
+                                    error_order, log_eps)
+    if kind == KIND_SPLIT:
+        return _first_window_split(coef, t, y0, y1, off, direction, t_bound, omega, max_step, rtol, atol,
+                                   error_order, log_eps)
+    return -1.0
+
+
+@numba.njit(**_INLINE)
+def _adaptive(kind, coef, t, y0, y1, off, direction, t_bound, h_abs, max_step, rtol, atol, error_order,
+              log_eps):
+    """:func:`adaptive_window` of kind ``kind`` through its compiled entry; a kind
+    without an error estimate cannot run adaptive windows (STATUS_TOO_SMALL)."""
+    if kind == KIND_TAYLOR:
+        return _adaptive_window_taylor(coef, t, y0, y1, off, direction, t_bound, h_abs, max_step, rtol,
+                                       atol, error_order, log_eps)
+    if kind == KIND_SPLIT:
+        return _adaptive_window_split(coef, t, y0, y1, off, direction, t_bound, h_abs, max_step, rtol,
+                                      atol, error_order, log_eps)
+    return STATUS_TOO_SMALL, t, y0, y1, h_abs
 
 
 # ---------------------------------------------------------------------------
@@ -795,9 +853,9 @@ def _period_windows(kind, c):
         if n == 0:
             coefs = np.empty((cap, coef.size))
         if h <= 0.0:
-            h = first_window(kind, coef, tt, a0, a1, off, 1.0, period, omega, math.inf, rtol, atol,
+            h = _first(kind, coef, tt, a0, a1, off, 1.0, period, omega, math.inf, rtol, atol,
                              error_order, log_eps)
-        st, t_new, th, v, h_next = adaptive_window(kind, coef, tt, a0, a1, off, 1.0, period, h, math.inf,
+        st, t_new, th, v, h_next = _adaptive(kind, coef, tt, a0, a1, off, 1.0, period, h, math.inf,
                                                    rtol, atol, error_order, log_eps)
         if st != STATUS_OK:
             break
@@ -923,9 +981,9 @@ def _strobe_eval(kind, c, t):
         if coef[0] != 0.0:
             break
         if h <= 0.0:
-            h = first_window(kind, coef, tt, a0, a1, off, 1.0, p_hi, omega, math.inf, rtol, atol,
+            h = _first(kind, coef, tt, a0, a1, off, 1.0, p_hi, omega, math.inf, rtol, atol,
                              error_order, log_eps)
-        st, t_new, th, v, h_next = adaptive_window(kind, coef, tt, a0, a1, off, 1.0, p_hi, h, math.inf,
+        st, t_new, th, v, h_next = _adaptive(kind, coef, tt, a0, a1, off, 1.0, p_hi, h, math.inf,
                                                    rtol, atol, error_order, log_eps)
         if st != STATUS_OK:
             break
@@ -1100,7 +1158,7 @@ def _strobe_subharmonic(p, k, phi, v, scale, sp_hi, n_total):
 # ---------------------------------------------------------------------------
 
 
-@numba.njit(**_INLINE)
+@numba.njit(cache=True)
 def _lock_setup(beta, gamma, omega, can_lock, can_lock2):
     """The locked test's constants of a run (L5; |sin d| and the second-order quick
     test's q₂ where ``can_lock2``): ``(d, ω_l², G₀, G₁, |sin d|, q₂, can_lock2)``, the
@@ -1115,401 +1173,632 @@ def _lock_setup(beta, gamma, omega, can_lock, can_lock2):
     return d, wl2, g0, g1, sd, q2, can_lock2
 
 
-@numba.njit(**_INLINE)
-def _cycle_watch(kind, r, coef, t, t_new, y0, th, v, k, off, sec_off, sec_acc, beta, gamma, omega, t_bound,
-                 rtol, atol):
-    """After an ordinary window [t, t_new] from φ = ``y0`` to (``th``, ``v``): the return
-    map's bookkeeping in the run record ``r`` (a crossing of θ_s + 2πm, its period and
-    speed; the switch to the running cycle, ``r.regime``, once converged)."""
-    # The return map (mbm.regimes, R1, R2): a crossing of a saddle level
-    # θ = θ_s + 2πm in this window.
-    m0 = math.floor((y0 - sec_off) / _TWO_PI)
-    m1 = math.floor((th - sec_off) / _TWO_PI)
-    r.sec_vmax = max(r.sec_vmax, abs(v))
-    if abs(m1 - m0) == 1.0:
-        sgn = 1.0 if m1 > m0 else -1.0
-        level = sec_off + _TWO_PI * max(m0, m1)
-        sx, vx = _crossing(kind, coef, t_new - t, y0 - level, th - level, level, sec_acc, beta,
-                           omega * omega)
-        tx = t + sx
-        if r.sec_n > 0 and r.sec_sign == sgn:
-            period = tx - r.sec_t
-            dv = vx - r.sec_v
-            if r.cyc_k > 0:
-                # Converged: the period averaged over CYCLE_AVERAGE_PERIODS returns (R2).
-                r.cyc_k += 1
-                if r.cyc_k > CYCLE_AVERAGE_PERIODS:
-                    r.regime = REGIME_RUNNING
-                    r.t_regime = t_new
-                    r.cyc_T = (tx - r.cyc_t) / CYCLE_AVERAGE_PERIODS
-                    r.cyc_theta, r.cyc_v, r.cyc_t, r.cyc_sign = level, vx, tx, sgn
-                    r.cyc_wind = k
-            elif r.sec_n >= 2 and cycle_switch(
-                    dv, r.sec_dv, period - r.sec_T, vx, off + level, r.sec_vmax,
-                    abs(gamma) + beta * r.sec_vmax + omega * omega, (t_bound - t_new) / period, rtol,
-                    atol):
-                r.cyc_k, r.cyc_t = 1, tx
-            r.sec_dv, r.sec_T = dv, period
-            r.sec_n += 1
-        else:
-            r.sec_n, r.sec_sign, r.cyc_k = 1, sgn, 0
-        r.sec_t, r.sec_v, r.sec_vmax = tx, vx, max(abs(vx), abs(v))
-    elif m1 != m0:
-        r.sec_n, r.cyc_k = 0, 0
+def _cycle_watch_for(kind):
+    """:func:`cycle_watch` compiled for kind ``kind`` (a constant of the closure: numba prunes
+    the other kinds' kernels), called rather than inlined: inlining copies the
+    callee's IR at each site, which was most of a first call's compile."""
+
+    @numba.njit(cache=True)
+    def cycle_watch(r, coef, t, t_new, y0, th, v, k, off, sec_off, sec_acc, beta, gamma, omega, t_bound,
+                     rtol, atol):
+        """After an ordinary window [t, t_new] from φ = ``y0`` to (``th``, ``v``): the return
+        map's bookkeeping in the run record ``r`` (a crossing of θ_s + 2πm, its period and
+        speed; the switch to the running cycle, ``r.regime``, once converged)."""
+        # The return map (mbm.regimes, R1, R2): a crossing of a saddle level
+        # θ = θ_s + 2πm in this window.
+        m0 = math.floor((y0 - sec_off) / _TWO_PI)
+        m1 = math.floor((th - sec_off) / _TWO_PI)
+        r.sec_vmax = max(r.sec_vmax, abs(v))
+        if abs(m1 - m0) == 1.0:
+            sgn = 1.0 if m1 > m0 else -1.0
+            level = sec_off + _TWO_PI * max(m0, m1)
+            sx, vx = _crossing(kind, coef, t_new - t, y0 - level, th - level, level, sec_acc, beta,
+                               omega * omega)
+            tx = t + sx
+            if r.sec_n > 0 and r.sec_sign == sgn:
+                period = tx - r.sec_t
+                dv = vx - r.sec_v
+                if r.cyc_k > 0:
+                    # Converged: the period averaged over CYCLE_AVERAGE_PERIODS returns (R2).
+                    r.cyc_k += 1
+                    if r.cyc_k > CYCLE_AVERAGE_PERIODS:
+                        r.regime = REGIME_RUNNING
+                        r.t_regime = t_new
+                        r.cyc_T = (tx - r.cyc_t) / CYCLE_AVERAGE_PERIODS
+                        r.cyc_theta, r.cyc_v, r.cyc_t, r.cyc_sign = level, vx, tx, sgn
+                        r.cyc_wind = k
+                elif r.sec_n >= 2 and cycle_switch(
+                        dv, r.sec_dv, period - r.sec_T, vx, off + level, r.sec_vmax,
+                        abs(gamma) + beta * r.sec_vmax + omega * omega, (t_bound - t_new) / period, rtol,
+                        atol):
+                    r.cyc_k, r.cyc_t = 1, tx
+                r.sec_dv, r.sec_T = dv, period
+                r.sec_n += 1
+            else:
+                r.sec_n, r.sec_sign, r.cyc_k = 1, sgn, 0
+            r.sec_t, r.sec_v, r.sec_vmax = tx, vx, max(abs(vx), abs(v))
+        elif m1 != m0:
+            r.sec_n, r.cyc_k = 0, 0
+
+    return cycle_watch
+
+
+@numba.njit(cache=True)
+def _libration_test(r, t, y0, y1, k, off, gamma, omega, t_bound, rtol, atol):
+    """The libration test of a fresh conservative run (mbm.regimes, C1-C4): switches the
+    record ``r`` to REGIME_LIBRATION where the stored period's phase error over the rest
+    of the span is within the tolerance (C4)."""
+    lb_hi, lb_lo, lb_dt, lb_vmax, lb_span = libration_period(gamma, omega, y0, y1)
+    if lb_hi == lb_hi:
+        n_rest = (t_bound - t) / lb_hi
+        drift = (n_rest + 1.0) * lb_dt
+        theta_min = max(0.0, abs(off + y0) - lb_span)
+        if (n_rest >= LIBRATION_MIN_PERIODS
+                and drift * lb_vmax <= SWITCH_SAFETY * (atol + rtol * theta_min)
+                and drift * (omega * omega + abs(gamma)) <= SWITCH_SAFETY * atol):
+            r.regime = REGIME_LIBRATION
+            r.t_regime = t
+            r.cyc_theta, r.cyc_v, r.cyc_t, r.cyc_sign, r.cyc_wind = y0, y1, t, 0.0, k
+            r.cyc_T, r.cyc_Tlo = lb_hi, lb_lo
+
+
+@numba.njit(cache=True)
+def _strobe_setup(r, t, freq, beta, n_total):
+    """The stroboscopic watch's constants of a driven run (S1-S7): ``(T_d hi, T_d lo,
+    e^{−βT_d}, the next sample's time)``; a fresh run sets the samples' origin."""
+    sp_hi, sp_lo = strobe_period(freq, 1.0)
+    sp_det = math.exp(-beta * sp_hi)  # (S2): det DP, exactly e^{−βT_d}
+    if n_total == 0:
+        r.str_t0, r.str_n, r.str_m = t, 1, 0
+        r.str_tau1, r.str_tau2, r.str_rho = math.nan, math.nan, math.nan
+        # (S7): the maps P^q, q > 1.
+        r.str_q = 1.0
+        for q in range(STROBE_MAX_PERIODS + 1):
+            r.str_qtau1[q], r.str_qtau2[q], r.str_qrho[q] = math.nan, math.nan, math.nan
+        for q in range((STROBE_MAX_PERIODS + 1) * STROBE_MAX_PERIODS):
+            r.str_qb[q] = math.inf
+    sp_next = math.inf
+    if r.regime == REGIME_NONE:
+        sp_next = strobe_time(r.str_t0, float(r.str_n), sp_hi, sp_lo)[0]
+    return sp_hi, sp_lo, sp_det, sp_next
 
 
 @numba.njit(**_INLINE)
-def _run(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
-    """Advance the run ``p[0]`` (a :data:`RUN` record) window by window (kind ``kind``).
+def _value_at(kind, rset, is_locked, coef, per_starts, per_ends, per_coefs, per_n, t, tj, k):
+    """(φ, θ', winding count) of the window ``coef`` that started at ``t``, at time ``tj``:
+    the formula of the window's source (the regime's, or the approximant's)."""
+    if rset == RS_CYCLE:
+        return _period_value(kind, coef, per_starts, per_ends, per_coefs, per_n, tj - t)
+    if rset == RS_STROBE:
+        return _strobe_value(kind, coef, tj)
+    if rset == RS_DAMPED:
+        if is_locked:
+            a, b = locked_eval(coef, tj - t)
+            return a, b, k
+    a, b = evaluate(kind, coef, tj - t)
+    return a, b, k
 
-    Stops at ``t_bound`` (status 0), at a failure (a ``STATUS_*`` code), at
-    ``max_windows`` (:data:`STATUS_MAX_WINDOWS`), or paused
-    (:data:`STATUS_PAUSED`) after ``call_windows`` windows or when the window store
-    is full, or :data:`STATUS_INTERRUPTED` once ``cancel[0]`` is set (by another
-    thread: how a batch running without the GIL honours Ctrl-C).  The state reached, the next window length, the window count and the
-    next output index are written back to ``p[0]``, so a paused run resumes where it
-    stopped.
 
-    Long horizons (:mod:`mbm.regimes`): with ``regimes`` set, before each window the
-    state is tested for the locked regime; once the bound on the neglected
-    nonlinearity over the rest of the horizon is within the tolerance (L5 there),
-    the window (to ``t_bound``, or ``max_step`` long) is the linearized closed form
-    (or, where only its bound passes, the second-order one, L6-L7: where the window
-    store has room for it), stored with coefficient layout ``regimes.LOCKED_TAG``, and ``regime``,
-    ``t_regime`` record the switch.  After each window the return map of θ ≡ θ_s
-    (mod 2π) is watched (R1, R2 there); once it has converged for the rest of the
-    horizon, the windows are the stored period shifted (``regimes.CYCLE_TAG``, R3),
-    the period's windows re-taken once from the cycle's anchor (at the first such
-    window of the call) and every output looked up in them.  A conservative run
-    (β = 0) trapped in a well is tested before its first window (C1-C4 there): with
-    its period known to double-double precision, the whole run is one such window,
-    with winding sign 0.
-
-    AC drive (``drive_amp`` ≠ 0): each window is anchored at its start time by
-    :func:`anchor_driven` (the drive's series enters the coefficients).  The locked and
-    running regimes assume an autonomous equation and are not tested; instead the
-    stroboscopic samples at t_s + nT_d, T_d = 2π/Ω, are watched (S1–S7 there), and once
-    their deviations have converged for good the windows are the stored drive period
-    from the anchor sample (``regimes.STROBE_TAG``, S6), ``regime`` phase-locked.
-
-    Parameters
-    ----------
-    p : ndarray of RUN, shape (1,)
-        The run record.
-    t_eval : ndarray, shape (m,)
-        Output times, monotone in the direction of integration, within the span.
-    out : ndarray, shape (2, m) or (3, m)
-        θ, θ' at ``t_eval``, filled from index ``p[0].j`` on: an output in
-        (t, t_new] comes from that window's formula (the window end repeats the
-        evaluation that produced the state).  With three rows, row 0 is θ wrapped to
-        (−π, π] and row 2 its winding count (θ = 2π·row 2 + row 0).
-    win_t : ndarray, shape (cap + 1,) or (0,)
-        Window store (empty: none).  ``win_t[i]`` is the start of the call's window
-        i, ``win_t[n]`` the end of its last.
-    win_y : ndarray, shape (cap + 1, 2) or (0, 2)
-        The states at ``win_t``.
-    win_coef : ndarray, shape (cap, width) or (0, width)
-        The windows' coefficient vectors (cut or zero-padded to ``width``; width 0
-        stores none).
-    cancel : ndarray of int64, shape (1,)
-        Checked before each window; non-zero stops the run.
-
-    Returns
-    -------
-    n : int
-        Windows this call took.
-    """
-    r = p[0]
-    karg = r.karg
-    beta, gamma, omega = r.beta, r.gamma, r.omega
-    # AC drive: anchored at each window's start time (anchor_driven); the locked and
-    # running regimes assume an autonomous equation, so a driven run takes only the
-    # phase-locked one (can_strobe below).
-    amp, freq, phase = r.drive_amp, r.drive_freq, r.drive_phase
-    t, y0, y1, t_bound = r.t, r.theta, r.v, r.t_bound
-    h_abs, max_step, rtol, atol = r.h_abs, r.max_step, r.rtol, r.atol
-    adaptive = r.controller == CONTROLLER_ADAPTIVE
-    error_order = r.error_order
-    log_eps = window_log_eps(rtol)
-    direction = 1.0 if t_bound >= t else -1.0
-    budget = r.call_windows
-    store = win_t.size > 0
-    cap = win_t.size - 1
+@numba.njit(cache=True)
+def _store_window(win_t, win_y, win_coef, n, coef, t_new, theta, v):
+    """Window ``n`` of the call into the window store: its coefficients (cut or
+    zero-padded to the store's width) and the state at its end."""
     width = win_coef.shape[1]
-    ne = t_eval.size
-    out_theta = out[0]
-    out_v = out[1]
-    # Three output rows: θ wrapped to (−π, π] and its winding count in the third.
-    wrapped = out.shape[0] == 3
-    out_w = out[2] if wrapped else out[0]
-    j = r.j
-    n = 0
-    n_total = r.n_windows
-    status = STATUS_OK
-    # The angle as θ = 2πk + φ (TWO_PI_A): y0 holds φ, k the winding count; a fresh
-    # run starts from θ as given (k = 0), a resumed one where it stopped.
-    wraps = kind == KIND_TAYLOR or kind == KIND_SPLIT  # WRAPPING_KINDS
-    k = 0.0
-    if n_total > 0:
-        k, y0 = r.wind, r.phi
-    if store:
-        win_t[0] = t
-        win_y[0, 0] = theta_of(k, y0)
-        win_y[0, 1] = y1
-    # Locked regime (mbm.regimes, L5): tested before each window where it may apply
-    # (windows from rtol/atol, forwards, β > 0, |γ| < ω², room for its formula in the
-    # window store); the test depends on the state only, so a resumed run repeats it.
-    can_lock = (r.regimes != 0 and adaptive and direction > 0.0 and beta > 0.0 and amp == 0.0
-                and abs(gamma) < omega * omega and (width == 0 or width >= LOCKED_WIDTH))
-    lk_ts, lk_order = 0.0, 0
-    # The second-order form (L6, L7) where its coefficients fit the window store.
-    lk_d, lk_wl2, lk_g0, lk_g1, lk_sd, lk_q2, can_lock2 = _lock_setup(
-        beta, gamma, omega, can_lock, can_lock and (width == 0 or width >= LOCKED2_WIDTH))
-    # Running cycle (mbm.regimes, R1-R3): the return map watched after each window.
-    can_cycle = (r.regimes != 0 and adaptive and direction > 0.0 and beta > 0.0 and amp == 0.0
-                 and (width == 0 or width >= CYCLE_WIDTH))
-    sec_off = section_offset(gamma, omega) if can_cycle else 0.0
-    # θ'' = sec_acc − βθ' on a section level (sin θ there is sin θ_s): _crossing.
-    sec_acc = gamma - omega * omega * math.sin(sec_off)
-    # Libration (mbm.regimes, C1-C4): a conservative run trapped in a well is periodic
-    # from its start; tested once, before a fresh run's first window.
-    can_librate = (r.regimes != 0 and adaptive and direction > 0.0 and beta == 0.0 and amp == 0.0
-                   and wraps and abs(gamma) < omega * omega and n_total == 0 and r.regime == REGIME_NONE
-                   and (width == 0 or width >= CYCLE_WIDTH))
-    # One coefficient workspace for the call's windows (anchor).
-    ws_coef, ws_scratch = taylor_workspace(karg)
-    # The stored period of a cycle window (R3), built at the first one this call meets.
-    per_n = -2
-    per_starts = np.empty(0)
-    per_ends = np.empty((0, 2))
-    per_coefs = np.empty((0, 0))
-    # Phase-locked to the drive (mbm.regimes, S1-S7): stroboscopic samples at
-    # t_s + nT_d watched after each window of a driven run (Taylor, forwards, windows
-    # from rtol/atol, β > 0; not with max_dtheta, the short windows of solve_ivp's event
-    # search, each of which would re-take a period).  A fresh run sets the origin.
-    can_strobe = (r.regimes != 0 and adaptive and direction > 0.0 and beta > 0.0 and amp != 0.0
-                  and freq > 0.0 and kind == KIND_TAYLOR and r.max_dtheta == math.inf
-                  and (width == 0 or width >= STROBE_WIDTH))
-    sp_hi, sp_lo, sp_det, sp_next = 0.0, 0.0, 0.0, math.inf  # sp_next: the next sample's time
-    if can_strobe:
-        sp_hi, sp_lo = strobe_period(freq, 1.0)
-        sp_det = math.exp(-beta * sp_hi)  # (S2): det DP, exactly e^{−βT_d}
-        if n_total == 0:
-            r.str_t0, r.str_n, r.str_m = t, 1, 0
-            r.str_tau1, r.str_tau2, r.str_rho = math.nan, math.nan, math.nan
-            # (S7): the maps P^q, q > 1.
-            r.str_q = 1.0
-            for q in range(STROBE_MAX_PERIODS + 1):
-                r.str_qtau1[q], r.str_qtau2[q], r.str_qrho[q] = math.nan, math.nan, math.nan
-            for q in range((STROBE_MAX_PERIODS + 1) * STROBE_MAX_PERIODS):
-                r.str_qb[q] = math.inf
-        if r.regime == REGIME_NONE:
-            sp_next = strobe_time(r.str_t0, float(r.str_n), sp_hi, sp_lo)[0]
-    while direction * (t_bound - t) > 0.0:
-        if n_total >= r.max_windows:
-            status = STATUS_MAX_WINDOWS
-            break
-        if (budget > 0 and n >= budget) or (store and n >= cap):
-            status = STATUS_PAUSED
-            break
-        if cancel[0] != 0:
-            status = STATUS_INTERRUPTED
-            break
-        max_step = r.max_step
-        if r.max_dtheta < math.inf and y1 != 0.0:
-            max_step = min(max_step, r.max_dtheta / abs(y1))
-        if wraps:
-            k, y0 = _reduce_phi(k, y0)
-        # θ's scale for the tolerances (scipy's rtol·|θ| of the whole angle).
-        off = k * _TWO_PI
-        if can_librate:
-            can_librate = False
-            lb_hi, lb_lo, lb_dt, lb_vmax, lb_span = libration_period(gamma, omega, y0, y1)
-            if lb_hi == lb_hi:
-                # (C4): the stored period's phase error over the rest of the span.
-                n_rest = (t_bound - t) / lb_hi
-                drift = (n_rest + 1.0) * lb_dt
-                theta_min = max(0.0, abs(off + y0) - lb_span)
-                if (n_rest >= LIBRATION_MIN_PERIODS
-                        and drift * lb_vmax <= SWITCH_SAFETY * (atol + rtol * theta_min)
-                        and drift * (omega * omega + abs(gamma)) <= SWITCH_SAFETY * atol):
-                    r.regime = REGIME_LIBRATION
-                    r.t_regime = t
-                    r.cyc_theta, r.cyc_v, r.cyc_t, r.cyc_sign, r.cyc_wind = y0, y1, t, 0.0, k
-                    r.cyc_T, r.cyc_Tlo = lb_hi, lb_lo
-        is_locked = False
-        is_cycle = wraps and (r.regime == REGIME_RUNNING or r.regime == REGIME_LIBRATION)
-        is_strobe = r.regime == REGIME_PHASE_LOCKED
-        if is_cycle:
-            pass
-        elif can_lock and (r.regime == REGIME_LOCKED or not locked_quick_reject(
-                off + y0, y1, lk_d, lk_sd, lk_wl2, lk_g0, omega, rtol, atol, lk_q2)):
-            lk_order, lk_ts = locked_choice(beta, gamma, omega, y0, y1, lk_d, lk_wl2, lk_g0, lk_g1, rtol, atol,
-                                            off, can_lock2)
-            is_locked = lk_order > 0
-        k_new = k
-        if is_cycle:
-            # The rest of the run is the stored period, shifted (mbm.regimes, R3).
-            coef = cycle_coef(r.cyc_theta, r.cyc_v, r.cyc_T, t - r.cyc_t, beta, gamma, omega, rtol, atol,
-                              r.cyc_sign, karg, error_order, r.cyc_wind, r.cyc_Tlo)
-            t_new = _window_end(t, direction, t_bound, max_step)
-            if per_n == -2:
-                per_starts, per_ends, per_coefs, per_n = _period_store(kind, coef)
-            th, v, k_new = _period_value(kind, coef, per_starts, per_ends, per_coefs, per_n, t_new - t)
-            st, h_next = STATUS_OK, h_abs
-            if not (math.isfinite(th) and math.isfinite(v)):
-                st = STATUS_NONFINITE
-        elif is_strobe:
-            # The rest of the run is the stored period (q drive periods, S7) from the
-            # anchor (S6); its formula takes the absolute time.
-            coef = strobe_coef(r.str_phi, r.str_v, r.str_k, r.str_ta, r.str_q, r.str_p, r.str_psi, beta,
-                               gamma, omega, amp, freq, rtol, atol, karg, error_order)
-            t_new = _window_end(t, direction, t_bound, max_step)
-            th, v, k_new = _strobe_value(kind, coef, t_new)
-            st, h_next = STATUS_OK, h_abs
-            if not (math.isfinite(th) and math.isfinite(v)):
-                st = STATUS_NONFINITE
-        elif is_locked:
-            # The rest of the run is the linearized closed form (mbm.regimes, L2, L5).
-            coef = locked_coef(beta, lk_wl2, lk_ts, y0, y1, gamma, lk_order)
-            t_new = _window_end(t, direction, t_bound, max_step)
-            th, v = locked_eval(coef, t_new - t)
-            st, h_next = STATUS_OK, h_abs
-            if r.regime != REGIME_LOCKED:
-                r.regime = REGIME_LOCKED
-                r.t_regime = t
-        else:
-            if amp == 0.0:
-                coef = anchor(kind, karg, beta, gamma, omega, y0, y1, ws_coef, ws_scratch)
-            else:
-                coef = anchor_driven(kind, karg, beta, gamma, omega, amp, freq, phase, t, y0, y1, ws_coef,
-                                     ws_scratch)
-            if coef[0] != 0.0:
-                status = STATUS_ANCHOR
-                break
-        if is_locked or is_cycle or is_strobe:
-            pass
-        elif adaptive:
-            if h_abs <= 0.0:
-                h_abs = first_window(kind, coef, t, y0, y1, off, direction, t_bound, omega, max_step, rtol,
-                                     atol, error_order, log_eps)
-            st, t_new, th, v, h_next = adaptive_window(
-                kind, coef, t, y0, y1, off, direction, t_bound, h_abs, max_step, rtol, atol, error_order, log_eps
-            )
-        else:
-            st, t_new, th, v = fixed_window(kind, coef, t, direction, t_bound, min(h_abs, max_step))
-            h_next = h_abs
-        if st != STATUS_OK:
-            status = st
-            break
-        if kind == KIND_TAYLOR and not (is_locked or is_cycle or is_strobe):
-            # The window's outputs in one call, four times at once (the same Horner
-            # steps per time as evaluate, so the same bits; an output at t_new is the
-            # evaluation that produced the state).
-            j2 = j
-            while j2 < ne and (direction * (t_eval[j2] - t_new) <= 0.0):
-                j2 += 1
-            if j2 > j:
-                # (Not called for an empty range: the call alone, its arrays passed and
-                # reference-counted, cost ~25 ns of a ~400 ns window.)
-                taylor_eval_range(coef, t, t_eval, j, j2, out_theta, out_v)
-            if k != 0.0 or wrapped:
-                for i in range(j, j2):
-                    _put(out_theta, out_w, wrapped, i, k, out_theta[i])
-            j = j2
-        while j < ne and (direction * (t_eval[j] - t_new) <= 0.0):
-            if t_eval[j] == t_new:
-                _put(out_theta, out_w, wrapped, j, k_new, th)
-                out_v[j] = v
-            elif is_locked:
-                a, b = locked_eval(coef, t_eval[j] - t)
-                _put(out_theta, out_w, wrapped, j, k, a)
-                out_v[j] = b
-            elif is_cycle:
-                a, b, kc = _period_value(kind, coef, per_starts, per_ends, per_coefs, per_n, t_eval[j] - t)
-                _put(out_theta, out_w, wrapped, j, kc, a)
-                out_v[j] = b
-            elif is_strobe:
-                a, b, kc = _strobe_value(kind, coef, t_eval[j])
-                _put(out_theta, out_w, wrapped, j, kc, a)
-                out_v[j] = b
-            else:
-                a, b = evaluate(kind, coef, t_eval[j] - t)
-                _put(out_theta, out_w, wrapped, j, k, a)
-                out_v[j] = b
-            j += 1
-        if can_cycle and r.regime == REGIME_NONE:
-            _cycle_watch(kind, r, coef, t, t_new, y0, th, v, k, off, sec_off, sec_acc, beta, gamma, omega,
-                         t_bound, rtol, atol)
-        if sp_next <= t_new and r.regime == REGIME_NONE:
-            # The stroboscopic samples in (t, t_new] (mbm.regimes, S1-S7).
-            sp_next = _strobe_samples(kind, p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det, n_total)
+    if width > 0:
+        m = min(coef.size, width)
+        # Element loops: a slice assignment compiles numpy's broadcast-error
+        # machinery (seconds of a cold start) for shapes that agree here.
+        for q in range(m):
+            win_coef[n, q] = coef[q]
+        for q in range(m, width):
+            win_coef[n, q] = 0.0
+    win_t[n + 1] = t_new
+    win_y[n + 1, 0] = theta
+    win_y[n + 1, 1] = v
+
+
+# The watches, compiled once per kind that can take them and called (as the
+# controllers).
+_cycle_watch_taylor = _cycle_watch_for(KIND_TAYLOR)
+_cycle_watch_split = _cycle_watch_for(KIND_SPLIT)
+
+
+@numba.njit(**_INLINE)
+def _watch_cycle(kind, r, coef, t, t_new, y0, th, v, k, off, sec_off, sec_acc, beta, gamma, omega, t_bound,
+                 rtol, atol):
+    """:func:`_cycle_watch` of kind ``kind`` through its compiled entry (the adaptive
+    kinds; no other kind reaches the watch)."""
+    if kind == KIND_TAYLOR:
+        _cycle_watch_taylor(r, coef, t, t_new, y0, th, v, k, off, sec_off, sec_acc, beta, gamma, omega,
+                            t_bound, rtol, atol)
+    elif kind == KIND_SPLIT:
+        _cycle_watch_split(r, coef, t, t_new, y0, th, v, k, off, sec_off, sec_acc, beta, gamma, omega,
+                           t_bound, rtol, atol)
+
+
+@numba.njit(cache=True)
+def _strobe_samples_taylor(p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det, n_total):
+    return _strobe_samples(KIND_TAYLOR, p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det, n_total)
+
+
+@numba.njit(**_INLINE)
+def _watch_strobe(kind, p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det, n_total):
+    """:func:`_strobe_samples` through its compiled entry (Taylor only: the only kind
+    that integrates a drive; no sample otherwise)."""
+    if kind == KIND_TAYLOR:
+        return _strobe_samples_taylor(p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det, n_total)
+    return math.inf
+
+
+def _runner(kind, rset):
+    """The loop's compiled entry for kind ``kind`` and regime set ``rset`` (:func:`regime_set`).
+
+    Both are constants of the closure, so numba prunes the other kinds' and sets'
+    branches before it compiles (a first run compiles the kernels and regimes its scene
+    class uses), and caches each closure apart (its constants are in the cache's key).
+    The entry advances the run ``p[0]`` (a :data:`RUN` record) window by window; its
+    own docstring says how.
+    """
+
+    @numba.njit(cache=True)
+    def run_entry(p, t_eval, out, win_t, win_y, win_coef, cancel):
+        """Advance the run ``p[0]`` (a :data:`RUN` record) window by window (kind ``kind``,
+        regime set ``rset``: :func:`regime_set`).
+
+        Stops at ``t_bound`` (status 0), at a failure (a ``STATUS_*`` code), at
+        ``max_windows`` (:data:`STATUS_MAX_WINDOWS`), or paused
+        (:data:`STATUS_PAUSED`) after ``call_windows`` windows, when the window store
+        is full or when the record's regime set is no longer ``rset`` (a regime switch:
+        the run resumes through the entry of its new set), or :data:`STATUS_INTERRUPTED`
+        once ``cancel[0]`` is set (by another thread: how a batch running without the
+        GIL honours Ctrl-C).  The state reached, the next window length, the window
+        count and the next output index are written back to ``p[0]``, so a paused run
+        resumes where it stopped.
+
+        Long horizons (:mod:`mbm.regimes`), each compiled only into the entries of its
+        set: with ``regimes`` set, before each window the state is tested for the locked
+        regime (RS_DAMPED); once the bound on the neglected nonlinearity over the rest of
+        the horizon is within the tolerance (L5 there), the window (to ``t_bound``, or
+        ``max_step`` long) is the linearized closed form (or, where only its bound passes,
+        the second-order one, L6-L7: where the window store has room for it), stored with
+        coefficient layout ``regimes.LOCKED_TAG``, and ``regime``, ``t_regime`` record the
+        switch.  After each window the return map of θ ≡ θ_s (mod 2π) is watched (R1, R2
+        there); once it has converged for the rest of the horizon, the windows are the
+        stored period shifted (RS_CYCLE: ``regimes.CYCLE_TAG``, R3), the period's windows
+        re-taken once from the cycle's anchor (at the first such window of the call) and
+        every output looked up in them.  A conservative run (β = 0, RS_CONSERVATIVE)
+        trapped in a well is tested before its first window (C1-C4 there): with its period
+        known to double-double precision, the whole run is one such window, with winding
+        sign 0.
+
+        AC drive (``drive_amp`` ≠ 0, RS_DRIVEN): each window is anchored at its start time
+        by :func:`anchor_driven` (the drive's series enters the coefficients).  The locked
+        and running regimes assume an autonomous equation and are not tested; instead the
+        stroboscopic samples at t_s + nT_d, T_d = 2π/Ω, are watched (S1–S7 there), and once
+        their deviations have converged for good the windows are the stored drive period
+        from the anchor sample (RS_STROBE: ``regimes.STROBE_TAG``, S6), ``regime``
+        phase-locked.
+
+        Parameters
+        ----------
+        p : ndarray of RUN, shape (1,)
+            The run record.
+        t_eval : ndarray, shape (m,)
+            Output times, monotone in the direction of integration, within the span.
+        out : ndarray, shape (2, m) or (3, m)
+            θ, θ' at ``t_eval``, filled from index ``p[0].j`` on: an output in
+            (t, t_new] comes from that window's formula (the window end repeats the
+            evaluation that produced the state).  With three rows, row 0 is θ wrapped to
+            (−π, π] and row 2 its winding count (θ = 2π·row 2 + row 0).
+        win_t : ndarray, shape (cap + 1,) or (0,)
+            Window store (empty: none).  ``win_t[i]`` is the start of the call's window
+            i, ``win_t[n]`` the end of its last.
+        win_y : ndarray, shape (cap + 1, 2) or (0, 2)
+            The states at ``win_t``.
+        win_coef : ndarray, shape (cap, width) or (0, width)
+            The windows' coefficient vectors (cut or zero-padded to ``width``; width 0
+            stores none).
+        cancel : ndarray of int64, shape (1,)
+            Checked before each window; non-zero stops the run.
+
+        Returns
+        -------
+        n : int
+            Windows this call took.
+        """
+        r = p[0]
+        karg = r.karg
+        beta, gamma, omega = r.beta, r.gamma, r.omega
+        amp, freq, phase = r.drive_amp, r.drive_freq, r.drive_phase
+        t, y0, y1, t_bound = r.t, r.theta, r.v, r.t_bound
+        h_abs, max_step, rtol, atol = r.h_abs, r.max_step, r.rtol, r.atol
+        adaptive = r.controller == CONTROLLER_ADAPTIVE
+        error_order = r.error_order
+        log_eps = window_log_eps(rtol)
+        direction = 1.0 if t_bound >= t else -1.0
+        budget = r.call_windows
+        store = win_t.size > 0
+        cap = win_t.size - 1
+        width = win_coef.shape[1]
+        ne = t_eval.size
+        out_theta = out[0]
+        out_v = out[1]
+        # Three output rows: θ wrapped to (−π, π] and its winding count in the third.
+        wrapped = out.shape[0] == 3
+        out_w = out[2] if wrapped else out[0]
+        j = r.j
+        n = 0
+        n_total = r.n_windows
+        status = STATUS_OK
+        # The angle as θ = 2πk + φ (TWO_PI_A): y0 holds φ, k the winding count; a fresh
+        # run starts from θ as given (k = 0), a resumed one where it stopped.
+        wraps = kind == KIND_TAYLOR or kind == KIND_SPLIT  # WRAPPING_KINDS
+        k = 0.0
+        if n_total > 0:
+            k, y0 = r.wind, r.phi
         if store:
-            if width > 0:
-                m = min(coef.size, width)
-                # Element loops: a slice assignment compiles numpy's broadcast-error
-                # machinery (seconds of a cold start) for shapes that agree here.
-                for q in range(m):
-                    win_coef[n, q] = coef[q]
-                for q in range(m, width):
-                    win_coef[n, q] = 0.0
-            win_t[n + 1] = t_new
-            win_y[n + 1, 0] = theta_of(k_new, th)
-            win_y[n + 1, 1] = v
-        t, y0, y1, h_abs, k = t_new, th, v, h_next, k_new
-        n += 1
-        n_total += 1
-    # A span of zero length: the outputs are the initial state.
-    while j < ne and n_total == 0 and t_eval[j] == t:
-        _put(out_theta, out_w, wrapped, j, k, y0)
-        out_v[j] = y1
-        j += 1
-    r.t, r.theta, r.v, r.h_abs = t, theta_of(k, y0), y1, h_abs
-    r.phi, r.wind = y0, k
-    r.n_windows = n_total
-    r.j = j
-    r.status = status
-    return n
+            win_t[0] = t
+            win_y[0, 0] = theta_of(k, y0)
+            win_y[0, 1] = y1
+        # Each regime's switch rule where it may apply: windows from rtol/atol, forwards,
+        # room for its formula in the window store (its set's own conditions in
+        # regime_set); every test depends on the record only, so a resumed run repeats it.
+        may = r.regimes != 0 and adaptive and direction > 0.0
+        # Locked regime (L5) where |γ| < ω², the second-order form (L6, L7) where its
+        # coefficients fit the window store; the running cycle's return map (R1-R3).
+        can_lock = can_lock2 = can_cycle = False
+        lk_d, lk_wl2, lk_g0, lk_g1, lk_sd, lk_q2 = 0.0, 1.0, 0.0, 0.0, 0.0, 0.0
+        lk_ts, lk_order = 0.0, 0
+        sec_off = sec_acc = 0.0
+        if rset == RS_DAMPED:
+            can_lock = may and abs(gamma) < omega * omega and (width == 0 or width >= LOCKED_WIDTH)
+            lk_d, lk_wl2, lk_g0, lk_g1, lk_sd, lk_q2, can_lock2 = _lock_setup(
+                beta, gamma, omega, can_lock, can_lock and (width == 0 or width >= LOCKED2_WIDTH))
+            can_cycle = may and (width == 0 or width >= CYCLE_WIDTH)
+            sec_off = section_offset(gamma, omega) if can_cycle else 0.0
+            # θ'' = sec_acc − βθ' on a section level (sin θ there is sin θ_s): _crossing.
+            sec_acc = gamma - omega * omega * math.sin(sec_off)
+        # Libration (C1-C4): a conservative run trapped in a well is periodic from its
+        # start; tested once, before a fresh run's first window.
+        can_librate = False
+        if rset == RS_CONSERVATIVE:
+            can_librate = (may and wraps and abs(gamma) < omega * omega and n_total == 0
+                           and r.regime == REGIME_NONE and (width == 0 or width >= CYCLE_WIDTH))
+        # Phase-locked to the drive (S1-S7): stroboscopic samples at t_s + nT_d watched
+        # after each window (Taylor, β > 0; not with max_dtheta, the short windows of
+        # solve_ivp's event search, each of which would re-take a period).
+        sp_hi, sp_lo, sp_det, sp_next = 0.0, 0.0, 0.0, math.inf  # sp_next: the next sample's time
+        if rset == RS_DRIVEN:
+            if (may and beta > 0.0 and freq > 0.0 and kind == KIND_TAYLOR and r.max_dtheta == math.inf
+                    and (width == 0 or width >= STROBE_WIDTH)):
+                sp_hi, sp_lo, sp_det, sp_next = _strobe_setup(r, t, freq, beta, n_total)
+        # One coefficient workspace for the call's windows (anchor).
+        ws_coef, ws_scratch = taylor_workspace(karg)
+        # The stored period of a cycle window (R3), built at the first one this call meets.
+        per_n = -2
+        per_starts = np.empty(0)
+        per_ends = np.empty((0, 2))
+        per_coefs = np.empty((0, 0))
+        while direction * (t_bound - t) > 0.0:
+            if n_total >= r.max_windows:
+                status = STATUS_MAX_WINDOWS
+                break
+            if ((budget > 0 and n >= budget) or (store and n >= cap)
+                    or regime_set(kind, r.controller, r.regimes, beta, amp, r.regime) != rset):
+                status = STATUS_PAUSED
+                break
+            if cancel[0] != 0:
+                status = STATUS_INTERRUPTED
+                break
+            max_step = r.max_step
+            if r.max_dtheta < math.inf and y1 != 0.0:
+                max_step = min(max_step, r.max_dtheta / abs(y1))
+            if wraps:
+                k, y0 = _reduce_phi(k, y0)
+            # θ's scale for the tolerances (scipy's rtol·|θ| of the whole angle).
+            off = k * _TWO_PI
+            if rset == RS_CONSERVATIVE:
+                if can_librate:
+                    can_librate = False
+                    _libration_test(r, t, y0, y1, k, off, gamma, omega, t_bound, rtol, atol)
+                    if r.regime != REGIME_NONE:
+                        # The rest of the run is the stored period: RS_CYCLE's entry.
+                        status = STATUS_PAUSED
+                        break
+            is_locked = False
+            ordinary = True
+            k_new = k
+            st, h_next = STATUS_OK, h_abs
+            if rset == RS_CYCLE:
+                # The rest of the run is the stored period, shifted (mbm.regimes, R3).
+                ordinary = False
+                coef = cycle_coef(r.cyc_theta, r.cyc_v, r.cyc_T, t - r.cyc_t, beta, gamma, omega, rtol, atol,
+                                  r.cyc_sign, karg, error_order, r.cyc_wind, r.cyc_Tlo)
+                t_new = _window_end(t, direction, t_bound, max_step)
+                if per_n == -2:
+                    per_starts, per_ends, per_coefs, per_n = _period_store(kind, coef)
+                th, v, k_new = _period_value(kind, coef, per_starts, per_ends, per_coefs, per_n, t_new - t)
+            elif rset == RS_STROBE:
+                # The rest of the run is the stored period (q drive periods, S7) from the
+                # anchor (S6); its formula takes the absolute time.
+                ordinary = False
+                coef = strobe_coef(r.str_phi, r.str_v, r.str_k, r.str_ta, r.str_q, r.str_p, r.str_psi, beta,
+                                   gamma, omega, amp, freq, rtol, atol, karg, error_order)
+                t_new = _window_end(t, direction, t_bound, max_step)
+                th, v, k_new = _strobe_value(kind, coef, t_new)
+            else:
+                if rset == RS_DAMPED:
+                    if can_lock and (r.regime == REGIME_LOCKED or not locked_quick_reject(
+                            off + y0, y1, lk_d, lk_sd, lk_wl2, lk_g0, omega, rtol, atol, lk_q2)):
+                        lk_order, lk_ts = locked_choice(beta, gamma, omega, y0, y1, lk_d, lk_wl2, lk_g0, lk_g1,
+                                                        rtol, atol, off, can_lock2)
+                        is_locked = lk_order > 0
+                if is_locked:
+                    # The rest of the run is the linearized closed form (mbm.regimes, L2, L5).
+                    ordinary = False
+                    coef = locked_coef(beta, lk_wl2, lk_ts, y0, y1, gamma, lk_order)
+                    t_new = _window_end(t, direction, t_bound, max_step)
+                    th, v = locked_eval(coef, t_new - t)
+                    if r.regime != REGIME_LOCKED:
+                        r.regime = REGIME_LOCKED
+                        r.t_regime = t
+                else:
+                    if rset == RS_DRIVEN:
+                        coef = anchor_driven(kind, karg, beta, gamma, omega, amp, freq, phase, t, y0, y1, ws_coef,
+                                             ws_scratch)
+                    else:
+                        coef = anchor(kind, karg, beta, gamma, omega, y0, y1, ws_coef, ws_scratch)
+                    if coef[0] != 0.0:
+                        status = STATUS_ANCHOR
+                        break
+                    if adaptive:
+                        if h_abs <= 0.0:
+                            h_abs = _first(kind, coef, t, y0, y1, off, direction, t_bound, omega, max_step,
+                                                 rtol, atol, error_order, log_eps)
+                        st, t_new, th, v, h_next = _adaptive(
+                            kind, coef, t, y0, y1, off, direction, t_bound, h_abs, max_step, rtol, atol,
+                            error_order, log_eps)
+                    else:
+                        st, t_new, th, v = fixed_window(kind, coef, t, direction, t_bound, min(h_abs, max_step))
+            if not ordinary and not (math.isfinite(th) and math.isfinite(v)):
+                st = STATUS_NONFINITE
+            if st != STATUS_OK:
+                status = st
+                break
+            if kind == KIND_TAYLOR and ordinary:
+                # The window's outputs in one call, four times at once (the same Horner
+                # steps per time as evaluate, so the same bits; an output at t_new is the
+                # evaluation that produced the state).
+                j2 = j
+                while j2 < ne and (direction * (t_eval[j2] - t_new) <= 0.0):
+                    j2 += 1
+                if j2 > j:
+                    # (Not called for an empty range: the call alone, its arrays passed and
+                    # reference-counted, cost ~25 ns of a ~400 ns window.)
+                    taylor_eval_range(coef, t, t_eval, j, j2, out_theta, out_v)
+                if k != 0.0 or wrapped:
+                    for i in range(j, j2):
+                        _put(out_theta, out_w, wrapped, i, k, out_theta[i])
+                j = j2
+            while j < ne and (direction * (t_eval[j] - t_new) <= 0.0):
+                if t_eval[j] == t_new:
+                    _put(out_theta, out_w, wrapped, j, k_new, th)
+                    out_v[j] = v
+                else:
+                    a, b, kc = _value_at(kind, rset, is_locked, coef, per_starts, per_ends, per_coefs, per_n, t,
+                                         t_eval[j], k)
+                    _put(out_theta, out_w, wrapped, j, kc, a)
+                    out_v[j] = b
+                j += 1
+            if rset == RS_DAMPED:
+                if can_cycle and r.regime == REGIME_NONE:
+                    _watch_cycle(kind, r, coef, t, t_new, y0, th, v, k, off, sec_off, sec_acc, beta, gamma, omega,
+                                 t_bound, rtol, atol)
+            if rset == RS_DRIVEN:
+                if sp_next <= t_new and r.regime == REGIME_NONE:
+                    # The stroboscopic samples in (t, t_new] (mbm.regimes, S1-S7).
+                    sp_next = _watch_strobe(kind, p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det, n_total)
+            if store:
+                _store_window(win_t, win_y, win_coef, n, coef, t_new, theta_of(k_new, th), v)
+            t, y0, y1, h_abs, k = t_new, th, v, h_next, k_new
+            n += 1
+            n_total += 1
+        # A span of zero length: the outputs are the initial state.
+        while j < ne and n_total == 0 and status != STATUS_PAUSED and t_eval[j] == t:
+            _put(out_theta, out_w, wrapped, j, k, y0)
+            out_v[j] = y1
+            j += 1
+        r.t, r.theta, r.v, r.h_abs = t, theta_of(k, y0), y1, h_abs
+        r.phi, r.wind = y0, k
+        r.n_windows = n_total
+        r.j = j
+        r.status = status
+        return n
+
+    return run_entry
 
 
-# One entry per kind: the kind is a constant in each, so numba's dead-branch pruning
-# keeps that kind's kernels only (a first run compiles what it uses; measured in the
-# README's cold-start figure).
+# ---------------------------------------------------------------------------
+# The entries: one per (kind, regime set), generated from RUN_TABLE
+# ---------------------------------------------------------------------------
+
+# Regime sets: which regimes an entry of the loop compiles (numba prunes the other
+# sets' branches, so a scene class pays only for the regimes it can reach).
+RS_PLAIN = 0  # no regime: fixed windows, regimes off, β < 0
+RS_DAMPED = 1  # undriven, β > 0: the locked regime (L1-L7) and the return map's watch (R1, R2)
+RS_CONSERVATIVE = 2  # undriven, β = 0: the libration test (C1-C4)
+RS_DRIVEN = 3  # an AC drive: the driven anchor and the stroboscopic watch (S1-S7)
+RS_CYCLE = 4  # in the running cycle or a libration: the stored period's windows (R3)
+RS_STROBE = 5  # phase-locked to the drive: the stored drive period's windows (S6, S7)
+
+
+@numba.njit(cache=True)
+def regime_set(kind, controller, regimes, beta, amp, regime):
+    """The regime set (``RS_*``) of a run record's fields: the entry that runs it.
+
+    A run's set changes only at a regime switch (to RS_CYCLE or RS_STROBE), where the
+    loop pauses so that the caller resumes it through the new set's entry.  The kinds
+    without an error estimate run fixed windows and take no regime.
+    """
+    if kind == KIND_EXACT or kind == KIND_SALAS_TORQUE:
+        return RS_DRIVEN if amp != 0.0 else RS_PLAIN
+    if regime == REGIME_RUNNING or regime == REGIME_LIBRATION:
+        return RS_CYCLE
+    if regime == REGIME_PHASE_LOCKED and kind == KIND_TAYLOR:
+        return RS_STROBE
+    if amp != 0.0:
+        return RS_DRIVEN
+    if regimes == 0 or controller != CONTROLLER_ADAPTIVE or beta < 0.0:
+        return RS_PLAIN
+    return RS_DAMPED if beta > 0.0 else RS_CONSERVATIVE
+
+
+#: Every (kind, regime set) the loop has an entry for: those regime_set can return.
+RUN_TABLE = tuple(
+    [(KIND_TAYLOR, s) for s in (RS_PLAIN, RS_DAMPED, RS_CONSERVATIVE, RS_DRIVEN, RS_CYCLE, RS_STROBE)]
+    + [(KIND_SPLIT, s) for s in (RS_PLAIN, RS_DAMPED, RS_CONSERVATIVE, RS_DRIVEN, RS_CYCLE)]
+    + [(kd, s) for kd in (KIND_EXACT, KIND_SALAS_TORQUE) for s in (RS_PLAIN, RS_DRIVEN)]
+)
+
+
+#: The loop's entry for each (kind id, regime set) of RUN_TABLE.
+RUNNERS = {key: _runner(*key) for key in RUN_TABLE}
+# numba calls a compiled function through a global: the table's entries as globals of
+# this module for _dispatch.
+(_R_T0, _R_T1, _R_T2, _R_T3, _R_T4, _R_T5, _R_S0, _R_S1, _R_S2, _R_S3, _R_S4,
+ _R_E0, _R_E3, _R_Q0, _R_Q3) = (RUNNERS[key] for key in RUN_TABLE)
+
+
+@numba.njit(**_INLINE)
+def _dispatch(kind, rset, p, t_eval, out, win_t, win_y, win_coef, cancel):
+    """The entry of (``kind``, ``rset``) called: with both constants, one call after
+    pruning; an unknown pair is a status (STATUS_ANCHOR), never another entry."""
+    if kind == KIND_TAYLOR:
+        if rset == RS_PLAIN:
+            return _R_T0(p, t_eval, out, win_t, win_y, win_coef, cancel)
+        if rset == RS_DAMPED:
+            return _R_T1(p, t_eval, out, win_t, win_y, win_coef, cancel)
+        if rset == RS_CONSERVATIVE:
+            return _R_T2(p, t_eval, out, win_t, win_y, win_coef, cancel)
+        if rset == RS_DRIVEN:
+            return _R_T3(p, t_eval, out, win_t, win_y, win_coef, cancel)
+        if rset == RS_CYCLE:
+            return _R_T4(p, t_eval, out, win_t, win_y, win_coef, cancel)
+        if rset == RS_STROBE:
+            return _R_T5(p, t_eval, out, win_t, win_y, win_coef, cancel)
+    elif kind == KIND_SPLIT:
+        if rset == RS_PLAIN:
+            return _R_S0(p, t_eval, out, win_t, win_y, win_coef, cancel)
+        if rset == RS_DAMPED:
+            return _R_S1(p, t_eval, out, win_t, win_y, win_coef, cancel)
+        if rset == RS_CONSERVATIVE:
+            return _R_S2(p, t_eval, out, win_t, win_y, win_coef, cancel)
+        if rset == RS_DRIVEN:
+            return _R_S3(p, t_eval, out, win_t, win_y, win_coef, cancel)
+        if rset == RS_CYCLE:
+            return _R_S4(p, t_eval, out, win_t, win_y, win_coef, cancel)
+    elif kind == KIND_EXACT:
+        if rset == RS_PLAIN:
+            return _R_E0(p, t_eval, out, win_t, win_y, win_coef, cancel)
+        if rset == RS_DRIVEN:
+            return _R_E3(p, t_eval, out, win_t, win_y, win_coef, cancel)
+    elif kind == KIND_SALAS_TORQUE:
+        if rset == RS_PLAIN:
+            return _R_Q0(p, t_eval, out, win_t, win_y, win_coef, cancel)
+        if rset == RS_DRIVEN:
+            return _R_Q3(p, t_eval, out, win_t, win_y, win_coef, cancel)
+    p[0].status = STATUS_ANCHOR
+    return 0
+
+
+@numba.njit(**_INLINE)
+def _record_set(kind, r):
+    return regime_set(kind, r.controller, r.regimes, r.beta, r.drive_amp, r.regime)
+
+
+@numba.njit(**_INLINE)
+def _run_chain(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
+    """A run of kind ``kind`` through its regime sets' entries in turn: a pause at a
+    regime switch is resumed through the new set's entry (every other stop returns)."""
+    r = p[0]
+    n = 0
+    while True:
+        rset = _record_set(kind, r)
+        if rset == RS_PLAIN:
+            n += _dispatch(kind, RS_PLAIN, p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
+        elif rset == RS_DAMPED:
+            n += _dispatch(kind, RS_DAMPED, p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
+        elif rset == RS_CONSERVATIVE:
+            n += _dispatch(kind, RS_CONSERVATIVE, p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
+        elif rset == RS_DRIVEN:
+            n += _dispatch(kind, RS_DRIVEN, p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
+        elif rset == RS_CYCLE:
+            n += _dispatch(kind, RS_CYCLE, p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
+        else:
+            n += _dispatch(kind, RS_STROBE, p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
+        if r.status != STATUS_PAUSED or _record_set(kind, r) == rset:
+            return n
+
+
+# One compiled whole run per kind (every set it may reach), for the compiled callers
+# (solve_njit, the batch).
 @numba.njit(cache=True)
 def run_taylor(p, t_eval, out, win_t, win_y, win_coef, cancel):
-    """:func:`_run` for kind ``"taylor"``; returns the windows taken."""
-    return _run(KIND_TAYLOR, p, t_eval, out, win_t, win_y, win_coef, cancel)
+    """:func:`_run_chain` for kind ``"taylor"``; returns the windows taken."""
+    return _run_chain(KIND_TAYLOR, p, t_eval, out, win_t, win_y, win_coef, cancel)
 
 
 @numba.njit(cache=True)
 def run_exact(p, t_eval, out, win_t, win_y, win_coef, cancel):
-    """:func:`_run` for kind ``"exact"``; returns the windows taken."""
-    return _run(KIND_EXACT, p, t_eval, out, win_t, win_y, win_coef, cancel)
+    """:func:`_run_chain` for kind ``"exact"``; returns the windows taken."""
+    return _run_chain(KIND_EXACT, p, t_eval, out, win_t, win_y, win_coef, cancel)
 
 
 @numba.njit(cache=True)
 def run_salas_torque(p, t_eval, out, win_t, win_y, win_coef, cancel):
-    """:func:`_run` for kind ``"salas-torque"``; returns the windows taken."""
-    return _run(KIND_SALAS_TORQUE, p, t_eval, out, win_t, win_y, win_coef, cancel)
+    """:func:`_run_chain` for kind ``"salas-torque"``; returns the windows taken."""
+    return _run_chain(KIND_SALAS_TORQUE, p, t_eval, out, win_t, win_y, win_coef, cancel)
 
 
 @numba.njit(cache=True)
 def run_split(p, t_eval, out, win_t, win_y, win_coef, cancel):
-    """:func:`_run` for kind ``"split"``; returns the windows taken."""
-    return _run(KIND_SPLIT, p, t_eval, out, win_t, win_y, win_coef, cancel)
+    """:func:`_run_chain` for kind ``"split"``; returns the windows taken."""
+    return _run_chain(KIND_SPLIT, p, t_eval, out, win_t, win_y, win_coef, cancel)
 
 
-#: The loop's entry for each kind id.
-RUNNERS = {KIND_TAYLOR: run_taylor, KIND_EXACT: run_exact, KIND_SALAS_TORQUE: run_salas_torque,
-           KIND_SPLIT: run_split}
+#: The whole-run entry of each kind id (compiled callers).
+CHAINS = {KIND_TAYLOR: run_taylor, KIND_EXACT: run_exact, KIND_SALAS_TORQUE: run_salas_torque,
+          KIND_SPLIT: run_split}
+
+_regime_set = regime_set.py_func
+
+
+def set_of(r):
+    """The regime set of run record ``r`` (a record, or a row of a RUN array), in Python."""
+    return _regime_set(int(r["kind"]), int(r["controller"]), int(r["regimes"]), float(r["beta"]),
+                       float(r["drive_amp"]), int(r["regime"]))
+
+
+def runner_for(r):
+    """The compiled entry (:data:`RUNNERS`) that runs record ``r`` now."""
+    return RUNNERS.get((int(r["kind"]), set_of(r)))
 
 
 def run(p, t_eval, out, win_t, win_y, win_coef, cancel):
-    """Advance the run ``p[0]``: :func:`_run` through its kind's entry (:data:`RUNNERS`).
-
-    Callers on a hot path fetch ``RUNNERS[kind]`` once and call it directly.
+    """Advance the run ``p[0]``: :func:`_run` through the entry of its kind and regime
+    set (:data:`RUNNERS`), resumed through the new set's entry after a regime switch,
+    so that only the sets a run reaches are compiled.  Returns the windows taken.
     """
-    return RUNNERS[int(p[0]["kind"])](p, t_eval, out, win_t, win_y, win_coef, cancel)
+    n = 0
+    while True:
+        rset = set_of(p[0])
+        entry = RUNNERS.get((int(p[0]["kind"]), rset))
+        if entry is None:
+            p[0]["status"] = STATUS_ANCHOR
+            return n
+        n += entry(p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
+        if p[0]["status"] != STATUS_PAUSED or set_of(p[0]) == rset:
+            return n
 
 
 @numba.njit(cache=True)
@@ -1687,8 +1976,8 @@ def _run_lanes(p, ids, t_eval, out, cancel):
             t, y0, y1 = ln.t, ln.phi, ln.v
             off = ln.wind * _TWO_PI
             if ln.h_abs <= 0.0:
-                ln.h_abs = first_window(KIND_TAYLOR, coef, t, y0, y1, off, ln.direction, r.t_bound, r.omega,
-                                        r.max_step, r.rtol, r.atol, r.error_order, ln.log_eps)
+                ln.h_abs = _first_window_taylor(coef, t, y0, y1, off, ln.direction, r.t_bound, r.omega,
+                                                r.max_step, r.rtol, r.atol, r.error_order, ln.log_eps)
             min_h = MIN_WINDOW_ULPS * _EPS * max(abs(t), 1e-300)
             ln.prior = prior_window(KIND_TAYLOR, coef, off + y0, y1, r.rtol, r.atol, ln.log_eps)
             ln.h_try = min(ln.h_abs, r.max_step, ln.prior)
@@ -1723,8 +2012,8 @@ def _run_lanes(p, ids, t_eval, out, cancel):
                     accepted = True
             if not accepted:
                 # Rejected (or below the floor): adaptive_window itself, from the start.
-                st, t_new, th, v, h_next = adaptive_window(
-                    KIND_TAYLOR, coef, t, y0, y1, off, direction, t_bound, ln.h_abs, max_step, rtol, atol,
+                st, t_new, th, v, h_next = _adaptive_window_taylor(
+                    coef, t, y0, y1, off, direction, t_bound, ln.h_abs, max_step, rtol, atol,
                     r.error_order, ln.log_eps)
                 if st != STATUS_OK:
                     _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel)
@@ -1745,8 +2034,8 @@ def _run_lanes(p, ids, t_eval, out, cancel):
                         _put(out_theta, out_w, wrapped, jj, k, out_theta[jj])
             ln.j = j2
             if ln.can_cycle != 0 and r.regime == REGIME_NONE:
-                _cycle_watch(KIND_TAYLOR, r, coef, t, t_new, y0, th, v, k, off, ln.sec_off, ln.sec_acc,
-                             r.beta, r.gamma, r.omega, t_bound, rtol, atol)
+                _cycle_watch_taylor(r, coef, t, t_new, y0, th, v, k, off, ln.sec_off, ln.sec_acc,
+                                    r.beta, r.gamma, r.omega, t_bound, rtol, atol)
             ln.t, ln.phi, ln.v, ln.h_abs = t_new, th, v, h_next
             ln.n_windows += 1
             if r.regime != REGIME_NONE:

@@ -353,7 +353,9 @@ class MBM(_MBMBase):
             )
             self._run = np.ndarray(1, loop.RUN, self._words)
             self._ints = np.ndarray(self._words.shape, np.int64, self._words)
-            self._runner = loop.RUNNERS[self._kind[0]]
+            # The entry of the run's regime set (loop.runner_for), chosen again after a
+            # pause: a regime switch resumes through its own set's entry.
+            self._runner = loop.runner_for(self._run[0])
 
     def _step_impl(self):
         if self._run is None:
@@ -376,6 +378,7 @@ class MBM(_MBMBase):
                 win_t = np.concatenate((win_t[: n + 1], np.empty(size - n)))
                 win_y = np.concatenate((win_y[: n + 1], np.empty((size - n, 2))))
                 win_coef = np.concatenate((win_coef[:n], np.empty((size - n, self._width))))
+            run = self._runner = loop.runner_for(p[0])
             n += run(p, _NO_TIMES, _NO_OUT, win_t[n:], win_y[n:], win_coef[n:], _NEVER)
         self._store_size = size
         self.n_windows = ints.item(_W_NW)
@@ -432,7 +435,7 @@ class MBM(_MBMBase):
         if self._run is not None:
             starts, start_theta, coefs, n = self._windows
             return MBMWindowsDenseOutput(self.t_old, self.t, self._kind[0], starts, start_theta, coefs, n,
-                                         self.direction)
+                                         self.direction, self._ints.item(_W_REGIME))
         return MBMDenseOutput(self.t_old, self.t, self.approximant, self._coef)
 
 
@@ -707,9 +710,12 @@ class MBMWindowsDenseOutput(DenseOutput):
         Windows.
     direction : float
         +1 or −1.
+    regime : int, optional
+        The run's regime code (``mbm.regimes.REGIME_*``) at the step's end: which
+        stored period its windows may hold (default: none).
     """
 
-    def __init__(self, t_old, t, kind, starts, start_theta, coefs, n, direction):
+    def __init__(self, t_old, t, kind, starts, start_theta, coefs, n, direction, regime=REGIME_NONE):
         super().__init__(t_old, t)
         self.kind = kind
         self.starts = starts
@@ -717,7 +723,7 @@ class MBMWindowsDenseOutput(DenseOutput):
         self.coefs = coefs
         self.n = n
         self.direction = float(direction)
-        self._into, self._at = _dense.evaluators(kind)
+        self._into, self._at = _dense.evaluators(kind, _dense.dense_set(regime))
 
     def _call_impl(self, t):
         if t.ndim == 0:

@@ -25,6 +25,7 @@ import threading
 import numpy as np
 
 from . import loop
+from . import status as _status
 from ._validate import (
     DEFAULT_MAX_WINDOWS,
     check_max_windows,
@@ -88,15 +89,8 @@ REGIME_RUNNING = "running"
 REGIME_FAILED = "failed"
 _REGIME_DTYPE = np.dtype("<U7")
 
-# Short CF flag_meanings words for the statuses of mbm.loop (one word each, CF style).
-STATUS_FLAGS = {
-    loop.STATUS_OK: "ok",
-    loop.STATUS_TOO_SMALL: "window_too_small",
-    loop.STATUS_ANCHOR: "anchor_outside_domain",
-    loop.STATUS_NONFINITE: "non_finite_state",
-    loop.STATUS_MAX_WINDOWS: "max_windows_reached",
-    loop.STATUS_INTERRUPTED: "interrupted",
-}
+# The CF flag_meanings words of the statuses: mbm.status's table.
+STATUS_FLAGS = _status.STATUS_FLAGS
 
 # status as int32: the netCDF-3 classic format (scipy's writer, no extra package)
 # has no 64-bit integers, and the codes are small.
@@ -110,19 +104,7 @@ _BATCH_LOCK = threading.Lock()
 _TWO_PI = 2.0 * math.pi
 
 
-def status_message(code):
-    """The message of a ``status`` code (``mbm.loop.STATUS_MESSAGES``).
-
-    Parameters
-    ----------
-    code : int
-        A value of a sweep's ``status`` variable.
-
-    Returns
-    -------
-    str
-    """
-    return loop.STATUS_MESSAGES[int(code)]
+status_message = _status.status_message
 
 
 # --------------------------------------------------------------------------- validation
@@ -454,7 +436,7 @@ def _status_attrs():
         "long_name": "run status per scene (0: reached the end of the span)",
         "flag_values": np.array(codes, dtype=_STATUS_DTYPE),
         "flag_meanings": " ".join(STATUS_FLAGS[c] for c in codes),
-        "flag_messages": "\n".join(f"{c}: {loop.STATUS_MESSAGES[c]}" for c in codes),
+        "flag_messages": "\n".join(f"{c}: {_status.STATUS_MESSAGES[c]}" for c in codes),
     }
 
 

@@ -45,7 +45,9 @@ BAD_T_EVAL = [
 def test_entries_refuse_bad_t_eval_as_check_t_eval(kind, span, t_eval, message):
     model, kw = KINDS[kind]
     ig = mbm.Integrator(model, **kw)
-    assert fast.ENTRIES[loop.kind_of(ig.approximant)[0]][0] is ig._outputs
+    # the entry of a fresh run of its kind and regime set (mbm.loop.regime_set)
+    words = ig._words.view(loop.RUN)[0]
+    assert fast.ENTRIES[(loop.kind_of(ig.approximant)[0], loop.set_of(words))][0] is ig._outputs
     with pytest.raises(ValueError) as want:
         check_t_eval(t_eval, *span)
     assert str(want.value) == message
@@ -99,7 +101,7 @@ def test_unusual_t_eval_arrays_give_the_same_bits_and_compile_nothing():
     ig = mbm.Integrator(DAMPED, rtol=1e-8, atol=1e-8)
     te = np.linspace(0.0, 10.0, 21)
     want = ig.solve((0.0, 10.0), Y0, t_eval=te)
-    signatures = (len(loop.run_taylor.signatures), len(ig._outputs.signatures))
+    signatures = (len(loop.RUNNERS[(loop.KIND_TAYLOR, loop.RS_DAMPED)].signatures), len(ig._outputs.signatures))
     read_only = te.copy()
     read_only.flags.writeable = False
     unaligned = np.frombuffer(bytearray(b"\0" + te.tobytes()), dtype=np.float64, offset=1)
@@ -110,7 +112,7 @@ def test_unusual_t_eval_arrays_give_the_same_bits_and_compile_nothing():
         r = ig.solve((0.0, 10.0), Y0, t_eval=arg)
         np.testing.assert_array_equal(r.t, te)
         np.testing.assert_array_equal(r.y, want.y)
-    assert (len(loop.run_taylor.signatures), len(ig._outputs.signatures)) == signatures
+    assert (len(loop.RUNNERS[(loop.KIND_TAYLOR, loop.RS_DAMPED)].signatures), len(ig._outputs.signatures)) == signatures
     # a plain float64 array is used as it is (no copy): the result's t is it
     assert ig.solve((0.0, 10.0), Y0, t_eval=te).t is te
 
@@ -146,6 +148,10 @@ def test_paused_runs_resume_bit_for_bit(small_chunks, monkeypatch, wrap):
     calls = []
     ig._outputs = _counting(ig._outputs, calls)
     ig._ends = _counting(ig._ends, calls)
+    # a regime switch resumes through its own set's entries: counted too
+    entries_of = fast._entries_of
+    monkeypatch.setattr(fast, "_entries_of",
+                        lambda kind, words: tuple(_counting(f, calls) for f in entries_of(kind, words)))
     got = ig.solve((0.0, T), y0, t_eval=te, wrap=wrap)
     assert calls[0] is True and calls.count(False) >= want.n_windows // 7 - 1 > 5
     for key in want:
