@@ -7,9 +7,21 @@ whole-run solver (:func:`solve`, :func:`solve_batch`).
 :class:`MBM` and the :mod:`mbm.events` module import ``scipy.integrate`` (about
 half a second); they are loaded on first use so that ``import mbm`` followed by
 :func:`solve` stays fast.
+
+At import, :mod:`mbm._cache` drops numba's cached kernels if any of mbm's sources
+changed since they were cached (``MBM_KEEP_CACHE=1`` skips this), and the first
+compilation of a kernel in a process writes one line to stderr (``MBM_COMPILE_NOTICE=0``
+silences it).
 """
 
 import importlib
+
+from . import _cache
+
+# Before any compiled module: a kernel must not load from a cache older than its callees,
+# and a first compile should say so (MBM_KEEP_CACHE=1, MBM_COMPILE_NOTICE=0 turn these off).
+_cache.check_sources()
+_cache.install_compile_notice()
 
 from . import choice  # noqa: F401  (mbm.choice: the "auto" rule, documented in the README)
 from .approximants import (
