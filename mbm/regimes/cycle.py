@@ -1,0 +1,221 @@
+"""The RUNNING cycle: a damped rotation settling on its limit cycle, one stored period re-taken.
+
+RUNNING cycle (β > 0; a rotation settling on the limit cycle θ(t + T_c) = θ(t) ± 2π).
+After each window the loop (:func:`mbm.loop._run`) looks for the section crossings
+(R1, :func:`section_offset`) and tests the switch on them (:func:`cycle_switch`, R2);
+after the switch the rest is one stored period re-taken from the anchor crossing (R3):
+the window :func:`cycle_coef`, evaluated by mbm.loop (``_cycle_phase``,
+``_period_windows``).  A libration (:mod:`mbm.regimes.libration`, C3) is stored in the
+same layout, winding sign 0.
+
+Derivation (the comments below cite these items)
+-------------------------------------------------
+
+(R1) Section.  After each window the loop looks for a crossing of a level
+θ = θ_s + 2πm inside it (the window's formula, safeguarded Newton on θ(s) − θ_s − 2πm):
+the crossings (t_n, v_n) of successive levels in one direction are the return map of
+the section θ ≡ θ_s (mod 2π).  θ_s = π − d is the saddle, the top of the tilted
+potential's barrier (d = arcsin(γ/ω²), clamped to ±π/2 when |γ| ≥ ω², where no
+equilibrium exists and every level is crossed alike; :func:`section_offset`): a
+motion trapped in a well never reaches it, so a librating or settling run does no
+section work (at θ ≡ 0 every swing through the bottom of the well was a crossing,
+solved by Newton: a quarter of P1's run time).
+
+(R2) Convergence.  Near the cycle the return map contracts geometrically: the flow's
+divergence is −β, so the cycle's non-trivial Floquet multiplier, the slope of the
+return map there, is μ = e^{−βT_c} (Liouville); the loop measures it as
+μ = |v_n − v_{n−1}| / |v_{n−1} − v_{n−2}|.  The deviations still to come sum to at
+most |Δv|·μ/(1 − μ) in v and |ΔT|·μ/(1 − μ) in the period; the period's error repeats
+in each of the N periods left to t_bound, so it shifts the phase by up to
+N·|ΔT|/(1 − μ).  The run switches when μ ≤ CYCLE_MAX_MULTIPLIER,
+|Δv|/(1 − μ) ≤ SWITCH_SAFETY · (atol + rtol·|v_n|), N|ΔT|/(1 − μ) · max|θ''| within the
+same, and N|ΔT|/(1 − μ) · max|θ'| ≤ SWITCH_SAFETY · (atol + rtol·|θ_n|)
+(:func:`cycle_switch`): the longer the horizon, the later (by log N periods) the switch.
+From there the period is averaged over CYCLE_AVERAGE_PERIODS more returns, and the
+last crossing is the cycle's anchor.
+
+(R3) Extension.  After the switch the motion is the last period's, shifted: with
+τ = t − t_n = nT_c + s (0 ≤ s < T_c), θ(t) = θ_p(s) ± 2πn, where θ_p is the run
+re-taken from the anchor (θ_s + 2πm, v_n) by the same approximant and controller (the
+windows of one period, a function of the anchor only, so every path and the dense
+output give the same value; they are re-taken once per call of the loop or of the
+dense output and each output is looked up in them, whatever the horizon).  Its error per period is the ordinary windows' (one period
+of them), and its phase error grows with n·ΔT as the ordinary run's would: the
+extension is the ordinary run without the windows between outputs, not a bound
+tighter than it (the phase of a limit cycle is neutral).
+"""
+
+import math
+
+import numba
+import numpy as np
+
+from .common import REGIME_LIBRATION, REGIME_LOCKED, REGIME_RUNNING, SWITCH_SAFETY
+
+# A running-cycle window's coefficient vector (R3): [CYCLE_TAG, θ_c, v_c, T_c, t_off,
+# β, γ, ω, rtol, atol, winding sign, kind argument, error order, k_c, T_lo]; t_off is
+# the time from the cycle's anchor crossing to the window's start, the anchor is at
+# θ = 2πk_c + θ_c (the loop's winding count, mbm.loop "Winding"), and T_c + T_lo is
+# the period in double-double (T_lo = 0 for the running cycle; C3 for a libration).
+CYCLE_TAG = 102.0
+CYCLE_WIDTH = 15
+# (R2): a return map whose contraction measured over two periods is above this is not
+# (yet) converging geometrically: no switch.
+CYCLE_MAX_MULTIPLIER = 0.9
+# (R2): once the map has converged, the period is averaged over this many more
+# returns: the crossing times carry the run's global error, which a single
+# difference would repeat in every later period; averaged, the stored period's
+# drift is the run's own mean drift per period.
+CYCLE_AVERAGE_PERIODS = 32
+# (R1): safeguarded Newton steps for a section crossing inside a window (quadratic
+# convergence from the bracket's secant start: a handful suffice; bisection backs it up).
+CROSSING_ITERATIONS = 60
+# (R3): most windows one evaluation of the stored period may take (a period takes
+# ~10-100 at the tolerances in use); past it the evaluation is NaN (a failure).
+CYCLE_MAX_WINDOWS = 100000
+
+# The cycle window's coefficient layout (CYCLE_WIDTH): the index of each entry of
+# :func:`cycle_coef`'s vector (R3; a libration's too, C3).
+CYC_TAG = 0  # CYCLE_TAG (an approximant window's anchor status, 0.0, there)
+CYC_THETA = 1  # θ_c: the anchor's angle, reduced (θ = 2πk_c + θ_c)
+CYC_V = 2  # v_c: θ' at the anchor
+CYC_PERIOD = 3  # T_c: the period (its high part where CYC_PERIOD_LO ≠ 0)
+CYC_T_OFF = 4  # t_off: time from the anchor to the window's start
+CYC_BETA = 5  # β of the model the stored period is re-taken with
+CYC_GAMMA = 6  # γ of that model
+CYC_OMEGA = 7  # ω of that model
+CYC_RTOL = 8  # rtol the stored period is re-taken with
+CYC_ATOL = 9  # atol the stored period is re-taken with
+CYC_SIGN = 10  # winding sign: θ advances by 2π·sign per period (0: a libration, C3)
+CYC_KARG = 11  # the approximant's kind argument
+CYC_ERROR_ORDER = 12  # the approximant's error order
+CYC_WIND = 13  # k_c: the anchor's winding count (mbm.loop "Winding")
+CYC_PERIOD_LO = 14  # T_lo: T_c + T_lo is the period in double-double (0 for the running cycle; C3)
+
+
+@numba.njit(cache=True)
+def section_offset(gamma, omega):
+    """θ_s of the running cycle's section θ ≡ θ_s (mod 2π) (item R1): the saddle π − d.
+
+    Parameters
+    ----------
+    gamma, omega : float
+        The model's torque and ω > 0.
+
+    Returns
+    -------
+    float
+        π − arcsin(γ/ω²), with γ/ω² clamped to [−1, 1].
+    """
+    return math.pi - math.asin(min(1.0, max(-1.0, gamma / (omega * omega))))
+
+
+@numba.njit(cache=True, inline="always")
+def cycle_switch(dv, dv_prev, dT, v, theta, vmax, amax, n_rest, rtol, atol):
+    """Whether the return map has converged enough to switch to the cycle (item R2).
+
+    Parameters
+    ----------
+    dv, dv_prev : float
+        The last two changes of θ' between successive crossings.
+    dT : float
+        The last change of the return time.
+    v, theta : float
+        θ', θ at the last crossing.
+    vmax : float
+        Largest |θ'| seen over the last period.
+    amax : float
+        A bound on |θ''| (|γ| + β·vmax + ω²).
+    n_rest : float
+        Periods left to the end of the span.
+    rtol, atol : float
+        The run's tolerances.
+
+    Returns
+    -------
+    bool
+    """
+    if dv_prev == 0.0:
+        return dv == 0.0 and dT == 0.0
+    mu = abs(dv) / abs(dv_prev)
+    if not (mu <= CYCLE_MAX_MULTIPLIER):
+        return False
+    tail = 1.0 / (1.0 - mu)
+    # (R2): the period's distance to the cycle's, |dT|·tail, repeats every remaining period.
+    drift = n_rest * abs(dT) * tail
+    scale_v = SWITCH_SAFETY * (atol + rtol * abs(v))
+    return (abs(dv) * tail <= scale_v and drift * amax <= scale_v
+            and drift * vmax <= SWITCH_SAFETY * (atol + rtol * abs(theta)))
+
+
+@numba.njit(cache=True)
+def cycle_coef(theta_c, v_c, period, t_off, beta, gamma, omega, rtol, atol, sign, karg, error_order,
+               wind_c, period_lo):
+    """A running-cycle window's coefficient vector (layout: CYCLE_TAG; item R3).
+
+    Parameters
+    ----------
+    theta_c, v_c : float
+        The cycle's anchor: the crossing of θ = θ_c with speed v_c.
+    period : float
+        T_c.
+    t_off : float
+        Time from the anchor crossing to the window's start.
+    beta, gamma, omega, rtol, atol : float
+        The model and the tolerances the stored period is re-taken with.
+    sign : float
+        +1 or −1: θ advances by 2π·sign per period.
+    karg, error_order : int
+        The approximant's kind argument and error order.
+    wind_c : float
+        Winding count of the anchor: it lies at θ = 2π·wind_c + θ_c.
+    period_lo : float
+        Low part of the period: T_c + period_lo is the period in double-double (0 for
+        the running cycle's averaged period; C3).
+
+    Returns
+    -------
+    ndarray, shape (CYCLE_WIDTH,)
+    """
+    c = np.empty(CYCLE_WIDTH)
+    c[CYC_TAG] = CYCLE_TAG
+    c[CYC_THETA] = theta_c
+    c[CYC_V] = v_c
+    c[CYC_PERIOD] = period
+    c[CYC_T_OFF] = t_off
+    c[CYC_BETA] = beta
+    c[CYC_GAMMA] = gamma
+    c[CYC_OMEGA] = omega
+    c[CYC_RTOL] = rtol
+    c[CYC_ATOL] = atol
+    c[CYC_SIGN] = sign
+    c[CYC_KARG] = karg
+    c[CYC_ERROR_ORDER] = error_order
+    c[CYC_WIND] = wind_c
+    c[CYC_PERIOD_LO] = period_lo
+    return c
+
+
+def cycle_summary(regime, period, sign):
+    """``(period, mean_velocity)`` of a result: T_c and ⟨θ'⟩ = ±2π/T_c when the run
+    switched to the running cycle, (T, 0) when it switched to a libration, (nan, 0) when
+    it switched to the locked state, else (nan, nan).
+
+    Parameters
+    ----------
+    regime : int
+        The run record's ``regime``.
+    period, sign : float
+        Its ``cyc_T`` and ``cyc_sign``.
+
+    Returns
+    -------
+    (float, float)
+    """
+    if regime == REGIME_LOCKED:
+        return math.nan, 0.0  # at rest at the equilibrium: no net motion
+    if regime == REGIME_LIBRATION:
+        return float(period), 0.0  # a closed orbit: no net motion
+    if regime != REGIME_RUNNING:
+        return math.nan, math.nan
+    return float(period), float(sign) * 2.0 * math.pi / float(period)

@@ -1,0 +1,579 @@
+"""The LOCKED regime: a damped run settling on a stable equilibrium, in closed form.
+
+The LOCKED regime (β > 0, |γ| < ω²) is a run settling on a stable
+equilibrium θ* = d + 2πk, d = arcsin(γ/ω²).  The window loop (:func:`mbm.loop._run`)
+asks :func:`locked_bound` before each window; when the bound on the neglected
+nonlinearity over the whole rest of the horizon is within the tolerance, the run
+takes one last "window" to ``t_bound`` whose formula is the linearized motion
+(:func:`locked_eval`), so the run costs its transient only.  The first-order form is
+L2, the second-order one L6; :func:`locked_choice` takes the one whose bound passes
+(L5, L7).  U(x) and x − sin x (:func:`_potential`, L3) serve the libration's trapping
+test too (:mod:`mbm.regimes.libration`, C1).
+
+Derivation (the comments below cite these items)
+-------------------------------------------------
+
+(L1) Linearization.  With θ = θ* + x and ω² sin θ* = γ,
+
+    x'' + βx' + ω_l² x = −ω² r(x),   ω_l² = ω² cos d = sqrt(ω⁴ − γ²),
+    r(x) = sin(θ* + x) − sin θ* − cos θ* · x.
+
+By Taylor's theorem with the Lagrange remainder, r(x) = −sin d · x²/2 − cos(θ*+ξ) x³/6,
+so |r(x)| ≤ ρ(|x|), ρ(A) = |sin d| A²/2 + A³/6.
+
+(L2) Closed form of the linear part, from x(0) = x₀, x'(0) = v₀: with
+s² = ω_l² − β²/4 (the sign tells the damping), b = v₀ + βx₀/2, E = e^{−βt/2},
+
+    x_lin = x₀ E·C(t) + b E·S(t),
+    x_lin' = x₀ (−β/2 E·C − s² E·S) + b (E·C − β/2 E·S),
+
+where C = cos(st), S = sin(st)/s (under-damped, s² > 0); C = cosh(μt), S = sinh(μt)/μ,
+μ² = −s² (over-damped); C = 1, S = t (critical).  (C' = −s² S, S' = C in every case.)
+Over-damped, E·C and E·S are formed from λ₁ = −β/2 + μ = −ω_l²/(β/2 + μ) (no
+cancellation) as E·C = (e^{λ₁t} + e^{λ₂t})/2 and E·S = e^{λ₁t}·(−expm1(−2μt))/(2μ), which
+neither overflow nor cancel near critical damping.
+
+(L3) Trapping and amplitude.  H = x'²/2 + U(x), U(x) = ω²(cos d − cos(d + x)) − γx
+= ω²(2 cos d sin²(x/2) − sin d (x − sin x)) (the form evaluated), is non-increasing along the exact motion
+(dH/dt = −βx'²).  The well of θ* is bounded by the saddles x_r = π − 2d and
+x_l = −π − 2d, with U(x_r) = 2ω² cos d − γ(π − 2d), U(x_l) = 2ω² cos d + γ(π + 2d); U
+increases on [0, x_r] and decreases on [x_l, 0].  If x₀ ∈ (x_l, x_r) and
+H₀ < min(U(x_l), U(x_r)), the exact motion stays in the well for all later t, with
+|x(t)| ≤ A = max(A₊, A₋), A± the roots of U = H₀ on either side (Newton from the
+linear amplitude sqrt(2H₀/ω_l²), or bisection where Newton does not converge; either
+way the point kept has U ≥ H₀, checked, so A is an upper bound).  Near the saddle or a bifurcation
+(|γ| → ω²: the barrier → 0) no A exists or A is large, and the switch waits.
+
+(L4) Bound on the neglected remainder.  e = x − x_lin solves e'' + βe' + ω_l² e =
+−ω² r(x(t)), e(0) = e'(0) = 0, so e = −ω² ∫ g(t − s) r(x(s)) ds with g the oscillator's
+Green's function (g'' + βg' + ω_l² g = δ), and for every t ≥ 0
+
+    |e(t)| ≤ ω² ρ(A) G₀,  |e'(t)| ≤ ω² ρ(A) G₁,  G₀ = ∫₀^∞ |g|,  G₁ = ∫₀^∞ |g'|.
+
+Under-damped, g = E sin(st)/s, |sin(st)/s| ≤ min(t, 1/s):
+G₀ ≤ min(4/β², 2/(βs)), and g' = E (cos st − (β/2) sin(st)/s) gives
+G₁ ≤ 2/β + min(2/β, 1/s).  Over-damped or critical, g ≥ 0, so G₀ = ∫g = 1/ω_l²
+exactly, and g rises once and decays, so G₁ = 2 max g; g = e^{λ₁t}(1 − e^{−2μt})/(2μ)
+≤ min(t, 1/(2μ)) e^{λ₁t} gives G₁ ≤ 2 min(1/(e|λ₁|), 1/(2μ)) (critical: 4/(eβ), exact).
+
+(L5) Switch rule.  The run switches when ω² ρ(A) G₀ ≤ SWITCH_SAFETY · (atol + rtol·|θ*|)
+and ω² ρ(A) G₁ ≤ SWITCH_SAFETY · atol: after the switch every output differs from the
+exact motion through the state reached by at most that, for any horizon (the error
+the run carried into the switch is then propagated by a contracting linear flow).
+Rounding in H₀ and U is covered by the margin AMPLITUDE_MARGIN on A.
+
+(L6) Second order (under-damped, s² > 0).  L4's G₀ grows like 1/β: it bounds the
+response to the quadratic term −ω² r₂(x) = (γ/2)x² as if that forcing resonated, which
+it does not (x_lin² has frequencies 0 and 2s).  The second-order form x_L = x_lin + x₂
+solves it exactly: with z = C e^{λt}, λ = −β/2 + is, C = x₀ − i b/s (x_lin = Re z),
+x_lin² = (Re(z²) + |z|²)/2, and x₂'' + βx₂' + ω_l² x₂ = (γ/4)(Re(C² e^{2λt}) + |C|² e^{−βt}),
+x₂(0) = x₂'(0) = 0, is
+
+    x₂ = e^{−βt}(Q_r cos 2st − Q_i sin 2st) + M e^{−βt} + E·(D_r cos st − D_i sin st),
+
+Q = (γ/4)C²/P(2λ), M = (γ/4)|C|²/ω_l², P(μ) = μ² + βμ + ω_l² (P(2λ) = ω_l² − 4s² − 2iβs,
+never 0: no resonance), D_r = −(Q_r + M), D_i = (x_p'(0) − (β/2)D_r)/s with
+x_p'(0) = −βQ_r − 2sQ_i − βM (the homogeneous part that makes x₂(0) = x₂'(0) = 0).
+|x₂| ≤ X₂ = |Q| + |M| + |D| for all t ≥ 0.
+
+(L7) Its bound.  e₂ = x − x_L solves the oscillator forced by −ω²(r(x) − r₂(x_lin)), and
+|r(x) − r₂(x)| ≤ ρ₃(A) = cos d·A³/6 + |sin d|·A⁴/24 (Lagrange remainders of sin and cos),
+|r₂(x) − r₂(x_lin)| = (|sin d|/2)|x − x_lin||x + x_lin| ≤ (|sin d|/2)(X₂ + E)(A + |C|),
+E = sup|e₂| (finite: x, x_L are bounded), so with q = ω²G₀(|sin d|/2)(A + |C|) < 1
+
+    E ≤ ω²G₀ (ρ₃(A) + (|sin d|/2)(A + |C|)X₂) / (1 − q),
+    sup|e₂'| ≤ ω²G₁ (ρ₃(A) + (|sin d|/2)(A + |C|)(X₂ + E)).
+
+The neglected terms are cubic, not quadratic, in A: on P4 (β = 0.01, γ = 0.3) at
+1e-10 the switch comes at A ≈ 6e-5 instead of 7e-7, a third of the transient earlier.
+The run takes the first-order form where its bound passes (L5), else the second-order
+one where this bound does (:func:`locked_choice`); the switch rule is L5's for either.
+"""
+
+import math
+
+import numba
+import numpy as np
+
+from .common import SWITCH_SAFETY
+
+# (L3): relative widening of the amplitude bound A, covering the rounding of H₀ and U
+# (a few ulps of each) with orders of magnitude to spare.
+AMPLITUDE_MARGIN = 1e-8
+# (L3): bisection steps for A± (each halves a bracket of length ≤ 2π: 60 reach ulps).
+AMPLITUDE_BISECTIONS = 60
+# (L3): Newton steps for A± from the linear amplitude (quadratic convergence: 3-5
+# reach ulps near the bottom of the well; bisection takes over if they do not certify).
+AMPLITUDE_NEWTON_STEPS = 8
+# Below this |x|, x − sin x by its series to x¹¹ (the next term is below 1e-15 of it).
+X_MINUS_SIN_SERIES = 0.25
+# Quick rejection before the rigorous test (it only delays a switch, never allows
+# one): the linear estimate sqrt(2H/ω_l²) of A times this factor must already pass.
+QUICK_FACTOR = 0.5
+
+# A locked window's coefficient vector, as stored in a run's window store:
+# [LOCKED_TAG, θ₀, x₀ = θ₀ − θ*, v₀, β/2, s², ω_l²], θ = θ₀ + (x − x₀) so that the
+# window's start is its anchor bit for bit.  coef[0] of an approximant's window is its
+# anchor status, 0.0, so the tag tells a locked window from any other.
+LOCKED_TAG = 101.0
+LOCKED_WIDTH = 7
+# The second-order window (L6) appends [2.0, Q_r, Q_i, M, D_r, D_i]: coef[7] = 2 marks it
+# (a first-order vector stored zero-padded reads 0 there).
+LOCKED2_WIDTH = 13
+
+# The locked window's coefficient layout (LOCKED_WIDTH, at order 2 LOCKED2_WIDTH): the index
+# of each entry of :func:`locked_coef`'s vector, as :func:`locked_eval` reads it.
+LCK_TAG = 0  # LOCKED_TAG (an approximant window's anchor status, 0.0, there)
+LCK_THETA0 = 1  # θ₀: the anchor's θ (the window's start, bit for bit)
+LCK_X0 = 2  # x₀ = θ₀ − θ*, the anchor's offset from the equilibrium (L1)
+LCK_V0 = 3  # v₀ = θ'(0)
+LCK_HALF_BETA = 4  # β/2
+LCK_S2 = 5  # s² = ω_l² − β²/4: its sign tells the damping (L2)
+LCK_WL2 = 6  # ω_l² = ω² cos d (L1)
+LCK_ORDER = 7  # 2.0 marks the second-order form (L6; a zero-padded first-order vector reads 0)
+LCK_QR = 8  # Q_r of x₂ (L6)
+LCK_QI = 9  # Q_i of x₂ (L6)
+LCK_M = 10  # M of x₂ (L6)
+LCK_DR = 11  # D_r of x₂ (L6)
+LCK_DI = 12  # D_i of x₂ (L6)
+
+
+@numba.njit(cache=True)
+def green_integrals(beta, wl2):
+    """Upper bounds on the L¹ norms of the oscillator's Green's function (item L4).
+
+    Parameters
+    ----------
+    beta : float
+        Damping, > 0.
+    wl2 : float
+        ω_l², > 0.
+
+    Returns
+    -------
+    g0, g1 : float
+        G₀ ≥ ∫₀^∞ |g| and G₁ ≥ ∫₀^∞ |g'| for g'' + βg' + ω_l² g = δ.
+    """
+    s2 = wl2 - 0.25 * beta * beta
+    if s2 > 0.0:
+        s = math.sqrt(s2)
+        # Divided one at a time: β² may underflow (β = 1e-270), 4/β/β is then inf.
+        g0 = min(4.0 / beta / beta, 2.0 / beta / s)
+        g1 = 2.0 / beta + min(2.0 / beta, 1.0 / s)
+    else:
+        mu = math.sqrt(-s2)
+        lam1 = wl2 / (0.5 * beta + mu)  # |λ₁|
+        g0 = 1.0 / wl2
+        g1 = 2.0 / (math.e * lam1) if mu == 0.0 else 2.0 * min(1.0 / (math.e * lam1), 0.5 / mu)
+    return g0, g1
+
+
+@numba.njit(cache=True)
+def locked_constants(beta, gamma, omega):
+    """Per-run constants of the locked test (items L1, L4).
+
+    Parameters
+    ----------
+    beta, gamma, omega : float
+        The model, β > 0 and |γ| < ω².
+
+    Returns
+    -------
+    d, wl2, g0, g1 : float
+        d = arcsin(γ/ω²), ω_l² = ω² cos d and :func:`green_integrals`.
+    """
+    w2 = omega * omega
+    d = math.asin(gamma / w2)
+    wl2 = w2 * math.cos(d)
+    g0, g1 = green_integrals(beta, wl2)
+    return d, wl2, g0, g1
+
+
+@numba.njit(cache=True, inline="always")
+def _rho(sd, a):
+    # (L1): bound on |r(x)| for |x| ≤ a.
+    return 0.5 * sd * a * a + a * a * a / 6.0
+
+
+@numba.njit(cache=True, inline="always")
+def _x_minus_sin(x):
+    # x − sin x without cancellation: its Taylor series below X_MINUS_SIN_SERIES.
+    if abs(x) < X_MINUS_SIN_SERIES:
+        x2 = x * x
+        return x * x2 * (1.0 / 6.0 - x2 * (1.0 / 120.0 - x2 * (1.0 / 5040.0 - x2 * (
+            1.0 / 362880.0 - x2 / 39916800.0))))
+    return x - math.sin(x)
+
+
+@numba.njit(cache=True, inline="always")
+def _potential(w2, gamma, d, x):
+    # (L3): U(x) = ω²(2 cos d sin²(x/2) − sin d (x − sin x)), sin d = γ/ω²: both terms
+    # carry their leading order, so U keeps its relative precision at any small x.
+    h = math.sin(0.5 * x)
+    return w2 * (2.0 * math.cos(d) * h * h) - gamma * _x_minus_sin(x)
+
+
+@numba.njit(cache=True, inline="always")
+def _nearest_k(theta, d):
+    return math.floor((theta - d) / (2.0 * math.pi) + 0.5)
+
+
+@numba.njit(cache=True, inline="always")
+def locked_quick_reject(theta, v, d, sd, wl2, g0, omega, rtol, atol, q2):
+    """True when the locked test surely fails (cheap; run before every window).
+
+    A necessary condition only (the linear amplitude estimate times QUICK_FACTOR must
+    already pass L5): a True delays a switch, a False leads to :func:`locked_bound`.
+
+    Parameters
+    ----------
+    theta, v : float
+        The state.
+    d, wl2, g0 : float
+        From :func:`locked_constants`.
+    sd : float
+        |sin d| (formed once per run: a sin per window was ~10 % of the test).
+    omega, rtol, atol : float
+        The model's ω and the run's tolerances.
+    q2 : float
+        ω²G₀ cos d / 6, the leading term of L7's bound per A³ (a lower estimate of
+        it), or 0 where the second-order form is not available.
+
+    Returns
+    -------
+    bool
+    """
+    k = _nearest_k(theta, d)
+    ts = d + 2.0 * math.pi * k
+    x = theta - ts
+    a = QUICK_FACTOR * math.sqrt(x * x + v * v / wl2)
+    tol = SWITCH_SAFETY * (atol + rtol * abs(ts))
+    if omega * omega * _rho(sd, a) * g0 <= tol:
+        return False
+    return not (q2 > 0.0 and q2 * a * a * a <= tol)
+
+
+@numba.njit(cache=True, inline="always")
+def _amplitude_newton(w2, gamma, d, wl2, h0, edge):
+    # (L3): a point x between 0 and the saddle ``edge`` with U(x) ≥ H₀, so that the
+    # root A± of U = H₀ on that side (U is monotone there) is at most |x|; inf if
+    # none was certified.  Newton on U(x) = H₀ (U' = ω² sin(d + x) − γ) from the
+    # linear amplitude sqrt(2H₀/ω_l²): a few steps instead of AMPLITUDE_BISECTIONS
+    # (the test runs before windows near the equilibrium: 2.7 µs bisected, 0.2 here).
+    if h0 <= 0.0:
+        return 0.0
+    x = math.copysign(math.sqrt(2.0 * h0 / wl2), edge)
+    for _ in range(AMPLITUDE_NEWTON_STEPS):
+        du = w2 * math.sin(d + x) - gamma
+        if not (du * edge > 0.0):
+            return math.inf
+        x_new = x - (_potential(w2, gamma, d, x) - h0) / du
+        if not (0.0 < x_new / edge < 1.0):
+            return math.inf
+        if x_new == x:
+            break
+        x = x_new
+    # Certify: U(x) ≥ H₀ at x or at x pushed outwards by a growing fraction.
+    widen = AMPLITUDE_MARGIN
+    for _ in range(4):
+        if abs(x) < abs(edge) and _potential(w2, gamma, d, x) >= h0:
+            return x
+        x *= 1.0 + widen
+        widen *= 1e3
+    return math.inf
+
+
+@numba.njit(cache=True)
+def locked_bound(beta, gamma, omega, theta, v, d, wl2, g0, g1):
+    """Rigorous bounds on the locked closed form's deviation over any horizon (L3, L4).
+
+    Parameters
+    ----------
+    beta, gamma, omega : float
+        The model, β > 0 and |γ| < ω².
+    theta, v : float
+        The state the closed form is anchored at.
+    d, wl2, g0, g1 : float
+        From :func:`locked_constants`.
+
+    Returns
+    -------
+    theta_star : float
+        The nearest stable equilibrium d + 2πk.
+    bound_theta, bound_v : float
+        sup over t ≥ 0 of |θ − θ_lin| and |θ' − θ_lin'| between the exact motion and
+        :func:`locked_eval` from this state; inf when the state is not trapped in the
+        well of θ* (on or above its lower saddle).
+    """
+    ts, amp = locked_amplitude(gamma, omega, theta, v, d)
+    r = omega * omega * _rho(abs(math.sin(d)), amp)
+    return ts, r * g0, r * g1
+
+
+@numba.njit(cache=True)
+def locked_amplitude(gamma, omega, theta, v, d):
+    """The nearest stable equilibrium and the amplitude bound A of item L3.
+
+    Returns
+    -------
+    theta_star : float
+        d + 2πk nearest θ.
+    amp : float
+        A ≥ sup_t |θ(t) − θ*| of the exact motion from (θ, θ'); inf when the state is
+        not trapped in the well of θ*.
+    """
+    w2 = omega * omega
+    k = _nearest_k(theta, d)
+    ts = d + 2.0 * math.pi * k
+    x = theta - ts
+    xr = math.pi - 2.0 * d
+    xl = -math.pi - 2.0 * d
+    ur = 2.0 * w2 * math.cos(d) - gamma * (math.pi - 2.0 * d)
+    ul = 2.0 * w2 * math.cos(d) + gamma * (math.pi + 2.0 * d)
+    h0 = 0.5 * v * v + _potential(w2, gamma, d, x)
+    barrier = min(ur, ul)
+    if not (xl < x < xr) or not (h0 * (1.0 + AMPLITUDE_MARGIN) < barrier):
+        return ts, math.inf
+    amp = 0.0
+    wl2 = w2 * math.cos(d)
+    for side in range(2):
+        edge = xr if side == 0 else xl
+        hi = _amplitude_newton(w2, gamma, d, wl2, h0, edge)
+        if not hi < math.inf:
+            # Newton did not certify a root (far from the bottom of the well): bisection.
+            lo = 0.0
+            hi = edge
+            for _ in range(AMPLITUDE_BISECTIONS):
+                mid = 0.5 * (lo + hi)
+                if _potential(w2, gamma, d, mid) >= h0:
+                    hi = mid
+                else:
+                    lo = mid
+        amp = max(amp, abs(hi))
+    return ts, max(amp, abs(x)) * (1.0 + AMPLITUDE_MARGIN)
+
+
+@numba.njit(cache=True)
+def locked2_terms(beta, gamma, wl2, x0, v0):
+    """The second-order term x₂ of item L6 from the anchor offset (x₀, x₀').
+
+    Returns
+    -------
+    qr, qi, m, dr, di : float
+        Q, M, D of L6 (under-damped: s² = ω_l² − β²/4 > 0).
+    c_abs : float
+        |C| = sqrt(x₀² + (b/s)²), b = x₀' + βx₀/2 (sup |x_lin| over t ≥ 0).
+    x2 : float
+        X₂ = |Q| + |M| + |D| ≥ sup |x₂|.
+    """
+    hb = 0.5 * beta
+    s = math.sqrt(wl2 - hb * hb)
+    b = v0 + hb * x0
+    cr, ci = x0, -b / s
+    kq = 0.25 * gamma
+    # C² / P(2λ), P(2λ) = (ω_l² − 4s²) − 2iβs.
+    c2r, c2i = cr * cr - ci * ci, 2.0 * cr * ci
+    pr, pi = wl2 - 4.0 * s * s, -2.0 * beta * s
+    den = pr * pr + pi * pi
+    qr = kq * (c2r * pr + c2i * pi) / den
+    qi = kq * (c2i * pr - c2r * pi) / den
+    c_abs2 = cr * cr + ci * ci
+    m = kq * c_abs2 / wl2
+    dr = -(qr + m)
+    xp1 = -beta * qr - 2.0 * s * qi - beta * m
+    di = (xp1 - hb * dr) / s
+    x2 = math.hypot(qr, qi) + abs(m) + math.hypot(dr, di)
+    return qr, qi, m, dr, di, math.sqrt(c_abs2), x2
+
+
+@numba.njit(cache=True)
+def locked2_bound(beta, gamma, omega, d, wl2, g0, g1, amp, x0, v0):
+    """L7's bounds on the second-order form's deviation over any horizon.
+
+    Parameters
+    ----------
+    beta, gamma, omega : float
+        The model (under-damped about θ*: ω_l² > β²/4).
+    d, wl2, g0, g1 : float
+        From :func:`locked_constants`.
+    amp : float
+        A from :func:`locked_amplitude`.
+    x0, v0 : float
+        The anchor's offset θ − θ* and θ'.
+
+    Returns
+    -------
+    bound_theta, bound_v : float
+        sup over t ≥ 0 of |θ − θ_L| and |θ' − θ_L'|; inf where q ≥ 1 or A is inf.
+    """
+    if not (amp < math.inf) or not (wl2 - 0.25 * beta * beta > 0.0):
+        return math.inf, math.inf
+    w2 = omega * omega
+    sd = abs(math.sin(d))
+    _, _, _, _, _, c_abs, x2 = locked2_terms(beta, gamma, wl2, x0, v0)
+    rho3 = math.cos(d) * amp * amp * amp / 6.0 + sd * amp * amp * amp * amp / 24.0
+    lip = 0.5 * sd * (amp + c_abs)
+    q = w2 * g0 * lip
+    if not (q < 1.0):
+        return math.inf, math.inf
+    e = w2 * g0 * (rho3 + lip * x2) / (1.0 - q)
+    ev = w2 * g1 * (rho3 + lip * (x2 + e))
+    return e, ev
+
+
+@numba.njit(cache=True)
+def locked_choice(beta, gamma, omega, theta, v, d, wl2, g0, g1, rtol, atol, off, second):
+    """Whether the locked closed form may take over from (θ, θ'), and of which order (L5, L7).
+
+    Parameters
+    ----------
+    beta, gamma, omega : float
+        The model, β > 0, |γ| < ω².
+    theta, v : float
+        The state (θ reduced by the loop's winding: ``off`` + θ is the angle).
+    d, wl2, g0, g1 : float
+        From :func:`locked_constants`.
+    rtol, atol : float
+        The run's tolerances.
+    off : float
+        2π × the winding count (the tolerance's scale is that of the whole angle).
+    second : bool
+        Whether the second-order form may be taken (room for LOCKED2_WIDTH).
+
+    Returns
+    -------
+    order : int
+        0 (no switch), 1 (L2) or 2 (L6): the first-order form where its bound passes.
+    theta_star : float
+        The equilibrium (of θ's reduced value).
+    """
+    ts, amp = locked_amplitude(gamma, omega, theta, v, d)
+    if not (amp < math.inf):
+        return 0, ts
+    tol_t = SWITCH_SAFETY * (atol + rtol * abs(off + ts))
+    tol_v = SWITCH_SAFETY * atol
+    r = omega * omega * _rho(abs(math.sin(d)), amp)
+    if r * g0 <= tol_t and r * g1 <= tol_v:
+        return 1, ts
+    if second:
+        bt, bv = locked2_bound(beta, gamma, omega, d, wl2, g0, g1, amp, theta - ts, v)
+        if bt <= tol_t and bv <= tol_v:
+            return 2, ts
+    return 0, ts
+
+
+@numba.njit(cache=True)
+def locked2_quick(beta, gamma, omega, d, wl2, g0):
+    """q2 of :func:`locked_quick_reject`: ω²G₀ cos d / 6 where L6 applies, else 0."""
+    if not (wl2 - 0.25 * beta * beta > 0.0):
+        return 0.0
+    return omega * omega * g0 * math.cos(d) / 6.0
+
+
+@numba.njit(cache=True)
+def locked_coef(beta, wl2, theta_star, theta, v, gamma=0.0, order=1):
+    """The locked window's coefficient vector anchored at (θ, θ').
+
+    Parameters
+    ----------
+    beta, wl2 : float
+        β and ω_l².
+    theta_star : float
+        The equilibrium (from :func:`locked_bound`).
+    theta, v : float
+        The anchor state.
+    gamma : float, optional
+        γ (the second order's forcing γx²/2; unused at order 1).
+    order : int, optional
+        1 (L2) or 2 (L6, under-damped only: :func:`locked_choice` says which).
+
+    Returns
+    -------
+    ndarray, shape (LOCKED_WIDTH,) or (LOCKED2_WIDTH,)
+        [LOCKED_TAG, θ₀, x₀, v₀, β/2, s², ω_l²], at order 2 followed by
+        [2, Q_r, Q_i, M, D_r, D_i] (see LOCKED_TAG).
+    """
+    c = np.empty(LOCKED2_WIDTH if order == 2 else LOCKED_WIDTH)
+    c[LCK_TAG] = LOCKED_TAG
+    c[LCK_THETA0] = theta
+    c[LCK_X0] = theta - theta_star
+    c[LCK_V0] = v
+    c[LCK_HALF_BETA] = 0.5 * beta
+    c[LCK_S2] = wl2 - 0.25 * beta * beta
+    c[LCK_WL2] = wl2
+    if order == 2:
+        qr, qi, m, dr, di, _, _ = locked2_terms(beta, gamma, wl2, c[LCK_X0], v)
+        c[LCK_ORDER], c[LCK_QR], c[LCK_QI], c[LCK_M], c[LCK_DR], c[LCK_DI] = 2.0, qr, qi, m, dr, di
+    return c
+
+
+@numba.njit(cache=True, inline="always")
+def locked_eval(coef, t):
+    """The linearized motion of a locked window (item L2; with L6's x₂ at order 2).
+
+    Parameters
+    ----------
+    coef : ndarray
+        From :func:`locked_coef`.
+    t : float
+        Time from the anchor (≥ 0; any size: the exponentials only decay).
+
+    Returns
+    -------
+    theta, v : float
+        θ and θ' (at t = 0 the anchor, bit for bit).
+    """
+    th0, x0, v0, hb, s2, wl2 = (coef[LCK_THETA0], coef[LCK_X0], coef[LCK_V0],
+                                coef[LCK_HALF_BETA], coef[LCK_S2], coef[LCK_WL2])
+    b = v0 + hb * x0
+    s = e = c1 = s1 = 0.0
+    if s2 > 0.0:
+        s = math.sqrt(s2)
+        e = math.exp(-hb * t)
+        c1 = math.cos(s * t)
+        s1 = math.sin(s * t)
+        ec = e * c1
+        es = e * s1 / s
+    elif s2 < 0.0:
+        mu = math.sqrt(-s2)
+        lam1 = -wl2 / (hb + mu)
+        e1 = math.exp(lam1 * t)
+        ec = 0.5 * (e1 + math.exp((-hb - mu) * t))
+        es = e1 * (-math.expm1(-2.0 * mu * t)) / (2.0 * mu)
+    else:
+        e = math.exp(-hb * t)
+        ec = e
+        es = e * t
+    x = x0 * ec + b * es
+    xd = x0 * (-hb * ec - s2 * es) + b * (ec - hb * es)
+    if coef.size >= LOCKED2_WIDTH and coef[LCK_ORDER] == 2.0 and t != 0.0 and s2 > 0.0:
+        # (L6): x₂ and x₂' (zero at the anchor by construction, skipped there so
+        # that t = 0 is the anchor bit for bit).
+        qr, qi, m, dr, di = coef[LCK_QR], coef[LCK_QI], coef[LCK_M], coef[LCK_DR], coef[LCK_DI]
+        e2 = e * e
+        c2 = c1 * c1 - s1 * s1
+        sn2 = 2.0 * s1 * c1
+        beta = 2.0 * hb
+        x = x + (e2 * (qr * c2 - qi * sn2) + m * e2 + e * (dr * c1 - di * s1))
+        xd = xd + (e2 * ((-beta * qr - 2.0 * s * qi) * c2 - (-beta * qi + 2.0 * s * qr) * sn2) - beta * m * e2
+                   + e * ((-hb * dr - s * di) * c1 - (-hb * di + s * dr) * s1))
+    return th0 + (x - x0), xd
+
+
+@numba.njit(cache=True)
+def locked_eval_array(coef, t, out_theta, out_v):
+    """:func:`locked_eval` at each of ``t``.
+
+    Parameters
+    ----------
+    coef : ndarray
+        From :func:`locked_coef`.
+    t : ndarray
+        Times from the anchor.
+    out_theta, out_v : ndarray
+        Filled with θ, θ' (same shape as ``t``).
+    """
+    for i in range(t.size):
+        a, b = locked_eval(coef, t[i])
+        out_theta[i] = a
+        out_v[i] = b

@@ -1,0 +1,473 @@
+"""PHASE-LOCKED to the drive: a driven run on a periodic orbit of the stroboscopic map.
+
+PHASE-LOCKED to the drive (β > 0, A ≠ 0, Ω > 0; a driven run settling on a periodic
+orbit of the stroboscopic map, θ(t + T_d) = θ(t) + 2πp, T_d = 2π/Ω: a Shapiro step;
+S7 for θ(t + qT_d) = θ(t) + 2πp, the fractional steps).
+The loop (:func:`mbm.loop._run`) samples the run at the stroboscopic times
+(:func:`strobe_period`, :func:`strobe_time`, S1) and tests the switch on the deviations
+(:func:`strobe_switch`, S3–S5, S7); after the switch the rest is one stored period
+re-taken from the anchor sample (S6): the window :func:`strobe_coef`, evaluated by
+mbm.loop (``_strobe_eval``; :func:`strobe_split`, :func:`strobe_phase`).
+
+Derivation (the comments below cite these items)
+-------------------------------------------------
+
+(S1) Samples.  The stroboscopic map P takes the state at t to the state at t + T_d.
+The loop samples z_n = (θ, θ') at t_n = t_s + nT_d (t_s the run's start, n ≥ 1) by the
+formula of the window holding t_n, as outputs are.  t_s + nT_d is formed in
+double-double (:func:`strobe_period`, :func:`strobe_time`): t_n is its rounding and
+r_n = (t_s + nT_d) − t_n its residual, |r_n| ≤ ulp(t_n)/2, and the sample is carried to
+the exact stroboscopic time to first order, (θ + θ'r_n, θ' + θ''r_n) with θ'' from the
+equation, so the deviations below have no floor θ''·ulp(t_n) growing with t.  The
+deviation Δ_n = (θ_{n+1} − θ_n − 2πp, θ'_{n+1} − θ'_n), p the nearest integer to
+(θ_{n+1} − θ_n)/2π, is formed on the winding count and φ (mbm.loop "Winding"), free of
+the rounding of |θ|.
+
+(S2) Liouville.  The flow's divergence is −β everywhere, so det DP(z) = e^{−βT_d} =: D
+at every z, exactly (not an estimate).  Near a fixed point z* of P (mod 2πp),
+Δ_{n+1} = MΔ_n + O(|Δ_n|²), M = DP(z*), and its multipliers have μ₁μ₂ = D: a complex
+pair has |μ| = √D, a real pair μ₂ = D/μ₁.
+
+(S3) Tail.  By Cayley–Hamilton M² = τM − D·I (τ = tr M = μ₁ + μ₂), so
+M^k = U_{k−1}M − D·U_{k−2}, U_j = Σ_{i=0}^{j} μ₁^i μ₂^{j−i}, |U_j| ≤ (j + 1)ρ^j,
+ρ = max |μ_i|.  With x₀ = Δ_{N−2}, x₁ = Δ_{N−1} the last two deviations, the later ones
+x_k = U_{k−1}x₁ − D·U_{k−2}x₀ obey |x_k| ≤ kρ^{k−1}|x₁| + (k − 1)Dρ^{k−2}|x₀| in any
+norm, so for ρ < 1
+
+    Σ_{k≥2} |x_k| ≤ B = |x₁|((1 − ρ)^{−2} − 1) + D|x₀|(1 − ρ)^{−2},
+
+whatever the multipliers: complex, real or equal (the (1 − ρ)^{−2} covers the
+defective case).  A ratio of successive |Δ| is no such bound: with complex
+multipliers the ratios oscillate about √D, above it half the time, and in a skewed
+eigenbasis above 1.
+
+(S4) Measured multipliers.  Each triple of successive deviations satisfies
+x₂ + D·x₀ = τx₁ in both components, so the last four deviations (θ components
+weighted by ω) give four equations for the one unknown τ, solved by least squares
+(:func:`strobe_switch`).  From τ and the exact D: τ² < 4D is a complex pair, ρ = √D;
+else ρ = (|τ| + √(τ² − 4D))/2.  Because D is exact, one decaying mode is enough: a run
+passing a saddle orbit (μ₁ > 1 > μ₂ = D/μ₁), its deviations shrinking like μ₂ⁿ while
+the unstable part is still small, fits τ = μ₂ + D/μ₂ and shows ρ = μ₁ > 1.  The fit is
+trusted only when (a) its residual is at most STROBE_FIT_RESIDUAL of |x₁| (the linear
+model holds: a transient far from the orbit, chaos or a run between steps fails it);
+(b) the fits of three successive samples agree to STROBE_TRACE_AGREE (at the noise
+floor a fit of noise passes (a) now and then, with any τ: measured, one in ~30; three
+that agree rarely do); ρ is then taken at the largest |τ| of the three, widened by
+their spread and by STROBE_NOISE_WIDEN residuals times 1 + |τ| (the noise's share of
+τ: the residual is relative to |x₁|), and ρ does not decrease as |τ| grows, so a fit
+biased by the noise is covered; (c) ρ is not below that of the last clean fit
+(residual ≤ STROBE_CLEAN_RESIDUAL: deviations far above the noise), and there has
+been one: at the computed map's noise floor (its controller's window choices, 1e-4 to
+1e-3 of the tolerance) the noise itself can fit three agreeing traces, of any value
+(measured: a complex pair on a run whose multipliers are real, 0.83 and 0.34).  Near
+τ² = 4D (equal multipliers) ρ is most sensitive to τ, and a run there may not switch
+at tight tolerances, where the deviations reach the switch level only near the noise
+floor.
+
+(S5) Switch rule.  In the norm |x| = √(ω²x_θ² + x_v²) the run switches at sample N when
+the last four deviations share one p, the fits pass (S4), ρ ≤ STROBE_MAX_MULTIPLIER and
+B ≤ SWITCH_SAFETY · min(atol + rtol·|θ'_N|, ω(atol + rtol·|θ_N|)) (S3, ρ from S4).  As
+z_{N+n} − z_N = Σ_{k=N}^{N+n−1} Δ_k, every later stroboscopic sample differs from the
+anchor z_N by at most B: within SWITCH_SAFETY of the tolerance scale in θ' and in ωθ
+(θ is weighted by ω, not left at rtol·|θ| of the wound angle: on an orbit locked to
+the drive a θ offset is not neutral, it becomes a θ' error within a period).  Between
+samples the deviation is carried by the flow over less than one drive period, as an
+error of the ordinary run at a sample is (the extension is the ordinary run from the
+anchor, S6).  Near a step's edge (a saddle-node of P: μ₁ → 1) ρ passes
+STROBE_MAX_MULTIPLIER and the run waits; between steps (quasi-periodic motion) and on
+chaotic motion the deviations do not decay and the fit fails: no switch.  A
+subharmonic orbit (θ(t + qT_d) = θ(t) + 2πp, q > 1) is no fixed point of P: its
+period-1 deviations do not decay, and S7 takes it.
+
+(S6) Extension.  After the switch the motion is one stored drive period re-taken from
+the anchor (t_a = t_N, the anchor state the window's formula there): with
+t − t_a = nT_d + s, 0 ≤ s < T_d (:func:`strobe_split`: t − t_a exact, nT_d in
+double-double, so s has no n·eps·T_d drift), θ(t) = θ_p(s) + 2πpn, θ_p the run from the
+anchor at local time 0 with the drive's phase Ωs + ψ_a, ψ_a = Ωt_a + φ reduced to
+[−π, π] in double-double (:func:`strobe_phase`): the re-run's drive is the drive at
+t_a + s to a few ulps of π, for any n.  The re-run is the same approximant and
+controller (tolerance scale from the anchor's winding count), a function of the
+anchor only, so every path and the dense output give the same bits, and an evaluation
+costs at most one period of windows (a run whose last period took more than half
+CYCLE_MAX_WINDOWS, the re-run's limit, does not switch).  Unlike the running cycle's (R3) the period is
+exact and the orbit has no neutral direction, so the extension's error does not grow
+with n: it is the anchor's deviation (S5) plus one period of the ordinary windows'
+error.  The result's period is T_d and its mean velocity pΩ (:func:`strobe_summary`;
+q drive periods and pΩ/q for the orbits of S7).
+
+(S7) Subharmonic orbits (q > 1).  An orbit θ(t + qT_d) = θ(t) + 2πp, q > 1 (a
+fractional step, ⟨θ'⟩ = (p/q)Ω, or a period-doubled one) is a fixed point of P^q.
+After S5's test at each sample z_N (q = 1 first), the maps P^q, q = 2 ..
+STROBE_MAX_PERIODS (smallest first), are tested on the same samples: the deviations
+Δ^q_i = z_i − z_{i−q} − 2πp (S1's arithmetic, p the turns over q periods), the four
+of the anchor's class Δ^q_{N−3q}, Δ^q_{N−2q}, Δ^q_{N−q}, Δ^q_N sharing one p, and
+S2–S5 word for word with P^q for P: det DP^q = e^{−βqT_d} exactly (Liouville over
+qT_d), the tail B of S3 over the samples N + jq, the fit and its trust (S4: the three
+successive fits are at the samples N − 2, N − 1, N, of different classes, and estimate
+one trace: DP^q at z_{i+1} is DP(z_i)·DP^q(z_i)·DP(z_i)^{−1}), ρ ≤
+STROBE_MAX_MULTIPLIER and B within S5's scale.  Each class c (the samples i ≡ c mod q)
+keeps its last finite tail bound B_c (void once its four deviations' turns disagree):
+by S3, B_c bounds the sum of all the class's deviations after the sample it was fitted
+at, so every later sample of the class is within B_c of the class's limit z*_c, a point
+of the exact orbit.  The switch asks B_c within the scale for every class, not the
+anchor's alone: then every later sample, the extension's among them (S6: the re-run
+from z_N is the ordinary run's continuation), is within the scale of the orbit's, and
+between samples the deviation is carried by the flow over less than one drive period,
+as in S5.  The anchor's class alone would not do: the flow over i < q drive periods
+can amplify its deviation (measured: by 50 over two drive periods on β = 0.5, γ = 0.52,
+A = 2, Ω = 0.5, q = 4, where the extension was then 2.7 tolerances off).
+
+The smallest q.  A fixed point of P^d is one of P^q for every multiple q of d, and
+there P^q contracts faster (its multipliers are those of P^d to the power q/d): on an
+orbit of period d, P^q's bound can pass before P^d's.  So the switch to q also asks
+that the orbit's period is no proper divisor d of q: with
+sep_d = |z_N − z_{N−d} − 2πm| (S5's norm, m the nearest integer) the limits of the
+classes of N and N − d differ by at least sep_d − B_N − B_{N−d}, and the rule asks
+that this exceed STROBE_DISTINCT·scale for every d | q, d < q.  On an orbit of period d
+those two limits coincide (mod 2π: the class of N − d is the image of N's under
+P^{q−d}, and q − d is a multiple of d), so no orbit of period d is reported as q: a
+q = 1 orbit never as q = 2 (a run that switched under S5 switches at the same sample,
+bit for bit), a q = 2 orbit never as q = 4.  Orbits of more than STROBE_MAX_PERIODS
+drive periods are not detected: the ordinary run continues.
+
+The extension is S6 with qT_d for T_d: one stored period of q drive periods re-taken
+from the anchor (split on qT_d in double-double; the drive's phase Ωs + ψ_a, s < qT_d),
+θ(t) = θ_p(s) + 2πpn; an evaluation costs at most q drive periods of windows (a run
+whose last q periods took more than half CYCLE_MAX_WINDOWS does not switch).  The
+result's period is qT_d and its mean velocity pΩ/q (:func:`strobe_summary`; p and q
+may share a factor: a period-doubled orbit of the n = 1 step is p = q = 2, ⟨θ'⟩ = Ω).
+The computed map's noise per sample is that of q drive periods of windows (measured
+1e-3 to 1e-2 of the tolerance at q = 4): with ρ near STROBE_MAX_MULTIPLIER the
+deviations can reach it before B passes, and such a run may not switch at some
+tolerances (as S4's near τ² = 4D).
+"""
+
+import math
+
+import numba
+import numpy as np
+
+from ..special.dd import TWO_PI_HI, TWO_PI_LO, dd_add, dd_div_d, dd_mul_d, reduce_2pi, two_prod, two_sum
+
+# A phase-locked window's coefficient vector (S6): [STROBE_TAG, φ_a, θ'_a, k_a, t_a, q, p,
+# ψ_a, β, γ, ω, A, Ω, rtol, atol, karg + STROBE_CODE·error_order]: the anchor at
+# θ = 2πk_a + φ_a, θ'_a at time t_a, the period qT_d (q ≥ 1, S7), p turns per period, ψ_a
+# the drive's phase at t_a reduced to [−π, π].  16 wide: the narrowest Taylor vector
+# (taylor8: 5 + 11) holds it, so every path can store it.
+STROBE_TAG = 103.0
+STROBE_WIDTH = 16
+# (S6): karg and error_order share one entry (both below it; exact in a double).
+STROBE_CODE = 1024
+# (S5): a stroboscopic map whose spectral radius (from the fitted trace and the exact
+# determinant) is above this converges too slowly to trust the fits: no switch.  The
+# switch comes at |Δ| ≈ SWITCH_SAFETY·tol·(1 − ρ)², and the computed map's own noise
+# (the controller's window choices) is 1e-4 to 1e-3 of tol (measured on the n = 1 step
+# of β = 0.2, A = 2, Ω = 1 at 1e-4 to 1e-8): at ρ = 0.8 the deviations are still
+# 4 to 40 times the noise, at 0.9 they were as small as it (a run with ρ = 0.994 then
+# fitted 0.89 and switched at 1e-6).
+STROBE_MAX_MULTIPLIER = 0.8
+# (S4): the least-squares residual of x₂ + D·x₀ = τx₁ over the four equations, relative
+# to |x₁|, above which the deviations are not (yet) the linear map's: no switch.
+# Measured on the n = 1 step of β = 0.2, A = 2, Ω = 1: 1e-7 to 1e-3 while the
+# deviations are 1e3 times the computed map's noise or more, 1e-2 to 1 at its floor.
+STROBE_FIT_RESIDUAL = 0.05
+# (S4): the noise's share of τ taken as this many residuals (relative to |x₁|) times
+# 1 + |τ|, the coefficients of x₀-free noise in x₂ − τx₁: the residual of 4 equations
+# with 1 unknown sees 3 of the noise's 4 degrees of freedom, so it can read low.
+STROBE_NOISE_WIDEN = 2.0
+# (S4): a fit with a residual below this (relative to |x₁|) is clean: the deviations are
+# far above the computed map's noise, and its ρ stands until the next clean fit.  At
+# the noise floor the noise itself can fit three agreeing traces (measured: τ = −0.92,
+# a complex pair, on a run whose multipliers are 0.83 and 0.34), so ρ is never taken
+# below the last clean fit's.  Clean fits read 1e-7 to 1e-4 on the step above.
+STROBE_CLEAN_RESIDUAL = 1e-3
+# (S4): the traces of three successive fits must agree to this (absolute; clean fits
+# agree to 1e-4 on that step, fits of round-off noise scatter by 0.1 to 1).
+STROBE_TRACE_AGREE = 0.01
+# (S7): the longest orbit looked for, in drive periods (q ≤ this): each output after a
+# switch re-takes up to q periods of windows and the test needs 4q + 1 samples, and
+# 4 covers the widest fractional steps (p/2, p/3, p/4) and two period doublings.
+STROBE_MAX_PERIODS = 4
+# (S7): the samples kept for the maps P^q (the four q-deviations span 4q + 1 samples).
+STROBE_RING = 4 * STROBE_MAX_PERIODS
+# (S7): for each proper divisor d of q the samples d drive periods apart must differ by
+# more than this many switch scales: both are within one scale of their classes'
+# limits, so those differ by 98 scales, ten tolerances: the orbit's period is not d.
+STROBE_DISTINCT = 100.0
+
+# The phase-locked window's coefficient layout (STROBE_WIDTH): the index of each entry
+# of :func:`strobe_coef`'s vector (S6).
+STR_TAG = 0  # STROBE_TAG (an approximant window's anchor status, 0.0, there)
+STR_PHI = 1  # φ_a: the anchor's angle, reduced (θ = 2πk_a + φ_a)
+STR_V = 2  # θ'_a: θ' at the anchor
+STR_WIND = 3  # k_a: the anchor's winding count
+STR_T = 4  # t_a: the anchor's time (a stroboscopic sample's)
+STR_Q = 5  # q: drive periods per period of the orbit (S7)
+STR_P = 6  # p: turns per period
+STR_PSI = 7  # ψ_a: the drive's phase at t_a, reduced to [−π, π] (S6)
+STR_BETA = 8  # β of the model the stored period is re-taken with
+STR_GAMMA = 9  # γ of that model
+STR_OMEGA = 10  # ω of that model
+STR_AMP = 11  # A: the drive's amplitude
+STR_FREQ = 12  # Ω: the drive's frequency
+STR_RTOL = 13  # rtol the stored period is re-taken with
+STR_ATOL = 14  # atol the stored period is re-taken with
+STR_KARG_ORDER = 15  # karg + STROBE_CODE·error_order (the approximant's kind argument and error order)
+
+
+@numba.njit(cache=True)
+def strobe_period(freq, q):
+    """The period qT_d = 2πq/Ω as a double-double (items S1, S6).
+
+    Parameters
+    ----------
+    freq : float
+        Ω > 0.
+    q : float
+        Drive periods per period of the orbit (an integer, 1 to STROBE_MAX_PERIODS: S7).
+
+    Returns
+    -------
+    hi, lo : float
+    """
+    hi, lo = dd_div_d(TWO_PI_HI, TWO_PI_LO, freq)
+    return dd_mul_d(hi, lo, q)
+
+
+@numba.njit(cache=True)
+def strobe_time(t_s, n, p_hi, p_lo):
+    """The stroboscopic time t_s + n·P (item S1): its rounding and the residual.
+
+    Parameters
+    ----------
+    t_s : float
+        The first sample's time (the run's start).
+    n : float
+        Sample index (an integer).
+    p_hi, p_lo : float
+        P (:func:`strobe_period`).
+
+    Returns
+    -------
+    t_n, r_n : float
+        t_n = fl(t_s + nP) and r_n = (t_s + nP) − t_n (to double-double accuracy).
+    """
+    mh, ml = dd_mul_d(p_hi, p_lo, n)
+    return dd_add(mh, ml, t_s, 0.0)
+
+
+@numba.njit(cache=True)
+def strobe_phase(freq, phase, t):
+    """The drive's phase Ωt + φ reduced to [−π, π] (item S6).
+
+    Ωt is an exact product and the reduction is :func:`mbm.special.dd.reduce_2pi`'s, so
+    the result is good to a few ulps of π for any t (|Ωt| < 1e15).
+
+    Parameters
+    ----------
+    freq, phase : float
+        The drive's Ω and φ.
+    t : float
+        Time.
+
+    Returns
+    -------
+    float
+    """
+    p, e = two_prod(freq, t)
+    hi, e2 = two_sum(p, phase)
+    _, rh, rl = reduce_2pi(hi)
+    return rh + (rl + (e + e2))
+
+
+@numba.njit(cache=True)
+def strobe_split(t, t_a, p_hi, p_lo):
+    """``(n, s)`` with t − t_a = nP + s, 0 ≤ s ≤ fl(P) (item S6).
+
+    t − t_a is formed exactly (Knuth's sum) and nP in double-double, so s carries a few
+    ulps of P whatever n (not n·eps·P).
+
+    Parameters
+    ----------
+    t, t_a : float
+        The time and the anchor's time.
+    p_hi, p_lo : float
+        P (:func:`strobe_period`).
+
+    Returns
+    -------
+    n, s : float
+        n an integer (as a float).
+    """
+    th, tl = two_sum(t, -t_a)
+    n = np.floor(th / p_hi)
+    sh, sl = 0.0, 0.0
+    for _ in range(3):
+        mh, ml = dd_mul_d(p_hi, p_lo, n)
+        sh, sl = dd_add(th, tl, -mh, -ml)
+        # The quotient's rounding can put s just outside [0, P) (compared in
+        # double-double: s may round to fl(P) while below P): one period more or less.
+        if sh < 0.0 or (sh == 0.0 and sl < 0.0):
+            n -= 1.0
+        elif sh > p_hi or (sh == p_hi and sl >= p_lo):
+            n += 1.0
+        else:
+            break
+    return n, min(max(sh + sl, 0.0), p_hi)
+
+
+@numba.njit(cache=True, inline="always")
+def _spectral_radius(tau, det):
+    # (S4): max |μ| of μ² − τμ + D = 0.
+    disc = tau * tau - 4.0 * det
+    return math.sqrt(det) if disc < 0.0 else 0.5 * (abs(tau) + math.sqrt(disc))
+
+
+@numba.njit(cache=True)
+def strobe_switch(d3t, d3v, d2t, d2v, d1t, d1v, ct, cv, det, omega, scale, tau1, tau2, rho_clean):
+    """Whether the stroboscopic deviations have converged enough to switch (items S3-S5).
+
+    Parameters
+    ----------
+    d3t, d3v, d2t, d2v, d1t, d1v, ct, cv : float
+        The last four deviations Δ (θ and θ' parts), oldest first (ct, cv the newest).
+    det : float
+        D = e^{−βP} (S2).
+    omega : float
+        ω: the θ parts are weighted by it.
+    scale : float
+        SWITCH_SAFETY · min(atol + rtol·|θ'|, ω(atol + rtol·|θ|)) at the anchor (S5).
+    tau1, tau2 : float
+        The traces fitted at the two samples before (nan where that fit failed or was
+        not made).
+    rho_clean : float
+        The spectral radius of the last clean fit (residual ≤ STROBE_CLEAN_RESIDUAL;
+        nan: none yet).
+
+    Returns
+    -------
+    ok : bool
+        A clean fit seen, the three fits (this one, tau1, tau2) within
+        STROBE_FIT_RESIDUAL and within STROBE_TRACE_AGREE of each other,
+        ρ ≤ STROBE_MAX_MULTIPLIER and B ≤ scale.
+    tau : float
+        This sample's fitted trace (nan where the fit failed).
+    rho_clean : float
+        Updated: this fit's spectral radius if it is clean, else the one given.
+    rho, bound : float
+        The spectral radius used and B (S3); inf where a fit failed.
+    """
+    # Scaled to the largest component (the squares below neither underflow nor overflow).
+    big = max(max(max(omega * abs(d3t), abs(d3v)), max(omega * abs(d2t), abs(d2v))),
+              max(max(omega * abs(d1t), abs(d1v)), max(omega * abs(ct), abs(cv))))
+    if big == 0.0:
+        # Converged to the bit: every later deviation is 0.
+        return True, math.nan, rho_clean, 0.0, 0.0
+    if not (big < math.inf):
+        return False, math.nan, rho_clean, math.inf, math.inf
+    w = omega / big
+    u = 1.0 / big
+    # (S4): the equations x₂ + D·x₀ = τ·x₁ of the triples (d3, d2, d1) and (d2, d1, c).
+    a0, a1, a2, a3 = w * d2t, u * d2v, w * d1t, u * d1v
+    b0 = w * (d1t + det * d3t)
+    b1 = u * (d1v + det * d3v)
+    b2 = w * (ct + det * d2t)
+    b3 = u * (cv + det * d2v)
+    x1 = big * math.sqrt((w * ct) ** 2 + (u * cv) ** 2)
+    x0 = big * math.sqrt(a2 * a2 + a3 * a3)
+    s11 = a0 * a0 + a1 * a1 + a2 * a2 + a3 * a3
+    if s11 == 0.0:
+        # d2 = d1 = 0: converged to the bit if the newest is 0 too.
+        return x1 == 0.0, math.nan, rho_clean, 0.0, 0.0
+    tau = (a0 * b0 + a1 * b1 + a2 * b2 + a3 * b3) / s11
+    res = math.sqrt((b0 - tau * a0) ** 2 + (b1 - tau * a1) ** 2 + (b2 - tau * a2) ** 2
+                    + (b3 - tau * a3) ** 2)
+    res_rel = res / math.sqrt(s11)
+    if not (res_rel <= STROBE_FIT_RESIDUAL):
+        return False, math.nan, rho_clean, math.inf, math.inf
+    # (S4): ρ of this fit, at |τ| widened by the residual's share of τ (ρ does not
+    # decrease as |τ| grows); a clean fit's is remembered, for fits at the noise floor.
+    rho = _spectral_radius(abs(tau) + STROBE_NOISE_WIDEN * res_rel * (1.0 + abs(tau)), det)
+    if res_rel <= STROBE_CLEAN_RESIDUAL:
+        rho_clean = rho
+    if math.isnan(tau1) or math.isnan(tau2) or math.isnan(rho_clean):
+        return False, tau, rho_clean, math.inf, math.inf
+    # (S4): three successive fits agreeing (noise passes one fit now and then, with a
+    # wrong τ, but not three that agree), ρ at the largest |τ| of them widened by their
+    # spread, and not below the last clean fit's.
+    lo = min(tau, min(tau1, tau2))
+    hi = max(tau, max(tau1, tau2))
+    if not (hi - lo <= STROBE_TRACE_AGREE):
+        return False, tau, rho_clean, math.inf, math.inf
+    tau_wide = (max(abs(tau), max(abs(tau1), abs(tau2))) + (hi - lo)
+                + STROBE_NOISE_WIDEN * res_rel * (1.0 + abs(tau)))
+    rho = max(_spectral_radius(tau_wide, det), rho_clean)
+    if not (rho <= STROBE_MAX_MULTIPLIER):
+        return False, tau, rho_clean, rho, math.inf
+    # (S3): the tail of the deviations still to come.
+    g = 1.0 / ((1.0 - rho) * (1.0 - rho))
+    bound = x1 * (g - 1.0) + det * x0 * g
+    return bound <= scale, tau, rho_clean, rho, bound
+
+
+@numba.njit(cache=True)
+def strobe_coef(phi_a, v_a, k_a, t_a, q, p, psi_a, beta, gamma, omega, amp, freq, rtol, atol, karg,
+                error_order):
+    """A phase-locked window's coefficient vector (layout: STROBE_TAG; item S6).
+
+    Parameters
+    ----------
+    phi_a, v_a, k_a : float
+        The anchor: θ = 2πk_a + φ_a, θ'_a.
+    t_a : float
+        Its time (a stroboscopic sample's).
+    q, p : float
+        Drive periods per period (1 to STROBE_MAX_PERIODS, S7) and turns per period.
+    psi_a : float
+        :func:`strobe_phase` at t_a.
+    beta, gamma, omega, amp, freq : float
+        The model and the drive's A, Ω.
+    rtol, atol : float
+        The tolerances the stored period is re-taken with.
+    karg, error_order : int
+        The approximant's kind argument and error order.
+
+    Returns
+    -------
+    ndarray, shape (STROBE_WIDTH,)
+    """
+    c = np.empty(STROBE_WIDTH)
+    c[STR_TAG] = STROBE_TAG
+    c[STR_PHI] = phi_a
+    c[STR_V] = v_a
+    c[STR_WIND] = k_a
+    c[STR_T] = t_a
+    c[STR_Q] = q
+    c[STR_P] = p
+    c[STR_PSI] = psi_a
+    c[STR_BETA] = beta
+    c[STR_GAMMA] = gamma
+    c[STR_OMEGA] = omega
+    c[STR_AMP] = amp
+    c[STR_FREQ] = freq
+    c[STR_RTOL] = rtol
+    c[STR_ATOL] = atol
+    c[STR_KARG_ORDER] = karg + STROBE_CODE * error_order
+    return c
+
+
+def strobe_summary(p, q, freq):
+    """``(period, mean_velocity)`` of a phase-locked run: qT_d and pΩ/q (item S6).
+
+    Parameters
+    ----------
+    p, q : float
+        Turns per period and drive periods per period (the record's ``str_p``, ``str_q``).
+    freq : float
+        Ω.
+
+    Returns
+    -------
+    (float, float)
+    """
+    return float(q) * 2.0 * math.pi / float(freq), float(p) * float(freq) / float(q)
