@@ -61,12 +61,16 @@ DEFAULT_REPEATS = 200
 BLOCK_NAME = "overheads-per-call"
 
 
+# The entry of mbm.solve's scene (undriven Taylor, β > 0: the damped regime set).
+_OUTPUTS_TAYLOR = fast.ENTRIES[(loop.KIND_TAYLOR, loop.RS_DAMPED)][0]
+
+
 @numba.njit
 def _entry_loop(n, buf, t0, theta0, v0, t1, h, te, out):
     # The compiled entry n times from compiled code: its cost without the dispatch.
     problem = 0
     for _ in range(n):
-        problem += fast._outputs_taylor(buf, True, t0, theta0, v0, t1, h, te, out)[0]
+        problem += _OUTPUTS_TAYLOR(buf, True, t0, theta0, v0, t1, h, te, out)[0]
     return problem
 
 
@@ -97,7 +101,7 @@ def fixed_costs(repeats=DEFAULT_REPEATS, block=BLOCK):
     """
     model = mbm.Pendulum(*MODEL_PARAMS)
     ig = mbm.Integrator(model, rtol=RTOL, atol=ATOL)
-    if ig._outputs is not fast.ENTRIES[(loop.KIND_TAYLOR, loop.RS_DAMPED)][0]:  # pragma: no cover - "auto" is Taylor here
+    if ig._outputs is not _OUTPUTS_TAYLOR:  # pragma: no cover - "auto" is Taylor here
         raise RuntimeError(f"expected the Taylor entry, got {ig._outputs}")
     te1 = np.array([0.0])
     te_tiny = np.array([TINY_SPAN[1]])

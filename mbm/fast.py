@@ -70,6 +70,7 @@ _W_STR_P, _W_STR_Q, _W_FREQ = _W["str_p"], _W["str_q"], _W["drive_freq"]
 # Bound once: Integrator.solve's fast path reads no module attributes (each read is a
 # few percent of its fixed cost).
 _PAUSED, _OK, _MESSAGES = loop.STATUS_PAUSED, loop.STATUS_OK, loop.STATUS_MESSAGES
+_regime_set = loop.regime_set.py_func
 _NDARRAY, _EMPTY, _NAN = np.ndarray, np.empty, math.nan
 
 
@@ -233,6 +234,12 @@ def _entries_of(kind, words):
     return ENTRIES[(kind, loop.set_of(words.view(loop.RUN)[0]))]
 
 
+def _entries_at(integrator, regime):
+    # The entries of an Integrator's run once it is in ``regime`` (the record's other
+    # fields that choose the set are the Integrator's, fixed): the regime's set's entries.
+    return ENTRIES[(integrator._kind, _regime_set(*integrator._set_fields, regime))]
+
+
 # The keys of a result, in their order (its repr's); the constant ones are filled in
 # per Integrator (Integrator._base).
 _RESULT_KEYS = ("t", "y", "success", "status", "message", "n_windows", "approximant", "reason",
@@ -319,6 +326,9 @@ class Integrator:
         self._kind = kind
         # The entries of a fresh run (a regime switch resumes through its set's own).
         self._outputs, self._ends = _entries_of(kind, self._words)
+        run0 = template[0]
+        self._set_fields = (kind, int(run0["controller"]), int(run0["regimes"]), float(run0["beta"]),
+                            float(run0["drive_amp"]))
         self._h = float(self._words[_W_H])
         # Buffers ready for a call (row 0 these words, row 1 the call's: see ENTRIES),
         # taken and put back per call (list pop/append are atomic, so threads sharing
@@ -390,7 +400,7 @@ class Integrator:
                         win_t = np.concatenate((win_t, np.empty(win_t.size)))
                         win_y = np.concatenate((win_y, np.empty((win_y.shape[0], 2))))
                     if regime != chosen:  # a regime switch: its set's entry
-                        ends, chosen = _entries_of(self._kind, buf[1])[1], regime
+                        ends, chosen = _entries_at(self, regime)[1], regime
                     status, k, n_windows, regime, t_regime = ends(
                         buf, False, t0, theta0, v0, t1, h, win_t[n:], win_y[n:])
                     n += k
@@ -403,7 +413,7 @@ class Integrator:
                 outputs, chosen = self._outputs, REGIME_NONE
                 while status == _PAUSED:
                     if regime != chosen:  # a regime switch: its set's entry
-                        outputs, chosen = _entries_of(self._kind, buf[1])[0], regime
+                        outputs, chosen = _entries_at(self, regime)[0], regime
                     status, j, n_windows, regime, t_regime = outputs(
                         buf, False, t0, theta0, v0, t1, h, te, y)[1:]
                 t = te

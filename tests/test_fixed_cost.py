@@ -149,9 +149,9 @@ def test_paused_runs_resume_bit_for_bit(small_chunks, monkeypatch, wrap):
     ig._outputs = _counting(ig._outputs, calls)
     ig._ends = _counting(ig._ends, calls)
     # a regime switch resumes through its own set's entries: counted too
-    entries_of = fast._entries_of
-    monkeypatch.setattr(fast, "_entries_of",
-                        lambda kind, words: tuple(_counting(f, calls) for f in entries_of(kind, words)))
+    entries_at = fast._entries_at
+    monkeypatch.setattr(fast, "_entries_at",
+                        lambda ig, regime: tuple(_counting(f, calls) for f in entries_at(ig, regime)))
     got = ig.solve((0.0, T), y0, t_eval=te, wrap=wrap)
     assert calls[0] is True and calls.count(False) >= want.n_windows // 7 - 1 > 5
     for key in want:

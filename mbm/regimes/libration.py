@@ -73,6 +73,7 @@ from ..special.dd import (
     reduce_2pi,
     two_prod,
 )
+from .common import REGIME_LIBRATION, SWITCH_SAFETY
 from .locked import X_MINUS_SIN_SERIES, _potential
 
 # (C2): first and last node counts of the period's quadrature (doubling): 16 nodes
@@ -262,3 +263,22 @@ def libration_period(gamma, omega, theta, v):
         prev_h, prev_l = th, tl
         m_nodes *= 2
     return nan, nan, nan, nan, nan
+
+
+@numba.njit(cache=True)
+def _libration_test(r, t, y0, y1, k, off, gamma, omega, t_bound, rtol, atol):
+    """The libration test of a fresh conservative run (mbm.regimes, C1-C4): switches the
+    record ``r`` to REGIME_LIBRATION where the stored period's phase error over the rest
+    of the span is within the tolerance (C4)."""
+    lb_hi, lb_lo, lb_dt, lb_vmax, lb_span = libration_period(gamma, omega, y0, y1)
+    if lb_hi == lb_hi:
+        n_rest = (t_bound - t) / lb_hi
+        drift = (n_rest + 1.0) * lb_dt
+        theta_min = max(0.0, abs(off + y0) - lb_span)
+        if (n_rest >= LIBRATION_MIN_PERIODS
+                and drift * lb_vmax <= SWITCH_SAFETY * (atol + rtol * theta_min)
+                and drift * (omega * omega + abs(gamma)) <= SWITCH_SAFETY * atol):
+            r.regime = REGIME_LIBRATION
+            r.t_regime = t
+            r.cyc_theta, r.cyc_v, r.cyc_t, r.cyc_sign, r.cyc_wind = y0, y1, t, 0.0, k
+            r.cyc_T, r.cyc_Tlo = lb_hi, lb_lo

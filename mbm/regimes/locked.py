@@ -577,3 +577,18 @@ def locked_eval_array(coef, t, out_theta, out_v):
         a, b = locked_eval(coef, t[i])
         out_theta[i] = a
         out_v[i] = b
+
+
+@numba.njit(cache=True)
+def _lock_setup(beta, gamma, omega, can_lock, can_lock2):
+    """The locked test's constants of a run (L5; |sin d| and the second-order quick
+    test's q₂ where ``can_lock2``): ``(d, ω_l², G₀, G₁, |sin d|, q₂, can_lock2)``, the
+    second-order form off where its quick test rules it out."""
+    d, wl2, g0, g1, sd, q2 = 0.0, 1.0, 0.0, 0.0, 0.0, 0.0
+    if can_lock:
+        d, wl2, g0, g1 = locked_constants(beta, gamma, omega)
+        sd = abs(math.sin(d))
+        if can_lock2:
+            q2 = locked2_quick(beta, gamma, omega, d, wl2, g0)
+            can_lock2 = q2 > 0.0
+    return d, wl2, g0, g1, sd, q2, can_lock2

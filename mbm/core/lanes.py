@@ -1,0 +1,297 @@
+"""The lockstep lanes of :func:`mbm.solve_batch`: LANES scenes per round, one window each.
+
+A batch group (:func:`_run_lanes`) is a scheduler over the loop's window: LANES scenes
+advance one ordinary Taylor window per round in lockstep, the loop's tests, controller
+and output steps per lane (the same compiled controller, :mod:`mbm.core.controller`,
+and the same cycle watch), the anchors and the first tries' window ends computed for
+all lanes at once by lane-wise copies of the one-scene kernels (the same operations per
+lane, so the same bits); every other window (a regime's, a failure's, the run's end)
+is the loop's own, the lane handing its scene over as a paused run.
+"""
+
+import math
+import numba
+import numpy as np
+
+from ..approximants.taylor import taylor_eval_range
+from ..approximants.taylor_simd import (
+    HEADER as SIMD_HEADER,
+    LANES,
+    SIMD_ORDER,
+    horner24_lanes,
+    taylor24_lanes,
+)
+from .controller import (
+    CONTROLLER_ADAPTIVE,
+    MIN_WINDOW_ULPS,
+    _EPS,
+    _accepted_factor,
+    _adaptive_window_taylor,
+    _error_norm,
+    _first_window_taylor,
+    _window_end,
+)
+from .loop import _run_any, run_taylor
+from .window import (
+    KIND_TAYLOR,
+    _put,
+    _reduce_phi,
+    estimate,
+    prior_window,
+    theta_of,
+    window_log_eps,
+)
+from ..regimes.common import REGIME_NONE
+from ..regimes.cycle import section_offset
+from ..regimes.cycle_windows import _TWO_PI, _watch_cycle
+from ..regimes.locked import _lock_setup, locked_choice, locked_quick_reject
+from ..status import STATUS_OK
+
+# Small per-window pieces are inlined into their callers, where the kind is a constant
+# (numba prunes the other kinds' branches before compiling); large ones are compiled
+# once per kind and called.
+_INLINE = dict(cache=True, inline="always")
+
+
+# Scenes per lane group of run_batch: a group keeps its LANES lanes full from its own
+# scenes, so only its last few run with idle lanes; large enough that this tail is a
+# few per cent, small enough that the groups balance over the threads.
+LANE_GROUP = 256
+
+
+# _run_lanes names its eight coefficient rows in one tuple.
+assert LANES == 8
+
+
+# The lockstep state of one lane (_run_lanes): the scene, the loop's locals of _run that
+# change per window, and the constants _run derives once per call.
+LANE = np.dtype([
+    ("scene", np.int64), ("t", np.float64), ("phi", np.float64), ("v", np.float64),
+    ("h_abs", np.float64), ("wind", np.float64), ("j", np.int64), ("n_windows", np.int64),
+    ("direction", np.float64), ("log_eps", np.float64), ("lk_d", np.float64), ("lk_wl2", np.float64),
+    ("lk_g0", np.float64), ("lk_g1", np.float64), ("lk_sd", np.float64), ("lk_q2", np.float64),
+    ("can_lock", np.int64), ("can_lock2", np.int64), ("can_cycle", np.int64), ("sec_off", np.float64),
+    ("sec_acc", np.float64), ("ready", np.int64), ("h_try", np.float64), ("prior", np.float64),
+    ("first", np.int64), ("t_end", np.float64),
+])
+
+
+@numba.njit(**_INLINE)
+def lane_eligible(r):
+    """Whether run record ``r`` can take lockstep windows in :func:`_run_lanes`: a fresh
+    undriven Taylor run at the vector kernel's degree, adaptive, β > 0, no window budget
+    and no θ-step limit (everything else runs as :func:`_run` alone)."""
+    return (r.kind == KIND_TAYLOR and r.karg == SIMD_ORDER and r.controller == CONTROLLER_ADAPTIVE
+            and r.drive_amp == 0.0 and r.beta > 0.0 and r.call_windows == 0 and r.max_dtheta == math.inf
+            and r.n_windows == 0 and r.regime == REGIME_NONE and r.status == STATUS_OK)
+
+
+@numba.njit(**_INLINE)
+def _lane_start(r, i, ln, coefs, lane):
+    # _run's set-up for a fresh run (the undriven Taylor branches of its can_* flags).
+    ln.scene = i
+    ln.t, ln.phi, ln.v, ln.h_abs, ln.wind = r.t, r.theta, r.v, r.h_abs, 0.0
+    ln.j, ln.n_windows, ln.ready = r.j, 0, 0
+    ln.direction = 1.0 if r.t_bound >= r.t else -1.0
+    ln.log_eps = window_log_eps(r.rtol)
+    beta, gamma, omega = r.beta, r.gamma, r.omega
+    can_lock = r.regimes != 0 and ln.direction > 0.0 and abs(gamma) < omega * omega
+    ln.lk_d, ln.lk_wl2, ln.lk_g0, ln.lk_g1, ln.lk_sd, ln.lk_q2, can_lock2 = _lock_setup(
+        beta, gamma, omega, can_lock, can_lock)
+    ln.can_lock, ln.can_lock2 = can_lock, can_lock2
+    can_cycle = r.regimes != 0 and ln.direction > 0.0
+    ln.can_cycle = can_cycle
+    ln.sec_off = section_offset(gamma, omega) if can_cycle else 0.0
+    ln.sec_acc = gamma - omega * omega * math.sin(ln.sec_off)
+    # The header of the lane's coefficient row (taylor.py's layout; the kernel writes
+    # the coefficients after it).
+    coefs[lane, 0] = 0.0
+    coefs[lane, 1] = SIMD_ORDER
+    coefs[lane, 2] = beta
+    coefs[lane, 3] = gamma
+    coefs[lane, 4] = omega
+
+
+@numba.njit(**_INLINE)
+def _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel):
+    # The lane's state written back as a paused run's, and the run finished by _run.
+    i = ln.scene
+    r = p[i]
+    r.t, r.theta, r.v, r.h_abs = ln.t, theta_of(ln.wind, ln.phi), ln.v, ln.h_abs
+    r.phi, r.wind = ln.phi, ln.wind
+    r.n_windows = ln.n_windows
+    r.j = ln.j
+    ln.scene = -1
+    ln.ready = 0
+    run_taylor(p[i:i + 1], t_eval, out[i], win_t, win_y, win_coef, cancel)
+
+
+@numba.njit(cache=True)
+def _run_lanes(p, ids, t_eval, out, cancel):
+    """Run the scenes ``ids`` of ``p`` (output rows ``out[ids]``), LANES at a time in lockstep.
+
+    Each lockstep round takes one window of every lane: _run's window for an ordinary
+    Taylor window (the same tests, controller and output steps, in the same order), with
+    the anchors of all lanes in one call of the across-scene kernel
+    (:func:`mbm.approximants.taylor_simd.taylor24_lanes`, each lane's coefficients the
+    bits of the one-scene kernel).  A lane whose next window is anything else (the
+    run's end, a failure, ``max_windows``, the interrupt flag, a locked or cycle
+    window) hands its state to :func:`_run` as a paused run's, which finishes the
+    scene, and the lane takes the next scene.  So every scene's windows, outputs and
+    record are those of :func:`_run` alone.  Scenes that are not
+    :func:`lane_eligible` run by :func:`_run_any`.
+    """
+    win_t = np.empty(0)
+    win_y = np.empty((0, 2))
+    win_coef = np.empty((0, 0))
+    lanes = np.zeros(LANES, dtype=LANE)
+    ins = np.zeros((7, LANES))
+    ins[2, :] = 1.0
+    ins[4, :] = 1.0
+    coefs = np.zeros((LANES, SIMD_HEADER + SIMD_ORDER + 3))
+    soa = np.zeros((SIMD_ORDER + 3, LANES))
+    hs = np.zeros(LANES)
+    hv = np.zeros((2, LANES))
+    for q in range(LANES):
+        lanes[q].scene = -1
+    # The lanes' coefficient rows, as views made once.
+    rows = (coefs[0], coefs[1], coefs[2], coefs[3], coefs[4], coefs[5], coefs[6], coefs[7])
+    ne = t_eval.size
+    wrapped = out.shape[1] == 3
+    nxt = 0
+    while True:
+        live = 0
+        for q in range(LANES):
+            ln = lanes[q]
+            while ln.scene < 0 and nxt < ids.size:
+                i = ids[nxt]
+                nxt += 1
+                if lane_eligible(p[i]):
+                    _lane_start(p[i], i, ln, coefs, q)
+                else:
+                    _run_any(p[i:i + 1], t_eval, out[i], win_t, win_y, win_coef, cancel)
+            if ln.scene < 0:
+                continue
+            r = p[ln.scene]
+            # _run's tests before a window, in its order.
+            t, y0, y1, k = ln.t, ln.phi, ln.v, ln.wind
+            if (not (ln.direction * (r.t_bound - t) > 0.0) or ln.n_windows >= r.max_windows
+                    or cancel[0] != 0 or not (math.isfinite(y0) and math.isfinite(y1))):
+                _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel)
+                continue
+            k, y0 = _reduce_phi(k, y0)
+            ln.wind, ln.phi = k, y0
+            off = k * _TWO_PI
+            if ln.can_lock != 0 and not locked_quick_reject(
+                    off + y0, y1, ln.lk_d, ln.lk_sd, ln.lk_wl2, ln.lk_g0, r.omega, r.rtol, r.atol, ln.lk_q2):
+                lk_order, _ = locked_choice(r.beta, r.gamma, r.omega, y0, y1, ln.lk_d, ln.lk_wl2, ln.lk_g0,
+                                            ln.lk_g1, r.rtol, r.atol, off, ln.can_lock2 != 0)
+                if lk_order > 0:
+                    _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel)
+                    continue
+            ins[0, q] = r.beta
+            ins[1, q] = r.gamma
+            ins[2, q] = r.omega * r.omega
+            ins[3, q] = math.sin(y0)
+            ins[4, q] = math.cos(y0)
+            ins[5, q] = y0
+            ins[6, q] = y1
+            ln.ready = 1
+            live += 1
+        if live == 0:
+            if nxt >= ids.size:
+                break
+            continue
+        taylor24_lanes(ins, coefs, soa)
+        # adaptive_window's first try of every lane: its a-priori window (each lane's),
+        # then θ, θ' at the window's end in one lane-wise Horner.
+        for q in range(LANES):
+            ln = lanes[q]
+            hs[q] = 0.0
+            if ln.ready == 0:
+                continue
+            r = p[ln.scene]
+            coef = rows[q]
+            t, y0, y1 = ln.t, ln.phi, ln.v
+            off = ln.wind * _TWO_PI
+            if ln.h_abs <= 0.0:
+                ln.h_abs = _first_window_taylor(coef, t, y0, y1, off, ln.direction, r.t_bound, r.omega,
+                                                r.max_step, r.rtol, r.atol, r.error_order, ln.log_eps)
+            min_h = MIN_WINDOW_ULPS * _EPS * max(abs(t), 1e-300)
+            ln.prior = prior_window(KIND_TAYLOR, coef, off + y0, y1, r.rtol, r.atol, ln.log_eps)
+            ln.h_try = min(ln.h_abs, r.max_step, ln.prior)
+            # A window below the floor: adaptive_window's own status (below).
+            ln.first = 1 if ln.h_try >= min_h else 0
+            if ln.first != 0:
+                ln.t_end = _window_end(t, ln.direction, r.t_bound, ln.h_try)
+                hs[q] = ln.t_end - t
+        horner24_lanes(soa, hs, hv)
+        for q in range(LANES):
+            ln = lanes[q]
+            if ln.ready == 0:
+                continue
+            ln.ready = 0
+            i = ln.scene
+            r = p[i]
+            coef = rows[q]
+            t, y0, y1, k = ln.t, ln.phi, ln.v, ln.wind
+            off = k * _TWO_PI
+            direction, t_bound, max_step = ln.direction, r.t_bound, r.max_step
+            rtol, atol = r.rtol, r.atol
+            accepted = False
+            if ln.first != 0:
+                # adaptive_window's test of its first try, in its words.
+                t_new = ln.t_end
+                th, v = hv[0, q], hv[1, q]
+                et, ev = estimate(KIND_TAYLOR, coef, hs[q])
+                err = _error_norm(et, ev, off + y0, y1, off + th, v, rtol, atol)
+                fac = _accepted_factor(err, th, v, ln.prior, -1.0 / (r.error_order + 1.0), False)
+                if fac > 0.0:
+                    h_next = ln.h_try * fac
+                    accepted = True
+            if not accepted:
+                # Rejected (or below the floor): adaptive_window itself, from the start.
+                st, t_new, th, v, h_next = _adaptive_window_taylor(
+                    coef, t, y0, y1, off, direction, t_bound, ln.h_abs, max_step, rtol, atol,
+                    r.error_order, ln.log_eps)
+                if st != STATUS_OK:
+                    _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel)
+                    continue
+            # The window's outputs, as _run's Taylor branch (the views of out made only
+            # for a window that has outputs).
+            j = ln.j
+            j2 = j
+            while j2 < ne and (direction * (t_eval[j2] - t_new) <= 0.0):
+                j2 += 1
+            if j2 > j:
+                out_theta = out[i, 0]
+                out_v = out[i, 1]
+                out_w = out[i, 2] if wrapped else out_theta
+                taylor_eval_range(coef, t, t_eval, j, j2, out_theta, out_v)
+                if k != 0.0 or wrapped:
+                    for jj in range(j, j2):
+                        _put(out_theta, out_w, wrapped, jj, k, out_theta[jj])
+            ln.j = j2
+            if ln.can_cycle != 0 and r.regime == REGIME_NONE:
+                _watch_cycle(KIND_TAYLOR, r, coef, t, t_new, y0, th, v, k, off, ln.sec_off, ln.sec_acc,
+                             r.beta, r.gamma, r.omega, t_bound, rtol, atol)
+            ln.t, ln.phi, ln.v, ln.h_abs = t_new, th, v, h_next
+            ln.n_windows += 1
+            if r.regime != REGIME_NONE:
+                _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel)
+    return 0
+
+
+@numba.njit(cache=True, parallel=True, nogil=True)
+def run_batch(p, t_eval, out, order, cancel):
+    """:func:`run` for every row of ``p`` in parallel (``prange``), in the order ``order``.
+
+    ``order`` is cut into groups of LANE_GROUP scenes, run in parallel; each group by
+    :func:`_run_lanes` (LANES scenes in lockstep, every scene's result that of
+    :func:`run` alone).  ``out`` has shape (N, 2, m), or (N, 3, m) for θ wrapped with
+    its winding count.  Runs without the GIL, so a caller may run it in a thread and
+    set ``cancel[0]`` to stop every scene at its next window.
+    """
+    n_groups = (order.size + LANE_GROUP - 1) // LANE_GROUP
+    for g in numba.prange(n_groups):
+        _run_lanes(p, order[g * LANE_GROUP:min((g + 1) * LANE_GROUP, order.size)], t_eval, out, cancel)

@@ -1,0 +1,622 @@
+"""THE compiled window loop of the moving boundary method, and its entries.
+
+Every path runs a scene through one body (:func:`_runner`'s entry): :class:`mbm.MBM`
+(a step of one or more windows, their formulas stored for the dense output),
+:func:`mbm.solve` (outputs at ``t_eval`` or the window ends) and :func:`mbm.solve_batch`
+(groups of scenes, :mod:`mbm.core.lanes`).  So the paths take the same windows and give
+the same answers bit for bit.
+
+Per window the body chooses the window's source (a regime's stored formula, the locked
+closed form, or the approximant anchored at the state reached, under its controller:
+:mod:`mbm.core.window`, :mod:`mbm.core.controller`), emits the outputs in the window,
+runs the regime watches, and stores the window.  The regimes (:mod:`mbm.regimes`) are
+grouped in regime sets (``RS_*``, :func:`regime_set`); the loop has one compiled entry
+per (kind, regime set) of :data:`RUN_TABLE` (:data:`RUNNERS`), both constants of the
+entry's closure, so numba prunes the other kinds' and sets' branches and a scene
+compiles only the kernels and regimes it can reach.  A run whose regime set changes
+(a switch to a stored period) pauses, and its caller resumes it through the new set's
+entry (:func:`run`, :func:`_run_chain`).
+"""
+
+import math
+import numba
+import numpy as np
+
+from ..approximants.taylor import taylor_eval_range, taylor_workspace
+from .controller import (
+    CONTROLLER_ADAPTIVE,
+    _adaptive,
+    _first,
+    _window_end,
+    fixed_window,
+)
+from .window import (
+    KIND_EXACT,
+    KIND_SALAS_TORQUE,
+    KIND_SPLIT,
+    KIND_TAYLOR,
+    _put,
+    _reduce_phi,
+    anchor,
+    anchor_driven,
+    evaluate,
+    theta_of,
+    window_log_eps,
+)
+from ..regimes.common import (
+    REGIME_LIBRATION,
+    REGIME_LOCKED,
+    REGIME_NONE,
+    REGIME_PHASE_LOCKED,
+    REGIME_RUNNING,
+)
+from ..regimes.cycle import CYCLE_WIDTH, cycle_coef, section_offset
+from ..regimes.cycle_windows import (
+    _TWO_PI,
+    _period_store,
+    _period_value,
+    _watch_cycle,
+)
+from ..regimes.libration import _libration_test
+from ..regimes.locked import (
+    LOCKED2_WIDTH,
+    LOCKED_WIDTH,
+    _lock_setup,
+    locked_choice,
+    locked_coef,
+    locked_eval,
+    locked_quick_reject,
+)
+from ..regimes.strobe import STROBE_WIDTH, strobe_coef
+from ..regimes.strobe_windows import _strobe_setup, _strobe_value, _watch_strobe
+from ..status import (
+    STATUS_ANCHOR,
+    STATUS_INTERRUPTED,
+    STATUS_MAX_WINDOWS,
+    STATUS_NONFINITE,
+    STATUS_OK,
+    STATUS_PAUSED,
+)
+
+# Small per-window pieces are inlined into their callers, where the kind is a constant
+# (numba prunes the other kinds' branches before compiling); large ones are compiled
+# once per kind and called.
+_INLINE = dict(cache=True, inline="always")
+
+
+@numba.njit(**_INLINE)
+def _value_at(kind, rset, is_locked, coef, per_starts, per_ends, per_coefs, per_n, t, tj, k):
+    """(φ, θ', winding count) of the window ``coef`` that started at ``t``, at time ``tj``:
+    the formula of the window's source (the regime's, or the approximant's)."""
+    if rset == RS_CYCLE:
+        return _period_value(kind, coef, per_starts, per_ends, per_coefs, per_n, tj - t)
+    if rset == RS_STROBE:
+        return _strobe_value(kind, coef, tj)
+    if rset == RS_DAMPED:
+        if is_locked:
+            a, b = locked_eval(coef, tj - t)
+            return a, b, k
+    a, b = evaluate(kind, coef, tj - t)
+    return a, b, k
+
+
+@numba.njit(cache=True)
+def _store_window(win_t, win_y, win_coef, n, coef, t_new, theta, v):
+    """Window ``n`` of the call into the window store: its coefficients (cut or
+    zero-padded to the store's width) and the state at its end."""
+    width = win_coef.shape[1]
+    if width > 0:
+        m = min(coef.size, width)
+        # Element loops: a slice assignment compiles numpy's broadcast-error
+        # machinery (seconds of a cold start) for shapes that agree here.
+        for q in range(m):
+            win_coef[n, q] = coef[q]
+        for q in range(m, width):
+            win_coef[n, q] = 0.0
+    win_t[n + 1] = t_new
+    win_y[n + 1, 0] = theta
+    win_y[n + 1, 1] = v
+
+
+def _runner(kind, rset):
+    """The loop's compiled entry for kind ``kind`` and regime set ``rset`` (:func:`regime_set`).
+
+    Both are constants of the closure, so numba prunes the other kinds' and sets'
+    branches before it compiles (a first run compiles the kernels and regimes its scene
+    class uses), and caches each closure apart (its constants are in the cache's key).
+    The entry advances the run ``p[0]`` (a :data:`RUN` record) window by window; its
+    own docstring says how.
+    """
+
+    @numba.njit(cache=True)
+    def run_entry(p, t_eval, out, win_t, win_y, win_coef, cancel):
+        """Advance the run ``p[0]`` (a :data:`RUN` record) window by window (kind ``kind``,
+        regime set ``rset``: :func:`regime_set`).
+
+        Stops at ``t_bound`` (status 0), at a failure (a ``STATUS_*`` code), at
+        ``max_windows`` (:data:`STATUS_MAX_WINDOWS`), or paused
+        (:data:`STATUS_PAUSED`) after ``call_windows`` windows, when the window store
+        is full or when the record's regime set is no longer ``rset`` (a regime switch:
+        the run resumes through the entry of its new set), or :data:`STATUS_INTERRUPTED`
+        once ``cancel[0]`` is set (by another thread: how a batch running without the
+        GIL honours Ctrl-C).  The state reached, the next window length, the window
+        count and the next output index are written back to ``p[0]``, so a paused run
+        resumes where it stopped.
+
+        Long horizons (:mod:`mbm.regimes`), each compiled only into the entries of its
+        set: with ``regimes`` set, before each window the state is tested for the locked
+        regime (RS_DAMPED); once the bound on the neglected nonlinearity over the rest of
+        the horizon is within the tolerance (L5 there), the window (to ``t_bound``, or
+        ``max_step`` long) is the linearized closed form (or, where only its bound passes,
+        the second-order one, L6-L7: where the window store has room for it), stored with
+        coefficient layout ``regimes.LOCKED_TAG``, and ``regime``, ``t_regime`` record the
+        switch.  After each window the return map of θ ≡ θ_s (mod 2π) is watched (R1, R2
+        there); once it has converged for the rest of the horizon, the windows are the
+        stored period shifted (RS_CYCLE: ``regimes.CYCLE_TAG``, R3), the period's windows
+        re-taken once from the cycle's anchor (at the first such window of the call) and
+        every output looked up in them.  A conservative run (β = 0, RS_CONSERVATIVE)
+        trapped in a well is tested before its first window (C1-C4 there): with its period
+        known to double-double precision, the whole run is one such window, with winding
+        sign 0.
+
+        AC drive (``drive_amp`` ≠ 0, RS_DRIVEN): each window is anchored at its start time
+        by :func:`anchor_driven` (the drive's series enters the coefficients).  The locked
+        and running regimes assume an autonomous equation and are not tested; instead the
+        stroboscopic samples at t_s + nT_d, T_d = 2π/Ω, are watched (S1–S7 there), and once
+        their deviations have converged for good the windows are the stored drive period
+        from the anchor sample (RS_STROBE: ``regimes.STROBE_TAG``, S6), ``regime``
+        phase-locked.
+
+        Parameters
+        ----------
+        p : ndarray of RUN, shape (1,)
+            The run record.
+        t_eval : ndarray, shape (m,)
+            Output times, monotone in the direction of integration, within the span.
+        out : ndarray, shape (2, m) or (3, m)
+            θ, θ' at ``t_eval``, filled from index ``p[0].j`` on: an output in
+            (t, t_new] comes from that window's formula (the window end repeats the
+            evaluation that produced the state).  With three rows, row 0 is θ wrapped to
+            (−π, π] and row 2 its winding count (θ = 2π·row 2 + row 0).
+        win_t : ndarray, shape (cap + 1,) or (0,)
+            Window store (empty: none).  ``win_t[i]`` is the start of the call's window
+            i, ``win_t[n]`` the end of its last.
+        win_y : ndarray, shape (cap + 1, 2) or (0, 2)
+            The states at ``win_t``.
+        win_coef : ndarray, shape (cap, width) or (0, width)
+            The windows' coefficient vectors (cut or zero-padded to ``width``; width 0
+            stores none).
+        cancel : ndarray of int64, shape (1,)
+            Checked before each window; non-zero stops the run.
+
+        Returns
+        -------
+        n : int
+            Windows this call took.
+        """
+        r = p[0]
+        karg = r.karg
+        beta, gamma, omega = r.beta, r.gamma, r.omega
+        amp, freq, phase = r.drive_amp, r.drive_freq, r.drive_phase
+        t, y0, y1, t_bound = r.t, r.theta, r.v, r.t_bound
+        h_abs, max_step, rtol, atol = r.h_abs, r.max_step, r.rtol, r.atol
+        adaptive = r.controller == CONTROLLER_ADAPTIVE
+        error_order = r.error_order
+        log_eps = window_log_eps(rtol)
+        direction = 1.0 if t_bound >= t else -1.0
+        budget = r.call_windows
+        store = win_t.size > 0
+        cap = win_t.size - 1
+        width = win_coef.shape[1]
+        ne = t_eval.size
+        out_theta = out[0]
+        out_v = out[1]
+        # Three output rows: θ wrapped to (−π, π] and its winding count in the third.
+        wrapped = out.shape[0] == 3
+        out_w = out[2] if wrapped else out[0]
+        j = r.j
+        n = 0
+        n_total = r.n_windows
+        status = STATUS_OK
+        # The angle as θ = 2πk + φ (TWO_PI_A): y0 holds φ, k the winding count; a fresh
+        # run starts from θ as given (k = 0), a resumed one where it stopped.
+        wraps = kind == KIND_TAYLOR or kind == KIND_SPLIT  # WRAPPING_KINDS
+        k = 0.0
+        if n_total > 0:
+            k, y0 = r.wind, r.phi
+        if store:
+            win_t[0] = t
+            win_y[0, 0] = theta_of(k, y0)
+            win_y[0, 1] = y1
+        # Each regime's switch rule where it may apply: windows from rtol/atol, forwards,
+        # room for its formula in the window store (its set's own conditions in
+        # regime_set); every test depends on the record only, so a resumed run repeats it.
+        may = r.regimes != 0 and adaptive and direction > 0.0
+        # Locked regime (L5) where |γ| < ω², the second-order form (L6, L7) where its
+        # coefficients fit the window store; the running cycle's return map (R1-R3).
+        can_lock = can_lock2 = can_cycle = False
+        lk_d, lk_wl2, lk_g0, lk_g1, lk_sd, lk_q2 = 0.0, 1.0, 0.0, 0.0, 0.0, 0.0
+        lk_ts, lk_order = 0.0, 0
+        sec_off = sec_acc = 0.0
+        if rset == RS_DAMPED:
+            can_lock = may and abs(gamma) < omega * omega and (width == 0 or width >= LOCKED_WIDTH)
+            lk_d, lk_wl2, lk_g0, lk_g1, lk_sd, lk_q2, can_lock2 = _lock_setup(
+                beta, gamma, omega, can_lock, can_lock and (width == 0 or width >= LOCKED2_WIDTH))
+            can_cycle = may and (width == 0 or width >= CYCLE_WIDTH)
+            sec_off = section_offset(gamma, omega) if can_cycle else 0.0
+            # θ'' = sec_acc − βθ' on a section level (sin θ there is sin θ_s): _crossing.
+            sec_acc = gamma - omega * omega * math.sin(sec_off)
+        # Libration (C1-C4): a conservative run trapped in a well is periodic from its
+        # start; tested once, before a fresh run's first window.
+        can_librate = False
+        if rset == RS_CONSERVATIVE:
+            can_librate = (may and wraps and abs(gamma) < omega * omega and n_total == 0
+                           and r.regime == REGIME_NONE and (width == 0 or width >= CYCLE_WIDTH))
+        # Phase-locked to the drive (S1-S7): stroboscopic samples at t_s + nT_d watched
+        # after each window (Taylor, β > 0; not with max_dtheta, the short windows of
+        # solve_ivp's event search, each of which would re-take a period).
+        sp_hi, sp_lo, sp_det, sp_next = 0.0, 0.0, 0.0, math.inf  # sp_next: the next sample's time
+        if rset == RS_DRIVEN:
+            if (may and beta > 0.0 and freq > 0.0 and kind == KIND_TAYLOR and r.max_dtheta == math.inf
+                    and (width == 0 or width >= STROBE_WIDTH)):
+                sp_hi, sp_lo, sp_det, sp_next = _strobe_setup(r, t, freq, beta, n_total)
+        # One coefficient workspace for the call's windows (anchor).
+        ws_coef, ws_scratch = taylor_workspace(karg)
+        # The stored period of a cycle window (R3), built at the first one this call meets.
+        per_n = -2
+        per_starts = np.empty(0)
+        per_ends = np.empty((0, 2))
+        per_coefs = np.empty((0, 0))
+        # The regime last checked against this entry's set (none yet: the first window
+        # checks, so an entry called for another set pauses at once).
+        seen = -1
+        while direction * (t_bound - t) > 0.0:
+            if n_total >= r.max_windows:
+                status = STATUS_MAX_WINDOWS
+                break
+            if (budget > 0 and n >= budget) or (store and n >= cap):
+                status = STATUS_PAUSED
+                break
+            if r.regime != seen:
+                # A regime switch: the run goes on through its new set's entry.
+                seen = r.regime
+                if regime_set(kind, r.controller, r.regimes, beta, amp, seen) != rset:
+                    status = STATUS_PAUSED
+                    break
+            if cancel[0] != 0:
+                status = STATUS_INTERRUPTED
+                break
+            max_step = r.max_step
+            if r.max_dtheta < math.inf and y1 != 0.0:
+                max_step = min(max_step, r.max_dtheta / abs(y1))
+            if wraps:
+                k, y0 = _reduce_phi(k, y0)
+            # θ's scale for the tolerances (scipy's rtol·|θ| of the whole angle).
+            off = k * _TWO_PI
+            if rset == RS_CONSERVATIVE:
+                if can_librate:
+                    can_librate = False
+                    _libration_test(r, t, y0, y1, k, off, gamma, omega, t_bound, rtol, atol)
+                    if r.regime != REGIME_NONE:
+                        # The rest of the run is the stored period: RS_CYCLE's entry.
+                        status = STATUS_PAUSED
+                        break
+            is_locked = False
+            ordinary = True
+            k_new = k
+            st, h_next = STATUS_OK, h_abs
+            if rset == RS_CYCLE:
+                # The rest of the run is the stored period, shifted (mbm.regimes, R3).
+                ordinary = False
+                coef = cycle_coef(r.cyc_theta, r.cyc_v, r.cyc_T, t - r.cyc_t, beta, gamma, omega, rtol, atol,
+                                  r.cyc_sign, karg, error_order, r.cyc_wind, r.cyc_Tlo)
+                t_new = _window_end(t, direction, t_bound, max_step)
+                if per_n == -2:
+                    per_starts, per_ends, per_coefs, per_n = _period_store(kind, coef)
+                th, v, k_new = _period_value(kind, coef, per_starts, per_ends, per_coefs, per_n, t_new - t)
+            elif rset == RS_STROBE:
+                # The rest of the run is the stored period (q drive periods, S7) from the
+                # anchor (S6); its formula takes the absolute time.
+                ordinary = False
+                coef = strobe_coef(r.str_phi, r.str_v, r.str_k, r.str_ta, r.str_q, r.str_p, r.str_psi, beta,
+                                   gamma, omega, amp, freq, rtol, atol, karg, error_order)
+                t_new = _window_end(t, direction, t_bound, max_step)
+                th, v, k_new = _strobe_value(kind, coef, t_new)
+            else:
+                if rset == RS_DAMPED:
+                    if can_lock and (r.regime == REGIME_LOCKED or not locked_quick_reject(
+                            off + y0, y1, lk_d, lk_sd, lk_wl2, lk_g0, omega, rtol, atol, lk_q2)):
+                        lk_order, lk_ts = locked_choice(beta, gamma, omega, y0, y1, lk_d, lk_wl2, lk_g0, lk_g1,
+                                                        rtol, atol, off, can_lock2)
+                        is_locked = lk_order > 0
+                if is_locked:
+                    # The rest of the run is the linearized closed form (mbm.regimes, L2, L5).
+                    ordinary = False
+                    coef = locked_coef(beta, lk_wl2, lk_ts, y0, y1, gamma, lk_order)
+                    t_new = _window_end(t, direction, t_bound, max_step)
+                    th, v = locked_eval(coef, t_new - t)
+                    if r.regime != REGIME_LOCKED:
+                        r.regime = REGIME_LOCKED
+                        r.t_regime = t
+                else:
+                    if rset == RS_DRIVEN:
+                        coef = anchor_driven(kind, karg, beta, gamma, omega, amp, freq, phase, t, y0, y1, ws_coef,
+                                             ws_scratch)
+                    else:
+                        coef = anchor(kind, karg, beta, gamma, omega, y0, y1, ws_coef, ws_scratch)
+                    if coef[0] != 0.0:
+                        status = STATUS_ANCHOR
+                        break
+                    if adaptive:
+                        if h_abs <= 0.0:
+                            h_abs = _first(kind, coef, t, y0, y1, off, direction, t_bound, omega, max_step,
+                                                 rtol, atol, error_order, log_eps)
+                        st, t_new, th, v, h_next = _adaptive(
+                            kind, coef, t, y0, y1, off, direction, t_bound, h_abs, max_step, rtol, atol,
+                            error_order, log_eps)
+                    else:
+                        st, t_new, th, v = fixed_window(kind, coef, t, direction, t_bound, min(h_abs, max_step))
+            if not ordinary and not (math.isfinite(th) and math.isfinite(v)):
+                st = STATUS_NONFINITE
+            if st != STATUS_OK:
+                status = st
+                break
+            if kind == KIND_TAYLOR and ordinary:
+                # The window's outputs in one call, four times at once (the same Horner
+                # steps per time as evaluate, so the same bits; an output at t_new is the
+                # evaluation that produced the state).
+                j2 = j
+                while j2 < ne and (direction * (t_eval[j2] - t_new) <= 0.0):
+                    j2 += 1
+                if j2 > j:
+                    # (Not called for an empty range: the call alone, its arrays passed and
+                    # reference-counted, cost ~25 ns of a ~400 ns window.)
+                    taylor_eval_range(coef, t, t_eval, j, j2, out_theta, out_v)
+                if k != 0.0 or wrapped:
+                    for i in range(j, j2):
+                        _put(out_theta, out_w, wrapped, i, k, out_theta[i])
+                j = j2
+            while j < ne and (direction * (t_eval[j] - t_new) <= 0.0):
+                if t_eval[j] == t_new:
+                    _put(out_theta, out_w, wrapped, j, k_new, th)
+                    out_v[j] = v
+                else:
+                    a, b, kc = _value_at(kind, rset, is_locked, coef, per_starts, per_ends, per_coefs, per_n, t,
+                                         t_eval[j], k)
+                    _put(out_theta, out_w, wrapped, j, kc, a)
+                    out_v[j] = b
+                j += 1
+            if rset == RS_DAMPED:
+                if can_cycle and r.regime == REGIME_NONE:
+                    _watch_cycle(kind, r, coef, t, t_new, y0, th, v, k, off, sec_off, sec_acc, beta, gamma, omega,
+                                 t_bound, rtol, atol)
+            if rset == RS_DRIVEN:
+                if sp_next <= t_new and r.regime == REGIME_NONE:
+                    # The stroboscopic samples in (t, t_new] (mbm.regimes, S1-S7).
+                    sp_next = _watch_strobe(kind, p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det, n_total)
+            if store:
+                _store_window(win_t, win_y, win_coef, n, coef, t_new, theta_of(k_new, th), v)
+            t, y0, y1, h_abs, k = t_new, th, v, h_next, k_new
+            n += 1
+            n_total += 1
+        # A span of zero length: the outputs are the initial state.
+        while j < ne and n_total == 0 and status != STATUS_PAUSED and t_eval[j] == t:
+            _put(out_theta, out_w, wrapped, j, k, y0)
+            out_v[j] = y1
+            j += 1
+        r.t, r.theta, r.v, r.h_abs = t, theta_of(k, y0), y1, h_abs
+        r.phi, r.wind = y0, k
+        r.n_windows = n_total
+        r.j = j
+        r.status = status
+        return n
+
+    return run_entry
+
+
+# Regime sets: which regimes an entry of the loop compiles (numba prunes the other
+# sets' branches, so a scene class pays only for the regimes it can reach).
+RS_PLAIN = 0  # no regime: fixed windows, regimes off, β < 0
+
+
+RS_DAMPED = 1  # undriven, β > 0: the locked regime (L1-L7) and the return map's watch (R1, R2)
+
+
+RS_CONSERVATIVE = 2  # undriven, β = 0: the libration test (C1-C4)
+
+
+RS_DRIVEN = 3  # an AC drive: the driven anchor and the stroboscopic watch (S1-S7)
+
+
+RS_CYCLE = 4  # in the running cycle or a libration: the stored period's windows (R3)
+
+
+RS_STROBE = 5  # phase-locked to the drive: the stored drive period's windows (S6, S7)
+
+
+@numba.njit(cache=True)
+def regime_set(kind, controller, regimes, beta, amp, regime):
+    """The regime set (``RS_*``) of a run record's fields: the entry that runs it.
+
+    A run's set changes only at a regime switch (to RS_CYCLE or RS_STROBE), where the
+    loop pauses so that the caller resumes it through the new set's entry.  The kinds
+    without an error estimate run fixed windows and take no regime.
+    """
+    if kind == KIND_EXACT or kind == KIND_SALAS_TORQUE:
+        return RS_DRIVEN if amp != 0.0 else RS_PLAIN
+    if regime == REGIME_RUNNING or regime == REGIME_LIBRATION:
+        return RS_CYCLE
+    if regime == REGIME_PHASE_LOCKED and kind == KIND_TAYLOR:
+        return RS_STROBE
+    if amp != 0.0:
+        return RS_DRIVEN
+    if regimes == 0 or controller != CONTROLLER_ADAPTIVE or beta < 0.0:
+        return RS_PLAIN
+    return RS_DAMPED if beta > 0.0 else RS_CONSERVATIVE
+
+
+#: Every (kind, regime set) the loop has an entry for: those regime_set can return.
+RUN_TABLE = tuple(
+    [(KIND_TAYLOR, s) for s in (RS_PLAIN, RS_DAMPED, RS_CONSERVATIVE, RS_DRIVEN, RS_CYCLE, RS_STROBE)]
+    + [(KIND_SPLIT, s) for s in (RS_PLAIN, RS_DAMPED, RS_CONSERVATIVE, RS_DRIVEN, RS_CYCLE)]
+    + [(kd, s) for kd in (KIND_EXACT, KIND_SALAS_TORQUE) for s in (RS_PLAIN, RS_DRIVEN)]
+)
+
+
+#: The loop's entry for each (kind id, regime set) of RUN_TABLE.
+RUNNERS = {key: _runner(*key) for key in RUN_TABLE}
+
+
+# numba calls a compiled function through a global: the table's entries as globals of
+# this module for _dispatch.
+(_R_T0, _R_T1, _R_T2, _R_T3, _R_T4, _R_T5, _R_S0, _R_S1, _R_S2, _R_S3, _R_S4,
+ _R_E0, _R_E3, _R_Q0, _R_Q3) = (RUNNERS[key] for key in RUN_TABLE)
+
+
+@numba.njit(**_INLINE)
+def _dispatch(kind, rset, p, t_eval, out, win_t, win_y, win_coef, cancel):
+    """The entry of (``kind``, ``rset``) called: with both constants, one call after
+    pruning; an unknown pair is a status (STATUS_ANCHOR), never another entry."""
+    if kind == KIND_TAYLOR:
+        if rset == RS_PLAIN:
+            return _R_T0(p, t_eval, out, win_t, win_y, win_coef, cancel)
+        if rset == RS_DAMPED:
+            return _R_T1(p, t_eval, out, win_t, win_y, win_coef, cancel)
+        if rset == RS_CONSERVATIVE:
+            return _R_T2(p, t_eval, out, win_t, win_y, win_coef, cancel)
+        if rset == RS_DRIVEN:
+            return _R_T3(p, t_eval, out, win_t, win_y, win_coef, cancel)
+        if rset == RS_CYCLE:
+            return _R_T4(p, t_eval, out, win_t, win_y, win_coef, cancel)
+        if rset == RS_STROBE:
+            return _R_T5(p, t_eval, out, win_t, win_y, win_coef, cancel)
+    elif kind == KIND_SPLIT:
+        if rset == RS_PLAIN:
+            return _R_S0(p, t_eval, out, win_t, win_y, win_coef, cancel)
+        if rset == RS_DAMPED:
+            return _R_S1(p, t_eval, out, win_t, win_y, win_coef, cancel)
+        if rset == RS_CONSERVATIVE:
+            return _R_S2(p, t_eval, out, win_t, win_y, win_coef, cancel)
+        if rset == RS_DRIVEN:
+            return _R_S3(p, t_eval, out, win_t, win_y, win_coef, cancel)
+        if rset == RS_CYCLE:
+            return _R_S4(p, t_eval, out, win_t, win_y, win_coef, cancel)
+    elif kind == KIND_EXACT:
+        if rset == RS_PLAIN:
+            return _R_E0(p, t_eval, out, win_t, win_y, win_coef, cancel)
+        if rset == RS_DRIVEN:
+            return _R_E3(p, t_eval, out, win_t, win_y, win_coef, cancel)
+    elif kind == KIND_SALAS_TORQUE:
+        if rset == RS_PLAIN:
+            return _R_Q0(p, t_eval, out, win_t, win_y, win_coef, cancel)
+        if rset == RS_DRIVEN:
+            return _R_Q3(p, t_eval, out, win_t, win_y, win_coef, cancel)
+    p[0].status = STATUS_ANCHOR
+    return 0
+
+
+@numba.njit(**_INLINE)
+def _record_set(kind, r):
+    return regime_set(kind, r.controller, r.regimes, r.beta, r.drive_amp, r.regime)
+
+
+@numba.njit(**_INLINE)
+def _run_chain(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
+    """A run of kind ``kind`` through its regime sets' entries in turn: a pause at a
+    regime switch is resumed through the new set's entry (every other stop returns)."""
+    r = p[0]
+    n = 0
+    while True:
+        rset = _record_set(kind, r)
+        if rset == RS_PLAIN:
+            n += _dispatch(kind, RS_PLAIN, p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
+        elif rset == RS_DAMPED:
+            n += _dispatch(kind, RS_DAMPED, p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
+        elif rset == RS_CONSERVATIVE:
+            n += _dispatch(kind, RS_CONSERVATIVE, p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
+        elif rset == RS_DRIVEN:
+            n += _dispatch(kind, RS_DRIVEN, p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
+        elif rset == RS_CYCLE:
+            n += _dispatch(kind, RS_CYCLE, p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
+        else:
+            n += _dispatch(kind, RS_STROBE, p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
+        if r.status != STATUS_PAUSED or _record_set(kind, r) == rset:
+            return n
+
+
+# One compiled whole run per kind (every set it may reach), for the compiled callers
+# (solve_njit, the batch).
+@numba.njit(cache=True)
+def run_taylor(p, t_eval, out, win_t, win_y, win_coef, cancel):
+    """:func:`_run_chain` for kind ``"taylor"``; returns the windows taken."""
+    return _run_chain(KIND_TAYLOR, p, t_eval, out, win_t, win_y, win_coef, cancel)
+
+
+@numba.njit(cache=True)
+def run_exact(p, t_eval, out, win_t, win_y, win_coef, cancel):
+    """:func:`_run_chain` for kind ``"exact"``; returns the windows taken."""
+    return _run_chain(KIND_EXACT, p, t_eval, out, win_t, win_y, win_coef, cancel)
+
+
+@numba.njit(cache=True)
+def run_salas_torque(p, t_eval, out, win_t, win_y, win_coef, cancel):
+    """:func:`_run_chain` for kind ``"salas-torque"``; returns the windows taken."""
+    return _run_chain(KIND_SALAS_TORQUE, p, t_eval, out, win_t, win_y, win_coef, cancel)
+
+
+@numba.njit(cache=True)
+def run_split(p, t_eval, out, win_t, win_y, win_coef, cancel):
+    """:func:`_run_chain` for kind ``"split"``; returns the windows taken."""
+    return _run_chain(KIND_SPLIT, p, t_eval, out, win_t, win_y, win_coef, cancel)
+
+
+#: The whole-run entry of each kind id (compiled callers).
+CHAINS = {KIND_TAYLOR: run_taylor, KIND_EXACT: run_exact, KIND_SALAS_TORQUE: run_salas_torque,
+          KIND_SPLIT: run_split}
+
+
+_regime_set = regime_set.py_func
+
+
+def set_of(r):
+    """The regime set of run record ``r`` (a record, or a row of a RUN array), in Python."""
+    return _regime_set(int(r["kind"]), int(r["controller"]), int(r["regimes"]), float(r["beta"]),
+                       float(r["drive_amp"]), int(r["regime"]))
+
+
+def runner_for(r):
+    """The compiled entry (:data:`RUNNERS`) that runs record ``r`` now."""
+    return RUNNERS.get((int(r["kind"]), set_of(r)))
+
+
+def run(p, t_eval, out, win_t, win_y, win_coef, cancel):
+    """Advance the run ``p[0]``: :func:`_run` through the entry of its kind and regime
+    set (:data:`RUNNERS`), resumed through the new set's entry after a regime switch,
+    so that only the sets a run reaches are compiled.  Returns the windows taken.
+    """
+    n = 0
+    while True:
+        rset = set_of(p[0])
+        entry = RUNNERS.get((int(p[0]["kind"]), rset))
+        if entry is None:
+            p[0]["status"] = STATUS_ANCHOR
+            return n
+        n += entry(p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
+        if p[0]["status"] != STATUS_PAUSED or set_of(p[0]) == rset:
+            return n
+
+
+@numba.njit(cache=True)
+def _run_any(p, t_eval, out, win_t, win_y, win_coef, cancel):
+    # The kind read from the record, for a batch of mixed kinds: calls the entries.
+    kind = p[0].kind
+    if kind == KIND_TAYLOR:
+        return run_taylor(p, t_eval, out, win_t, win_y, win_coef, cancel)
+    elif kind == KIND_EXACT:
+        return run_exact(p, t_eval, out, win_t, win_y, win_coef, cancel)
+    elif kind == KIND_SALAS_TORQUE:
+        return run_salas_torque(p, t_eval, out, win_t, win_y, win_coef, cancel)
+    elif kind == KIND_SPLIT:
+        return run_split(p, t_eval, out, win_t, win_y, win_coef, cancel)
+    p[0].status = STATUS_ANCHOR
+    return 0

@@ -1,0 +1,322 @@
+"""The running cycle and the libration in the loop: the return map's watch and the stored period.
+
+After each ordinary window the loop watches the return map of θ ≡ θ_s (mod 2π)
+(:func:`_cycle_watch_for`, R1, R2 of :mod:`mbm.regimes.cycle`); once it has converged,
+the windows are the stored period shifted (R3): the period's windows are re-taken once
+from the cycle's anchor (:func:`_period_windows`) and every value looked up in them
+(:func:`_period_lookup`).  A libration (:mod:`mbm.regimes.libration`) uses the same
+stored period with a double-double period (C3).
+"""
+
+import math
+import numba
+import numpy as np
+
+from ..approximants.taylor import taylor_workspace
+from ..core.controller import _EPS, _adaptive, _first
+from ..core.window import (
+    KIND_SPLIT,
+    KIND_TAYLOR,
+    anchor,
+    evaluate,
+    window_log_eps,
+)
+from .common import REGIME_RUNNING
+from .cycle import (
+    CROSSING_ITERATIONS,
+    CYCLE_AVERAGE_PERIODS,
+    CYCLE_MAX_WINDOWS,
+    cycle_switch,
+)
+from ..special.dd import two_prod, two_sum
+from ..status import STATUS_OK
+
+# Small per-window pieces are inlined into their callers, where the kind is a constant
+# (numba prunes the other kinds' branches before compiling); large ones are compiled
+# once per kind and called.
+_INLINE = dict(cache=True, inline="always")
+
+
+# A section crossing's Newton stops once its next correction, (θ''/2θ')·d² after a
+# step d, is below this many ulps of s (quadratic convergence: the step after the
+# last one made would be below it; 1 would ask for the last bit).
+CROSSING_NEWTON_SAFETY = 2.0
+
+
+_TWO_PI = 2.0 * math.pi
+
+
+# Windows a stored period's arrays hold at first (doubled as needed): a period takes
+# ~10-100 windows at the tolerances in use.
+PERIOD_STORE_START = 64
+
+
+@numba.njit(**_INLINE)
+def _crossing(kind, coef, h, f0, f1, level, acc0, beta, w2):
+    """Where the window's θ(s) crosses ``level`` in (0, h] (f0, f1: θ − level at 0, h).
+
+    Safeguarded Newton (θ' from the formula) inside the sign bracket (R1).  ``acc0``
+    is γ − ω² sin(level) and ``w2`` ω², so that θ'' = acc0 − βθ' on the level (the
+    equation of motion).  Newton's next correction after a step d is about
+    (θ''/2θ')·d²; once that is below CROSSING_NEWTON_SAFETY ulps of s, the step's end
+    is the root, and θ' there is carried from the last evaluation by d·θ''.  That
+    carry is off by at most ~1.5(ω²|θ'| + β|θ''|)·d² (θ'' varies with θ − level = −θ'd
+    and with t), which must be below CROSSING_NEWTON_SAFETY ulps of θ' too.  Then the
+    usual last two evaluations (one to see the step vanish, one for θ' at the root)
+    are not made: two evaluations per crossing instead of four on a running scene.
+    Returns ``(s, θ'(s))``.
+    """
+    lo, hi, flo = 0.0, h, f0
+    s = h * f0 / (f0 - f1) if f0 != f1 else h
+    v = 0.0
+    for _ in range(CROSSING_ITERATIONS):
+        a, v = evaluate(kind, coef, s)
+        fa = a - level
+        if fa == 0.0:
+            break
+        if (fa > 0.0) == (flo > 0.0):
+            lo, flo = s, fa
+        else:
+            hi = s
+        s_new = s - fa / v if v != 0.0 else 0.5 * (lo + hi)
+        if not (lo < s_new < hi):
+            s_new = 0.5 * (lo + hi)
+        else:
+            d = s_new - s
+            d2 = d * d
+            acc = acc0 - beta * v
+            tol_v = CROSSING_NEWTON_SAFETY * _EPS * abs(v)
+            if (abs(acc) * d2 <= 2.0 * tol_v * abs(s_new)
+                    and 1.5 * (w2 * abs(v) + beta * abs(acc)) * d2 <= tol_v):
+                return s_new, v + d * acc
+        if abs(s_new - s) <= 4.0 * _EPS * max(abs(s), 1e-300):
+            s = s_new
+            a, v = evaluate(kind, coef, s)
+            break
+        s = s_new
+    return s, v
+
+
+@numba.njit(**_INLINE)
+def _cycle_phase(c, t):
+    """``(n, s)``: τ = t + t_off = nT + s, 0 ≤ s ≤ T, for a cycle window ``c`` (R3, C3).
+
+    With a double-double period (c[14] ≠ 0, a libration) n·T is formed exactly, so
+    the period's rounding to a double does not accumulate over n periods.
+    """
+    period, lo = c[3], c[14]
+    tau = t + c[4]
+    n = float(math.floor(tau / period))
+    if lo == 0.0:
+        s = tau - n * period
+    else:
+        ph, pl = two_prod(n, period)
+        sh, se = two_sum(tau, -ph)
+        s = sh + ((se - pl) - n * lo)
+    return n, min(max(s, 0.0), period)
+
+
+@numba.njit(**_INLINE)
+def _period_windows(kind, c):
+    """The windows of a cycle window's stored period, re-taken from its anchor (R3).
+
+    The same approximant and controller as the run, span [0, T]: a function of the
+    anchor only, so every path and the dense output evaluate the same windows.
+
+    Returns
+    -------
+    starts : ndarray, shape (n + 1,)
+        Window starts from the anchor (starts[n] = T).
+    ends : ndarray, shape (n + 1, 2)
+        The state at each start (row 0 the anchor; row i + 1 the end of window i).
+    coefs : ndarray, shape (n, width)
+        The windows' coefficient vectors.
+    n : int
+        Windows in the period; −1 where the run failed or took more than
+        CYCLE_MAX_WINDOWS.
+    """
+    theta_c, v_c, period = c[1], c[2], c[3]
+    beta, gamma, omega, rtol, atol = c[5], c[6], c[7], c[8], c[9]
+    karg = int(c[11])
+    error_order = int(c[12])
+    log_eps = window_log_eps(rtol)
+    off = c[13] * _TWO_PI
+    cap = PERIOD_STORE_START
+    starts = np.empty(cap + 1)
+    ends = np.empty((cap + 1, 2))
+    # Allocated at the first window, when its width is known (one anchor call site:
+    # each inlined anchor is the whole recurrence, compiled again).
+    coefs = np.empty((0, 0))
+    ws_coef, ws_scratch = taylor_workspace(karg)
+    starts[0], ends[0, 0], ends[0, 1] = 0.0, theta_c, v_c
+    tt, a0, a1, h = 0.0, theta_c, v_c, -1.0
+    for n in range(CYCLE_MAX_WINDOWS):
+        coef = anchor(kind, karg, beta, gamma, omega, a0, a1, ws_coef, ws_scratch)
+        if coef[0] != 0.0:
+            break
+        if n == 0:
+            coefs = np.empty((cap, coef.size))
+        if h <= 0.0:
+            h = _first(kind, coef, tt, a0, a1, off, 1.0, period, omega, math.inf, rtol, atol,
+                             error_order, log_eps)
+        st, t_new, th, v, h_next = _adaptive(kind, coef, tt, a0, a1, off, 1.0, period, h, math.inf,
+                                                   rtol, atol, error_order, log_eps)
+        if st != STATUS_OK:
+            break
+        # Element loops, not slice assignments: those compile numpy's broadcast-error
+        # machinery (a few seconds of a cold start) for shapes that always agree here.
+        if n == cap:
+            cap *= 2
+            starts2 = np.empty(cap + 1)
+            ends2 = np.empty((cap + 1, 2))
+            coefs2 = np.empty((cap, coef.size))
+            for q in range(n + 1):
+                starts2[q] = starts[q]
+                ends2[q, 0], ends2[q, 1] = ends[q, 0], ends[q, 1]
+            for q in range(n):
+                for w in range(coef.size):
+                    coefs2[q, w] = coefs[q, w]
+            starts, ends, coefs = starts2, ends2, coefs2
+        for w in range(coef.size):
+            coefs[n, w] = coef[w]
+        starts[n + 1], ends[n + 1, 0], ends[n + 1, 1] = t_new, th, v
+        if t_new >= period:
+            return starts, ends, coefs, n + 1
+        tt, a0, a1, h = t_new, th, v, h_next
+    return starts, ends, coefs, -1
+
+
+@numba.njit(**_INLINE)
+def _period_lookup(kind, c, starts, ends, coefs, n, t):
+    """A cycle window ``c`` at ``t`` from its stored period (:func:`_period_windows`).
+
+    Returns ``(φ, θ', k)``: θ = 2πk + φ (:func:`theta_of`), k the anchor's winding
+    count plus the periods passed times the winding sign (0 for a libration).  The
+    value is the first window ending at or after s (its end state where it ends at
+    s), as a run to s would give it.
+    """
+    if n < 1:
+        return math.nan, math.nan, 0.0
+    k_n, s = _cycle_phase(c, t)
+    lo, hi = 0, n - 1
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if starts[mid + 1] >= s:
+            hi = mid
+        else:
+            lo = mid + 1
+    if starts[lo + 1] == s:
+        th, v = ends[lo + 1, 0], ends[lo + 1, 1]
+    else:
+        th, v = evaluate(kind, coefs[lo], s - starts[lo])
+    return th, v, c[13] + c[10] * k_n
+
+
+# The stored period re-runs a period of windows (a whole controller and step): compiled
+# once per kind that can reach a cycle (the adaptive ones) and called, not inlined at
+# each call site (inlined, it tripled the loop's compile).
+@numba.njit(cache=True)
+def _period_windows_taylor(c):
+    return _period_windows(KIND_TAYLOR, c)
+
+
+@numba.njit(cache=True)
+def _period_windows_split(c):
+    return _period_windows(KIND_SPLIT, c)
+
+
+@numba.njit(**_INLINE)
+def _period_store(kind, c):
+    """:func:`_period_windows` of kind ``kind`` through its compiled entry."""
+    if kind == KIND_SPLIT:
+        return _period_windows_split(c)
+    return _period_windows_taylor(c)
+
+
+# The lookup likewise: one compiled copy serves the loop and both dense outputs.
+@numba.njit(cache=True)
+def _period_lookup_taylor(c, starts, ends, coefs, n, t):
+    return _period_lookup(KIND_TAYLOR, c, starts, ends, coefs, n, t)
+
+
+@numba.njit(cache=True)
+def _period_lookup_split(c, starts, ends, coefs, n, t):
+    return _period_lookup(KIND_SPLIT, c, starts, ends, coefs, n, t)
+
+
+@numba.njit(**_INLINE)
+def _period_value(kind, c, starts, ends, coefs, n, t):
+    """:func:`_period_lookup` of kind ``kind`` through its compiled entry."""
+    if kind == KIND_SPLIT:
+        return _period_lookup_split(c, starts, ends, coefs, n, t)
+    return _period_lookup_taylor(c, starts, ends, coefs, n, t)
+
+
+def _cycle_crossing_for(kind):
+    """The return map's step at a crossing (R1, R2), compiled for kind ``kind`` (a
+    constant of the closure: numba prunes the other kinds' kernels) and called from
+    :func:`_watch_cycle` only in a window that crosses a section level (rare: once a
+    period), so its Newton iteration is compiled once and the common window pays nothing."""
+
+    @numba.njit(cache=True)
+    def cycle_crossing(r, coef, t, t_new, y0, th, v, k, off, sec_off, sec_acc, beta, gamma, omega, t_bound,
+                       rtol, atol, m0, m1):
+        """The window [t, t_new] from φ = ``y0`` to (``th``, ``v``) crossed the level between
+        sections ``m0`` and ``m1`` (|m1 − m0| = 1): its time and speed into the return map
+        in the run record ``r``, and the switch to the running cycle once converged."""
+        sgn = 1.0 if m1 > m0 else -1.0
+        level = sec_off + _TWO_PI * max(m0, m1)
+        sx, vx = _crossing(kind, coef, t_new - t, y0 - level, th - level, level, sec_acc, beta,
+                           omega * omega)
+        tx = t + sx
+        if r.sec_n > 0 and r.sec_sign == sgn:
+            period = tx - r.sec_t
+            dv = vx - r.sec_v
+            if r.cyc_k > 0:
+                # Converged: the period averaged over CYCLE_AVERAGE_PERIODS returns (R2).
+                r.cyc_k += 1
+                if r.cyc_k > CYCLE_AVERAGE_PERIODS:
+                    r.regime = REGIME_RUNNING
+                    r.t_regime = t_new
+                    r.cyc_T = (tx - r.cyc_t) / CYCLE_AVERAGE_PERIODS
+                    r.cyc_theta, r.cyc_v, r.cyc_t, r.cyc_sign = level, vx, tx, sgn
+                    r.cyc_wind = k
+            elif r.sec_n >= 2 and cycle_switch(
+                    dv, r.sec_dv, period - r.sec_T, vx, off + level, r.sec_vmax,
+                    abs(gamma) + beta * r.sec_vmax + omega * omega, (t_bound - t_new) / period, rtol,
+                    atol):
+                r.cyc_k, r.cyc_t = 1, tx
+            r.sec_dv, r.sec_T = dv, period
+            r.sec_n += 1
+        else:
+            r.sec_n, r.sec_sign, r.cyc_k = 1, sgn, 0
+        r.sec_t, r.sec_v, r.sec_vmax = tx, vx, max(abs(vx), abs(v))
+
+    return cycle_crossing
+
+
+_cycle_crossing_taylor = _cycle_crossing_for(KIND_TAYLOR)
+_cycle_crossing_split = _cycle_crossing_for(KIND_SPLIT)
+
+
+@numba.njit(**_INLINE)
+def _watch_cycle(kind, r, coef, t, t_new, y0, th, v, k, off, sec_off, sec_acc, beta, gamma, omega, t_bound,
+                 rtol, atol):
+    """After an ordinary window [t, t_new] from φ = ``y0`` to (``th``, ``v``): the return
+    map's bookkeeping in the run record ``r`` (a crossing of θ_s + 2πm, its period and
+    speed; the switch to the running cycle, ``r.regime``, once converged).  A window
+    that crosses a level calls its kind's compiled :func:`_cycle_crossing_for`."""
+    # The return map (mbm.regimes, R1, R2): a crossing of a saddle level
+    # θ = θ_s + 2πm in this window.
+    m0 = math.floor((y0 - sec_off) / _TWO_PI)
+    m1 = math.floor((th - sec_off) / _TWO_PI)
+    r.sec_vmax = max(r.sec_vmax, abs(v))
+    if abs(m1 - m0) == 1.0:
+        if kind == KIND_TAYLOR:
+            _cycle_crossing_taylor(r, coef, t, t_new, y0, th, v, k, off, sec_off, sec_acc, beta, gamma, omega,
+                                   t_bound, rtol, atol, m0, m1)
+        elif kind == KIND_SPLIT:
+            _cycle_crossing_split(r, coef, t, t_new, y0, th, v, k, off, sec_off, sec_acc, beta, gamma, omega,
+                                  t_bound, rtol, atol, m0, m1)
+    elif m1 != m0:
+        r.sec_n, r.cyc_k = 0, 0

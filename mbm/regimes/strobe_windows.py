@@ -1,0 +1,279 @@
+"""Phase-locked to the drive in the loop: the stroboscopic watch and the stored drive period.
+
+After each window of a driven run the loop takes the stroboscopic samples at
+t_s + nT_d (:func:`_strobe_samples`, S1–S7 of :mod:`mbm.regimes.strobe`); once their
+deviations have converged for good, the windows are the stored drive period (q drive
+periods, S7) from the anchor sample, re-run from it at each evaluation
+(:func:`_strobe_eval`, S6).
+"""
+
+import math
+import numba
+import numpy as np
+
+from ..approximants.taylor import drive_phase_sincos, taylor_workspace
+from ..core.controller import _adaptive, _first
+from ..core.window import (
+    KIND_TAYLOR,
+    TWO_PI_A,
+    TWO_PI_B,
+    anchor_driven,
+    evaluate,
+    window_log_eps,
+    wrap,
+)
+from .common import REGIME_NONE, REGIME_PHASE_LOCKED, SWITCH_SAFETY
+from .cycle import CYCLE_MAX_WINDOWS
+from .cycle_windows import _TWO_PI
+from .strobe import (
+    STROBE_CODE,
+    STROBE_DISTINCT,
+    STROBE_MAX_PERIODS,
+    STROBE_RING,
+    strobe_period,
+    strobe_phase,
+    strobe_split,
+    strobe_switch,
+    strobe_time,
+)
+from ..status import STATUS_OK
+
+# Small per-window pieces are inlined into their callers, where the kind is a constant
+# (numba prunes the other kinds' branches before compiling); large ones are compiled
+# once per kind and called.
+_INLINE = dict(cache=True, inline="always")
+
+
+@numba.njit(**_INLINE)
+def _strobe_eval(kind, c, t):
+    """A phase-locked window (coefficients: regimes.strobe_coef) at time ``t`` (S6).
+
+    ``t`` is the absolute time (not from the window's start): t − t_a is formed
+    exactly.  Returns ``(φ, θ', k)``: θ = 2πk + φ (:func:`theta_of`), k the anchor's
+    winding count, the turns of the re-run so far and p per period passed.
+    """
+    phi_a, v_a, k_a, t_a, q, turns, psi = c[1], c[2], c[3], c[4], c[5], c[6], c[7]
+    beta, gamma, omega, amp, freq, rtol, atol = c[8], c[9], c[10], c[11], c[12], c[13], c[14]
+    code = int(c[15])
+    karg = code % STROBE_CODE
+    error_order = code // STROBE_CODE
+    log_eps = window_log_eps(rtol)
+    p_hi, p_lo = strobe_period(freq, q)
+    n, s = strobe_split(t, t_a, p_hi, p_lo)
+    tt, kk, a0, a1, h = 0.0, 0.0, phi_a, v_a, -1.0
+    ws_coef, ws_scratch = taylor_workspace(karg)
+    for _ in range(CYCLE_MAX_WINDOWS):
+        if not (-math.pi <= a0 <= math.pi):
+            kk, a0 = wrap(kk, a0)
+        # The tolerance scale of the anchor's period, the same in every period.
+        off = (k_a + kk) * _TWO_PI
+        # The drive at t_a + tt: phase Ω·tt + ψ_a (S6).
+        coef = anchor_driven(kind, karg, beta, gamma, omega, amp, freq, psi, tt, a0, a1, ws_coef, ws_scratch)
+        if coef[0] != 0.0:
+            break
+        if h <= 0.0:
+            h = _first(kind, coef, tt, a0, a1, off, 1.0, p_hi, omega, math.inf, rtol, atol,
+                             error_order, log_eps)
+        st, t_new, th, v, h_next = _adaptive(kind, coef, tt, a0, a1, off, 1.0, p_hi, h, math.inf,
+                                                   rtol, atol, error_order, log_eps)
+        if st != STATUS_OK:
+            break
+        if t_new >= s:
+            if t_new != s:
+                th, v = evaluate(kind, coef, s - tt)
+            return th, v, k_a + kk + turns * n
+        tt, a0, a1, h = t_new, th, v, h_next
+    return math.nan, math.nan, 0.0
+
+
+# As the cycle's: compiled once (the drive is Taylor's only) and called, not inlined.
+@numba.njit(cache=True)
+def _strobe_eval_taylor(c, t):
+    return _strobe_eval(KIND_TAYLOR, c, t)
+
+
+@numba.njit(**_INLINE)
+def _strobe_value(kind, c, t):
+    """:func:`_strobe_eval` of kind ``kind`` through its compiled entry (Taylor only)."""
+    if kind == KIND_TAYLOR:
+        return _strobe_eval_taylor(c, t)
+    return math.nan, math.nan, 0.0
+
+
+@numba.njit(**_INLINE)
+def _strobe_samples(kind, p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det, n_total):
+    """The stroboscopic samples of the window [t, t_new] (formula ``coef``, winding count
+    ``k``, ``off`` = 2πk) and the switch rule at each (mbm.regimes, S1-S7): the run
+    record ``p[0]`` keeps the samples' state and, on a switch, the anchor.  ``sp_hi``,
+    ``sp_lo``: T_d (regimes.strobe_period); ``sp_det``: e^{−βT_d}; ``n_total``: the
+    run's windows before this one.  Returns the next sample's time (after t_new)."""
+    r = p[0]
+    beta, gamma, omega = r.beta, r.gamma, r.omega
+    amp, freq, phase = r.drive_amp, r.drive_freq, r.drive_phase
+    rtol, atol = r.rtol, r.atol
+    while True:
+        tn, rn = strobe_time(r.str_t0, float(r.str_n), sp_hi, sp_lo)
+        if not (tn <= t_new):
+            return tn
+        a, b = evaluate(kind, coef, tn - t)
+        # (S1): carried to the exact time t_s + nT_d, to first order.
+        su, _ = drive_phase_sincos(freq, phase, tn)
+        acc = (gamma + amp * su) - beta * b - omega * omega * math.sin(a)
+        ac, bc = a + b * rn, b + acc * rn
+        if r.str_n >= 2:
+            # (S1): the deviation over the last drive period, p turns.
+            dphi = ac - r.str_phi
+            m = np.floor(dphi / _TWO_PI + 0.5)
+            turns = (k - r.str_k) + m
+            dth = (dphi - m * TWO_PI_A) - m * TWO_PI_B
+            dv = bc - r.str_v
+            tau = math.nan
+            if r.str_m >= 3 and turns == r.str_p:
+                # (S5): the switch rule; the anchor is this sample at t_n itself.
+                scale = SWITCH_SAFETY * min(atol + rtol * abs(b), omega * (atol + rtol * abs(off + a)))
+                ok, tau, r.str_rho, _, _ = strobe_switch(
+                    r.str_d3t, r.str_d3v, r.str_d2t, r.str_d2v, r.str_d1t, r.str_d1v, dth, dv, sp_det,
+                    omega, scale, r.str_tau1, r.str_tau2, r.str_rho)
+                # (S6): a period the stored re-run can take (it stops at CYCLE_MAX_WINDOWS).
+                if ok and n_total + 1 - r.str_nw <= CYCLE_MAX_WINDOWS // 2:
+                    r.regime = REGIME_PHASE_LOCKED
+                    r.t_regime = t_new
+                    r.str_ta, r.str_psi = tn, strobe_phase(freq, phase, tn)
+                    r.str_k, r.str_phi, r.str_v = k, a, b
+                    r.str_n += 1
+                    return math.inf
+            if r.str_m > 0 and turns == r.str_p:
+                r.str_d3t, r.str_d3v = r.str_d2t, r.str_d2v
+                r.str_d2t, r.str_d2v = r.str_d1t, r.str_d1v
+                r.str_m = min(r.str_m + 1, 3)
+            else:
+                r.str_p, r.str_m, r.str_rho = turns, 1, math.nan
+            r.str_d1t, r.str_d1v = dth, dv
+            r.str_tau2, r.str_tau1 = r.str_tau1, tau
+        # (S7): the maps P^q, q = 2 .. STROBE_MAX_PERIODS (q = 1 first, above).
+        scale = SWITCH_SAFETY * min(atol + rtol * abs(b), omega * (atol + rtol * abs(off + a)))
+        qs, ps = _strobe_subharmonic(p, k, ac, bc, scale, sp_hi, n_total)
+        if qs > 0:
+            r.regime = REGIME_PHASE_LOCKED
+            r.t_regime = t_new
+            r.str_ta, r.str_psi = tn, strobe_phase(freq, phase, tn)
+            r.str_k, r.str_phi, r.str_v = k, a, b
+            r.str_p, r.str_q = ps, float(qs)
+            r.str_n += 1
+            return math.inf
+        slot = 4 * (r.str_n % STROBE_RING)
+        r.str_ring[slot] = k
+        r.str_ring[slot + 1] = ac
+        r.str_ring[slot + 2] = bc
+        r.str_ring[slot + 3] = float(n_total + 1)
+        r.str_k, r.str_phi, r.str_v = k, ac, bc
+        r.str_n += 1
+        r.str_nw = n_total + 1
+
+
+# _strobe_dev and _strobe_subharmonic are called, not inlined: they are kind-free, run once
+# per drive period of a driven run, and inlined at their call sites they added ~10 s to
+# run_taylor's compile from an empty cache (49 -> 39 s, measured).
+@numba.njit(cache=True)
+def _strobe_dev(r, n, i, d, k, phi, v):
+    """``(turns, Δθ, Δθ')`` of z_i − z_{i−d} (S1's arithmetic; S7): samples before the
+    current one, index ``n`` (state ``k``, ``phi``, ``v``), from the record's ring."""
+    ring = r.str_ring
+    if i == n:
+        k1, f1, v1 = k, phi, v
+    else:
+        s1 = 4 * (i % STROBE_RING)
+        k1, f1, v1 = ring[s1], ring[s1 + 1], ring[s1 + 2]
+    s0 = 4 * ((i - d) % STROBE_RING)
+    dphi = f1 - ring[s0 + 1]
+    m = np.floor(dphi / _TWO_PI + 0.5)
+    turns = (k1 - ring[s0]) + m
+    return turns, (dphi - m * TWO_PI_A) - m * TWO_PI_B, v1 - ring[s0 + 2]
+
+
+@numba.njit(cache=True)
+def _strobe_subharmonic(p, k, phi, v, scale, sp_hi, n_total):
+    """The switch rule of the maps P^q, q = 2 .. STROBE_MAX_PERIODS, at the current
+    sample (index ``str_n``, state ``k``, ``phi``, ``v`` carried to the exact time;
+    mbm.regimes S7), smallest q first: ``(q, p)`` of the orbit to switch to, or (0, 0).
+    ``scale``: S5's at this sample; ``sp_hi``: T_d; ``n_total``: the run's windows
+    before this window.  Updates the fits' state of every q tested."""
+    r = p[0]
+    beta, omega = r.beta, r.omega
+    n = r.str_n
+    for q in range(2, STROBE_MAX_PERIODS + 1):
+        if n < 4 * q + 1:
+            break
+        # The last four deviations of P^q, z_i − z_{i−q}, i = n − 3q, .., n.
+        p3, d3t, d3v = _strobe_dev(r, n, n - 3 * q, q, k, phi, v)
+        p2, d2t, d2v = _strobe_dev(r, n, n - 2 * q, q, k, phi, v)
+        p1, d1t, d1v = _strobe_dev(r, n, n - q, q, k, phi, v)
+        p0, ct, cv = _strobe_dev(r, n, n, q, k, phi, v)
+        tau, bound, ok = math.nan, math.inf, False
+        if p3 == p0 and p2 == p0 and p1 == p0:
+            # (S7): S3-S5 on P^q, det DP^q = e^{−βqT_d} exactly.
+            det = math.exp(-beta * (q * sp_hi))
+            ok, tau, r.str_qrho[q], _, bound = strobe_switch(
+                d3t, d3v, d2t, d2v, d1t, d1v, ct, cv, det, omega, scale, r.str_qtau1[q], r.str_qtau2[q],
+                r.str_qrho[q])
+            # (S6): q periods the stored re-run can take.
+            nw = r.str_ring[4 * ((n - q) % STROBE_RING) + 3]
+            ok = ok and n_total + 1 - nw <= CYCLE_MAX_WINDOWS // 2
+            base = q * STROBE_MAX_PERIODS
+            for d in range(1, q):
+                # (S7): every other class within the scale of its limit, and the classes
+                # d periods apart with distinct limits, for every d | q, d < q.
+                b_d = r.str_qb[base + (n - d) % q]
+                ok = ok and b_d <= scale
+                if ok and q % d == 0:
+                    _, sdt, sdv = _strobe_dev(r, n, n, d, k, phi, v)
+                    sep = math.sqrt((omega * sdt) ** 2 + sdv * sdv)
+                    ok = sep - bound - b_d > STROBE_DISTINCT * scale
+        else:
+            r.str_qrho[q] = math.nan
+            # Not (yet) the linear map's deviations: this class's last bound is void.
+            r.str_qb[q * STROBE_MAX_PERIODS + n % q] = math.inf
+        r.str_qtau2[q] = r.str_qtau1[q]
+        r.str_qtau1[q] = tau
+        if bound < math.inf:
+            # (S7): a tail bound covers every later sample of its class, so a class's
+            # last finite one stands until its next.
+            r.str_qb[q * STROBE_MAX_PERIODS + n % q] = bound
+        if ok:
+            return q, p0
+    return 0, 0.0
+
+
+@numba.njit(cache=True)
+def _strobe_setup(r, t, freq, beta, n_total):
+    """The stroboscopic watch's constants of a driven run (S1-S7): ``(T_d hi, T_d lo,
+    e^{−βT_d}, the next sample's time)``; a fresh run sets the samples' origin."""
+    sp_hi, sp_lo = strobe_period(freq, 1.0)
+    sp_det = math.exp(-beta * sp_hi)  # (S2): det DP, exactly e^{−βT_d}
+    if n_total == 0:
+        r.str_t0, r.str_n, r.str_m = t, 1, 0
+        r.str_tau1, r.str_tau2, r.str_rho = math.nan, math.nan, math.nan
+        # (S7): the maps P^q, q > 1.
+        r.str_q = 1.0
+        for q in range(STROBE_MAX_PERIODS + 1):
+            r.str_qtau1[q], r.str_qtau2[q], r.str_qrho[q] = math.nan, math.nan, math.nan
+        for q in range((STROBE_MAX_PERIODS + 1) * STROBE_MAX_PERIODS):
+            r.str_qb[q] = math.inf
+    sp_next = math.inf
+    if r.regime == REGIME_NONE:
+        sp_next = strobe_time(r.str_t0, float(r.str_n), sp_hi, sp_lo)[0]
+    return sp_hi, sp_lo, sp_det, sp_next
+
+
+@numba.njit(cache=True)
+def _strobe_samples_taylor(p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det, n_total):
+    return _strobe_samples(KIND_TAYLOR, p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det, n_total)
+
+
+@numba.njit(**_INLINE)
+def _watch_strobe(kind, p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det, n_total):
+    """:func:`_strobe_samples` through its compiled entry (Taylor only: the only kind
+    that integrates a drive; no sample otherwise)."""
+    if kind == KIND_TAYLOR:
+        return _strobe_samples_taylor(p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det, n_total)
+    return math.inf

@@ -1,0 +1,177 @@
+"""The loop's entries per (kind, regime set): the table, the dispatch, and what a first call compiles."""
+
+import itertools
+import json
+import os
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import mbm
+from mbm import dense, fast, loop
+from mbm.regimes import (
+    REGIME_LIBRATION,
+    REGIME_LOCKED,
+    REGIME_NONE,
+    REGIME_PHASE_LOCKED,
+    REGIME_RUNNING,
+)
+
+ROOT = Path(__file__).resolve().parent.parent
+KINDS = (loop.KIND_TAYLOR, loop.KIND_EXACT, loop.KIND_SALAS_TORQUE, loop.KIND_SPLIT)
+REGIMES = (REGIME_NONE, REGIME_LOCKED, REGIME_RUNNING, REGIME_LIBRATION, REGIME_PHASE_LOCKED)
+
+
+def test_every_record_has_an_entry_and_a_dense_evaluator():
+    # regime_set over every combination of the fields it reads lands in the table
+    for kind, ctl, regimes, beta, amp, regime in itertools.product(
+            KINDS, (loop.CONTROLLER_FIXED, loop.CONTROLLER_ADAPTIVE), (0, 1), (-0.1, 0.0, 0.1), (0.0, 0.5),
+            REGIMES):
+        if regime == REGIME_PHASE_LOCKED and kind != loop.KIND_TAYLOR:
+            continue  # only Taylor integrates a drive, so only it can phase-lock
+        rset = loop.regime_set.py_func(kind, ctl, regimes, beta, amp, regime)
+        assert (kind, rset) in loop.RUN_TABLE
+        assert (kind, rset) in loop.RUNNERS and (kind, rset) in fast.ENTRIES
+        assert (kind, dense.dense_set(regime)) in dense.DENSE_TABLE or kind in (loop.KIND_EXACT,
+                                                                             loop.KIND_SALAS_TORQUE)
+    assert set(loop.RUNNERS) == set(loop.RUN_TABLE) == set(fast.ENTRIES)
+
+
+def test_regime_sets_of_the_scene_classes():
+    rs = loop.regime_set.py_func
+    T, A = loop.KIND_TAYLOR, loop.CONTROLLER_ADAPTIVE
+    assert rs(T, A, 1, 0.1, 0.0, REGIME_NONE) == loop.RS_DAMPED
+    assert rs(T, A, 1, 0.1, 0.0, REGIME_LOCKED) == loop.RS_DAMPED  # the locked window is the set's own
+    assert rs(T, A, 1, 0.1, 0.0, REGIME_RUNNING) == loop.RS_CYCLE
+    assert rs(T, A, 1, 0.0, 0.0, REGIME_NONE) == loop.RS_CONSERVATIVE
+    assert rs(T, A, 1, 0.0, 0.0, REGIME_LIBRATION) == loop.RS_CYCLE
+    assert rs(T, A, 1, 0.1, 0.5, REGIME_NONE) == loop.RS_DRIVEN
+    assert rs(T, A, 1, 0.1, 0.5, REGIME_PHASE_LOCKED) == loop.RS_STROBE
+    assert rs(T, A, 0, 0.1, 0.0, REGIME_NONE) == loop.RS_PLAIN  # regimes off
+    assert rs(T, loop.CONTROLLER_FIXED, 1, 0.1, 0.0, REGIME_NONE) == loop.RS_PLAIN  # fixed windows
+    assert rs(T, A, 1, -0.1, 0.0, REGIME_NONE) == loop.RS_PLAIN  # β < 0: no regime applies
+    assert rs(loop.KIND_SALAS_TORQUE, loop.CONTROLLER_FIXED, 1, 0.1, 0.0, REGIME_NONE) == loop.RS_PLAIN
+
+
+def test_an_entry_called_for_another_set_pauses_and_run_resumes_through_the_right_one():
+    # a record in the running cycle handed to the damped entry: no window of the wrong
+    # kind is taken (it pauses at once), and loop.run takes the cycle entry
+    model, y0, span = mbm.Pendulum(0.1, 1.2), [0.0, 0.0], (0.0, 600.0)
+    te = np.linspace(*span, 7)
+    want = mbm.solve(model, span, y0, rtol=1e-8, atol=1e-8, t_eval=te)
+    assert want.regime == "running"
+    ig = mbm.Integrator(model, rtol=1e-8, atol=1e-8)
+    p = np.array(ig._words.copy().view(loop.RUN))
+    p[0]["t"], p[0]["theta"], p[0]["v"], p[0]["t_bound"] = span[0], y0[0], y0[1], span[1]
+    p[0]["call_windows"] = 0
+    out = np.empty((2, te.size))
+    args = (te, out, np.empty(0), np.empty((0, 2)), np.empty((0, 0)), np.zeros(1, np.int64))
+    n = loop.run(p, *args)
+    assert p[0]["status"] == loop.STATUS_OK and p[0]["regime"] == REGIME_RUNNING
+    np.testing.assert_array_equal(out, want.y)
+    assert n == want.n_windows
+    # now rewound to just after the switch: the damped entry refuses to go on
+    damped = loop.RUNNERS[(loop.KIND_TAYLOR, loop.RS_DAMPED)]
+    p2 = p.copy()
+    p2[0]["status"] = loop.STATUS_OK
+    p2[0]["t_bound"] = span[1] + 10.0
+    assert damped(p2, np.empty(0), np.empty((2, 0)), *args[2:]) == 0
+    assert p2[0]["status"] == loop.STATUS_PAUSED and p2[0]["t"] == p[0]["t"]
+
+
+def test_an_unknown_kind_is_a_status():
+    p = mbm.Integrator(mbm.Pendulum(0.1, 0.3))._words.copy().view(loop.RUN)
+    p[0]["kind"] = 99
+    assert loop.run(p, np.empty(0), np.empty((2, 0)), np.empty(0), np.empty((0, 2)), np.empty((0, 0)),
+                    np.zeros(1, np.int64)) == 0
+    assert p[0]["status"] == loop.STATUS_ANCHOR
+
+
+_COMPILED = textwrap.dedent("""
+    import json, math, sys
+    import numpy as np
+    from numba.core import event
+    names = set()
+    class L(event.Listener):
+        def on_start(self, ev):
+            f = ev.data["dispatcher"].py_func
+            names.add(f.__module__ + "." + f.__qualname__)
+        def on_end(self, ev):
+            pass
+    event.register("numba:compile", L())
+    import mbm
+    from scipy.integrate import solve_ivp
+    m = mbm.Pendulum(beta=0.1, gamma=0.3)
+    t = np.linspace(0.0, 80.0, 201)
+    if sys.argv[1] == "solve":
+        mbm.solve(m, (0.0, 80.0), [math.radians(30), 0.0], rtol=1e-9, atol=1e-9, t_eval=t)
+    else:
+        solve_ivp(m, (0.0, 80.0), [math.radians(30), 0.0], method=mbm.MBM, approximant="salas-torque",
+                  tau=0.25, t_eval=t, dense_output=True)
+    print(json.dumps(sorted(names)))
+""")
+
+# Kernels an undriven damped scene can never use (the drive, the libration) or uses
+# only after a switch to a stored period (its windows), and the dense output's store.
+NOT_FOR_DAMPED = ("_strobe", "taylor_driven_coefficients_into", "libration_period", "_period_windows",
+                  "mbm.dense.")
+# Every regime's kernels: a fixed-window kind takes none.
+REGIME_KERNELS = NOT_FOR_DAMPED + ("locked_choice", "cycle_crossing", "locked_quick_reject", "_lock_setup")
+
+
+def _compiled_names(which, tmp_path):
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), MBM_COMPILE_NOTICE="0")
+    env["PYTHONPATH"] = os.pathsep.join([str(ROOT)] + [p for p in env.get("PYTHONPATH", "").split(os.pathsep) if p])
+    proc = subprocess.run([sys.executable, "-c", _COMPILED, which], env=env, cwd=ROOT, capture_output=True,
+                          text=True, timeout=600)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    return json.loads(proc.stdout.strip().splitlines()[-1])
+
+
+def test_first_solve_of_a_damped_scene_compiles_only_its_regimes(tmp_path):
+    names = _compiled_names("solve", tmp_path)
+    assert any("run_entry" in n for n in names) and any("cycle_crossing" in n for n in names)
+    assert any("locked_choice" in n for n in names)
+    assert [n for n in names if any(k in n for k in NOT_FOR_DAMPED)] == []
+
+
+def test_first_call_of_a_fixed_window_kind_compiles_no_regime(tmp_path):
+    names = _compiled_names("salas", tmp_path)
+    assert any("salas_torque_anchor" in n for n in names)
+    assert [n for n in names if any(k in n for k in REGIME_KERNELS) and "mbm.dense." not in n] == []
+    assert not any("_period" in n or "_strobe" in n for n in names)
+
+
+@pytest.mark.parametrize("regime,want", [(REGIME_NONE, loop.RS_PLAIN), (REGIME_LOCKED, loop.RS_PLAIN),
+                                          (REGIME_RUNNING, loop.RS_CYCLE), (REGIME_LIBRATION, loop.RS_CYCLE),
+                                          (REGIME_PHASE_LOCKED, loop.RS_STROBE)])
+def test_dense_set_of_a_regime(regime, want):
+    assert dense.dense_set(regime) == want
+
+
+def test_a_dense_entry_without_a_stored_period_gives_nan_for_its_window():
+    # a cycle window handed to the plain evaluator is NaN, never another formula
+    model, y0, span = mbm.Pendulum(0.1, 1.2), [0.0, 0.0], (0.0, 600.0)
+    from scipy.integrate import solve_ivp
+
+    sol = solve_ivp(model, span, y0, method=mbm.MBM, rtol=1e-8, atol=1e-8, dense_output=True)
+    last = sol.sol.interpolants[-1]
+    assert int(last.coefs[0, 0]) == 102  # regimes.CYCLE_TAG
+    into, _ = dense.evaluators(loop.KIND_TAYLOR, loop.RS_PLAIN)
+    out = np.empty((2, 1))
+    into(last.starts, last.start_theta, last.coefs, last.n, last.direction, np.array([last.t]), out)
+    assert np.isnan(out).all()
+    np.testing.assert_array_equal(last(np.array([last.t])).ravel(), sol.y[:, -1])
+
+
+def test_first_calls_page_is_a_quotable_block():
+    from benchmarks import first_calls
+    from benchmarks.report import extract_blocks
+
+    page = first_calls.format_table([("a", [2.0, None, 4.0]), ("b", [None])], 3, "test machine")
+    body = extract_blocks(page)[first_calls.BLOCK_NAME]
+    assert "| a | 3.0 |" in body and "| b | failed |" in body and "test machine" in page
