@@ -36,8 +36,8 @@ SKIP_DIRS = ("__pycache__",)
 KEEP_CACHE_ENV = "MBM_KEEP_CACHE"
 # Environment variable that silences the compile notice when set to 0 / false / no / off.
 NOTICE_ENV = "MBM_COMPILE_NOTICE"
-# What the notice says a full compile costs (the README's measurement: about a minute).
-NOTICE_COST = "up to a minute on 2 cores"
+# What the notice says a first call compiles for (docs/first_calls.md, 2 cores).
+NOTICE_COST = "15-20 s on 2 cores"
 
 _PACKAGE_ROOT = os.path.dirname(os.path.abspath(__file__))
 _FALSE = ("0", "false", "no", "off")
