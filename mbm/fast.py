@@ -197,7 +197,7 @@ def _outputs(kind, rset, buf, fresh, t0, theta0, v0, t1, h, t_eval, out):
     never = np.zeros(1, np.int64)
     loop._dispatch(kind, rset, p, t_eval, out, win_t, win_y, win_coef, never)
     r = p[0]
-    return 0, r.status, r.j, r.n_windows, r.regime, r.t_regime
+    return 0, r.progress.status, r.progress.j, r.progress.n_windows, r.switch.regime, r.switch.t_regime
 
 
 @numba.njit(cache=True, inline="always")
@@ -207,7 +207,7 @@ def _ends(kind, rset, buf, fresh, t0, theta0, v0, t1, h, win_t, win_y):
     never = np.zeros(1, np.int64)
     n = loop._dispatch(kind, rset, p, t_eval, out, win_t, win_y, win_coef, never)
     r = p[0]
-    return r.status, n, r.n_windows, r.regime, r.t_regime
+    return r.progress.status, n, r.progress.n_windows, r.switch.regime, r.switch.t_regime
 
 
 def _entries(kind, rset):
@@ -327,8 +327,8 @@ class Integrator:
         # The entries of a fresh run (a regime switch resumes through its set's own).
         self._outputs, self._ends = _entries_of(kind, self._words)
         run0 = template[0]
-        self._set_fields = (kind, int(run0["controller"]), int(run0["regimes"]), float(run0["beta"]),
-                            float(run0["drive_amp"]))
+        self._set_fields = (kind, int(run0["control"]["controller"]), int(run0["switch"]["regimes"]),
+                            float(run0["model"]["beta"]), float(run0["model"]["drive_amp"]))
         self._h = float(self._words[_W_H])
         # Buffers ready for a call (row 0 these words, row 1 the call's: see ENTRIES),
         # taken and put back per call (list pop/append are atomic, so threads sharing
@@ -584,33 +584,27 @@ def solve_njit(beta, gamma, omega, t0, theta0, v0, t_bound, t_eval, out, rtol, a
     ...         res[i] = out[0, 0]
     ...     return res
     """
-    p = np.zeros(1, dtype=loop.RUN)
-    r = p[0]
-    r.beta, r.gamma, r.omega = beta, gamma, omega
-    r.t, r.theta, r.v, r.t_bound = t0, theta0, v0, t_bound
-    r.max_step, r.max_dtheta, r.rtol, r.atol = math.inf, math.inf, rtol, atol
-    r.max_windows = max_windows
-    r.regimes, r.t_regime = 1, math.nan  # as loop.new_run: regime switching on
-    if drive_amplitude != 0.0:
-        r.drive_amp, r.drive_freq, r.drive_phase = drive_amplitude, drive_frequency, drive_phase
+    p = np.empty(1, dtype=loop.RUN)
+    drive = (drive_amplitude, drive_frequency, drive_phase) if drive_amplitude != 0.0 else (0.0, 0.0, 0.0)
+    model = (float(beta), float(gamma), float(omega), float(drive[0]), float(drive[1]), float(drive[2]))
+    state = (float(t0), float(theta0), float(v0), float(t_bound))
     win_t = np.empty(0)
     win_y = np.empty((0, 2))
     win_coef = np.empty((0, 0))
     never = np.zeros(1, dtype=np.int64)
     if beta == 0.0 and gamma == 0.0 and drive_amplitude == 0.0:
         # loop.plan_windows for an exact flow and max_step = inf: one window of the span.
-        r.kind, r.karg = _AUTO_EXACT
-        r.controller = loop.CONTROLLER_FIXED
         span = abs(t_bound - t0)
-        r.h_abs = span if span > 0.0 else 1.0
+        control = (_AUTO_EXACT[0], _AUTO_EXACT[1], loop.CONTROLLER_FIXED, span if span > 0.0 else 1.0,
+                   math.inf, math.inf, float(rtol), float(atol), 0)
+        loop.init_run(p, 0, model, state, control, np.int64(max_windows), 0, 1)
         loop.run_exact(p, t_eval, out, win_t, win_y, win_coef, never)
     else:
-        r.kind, r.karg = _AUTO_TAYLOR
-        r.controller = loop.CONTROLLER_ADAPTIVE
-        r.h_abs = -1.0
-        r.error_order = _AUTO_TAYLOR_ORDER
+        control = (_AUTO_TAYLOR[0], _AUTO_TAYLOR[1], loop.CONTROLLER_ADAPTIVE, -1.0, math.inf, math.inf,
+                   float(rtol), float(atol), _AUTO_TAYLOR_ORDER)
+        loop.init_run(p, 0, model, state, control, np.int64(max_windows), 0, 1)
         loop.run_taylor(p, t_eval, out, win_t, win_y, win_coef, never)
-    return p[0].status, p[0].n_windows
+    return p[0].progress.status, p[0].progress.n_windows
 
 
 def _is_zero(x):
@@ -751,17 +745,15 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
     if wrap is not False and wrap is not True:
         raise ValueError(f"wrap must be True or False, got {wrap!r}")
 
-    p = np.zeros(n, dtype=loop.RUN)
-    p["beta"], p["gamma"], p["omega"] = beta, gamma, omega
-    p["t"], p["theta"], p["v"], p["t_bound"] = t0, y0[:, 0], y0[:, 1], t1
-    p["max_step"], p["rtol"], p["atol"], p["max_windows"] = max_step, rtol, atol, max_windows
-    p["max_dtheta"] = np.inf
-    p["regimes"], p["t_regime"] = 1, np.nan  # as loop.new_run: regime switching on
     undamped = (beta == 0.0) & (gamma == 0.0)
+    drive = np.zeros((3, n))
     if driven_call:
-        p["drive_amp"], p["drive_freq"], p["drive_phase"] = amp, freq, phase
+        drive[0], drive[1], drive[2] = amp, freq, phase
         driven = amp != 0.0
         undamped &= ~driven
+    # Per scene: kind, karg, controller, error_order (int64) and h_abs.
+    plan = np.zeros((4, n), dtype=np.int64)
+    h = np.zeros(n)
     names = np.empty(n, dtype=object)
     # "auto" resolves to at most two approximants (damped or not); a named one to one.
     for flag in (False, True):
@@ -778,12 +770,17 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
             for b, g, w in {(beta[i], gamma[i], omega[i]) for i in rows}:
                 ap.check_model(Pendulum(b, g, w))
         controller, h_abs, error_order = _plan(ap, tau, max_step, t0, t1)
-        p["kind"][rows], p["karg"][rows] = kind, karg
-        p["controller"][rows], p["h_abs"][rows], p["error_order"][rows] = controller, h_abs, error_order
+        plan[0, rows], plan[1, rows], plan[2, rows], plan[3, rows] = kind, karg, controller, error_order
+        h[rows] = h_abs
         names[rows] = ap.name
+    p = np.empty(n, dtype=loop.RUN)
+    model = np.stack([beta, gamma, omega, drive[0], drive[1], drive[2]]).astype(np.float64)
+    loop.init_runs(p, model, float(t0), np.ascontiguousarray(y0, dtype=np.float64), float(t1), plan, h,
+                   float(max_step), float(rtol), float(atol), int(max_windows))
     out = np.full((n, 3 if wrap else 2, te.size), np.nan)
     _run_batch_interruptibly(p, te, out, _balanced_order(n))
-    status = p["status"].astype(np.int64)
+    f = loop.flat(p)
+    status = f["status"].astype(np.int64)
     winding = None
     if wrap:
         # A failed scene's outputs past its failure stay NaN; its count there is 0.
@@ -791,19 +788,19 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
         out = np.ascontiguousarray(out[:, :2])
     # Phase-locked scenes: period q·2π/Ω and pΩ/q, as regimes.strobe_summary (the same
     # operations, so the same bits).
-    locked_to_drive = p["regime"] == REGIME_PHASE_LOCKED
-    str_q = np.where(locked_to_drive, p["str_q"], 1.0)
+    locked_to_drive = f["regime"] == REGIME_PHASE_LOCKED
+    str_q = np.where(locked_to_drive, f["str_q"], 1.0)
     return SolveResult(
         t=te, y=out, status=status, success=status == 0, winding=winding,
-        n_windows=p["n_windows"].astype(np.int64), approximant=names.astype(str),
-        regime=np.array([REGIME_NAMES[int(k)] for k in p["regime"]], dtype=object),
-        t_regime=p["t_regime"].astype(np.float64),
-        period=np.where((p["regime"] == REGIME_RUNNING) | (p["regime"] == REGIME_LIBRATION), p["cyc_T"],
-                        np.divide(str_q * 2.0 * np.pi, p["drive_freq"], out=np.full(n, np.nan),
+        n_windows=f["n_windows"].astype(np.int64), approximant=names.astype(str),
+        regime=np.array([REGIME_NAMES[int(k)] for k in f["regime"]], dtype=object),
+        t_regime=f["t_regime"].astype(np.float64),
+        period=np.where((f["regime"] == REGIME_RUNNING) | (f["regime"] == REGIME_LIBRATION), f["cyc_T"],
+                        np.divide(str_q * 2.0 * np.pi, f["drive_freq"], out=np.full(n, np.nan),
                                   where=locked_to_drive)),
         mean_velocity=np.where(
-            (p["regime"] == REGIME_LOCKED) | (p["regime"] == REGIME_LIBRATION), 0.0,
-            np.where(locked_to_drive, p["str_p"] * p["drive_freq"] / str_q,
-                     np.divide(p["cyc_sign"] * 2.0 * np.pi, p["cyc_T"], out=np.full(n, np.nan),
-                               where=p["regime"] == REGIME_RUNNING))),
+            (f["regime"] == REGIME_LOCKED) | (f["regime"] == REGIME_LIBRATION), 0.0,
+            np.where(locked_to_drive, f["str_p"] * f["drive_freq"] / str_q,
+                     np.divide(f["cyc_sign"] * 2.0 * np.pi, f["cyc_T"], out=np.full(n, np.nan),
+                               where=f["regime"] == REGIME_RUNNING))),
     )

@@ -3,7 +3,7 @@
 Where each concern lives:
 
 =================================  ========================================================
-the run record                     :mod:`mbm.core.record` (RUN, new_run)
+the run record                     :mod:`mbm.core.record` (RUN, init_run, new_run)
 the window (kinds, step, winding)  :mod:`mbm.core.window`
 the controllers                    :mod:`mbm.core.controller`
 the loop and its entries           :mod:`mbm.core.loop` (RUN_TABLE, RUNNERS, run)
@@ -17,8 +17,13 @@ the statuses                       :mod:`mbm.status`
 
 # ruff: noqa: F401
 from .core.record import (  # noqa: F401
+    FLAT,
+    GROUP,
     RUN,
     WORD,
+    flat,
+    init_run,
+    init_runs,
     new_run,
 )
 from .core.window import (  # noqa: F401
@@ -172,6 +177,11 @@ from .status import (  # noqa: F401
 
 __all__ = [
     "RUN",
+    "FLAT",
+    "GROUP",
+    "flat",
+    "init_run",
+    "init_runs",
     "COMPILED_KINDS",
     "CONTROLLER_FIXED",
     "CONTROLLER_ADAPTIVE",

@@ -412,7 +412,7 @@ class MBM(_MBMBase):
             )
         if status == loop.STATUS_MAX_WINDOWS:
             return (
-                f"max_windows={int(self._run[0]['max_windows'])} windows taken at t={self.t!r} "
+                f"max_windows={int(self._run[0]['progress']['max_windows'])} windows taken at t={self.t!r} "
                 "before t_bound: raise max_windows for a longer run"
             )
         return (

@@ -72,7 +72,7 @@ REDUCTIONS = {
 }
 
 # Scenes per solve_batch call on the local (unchunked) path: the progress bar moves
-# once a batch, and the run records (168 bytes a scene) and outputs of one call stay
+# once a batch, and the run records (mbm.loop.RUN.itemsize bytes a scene) and outputs of one call stay
 # bounded by the batch.  4096 scenes of t ≤ 1000 are ~0.1–0.5 s on 2 cores (so the bar
 # moves), while a call's fixed cost (~0.2 ms) stays below 0.1 % of it.
 LOCAL_BATCH = 4096

@@ -66,29 +66,32 @@ def test_an_entry_called_for_another_set_pauses_and_run_resumes_through_the_righ
     assert want.regime == "running"
     ig = mbm.Integrator(model, rtol=1e-8, atol=1e-8)
     p = np.array(ig._words.copy().view(loop.RUN))
-    p[0]["t"], p[0]["theta"], p[0]["v"], p[0]["t_bound"] = span[0], y0[0], y0[1], span[1]
-    p[0]["call_windows"] = 0
+    f = loop.flat(p)
+    f[0]["t"], f[0]["theta"], f[0]["v"], f[0]["t_bound"] = span[0], y0[0], y0[1], span[1]
+    f[0]["call_windows"] = 0
     out = np.empty((2, te.size))
     args = (te, out, np.empty(0), np.empty((0, 2)), np.empty((0, 0)), np.zeros(1, np.int64))
     n = loop.run(p, *args)
-    assert p[0]["status"] == loop.STATUS_OK and p[0]["regime"] == REGIME_RUNNING
+    assert f[0]["status"] == loop.STATUS_OK and f[0]["regime"] == REGIME_RUNNING
     np.testing.assert_array_equal(out, want.y)
     assert n == want.n_windows
     # now rewound to just after the switch: the damped entry refuses to go on
     damped = loop.RUNNERS[(loop.KIND_TAYLOR, loop.RS_DAMPED)]
     p2 = p.copy()
-    p2[0]["status"] = loop.STATUS_OK
-    p2[0]["t_bound"] = span[1] + 10.0
+    f2 = loop.flat(p2)
+    f2[0]["status"] = loop.STATUS_OK
+    f2[0]["t_bound"] = span[1] + 10.0
     assert damped(p2, np.empty(0), np.empty((2, 0)), *args[2:]) == 0
-    assert p2[0]["status"] == loop.STATUS_PAUSED and p2[0]["t"] == p[0]["t"]
+    assert f2[0]["status"] == loop.STATUS_PAUSED and f2[0]["t"] == f[0]["t"]
 
 
 def test_an_unknown_kind_is_a_status():
     p = mbm.Integrator(mbm.Pendulum(0.1, 0.3))._words.copy().view(loop.RUN)
-    p[0]["kind"] = 99
+    f = loop.flat(p)
+    f[0]["kind"] = 99
     assert loop.run(p, np.empty(0), np.empty((2, 0)), np.empty(0), np.empty((0, 2)), np.empty((0, 0)),
                     np.zeros(1, np.int64)) == 0
-    assert p[0]["status"] == loop.STATUS_ANCHOR
+    assert f[0]["status"] == loop.STATUS_ANCHOR
 
 
 _COMPILED = textwrap.dedent("""

@@ -234,7 +234,7 @@ def test_dense_output_is_the_window_formula():
     ap = mbm.get_approximant("taylor")
     steps = 0
     while solver.status == "running":
-        rec = solver._run[0]
+        rec = mbm.loop.flat(solver._run)[0]
         k, phi = (float(rec["wind"]), float(rec["phi"])) if rec["n_windows"] else (0.0, solver.y[0])
         k2, phi2 = loop.wrap(k, phi)
         if loop.theta_of(k2, phi2) == loop.theta_of(k, phi):

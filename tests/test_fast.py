@@ -179,14 +179,15 @@ def test_batch_cancel_flag_stops_every_scene():
     # The flag solve_batch's waiting thread sets on Ctrl-C: every scene stops at its
     # next window with STATUS_INTERRUPTED.
     p = np.zeros(3, dtype=mbm.loop.RUN)
-    p["beta"], p["gamma"], p["omega"], p["t_bound"] = 0.1, 1.2, 1.0, 100.0
-    p["kind"], p["karg"] = mbm.loop.kind_of(mbm.get_approximant("taylor"))
-    p["controller"], p["h_abs"], p["error_order"] = mbm.loop.CONTROLLER_ADAPTIVE, -1.0, 24
-    p["max_step"], p["rtol"], p["atol"], p["max_windows"] = np.inf, 1e-8, 1e-8, 10**7
-    p["max_dtheta"] = np.inf
+    f = mbm.loop.flat(p)
+    f["beta"], f["gamma"], f["omega"], f["t_bound"] = 0.1, 1.2, 1.0, 100.0
+    f["kind"], f["karg"] = mbm.loop.kind_of(mbm.get_approximant("taylor"))
+    f["controller"], f["h_abs"], f["error_order"] = mbm.loop.CONTROLLER_ADAPTIVE, -1.0, 24
+    f["max_step"], f["rtol"], f["atol"], f["max_windows"] = np.inf, 1e-8, 1e-8, 10**7
+    f["max_dtheta"] = np.inf
     out = np.full((3, 2, 5), np.nan)
     mbm.loop.run_batch(p, np.linspace(0.0, 100.0, 5), out, np.arange(3), np.ones(1, dtype=np.int64))
-    assert list(p["status"]) == [mbm.loop.STATUS_INTERRUPTED] * 3 and list(p["n_windows"]) == [0] * 3
+    assert list(f["status"]) == [mbm.loop.STATUS_INTERRUPTED] * 3 and list(f["n_windows"]) == [0] * 3
 
 
 def test_batch_bad_input_names_the_argument():

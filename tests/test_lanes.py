@@ -118,10 +118,11 @@ def test_lane_batch_backwards_and_window_limit():
 
 def test_lane_eligibility():
     p = np.zeros(3, dtype=loop.RUN)
-    p["kind"], p["karg"], p["controller"] = loop.KIND_TAYLOR, SIMD_ORDER, loop.CONTROLLER_ADAPTIVE
-    p["beta"], p["max_dtheta"] = 0.1, np.inf
-    p["karg"][1] = 12  # another degree: the one-scene loop
-    p["drive_amp"][2] = 0.5  # driven: the one-scene loop
+    f = loop.flat(p)
+    f["kind"], f["karg"], f["controller"] = loop.KIND_TAYLOR, SIMD_ORDER, loop.CONTROLLER_ADAPTIVE
+    f["beta"], f["max_dtheta"] = 0.1, np.inf
+    f["karg"][1] = 12  # another degree: the one-scene loop
+    f["drive_amp"][2] = 0.5  # driven: the one-scene loop
 
     import numba
 

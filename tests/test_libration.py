@@ -47,7 +47,7 @@ def _taylor_run(gamma, omega, y0, T, t, tol, regimes_on):
                      -1.0, np.inf, tol, tol, int(ap.error_order), 10**7, regimes=regimes_on)
     out = np.full((2, t.size), np.nan)
     loop.run(p, t, out, np.empty(0), np.empty((0, 2)), np.empty((0, 0)), np.zeros(1, np.int64))
-    return out, p[0]
+    return out, loop.flat(p)[0]
 
 
 @pytest.fixture(scope="module")

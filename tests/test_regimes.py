@@ -56,7 +56,7 @@ def _taylor_run(beta, gamma, omega, y0, T, t, tol, regimes_on):
                      -1.0, np.inf, tol, tol, int(ap.error_order), 10**7, regimes=regimes_on)
     out = np.full((2, t.size), np.nan)
     loop.run(p, t, out, np.empty(0), np.empty((0, 2)), np.empty((0, 0)), np.zeros(1, np.int64))
-    return out, p[0]
+    return out, loop.flat(p)[0]
 
 
 # ---------------------------------------------------------------------------
@@ -262,8 +262,9 @@ def test_section_is_the_saddle_so_a_libration_does_no_section_work():
                      loop.CONTROLLER_ADAPTIVE, -1.0, math.inf, 1e-9, 1e-9, 24, 10**7)
     loop.run(p, np.empty(0), np.empty((2, 0)), np.empty(0), np.empty((0, 2)),
              np.empty((0, 0)), np.zeros(1, dtype=np.int64))
-    assert p[0]["status"] == 0 and p[0]["n_windows"] > 50
-    assert p[0]["sec_n"] == 0
+    rec = loop.flat(p)[0]
+    assert rec["status"] == 0 and rec["n_windows"] > 50
+    assert rec["sec_n"] == 0
     r = mbm.solve(mbm.Pendulum(0.1, 1.2), (0.0, 2000.0), [0.0, 0.0], rtol=1e-9, atol=1e-9)
     assert r.regime == "running" and abs(r.mean_velocity - 2 * np.pi / r.period) == 0.0
 

@@ -393,6 +393,6 @@ def test_a_later_start_time_sets_the_samples():
                      drive_phase=phase)
     out = np.full((2, t.size), np.nan)
     loop.run(p, t, out, np.empty(0), np.empty((0, 2)), np.empty((0, 0)), np.zeros(1, np.int64))
-    assert p[0]["regime"] == regimes.REGIME_NONE
+    assert loop.flat(p)[0]["regime"] == regimes.REGIME_NONE
     np.testing.assert_allclose(r.y[1], out[1], rtol=0, atol=2e-11)
     assert np.all(np.abs(r.y[0] - out[0]) <= 2e-11 * (1 + np.abs(out[0])))

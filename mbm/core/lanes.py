@@ -81,25 +81,25 @@ def lane_eligible(r):
     """Whether run record ``r`` can take lockstep windows in :func:`_run_lanes`: a fresh
     undriven Taylor run at the vector kernel's degree, adaptive, β > 0, no window budget
     and no θ-step limit (everything else runs as :func:`_run` alone)."""
-    return (r.kind == KIND_TAYLOR and r.karg == SIMD_ORDER and r.controller == CONTROLLER_ADAPTIVE
-            and r.drive_amp == 0.0 and r.beta > 0.0 and r.call_windows == 0 and r.max_dtheta == math.inf
-            and r.n_windows == 0 and r.regime == REGIME_NONE and r.status == STATUS_OK)
+    return (r.control.kind == KIND_TAYLOR and r.control.karg == SIMD_ORDER and r.control.controller == CONTROLLER_ADAPTIVE
+            and r.model.drive_amp == 0.0 and r.model.beta > 0.0 and r.progress.call_windows == 0 and r.control.max_dtheta == math.inf
+            and r.progress.n_windows == 0 and r.switch.regime == REGIME_NONE and r.progress.status == STATUS_OK)
 
 
 @numba.njit(**_INLINE)
 def _lane_start(r, i, ln, coefs, lane):
     # _run's set-up for a fresh run (the undriven Taylor branches of its can_* flags).
     ln.scene = i
-    ln.t, ln.phi, ln.v, ln.h_abs, ln.wind = r.t, r.theta, r.v, r.h_abs, 0.0
-    ln.j, ln.n_windows, ln.ready = r.j, 0, 0
-    ln.direction = 1.0 if r.t_bound >= r.t else -1.0
-    ln.log_eps = window_log_eps(r.rtol)
-    beta, gamma, omega = r.beta, r.gamma, r.omega
-    can_lock = r.regimes != 0 and ln.direction > 0.0 and abs(gamma) < omega * omega
+    ln.t, ln.phi, ln.v, ln.h_abs, ln.wind = r.state.t, r.state.theta, r.state.v, r.control.h_abs, 0.0
+    ln.j, ln.n_windows, ln.ready = r.progress.j, 0, 0
+    ln.direction = 1.0 if r.state.t_bound >= r.state.t else -1.0
+    ln.log_eps = window_log_eps(r.control.rtol)
+    beta, gamma, omega = r.model.beta, r.model.gamma, r.model.omega
+    can_lock = r.switch.regimes != 0 and ln.direction > 0.0 and abs(gamma) < omega * omega
     ln.lk_d, ln.lk_wl2, ln.lk_g0, ln.lk_g1, ln.lk_sd, ln.lk_q2, can_lock2 = _lock_setup(
         beta, gamma, omega, can_lock, can_lock)
     ln.can_lock, ln.can_lock2 = can_lock, can_lock2
-    can_cycle = r.regimes != 0 and ln.direction > 0.0
+    can_cycle = r.switch.regimes != 0 and ln.direction > 0.0
     ln.can_cycle = can_cycle
     ln.sec_off = section_offset(gamma, omega) if can_cycle else 0.0
     ln.sec_acc = gamma - omega * omega * math.sin(ln.sec_off)
@@ -117,10 +117,10 @@ def _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel):
     # The lane's state written back as a paused run's, and the run finished by _run.
     i = ln.scene
     r = p[i]
-    r.t, r.theta, r.v, r.h_abs = ln.t, theta_of(ln.wind, ln.phi), ln.v, ln.h_abs
-    r.phi, r.wind = ln.phi, ln.wind
-    r.n_windows = ln.n_windows
-    r.j = ln.j
+    r.state.t, r.state.theta, r.state.v, r.control.h_abs = ln.t, theta_of(ln.wind, ln.phi), ln.v, ln.h_abs
+    r.winding.phi, r.winding.wind = ln.phi, ln.wind
+    r.progress.n_windows = ln.n_windows
+    r.progress.j = ln.j
     ln.scene = -1
     ln.ready = 0
     run_taylor(p[i:i + 1], t_eval, out[i], win_t, win_y, win_coef, cancel)
@@ -175,7 +175,7 @@ def _run_lanes(p, ids, t_eval, out, cancel):
             r = p[ln.scene]
             # _run's tests before a window, in its order.
             t, y0, y1, k = ln.t, ln.phi, ln.v, ln.wind
-            if (not (ln.direction * (r.t_bound - t) > 0.0) or ln.n_windows >= r.max_windows
+            if (not (ln.direction * (r.state.t_bound - t) > 0.0) or ln.n_windows >= r.progress.max_windows
                     or cancel[0] != 0 or not (math.isfinite(y0) and math.isfinite(y1))):
                 _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel)
                 continue
@@ -183,15 +183,15 @@ def _run_lanes(p, ids, t_eval, out, cancel):
             ln.wind, ln.phi = k, y0
             off = k * _TWO_PI
             if ln.can_lock != 0 and not locked_quick_reject(
-                    off + y0, y1, ln.lk_d, ln.lk_sd, ln.lk_wl2, ln.lk_g0, r.omega, r.rtol, r.atol, ln.lk_q2):
-                lk_order, _ = locked_choice(r.beta, r.gamma, r.omega, y0, y1, ln.lk_d, ln.lk_wl2, ln.lk_g0,
-                                            ln.lk_g1, r.rtol, r.atol, off, ln.can_lock2 != 0)
+                    off + y0, y1, ln.lk_d, ln.lk_sd, ln.lk_wl2, ln.lk_g0, r.model.omega, r.control.rtol, r.control.atol, ln.lk_q2):
+                lk_order, _ = locked_choice(r.model.beta, r.model.gamma, r.model.omega, y0, y1, ln.lk_d, ln.lk_wl2, ln.lk_g0,
+                                            ln.lk_g1, r.control.rtol, r.control.atol, off, ln.can_lock2 != 0)
                 if lk_order > 0:
                     _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel)
                     continue
-            ins[0, q] = r.beta
-            ins[1, q] = r.gamma
-            ins[2, q] = r.omega * r.omega
+            ins[0, q] = r.model.beta
+            ins[1, q] = r.model.gamma
+            ins[2, q] = r.model.omega * r.model.omega
             ins[3, q] = math.sin(y0)
             ins[4, q] = math.cos(y0)
             ins[5, q] = y0
@@ -215,15 +215,15 @@ def _run_lanes(p, ids, t_eval, out, cancel):
             t, y0, y1 = ln.t, ln.phi, ln.v
             off = ln.wind * _TWO_PI
             if ln.h_abs <= 0.0:
-                ln.h_abs = _first_window_taylor(coef, t, y0, y1, off, ln.direction, r.t_bound, r.omega,
-                                                r.max_step, r.rtol, r.atol, r.error_order, ln.log_eps)
+                ln.h_abs = _first_window_taylor(coef, t, y0, y1, off, ln.direction, r.state.t_bound, r.model.omega,
+                                                r.control.max_step, r.control.rtol, r.control.atol, r.control.error_order, ln.log_eps)
             min_h = MIN_WINDOW_ULPS * _EPS * max(abs(t), 1e-300)
-            ln.prior = prior_window(KIND_TAYLOR, coef, off + y0, y1, r.rtol, r.atol, ln.log_eps)
-            ln.h_try = min(ln.h_abs, r.max_step, ln.prior)
+            ln.prior = prior_window(KIND_TAYLOR, coef, off + y0, y1, r.control.rtol, r.control.atol, ln.log_eps)
+            ln.h_try = min(ln.h_abs, r.control.max_step, ln.prior)
             # A window below the floor: adaptive_window's own status (below).
             ln.first = 1 if ln.h_try >= min_h else 0
             if ln.first != 0:
-                ln.t_end = _window_end(t, ln.direction, r.t_bound, ln.h_try)
+                ln.t_end = _window_end(t, ln.direction, r.state.t_bound, ln.h_try)
                 hs[q] = ln.t_end - t
         horner24_lanes(soa, hs, hv)
         for q in range(LANES):
@@ -236,8 +236,8 @@ def _run_lanes(p, ids, t_eval, out, cancel):
             coef = rows[q]
             t, y0, y1, k = ln.t, ln.phi, ln.v, ln.wind
             off = k * _TWO_PI
-            direction, t_bound, max_step = ln.direction, r.t_bound, r.max_step
-            rtol, atol = r.rtol, r.atol
+            direction, t_bound, max_step = ln.direction, r.state.t_bound, r.control.max_step
+            rtol, atol = r.control.rtol, r.control.atol
             accepted = False
             if ln.first != 0:
                 # adaptive_window's test of its first try, in its words.
@@ -245,7 +245,7 @@ def _run_lanes(p, ids, t_eval, out, cancel):
                 th, v = hv[0, q], hv[1, q]
                 et, ev = estimate(KIND_TAYLOR, coef, hs[q])
                 err = _error_norm(et, ev, off + y0, y1, off + th, v, rtol, atol)
-                fac = _accepted_factor(err, th, v, ln.prior, -1.0 / (r.error_order + 1.0), False)
+                fac = _accepted_factor(err, th, v, ln.prior, -1.0 / (r.control.error_order + 1.0), False)
                 if fac > 0.0:
                     h_next = ln.h_try * fac
                     accepted = True
@@ -253,7 +253,7 @@ def _run_lanes(p, ids, t_eval, out, cancel):
                 # Rejected (or below the floor): adaptive_window itself, from the start.
                 st, t_new, th, v, h_next = _adaptive_window_taylor(
                     coef, t, y0, y1, off, direction, t_bound, ln.h_abs, max_step, rtol, atol,
-                    r.error_order, ln.log_eps)
+                    r.control.error_order, ln.log_eps)
                 if st != STATUS_OK:
                     _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel)
                     continue
@@ -272,12 +272,12 @@ def _run_lanes(p, ids, t_eval, out, cancel):
                     for jj in range(j, j2):
                         _put(out_theta, out_w, wrapped, jj, k, out_theta[jj])
             ln.j = j2
-            if ln.can_cycle != 0 and r.regime == REGIME_NONE:
+            if ln.can_cycle != 0 and r.switch.regime == REGIME_NONE:
                 _watch_cycle(KIND_TAYLOR, r, coef, t, t_new, y0, th, v, k, off, ln.sec_off, ln.sec_acc,
-                             r.beta, r.gamma, r.omega, t_bound, rtol, atol)
+                             r.model.beta, r.model.gamma, r.model.omega, t_bound, rtol, atol)
             ln.t, ln.phi, ln.v, ln.h_abs = t_new, th, v, h_next
             ln.n_windows += 1
-            if r.regime != REGIME_NONE:
+            if r.switch.regime != REGIME_NONE:
                 _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel)
     return 0
 

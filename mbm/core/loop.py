@@ -174,7 +174,7 @@ def _runner(kind, rset):
         t_eval : ndarray, shape (m,)
             Output times, monotone in the direction of integration, within the span.
         out : ndarray, shape (2, m) or (3, m)
-            θ, θ' at ``t_eval``, filled from index ``p[0].j`` on: an output in
+            θ, θ' at ``t_eval``, filled from index ``p[0].progress.j`` on: an output in
             (t, t_new] comes from that window's formula (the window end repeats the
             evaluation that produced the state).  With three rows, row 0 is θ wrapped to
             (−π, π] and row 2 its winding count (θ = 2π·row 2 + row 0).
@@ -195,16 +195,16 @@ def _runner(kind, rset):
             Windows this call took.
         """
         r = p[0]
-        karg = r.karg
-        beta, gamma, omega = r.beta, r.gamma, r.omega
-        amp, freq, phase = r.drive_amp, r.drive_freq, r.drive_phase
-        t, y0, y1, t_bound = r.t, r.theta, r.v, r.t_bound
-        h_abs, max_step, rtol, atol = r.h_abs, r.max_step, r.rtol, r.atol
-        adaptive = r.controller == CONTROLLER_ADAPTIVE
-        error_order = r.error_order
+        karg = r.control.karg
+        beta, gamma, omega = r.model.beta, r.model.gamma, r.model.omega
+        amp, freq, phase = r.model.drive_amp, r.model.drive_freq, r.model.drive_phase
+        t, y0, y1, t_bound = r.state.t, r.state.theta, r.state.v, r.state.t_bound
+        h_abs, max_step, rtol, atol = r.control.h_abs, r.control.max_step, r.control.rtol, r.control.atol
+        adaptive = r.control.controller == CONTROLLER_ADAPTIVE
+        error_order = r.control.error_order
         log_eps = window_log_eps(rtol)
         direction = 1.0 if t_bound >= t else -1.0
-        budget = r.call_windows
+        budget = r.progress.call_windows
         store = win_t.size > 0
         cap = win_t.size - 1
         width = win_coef.shape[1]
@@ -214,16 +214,16 @@ def _runner(kind, rset):
         # Three output rows: θ wrapped to (−π, π] and its winding count in the third.
         wrapped = out.shape[0] == 3
         out_w = out[2] if wrapped else out[0]
-        j = r.j
+        j = r.progress.j
         n = 0
-        n_total = r.n_windows
+        n_total = r.progress.n_windows
         status = STATUS_OK
         # The angle as θ = 2πk + φ (TWO_PI_A): y0 holds φ, k the winding count; a fresh
         # run starts from θ as given (k = 0), a resumed one where it stopped.
         wraps = kind == KIND_TAYLOR or kind == KIND_SPLIT  # WRAPPING_KINDS
         k = 0.0
         if n_total > 0:
-            k, y0 = r.wind, r.phi
+            k, y0 = r.winding.wind, r.winding.phi
         if store:
             win_t[0] = t
             win_y[0, 0] = theta_of(k, y0)
@@ -231,7 +231,7 @@ def _runner(kind, rset):
         # Each regime's switch rule where it may apply: windows from rtol/atol, forwards,
         # room for its formula in the window store (its set's own conditions in
         # regime_set); every test depends on the record only, so a resumed run repeats it.
-        may = r.regimes != 0 and adaptive and direction > 0.0
+        may = r.switch.regimes != 0 and adaptive and direction > 0.0
         # Locked regime (L5) where |γ| < ω², the second-order form (L6, L7) where its
         # coefficients fit the window store; the running cycle's return map (R1-R3).
         can_lock = can_lock2 = can_cycle = False
@@ -251,13 +251,13 @@ def _runner(kind, rset):
         can_librate = False
         if rset == RS_CONSERVATIVE:
             can_librate = (may and wraps and abs(gamma) < omega * omega and n_total == 0
-                           and r.regime == REGIME_NONE and (width == 0 or width >= CYCLE_WIDTH))
+                           and r.switch.regime == REGIME_NONE and (width == 0 or width >= CYCLE_WIDTH))
         # Phase-locked to the drive (S1-S7): stroboscopic samples at t_s + nT_d watched
         # after each window (Taylor, β > 0; not with max_dtheta, the short windows of
         # solve_ivp's event search, each of which would re-take a period).
         sp_hi, sp_lo, sp_det, sp_next = 0.0, 0.0, 0.0, math.inf  # sp_next: the next sample's time
         if rset == RS_DRIVEN:
-            if (may and beta > 0.0 and freq > 0.0 and kind == KIND_TAYLOR and r.max_dtheta == math.inf
+            if (may and beta > 0.0 and freq > 0.0 and kind == KIND_TAYLOR and r.control.max_dtheta == math.inf
                     and (width == 0 or width >= STROBE_WIDTH)):
                 sp_hi, sp_lo, sp_det, sp_next = _strobe_setup(r, t, freq, beta, n_total)
         # One coefficient workspace for the call's windows (anchor).
@@ -271,24 +271,24 @@ def _runner(kind, rset):
         # checks, so an entry called for another set pauses at once).
         seen = -1
         while direction * (t_bound - t) > 0.0:
-            if n_total >= r.max_windows:
+            if n_total >= r.progress.max_windows:
                 status = STATUS_MAX_WINDOWS
                 break
             if (budget > 0 and n >= budget) or (store and n >= cap):
                 status = STATUS_PAUSED
                 break
-            if r.regime != seen:
+            if r.switch.regime != seen:
                 # A regime switch: the run goes on through its new set's entry.
-                seen = r.regime
-                if regime_set(kind, r.controller, r.regimes, beta, amp, seen) != rset:
+                seen = r.switch.regime
+                if regime_set(kind, r.control.controller, r.switch.regimes, beta, amp, seen) != rset:
                     status = STATUS_PAUSED
                     break
             if cancel[0] != 0:
                 status = STATUS_INTERRUPTED
                 break
-            max_step = r.max_step
-            if r.max_dtheta < math.inf and y1 != 0.0:
-                max_step = min(max_step, r.max_dtheta / abs(y1))
+            max_step = r.control.max_step
+            if r.control.max_dtheta < math.inf and y1 != 0.0:
+                max_step = min(max_step, r.control.max_dtheta / abs(y1))
             if wraps:
                 k, y0 = _reduce_phi(k, y0)
             # θ's scale for the tolerances (scipy's rtol·|θ| of the whole angle).
@@ -297,7 +297,7 @@ def _runner(kind, rset):
                 if can_librate:
                     can_librate = False
                     _libration_test(r, t, y0, y1, k, off, gamma, omega, t_bound, rtol, atol)
-                    if r.regime != REGIME_NONE:
+                    if r.switch.regime != REGIME_NONE:
                         # The rest of the run is the stored period: RS_CYCLE's entry.
                         status = STATUS_PAUSED
                         break
@@ -308,8 +308,8 @@ def _runner(kind, rset):
             if rset == RS_CYCLE:
                 # The rest of the run is the stored period, shifted (mbm.regimes, R3).
                 ordinary = False
-                coef = cycle_coef(r.cyc_theta, r.cyc_v, r.cyc_T, t - r.cyc_t, beta, gamma, omega, rtol, atol,
-                                  r.cyc_sign, karg, error_order, r.cyc_wind, r.cyc_Tlo)
+                coef = cycle_coef(r.cycle.cyc_theta, r.cycle.cyc_v, r.cycle.cyc_T, t - r.cycle.cyc_t, beta, gamma, omega, rtol, atol,
+                                  r.cycle.cyc_sign, karg, error_order, r.cycle.cyc_wind, r.cycle.cyc_Tlo)
                 t_new = _window_end(t, direction, t_bound, max_step)
                 if per_n == -2:
                     per_starts, per_ends, per_coefs, per_n = _period_store(kind, coef)
@@ -318,13 +318,13 @@ def _runner(kind, rset):
                 # The rest of the run is the stored period (q drive periods, S7) from the
                 # anchor (S6); its formula takes the absolute time.
                 ordinary = False
-                coef = strobe_coef(r.str_phi, r.str_v, r.str_k, r.str_ta, r.str_q, r.str_p, r.str_psi, beta,
+                coef = strobe_coef(r.strobe.str_phi, r.strobe.str_v, r.strobe.str_k, r.strobe.str_ta, r.strobe.str_q, r.strobe.str_p, r.strobe.str_psi, beta,
                                    gamma, omega, amp, freq, rtol, atol, karg, error_order)
                 t_new = _window_end(t, direction, t_bound, max_step)
                 th, v, k_new = _strobe_value(kind, coef, t_new)
             else:
                 if rset == RS_DAMPED:
-                    if can_lock and (r.regime == REGIME_LOCKED or not locked_quick_reject(
+                    if can_lock and (r.switch.regime == REGIME_LOCKED or not locked_quick_reject(
                             off + y0, y1, lk_d, lk_sd, lk_wl2, lk_g0, omega, rtol, atol, lk_q2)):
                         lk_order, lk_ts = locked_choice(beta, gamma, omega, y0, y1, lk_d, lk_wl2, lk_g0, lk_g1,
                                                         rtol, atol, off, can_lock2)
@@ -335,9 +335,9 @@ def _runner(kind, rset):
                     coef = locked_coef(beta, lk_wl2, lk_ts, y0, y1, gamma, lk_order)
                     t_new = _window_end(t, direction, t_bound, max_step)
                     th, v = locked_eval(coef, t_new - t)
-                    if r.regime != REGIME_LOCKED:
-                        r.regime = REGIME_LOCKED
-                        r.t_regime = t
+                    if r.switch.regime != REGIME_LOCKED:
+                        r.switch.regime = REGIME_LOCKED
+                        r.switch.t_regime = t
                 else:
                     if rset == RS_DRIVEN:
                         coef = anchor_driven(kind, karg, beta, gamma, omega, amp, freq, phase, t, y0, y1, ws_coef,
@@ -387,11 +387,11 @@ def _runner(kind, rset):
                     out_v[j] = b
                 j += 1
             if rset == RS_DAMPED:
-                if can_cycle and r.regime == REGIME_NONE:
+                if can_cycle and r.switch.regime == REGIME_NONE:
                     _watch_cycle(kind, r, coef, t, t_new, y0, th, v, k, off, sec_off, sec_acc, beta, gamma, omega,
                                  t_bound, rtol, atol)
             if rset == RS_DRIVEN:
-                if sp_next <= t_new and r.regime == REGIME_NONE:
+                if sp_next <= t_new and r.switch.regime == REGIME_NONE:
                     # The stroboscopic samples in (t, t_new] (mbm.regimes, S1-S7).
                     sp_next = _watch_strobe(kind, p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det, n_total)
             if store:
@@ -404,11 +404,11 @@ def _runner(kind, rset):
             _put(out_theta, out_w, wrapped, j, k, y0)
             out_v[j] = y1
             j += 1
-        r.t, r.theta, r.v, r.h_abs = t, theta_of(k, y0), y1, h_abs
-        r.phi, r.wind = y0, k
-        r.n_windows = n_total
-        r.j = j
-        r.status = status
+        r.state.t, r.state.theta, r.state.v, r.control.h_abs = t, theta_of(k, y0), y1, h_abs
+        r.winding.phi, r.winding.wind = y0, k
+        r.progress.n_windows = n_total
+        r.progress.j = j
+        r.progress.status = status
         return n
 
     return run_entry
@@ -511,13 +511,13 @@ def _dispatch(kind, rset, p, t_eval, out, win_t, win_y, win_coef, cancel):
             return _R_Q0(p, t_eval, out, win_t, win_y, win_coef, cancel)
         if rset == RS_DRIVEN:
             return _R_Q3(p, t_eval, out, win_t, win_y, win_coef, cancel)
-    p[0].status = STATUS_ANCHOR
+    p[0].progress.status = STATUS_ANCHOR
     return 0
 
 
 @numba.njit(**_INLINE)
 def _record_set(kind, r):
-    return regime_set(kind, r.controller, r.regimes, r.beta, r.drive_amp, r.regime)
+    return regime_set(kind, r.control.controller, r.switch.regimes, r.model.beta, r.model.drive_amp, r.switch.regime)
 
 
 @numba.njit(**_INLINE)
@@ -540,7 +540,7 @@ def _run_chain(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
             n += _dispatch(kind, RS_CYCLE, p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
         else:
             n += _dispatch(kind, RS_STROBE, p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
-        if r.status != STATUS_PAUSED or _record_set(kind, r) == rset:
+        if r.progress.status != STATUS_PAUSED or _record_set(kind, r) == rset:
             return n
 
 
@@ -580,13 +580,14 @@ _regime_set = regime_set.py_func
 
 def set_of(r):
     """The regime set of run record ``r`` (a record, or a row of a RUN array), in Python."""
-    return _regime_set(int(r["kind"]), int(r["controller"]), int(r["regimes"]), float(r["beta"]),
-                       float(r["drive_amp"]), int(r["regime"]))
+    c, w = r["control"], r["switch"]
+    return _regime_set(int(c["kind"]), int(c["controller"]), int(w["regimes"]), float(r["model"]["beta"]),
+                       float(r["model"]["drive_amp"]), int(w["regime"]))
 
 
 def runner_for(r):
     """The compiled entry (:data:`RUNNERS`) that runs record ``r`` now."""
-    return RUNNERS.get((int(r["kind"]), set_of(r)))
+    return RUNNERS.get((int(r["control"]["kind"]), set_of(r)))
 
 
 def run(p, t_eval, out, win_t, win_y, win_coef, cancel):
@@ -595,21 +596,22 @@ def run(p, t_eval, out, win_t, win_y, win_coef, cancel):
     so that only the sets a run reaches are compiled.  Returns the windows taken.
     """
     n = 0
+    progress = p["progress"]
     while True:
         rset = set_of(p[0])
-        entry = RUNNERS.get((int(p[0]["kind"]), rset))
+        entry = RUNNERS.get((int(p[0]["control"]["kind"]), rset))
         if entry is None:
-            p[0]["status"] = STATUS_ANCHOR
+            progress["status"][0] = STATUS_ANCHOR
             return n
         n += entry(p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
-        if p[0]["status"] != STATUS_PAUSED or set_of(p[0]) == rset:
+        if progress["status"][0] != STATUS_PAUSED or set_of(p[0]) == rset:
             return n
 
 
 @numba.njit(cache=True)
 def _run_any(p, t_eval, out, win_t, win_y, win_coef, cancel):
     # The kind read from the record, for a batch of mixed kinds: calls the entries.
-    kind = p[0].kind
+    kind = p[0].control.kind
     if kind == KIND_TAYLOR:
         return run_taylor(p, t_eval, out, win_t, win_y, win_coef, cancel)
     elif kind == KIND_EXACT:
@@ -618,5 +620,5 @@ def _run_any(p, t_eval, out, win_t, win_y, win_coef, cancel):
         return run_salas_torque(p, t_eval, out, win_t, win_y, win_coef, cancel)
     elif kind == KIND_SPLIT:
         return run_split(p, t_eval, out, win_t, win_y, win_coef, cancel)
-    p[0].status = STATUS_ANCHOR
+    p[0].progress.status = STATUS_ANCHOR
     return 0

@@ -8,155 +8,184 @@ and writes the state reached back, so a caller may resume a run where it stopped
 """
 
 import math
+import numba
 import numpy as np
 
 from ..regimes.common import REGIME_NONE
 from ..regimes.strobe import STROBE_MAX_PERIODS, STROBE_RING
 
-#: The run record.  One row per scene; :func:`run` reads every field and writes the
-#: state fields back.
+def _group(*fields):
+    return np.dtype(list(fields), align=True)
+
+
+_F, _I = np.float64, np.int64
+_STROBE_Q = STROBE_MAX_PERIODS + 1  # per q = 1..STROBE_MAX_PERIODS (index q; 0 unused)
+
+#: The model θ'' + βθ' + ω² sin θ = γ + A sin(Ωt + φ) (A = 0: no drive; a driven run
+#: anchors by anchor_driven at each window's start and of the regimes takes only the
+#: phase-locked one).
+MODEL = _group(("beta", _F), ("gamma", _F), ("omega", _F),
+               ("drive_amp", _F), ("drive_freq", _F), ("drive_phase", _F))
+
+#: The state: the run's position on entry, the state reached on return (θ and θ'
+#: adjacent: the state is one slice of the record's words).
+STATE = _group(("t", _F), ("theta", _F), ("v", _F), ("t_bound", _F))
+
+#: The winding (TWO_PI_A): θ = 2π·wind + phi, the state a resumed run continues from
+#: (state.theta is its value, rounded); a fresh run (n_windows = 0) starts from theta.
+WINDING = _group(("phi", _F), ("wind", _F))
+
+#: The approximant (COMPILED_KINDS id and its integer argument) and its controller:
+#: CONTROLLER_FIXED or CONTROLLER_ADAPTIVE; h_abs the next window length (τ when fixed;
+#: the adaptive proposal, ≤ 0 to search it from the estimate); error_order sets the
+#: adaptive exponent −1/(error_order + 1); a window starting at speed θ' is at most
+#: max_dtheta/|θ'| long (inf: no limit; set when solve_ivp looks for events).
+CONTROL = _group(("kind", _I), ("karg", _I), ("controller", _I), ("h_abs", _F), ("max_step", _F),
+                 ("max_dtheta", _F), ("rtol", _F), ("atol", _F), ("error_order", _I))
+
+#: Budget and progress: windows the whole run may take (STATUS_MAX_WINDOWS past it),
+#: windows one call may take before pausing (≤ 0: no limit), windows taken so far, the
+#: next index of t_eval to fill, the status (mbm.status).
+PROGRESS = _group(("max_windows", _I), ("call_windows", _I), ("n_windows", _I), ("j", _I),
+                  ("status", _I))
+
+#: Long-horizon regimes (mbm.regimes): regimes ≠ 0 lets the run switch to a regime's
+#: closed form (adaptive controller, forwards only); regime is the one reached
+#: (REGIME_*) and t_regime when (nan before).
+SWITCH = _group(("regimes", _I), ("regime", _I), ("t_regime", _F))
+
+#: Running cycle (R1-R3) and libration (C3): the return map so far (crossings of
+#: θ = θ_s + 2πm, regimes.section_offset, in one direction: count, sign, last time, θ',
+#: return time, change of θ', largest |θ'| since) and, once switched, the stored period
+#: (anchor crossing θ, θ', period, time, winding sign; returns since the map converged,
+#: 0: not yet; the anchor's winding count; the period's low part in double-double, a
+#: libration's, 0 for the running cycle).
+CYCLE = _group(("sec_n", _I), ("sec_sign", _F), ("sec_t", _F), ("sec_v", _F), ("sec_T", _F),
+               ("sec_dv", _F), ("sec_vmax", _F), ("cyc_theta", _F), ("cyc_v", _F), ("cyc_T", _F),
+               ("cyc_t", _F), ("cyc_sign", _F), ("cyc_k", _I), ("cyc_wind", _F), ("cyc_Tlo", _F))
+
+#: Phase-locked to the drive (S1-S7): the stroboscopic samples (the first sample's time
+#: origin t_s, the next sample's index n; the last sample as winding count, φ and θ',
+#: carried to the exact time; the turns p of the last deviations and how many in a row
+#: share it, up to 3; the three deviations before the last, θ and θ' parts), once
+#: switched the anchor (its time and the drive's phase there; its state in str_k,
+#: str_phi, str_v, its p in str_p); the traces fitted at the last two samples and the
+#: last clean fit's spectral radius (nan: failed or none; S4); the run's window count
+#: at the last sample (S6); the orbit's period in drive periods q (1 for S1-S6); the
+#: last STROBE_RING samples, sample n at words 4(n mod STROBE_RING) on (winding count,
+#: φ, θ' carried to the exact time, the window count there); per q (index q) the traces
+#: at the last two samples, the last clean fit's spectral radius, and per class n mod q
+#: the last finite tail bound B at q·STROBE_MAX_PERIODS + (n mod q) (inf: none; S7).
+STROBE = _group(
+    ("str_t0", _F), ("str_n", _I), ("str_k", _F), ("str_phi", _F), ("str_v", _F), ("str_p", _F),
+    ("str_m", _I), ("str_d1t", _F), ("str_d1v", _F), ("str_d2t", _F), ("str_d2v", _F), ("str_d3t", _F),
+    ("str_d3v", _F), ("str_ta", _F), ("str_psi", _F), ("str_tau1", _F), ("str_tau2", _F), ("str_rho", _F),
+    ("str_nw", _I), ("str_q", _F), ("str_ring", _F, (4 * STROBE_RING,)), ("str_qtau1", _F, (_STROBE_Q,)),
+    ("str_qtau2", _F, (_STROBE_Q,)), ("str_qrho", _F, (_STROBE_Q,)),
+    ("str_qb", _F, (_STROBE_Q * STROBE_MAX_PERIODS,)))
+
+#: The run record, in named groups: ``r.model.beta``, ``r.state.t``, ``r.cycle.cyc_T``
+#: (numba and numpy alike).  One row per scene; :func:`mbm.loop.run` reads every group
+#: and writes the state, winding, progress and regimes' groups back.
 RUN = np.dtype(
-    [
-        # model θ'' + βθ' + ω² sin θ = γ
-        ("beta", np.float64),
-        ("gamma", np.float64),
-        ("omega", np.float64),
-        # state: the run's position on entry, the state reached on return
-        ("t", np.float64),
-        ("theta", np.float64),
-        ("v", np.float64),
-        ("t_bound", np.float64),
-        # approximant: COMPILED_KINDS id and its integer argument
-        ("kind", np.int64),
-        ("karg", np.int64),
-        # controller: CONTROLLER_FIXED or CONTROLLER_ADAPTIVE; h_abs is the next window
-        # length (τ when fixed; the adaptive proposal, ≤ 0 to search it from the
-        # estimate); error_order sets the adaptive exponent −1/(error_order + 1)
-        ("controller", np.int64),
-        ("h_abs", np.float64),
-        ("max_step", np.float64),
-        # longest angle a window may sweep: a window starting at speed θ' is at most
-        # max_dtheta/|θ'| long (inf: no limit; set when solve_ivp looks for events)
-        ("max_dtheta", np.float64),
-        ("rtol", np.float64),
-        ("atol", np.float64),
-        ("error_order", np.int64),
-        # budget and progress
-        ("max_windows", np.int64),  # windows the whole run may take (STATUS_MAX_WINDOWS past it)
-        ("call_windows", np.int64),  # windows one call may take before pausing (≤ 0: no limit)
-        ("n_windows", np.int64),  # windows taken so far
-        ("j", np.int64),  # next index of t_eval to fill
-        ("status", np.int64),
-        # long-horizon regimes (mbm.regimes): regimes ≠ 0 lets the run switch to a
-        # regime's closed form (adaptive controller, forwards only); regime is the one
-        # reached (REGIME_NONE, REGIME_LOCKED) and t_regime when (nan before)
-        ("regimes", np.int64),
-        ("regime", np.int64),
-        ("t_regime", np.float64),
-        # running cycle (mbm.regimes, R1-R3): the return map so far (crossings of
-        # θ = θ_s + 2πm, regimes.section_offset, in one direction: count, sign, last
-        # time, θ', return time, change of θ', largest |θ'| since) and, once switched,
-        # the cycle (anchor crossing θ, θ', period, time, winding sign)
-        ("sec_n", np.int64),
-        ("sec_sign", np.float64),
-        ("sec_t", np.float64),
-        ("sec_v", np.float64),
-        ("sec_T", np.float64),
-        ("sec_dv", np.float64),
-        ("sec_vmax", np.float64),
-        ("cyc_theta", np.float64),
-        ("cyc_v", np.float64),
-        ("cyc_T", np.float64),
-        ("cyc_t", np.float64),
-        ("cyc_sign", np.float64),
-        ("cyc_k", np.int64),  # returns since the map converged (0: not yet)
-        ("cyc_wind", np.float64),  # winding count of the cycle's anchor
-        # winding (TWO_PI_A): θ = 2π·wind + phi, the state a resumed run continues
-        # from (theta above is its value, rounded); a fresh run (n_windows = 0) starts
-        # from theta
-        ("phi", np.float64),
-        ("wind", np.float64),
-        # AC drive A sin(Ωt + φ) added to γ (A = 0: none, the autonomous equation; a
-        # driven run anchors by anchor_driven at each window's start time, and of the
-        # regimes takes only the phase-locked one below: the others assume an
-        # autonomous equation)
-        ("drive_amp", np.float64),
-        ("drive_freq", np.float64),
-        ("drive_phase", np.float64),
-        # low part of the stored period (cyc_T + cyc_Tlo in double-double: a
-        # libration's, mbm.regimes C3; 0 for the running cycle)
-        ("cyc_Tlo", np.float64),
-        # phase-locked to the drive (mbm.regimes, S1-S6): the stroboscopic samples (the
-        # first sample's time origin t_s, the next sample's index n; the last sample as
-        # winding count, φ and θ', carried to the exact time; the turns p of the last
-        # deviations and how many in a row share it, up to 3; the three deviations
-        # before the last, θ and θ' parts) and, once switched, the anchor: its time and
-        # the drive's phase there (its state in str_k, str_phi, str_v, its p in str_p)
-        ("str_t0", np.float64),
-        ("str_n", np.int64),
-        ("str_k", np.float64),
-        ("str_phi", np.float64),
-        ("str_v", np.float64),
-        ("str_p", np.float64),
-        ("str_m", np.int64),
-        ("str_d1t", np.float64),
-        ("str_d1v", np.float64),
-        ("str_d2t", np.float64),
-        ("str_d2v", np.float64),
-        ("str_d3t", np.float64),
-        ("str_d3v", np.float64),
-        ("str_ta", np.float64),
-        ("str_psi", np.float64),
-        # the traces fitted at the last two samples and the last clean fit's spectral
-        # radius (nan: failed or none; S4)
-        ("str_tau1", np.float64),
-        ("str_tau2", np.float64),
-        ("str_rho", np.float64),
-        # the run's window count at the last sample (a period's windows: S6)
-        ("str_nw", np.int64),
-        # subharmonic orbits (mbm.regimes S7): the switched orbit's period in drive
-        # periods q (1 for S1-S6); the last STROBE_RING samples, sample n at words
-        # 4(n mod STROBE_RING) on (winding count, φ, θ' carried to the exact time, the
-        # run's window count there); per q (index q): the traces fitted at the last two
-        # samples, the last clean fit's spectral radius, and per class n mod q the last
-        # finite tail bound B, at q·STROBE_MAX_PERIODS + (n mod q) (inf: none)
-        ("str_q", np.float64),
-        ("str_ring", np.float64, (4 * STROBE_RING,)),
-        ("str_qtau1", np.float64, (STROBE_MAX_PERIODS + 1,)),
-        ("str_qtau2", np.float64, (STROBE_MAX_PERIODS + 1,)),
-        ("str_qrho", np.float64, (STROBE_MAX_PERIODS + 1,)),
-        ("str_qb", np.float64, ((STROBE_MAX_PERIODS + 1) * STROBE_MAX_PERIODS,)),
-    ],
+    [("model", MODEL), ("state", STATE), ("winding", WINDING), ("control", CONTROL),
+     ("progress", PROGRESS), ("switch", SWITCH), ("cycle", CYCLE), ("strobe", STROBE)],
     align=True,
 )
 
+#: The group of each field (field names are unique across groups).
+GROUP = {name: group for group in RUN.names for name in RUN.fields[group][0].names}
 
 #: Word index of each field of a RUN record (every field is 8 bytes, aligned), for
 #: setting and reading fields through float64/int64 views of a record: a field access
 #: through the record costs ~0.3 µs, a copy of a structured array ~3.5 µs, a view ~0.1.
-WORD = {name: RUN.fields[name][1] // 8 for name in RUN.names}
+WORD = {name: (RUN.fields[g][1] + RUN.fields[g][0].fields[name][1]) // 8 for name, g in GROUP.items()}
+
+#: The same words under flat field names, for Python (``flat(p)["beta"]``).
+FLAT = np.dtype({
+    "names": list(GROUP),
+    "formats": [RUN.fields[g][0].fields[name][0] for name, g in GROUP.items()],
+    "offsets": [8 * WORD[name] for name in GROUP],
+    "itemsize": RUN.itemsize,
+})
 
 
-assert RUN.itemsize == sum(RUN.fields[name][0].itemsize for name in RUN.names)
+assert len(GROUP) == sum(len(RUN.fields[g][0].names) for g in RUN.names)  # unique names
+assert all(RUN.fields[g][0].fields[name][1] % 8 == 0 and RUN.fields[g][1] % 8 == 0
+           for name, g in GROUP.items())
+assert RUN.itemsize == sum(FLAT.fields[name][0].itemsize for name in FLAT.names)
 
 
-assert all(RUN.fields[name][1] % 8 == 0 for name in RUN.names)
+def flat(p):
+    """A view of RUN records ``p`` (an array or one record) with flat field names."""
+    return p.view(FLAT)
+
+
+@numba.njit(cache=True)
+def init_run(p, i, model, state, control, max_windows, call_windows, regimes):
+    """Set row ``i`` of RUN array ``p`` to a fresh run: the one initialiser of a record.
+
+    ``model`` is (β, γ, ω, A, Ω, φ), ``state`` (t0, θ0, θ'0, t_bound), ``control``
+    (kind, karg, controller, h_abs, max_step, max_dtheta, rtol, atol, error_order), as
+    the groups :data:`MODEL`, :data:`STATE`, :data:`CONTROL`; progress, winding and the
+    regimes' groups start empty (``n_windows = j = status = 0``, φ = θ0, ``regime``
+    none, ``t_regime`` nan; regime switching on unless ``regimes = 0``).
+    """
+    r = p[i]
+    m = r.model
+    m.beta, m.gamma, m.omega, m.drive_amp, m.drive_freq, m.drive_phase = model
+    s = r.state
+    s.t, s.theta, s.v, s.t_bound = state
+    r.winding.phi, r.winding.wind = s.theta, 0.0
+    c = r.control
+    c.kind, c.karg, c.controller, c.h_abs, c.max_step, c.max_dtheta, c.rtol, c.atol, c.error_order = control
+    g = r.progress
+    g.max_windows, g.call_windows, g.n_windows, g.j, g.status = max_windows, call_windows, 0, 0, 0
+    w = r.switch
+    w.regimes, w.regime, w.t_regime = regimes, REGIME_NONE, math.nan
+    y = r.cycle
+    y.sec_n, y.sec_sign, y.sec_t, y.sec_v, y.sec_T, y.sec_dv, y.sec_vmax = 0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    y.cyc_theta, y.cyc_v, y.cyc_T, y.cyc_t, y.cyc_sign = 0.0, 0.0, math.nan, 0.0, 0.0
+    y.cyc_k, y.cyc_wind, y.cyc_Tlo = 0, 0.0, 0.0
+    b = r.strobe
+    b.str_t0, b.str_n, b.str_k, b.str_phi, b.str_v, b.str_p, b.str_m = 0.0, 0, 0.0, 0.0, 0.0, 0.0, 0
+    b.str_d1t, b.str_d1v, b.str_d2t, b.str_d2v, b.str_d3t, b.str_d3v = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    b.str_ta, b.str_psi = 0.0, 0.0
+    b.str_tau1, b.str_tau2, b.str_rho, b.str_nw, b.str_q = math.nan, math.nan, math.nan, 0, 1.0
+    for q in range(b.str_ring.size):
+        b.str_ring[q] = 0.0
+    for q in range(b.str_qtau1.size):
+        b.str_qtau1[q] = math.nan
+        b.str_qtau2[q] = math.nan
+        b.str_qrho[q] = math.nan
+    for q in range(b.str_qb.size):
+        b.str_qb[q] = math.inf
+
+
+@numba.njit(cache=True)
+def init_runs(p, model, t0, y0, t_bound, plan, h_abs, max_step, rtol, atol, max_windows):
+    """:func:`init_run` for every row of ``p`` (a batch): ``model`` rows β, γ, ω, A, Ω, φ
+    of shape (6, N), ``y0`` (N, 2), ``plan`` rows kind, karg, controller, error_order
+    (4, N), ``h_abs`` (N,); the span, tolerances and budget shared; no θ-step limit, no
+    call budget, regime switching on."""
+    for i in range(p.size):
+        init_run(p, i, (model[0, i], model[1, i], model[2, i], model[3, i], model[4, i], model[5, i]),
+                 (t0, y0[i, 0], y0[i, 1], t_bound),
+                 (plan[0, i], plan[1, i], plan[2, i], h_abs[i], max_step, math.inf, rtol, atol, plan[3, i]),
+                 max_windows, 0, 1)
 
 
 def new_run(beta, gamma, omega, t0, theta0, v0, t_bound, kind, karg, controller, h_abs,
             max_step, rtol, atol, error_order, max_windows, call_windows=0, max_dtheta=math.inf,
             regimes=1, drive_amplitude=0.0, drive_frequency=0.0, drive_phase=0.0):
-    """A run record array of one row, at the start of its run (n_windows = j = status = 0;
-    regime switching on unless ``regimes=0``; a driven run, ``drive_amplitude`` ≠ 0, may
-    reach the phase-locked regime only)."""
-    return np.array(
-        [(beta, gamma, omega, t0, theta0, v0, t_bound, kind, karg, controller, h_abs,
-          max_step, max_dtheta, rtol, atol, error_order, max_windows, call_windows, 0, 0, 0,
-          regimes, REGIME_NONE, math.nan, 0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
-          math.nan, 0.0, 0.0, 0, 0.0, theta0, 0.0, drive_amplitude, drive_frequency, drive_phase, 0.0,
-          0.0, 0, 0.0, 0.0, 0.0, 0.0, 0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, math.nan, math.nan, math.nan, 0,
-          1.0, np.zeros(4 * STROBE_RING), np.full(STROBE_MAX_PERIODS + 1, math.nan),
-          np.full(STROBE_MAX_PERIODS + 1, math.nan), np.full(STROBE_MAX_PERIODS + 1, math.nan),
-          np.full((STROBE_MAX_PERIODS + 1) * STROBE_MAX_PERIODS, math.inf))],
-        dtype=RUN,
-    )
+    """A run record array of one row, at the start of its run (:func:`init_run`; regime
+    switching on unless ``regimes=0``; a driven run, ``drive_amplitude`` ≠ 0, may reach
+    the phase-locked regime only)."""
+    p = np.empty(1, dtype=RUN)
+    init_run(p, 0, (float(beta), float(gamma), float(omega), float(drive_amplitude), float(drive_frequency),
+                    float(drive_phase)),
+             (float(t0), float(theta0), float(v0), float(t_bound)),
+             (int(kind), int(karg), int(controller), float(h_abs), float(max_step), float(max_dtheta),
+              float(rtol), float(atol), int(error_order)),
+             int(max_windows), int(call_windows), int(regimes))
+    return p

@@ -264,33 +264,34 @@ def _cycle_crossing_for(kind):
         """The window [t, t_new] from φ = ``y0`` to (``th``, ``v``) crossed the level between
         sections ``m0`` and ``m1`` (|m1 − m0| = 1): its time and speed into the return map
         in the run record ``r``, and the switch to the running cycle once converged."""
+        cy = r.cycle
         sgn = 1.0 if m1 > m0 else -1.0
         level = sec_off + _TWO_PI * max(m0, m1)
         sx, vx = _crossing(kind, coef, t_new - t, y0 - level, th - level, level, sec_acc, beta,
                            omega * omega)
         tx = t + sx
-        if r.sec_n > 0 and r.sec_sign == sgn:
-            period = tx - r.sec_t
-            dv = vx - r.sec_v
-            if r.cyc_k > 0:
+        if cy.sec_n > 0 and cy.sec_sign == sgn:
+            period = tx - cy.sec_t
+            dv = vx - cy.sec_v
+            if cy.cyc_k > 0:
                 # Converged: the period averaged over CYCLE_AVERAGE_PERIODS returns (R2).
-                r.cyc_k += 1
-                if r.cyc_k > CYCLE_AVERAGE_PERIODS:
-                    r.regime = REGIME_RUNNING
-                    r.t_regime = t_new
-                    r.cyc_T = (tx - r.cyc_t) / CYCLE_AVERAGE_PERIODS
-                    r.cyc_theta, r.cyc_v, r.cyc_t, r.cyc_sign = level, vx, tx, sgn
-                    r.cyc_wind = k
-            elif r.sec_n >= 2 and cycle_switch(
-                    dv, r.sec_dv, period - r.sec_T, vx, off + level, r.sec_vmax,
-                    abs(gamma) + beta * r.sec_vmax + omega * omega, (t_bound - t_new) / period, rtol,
+                cy.cyc_k += 1
+                if cy.cyc_k > CYCLE_AVERAGE_PERIODS:
+                    r.switch.regime = REGIME_RUNNING
+                    r.switch.t_regime = t_new
+                    cy.cyc_T = (tx - cy.cyc_t) / CYCLE_AVERAGE_PERIODS
+                    cy.cyc_theta, cy.cyc_v, cy.cyc_t, cy.cyc_sign = level, vx, tx, sgn
+                    cy.cyc_wind = k
+            elif cy.sec_n >= 2 and cycle_switch(
+                    dv, cy.sec_dv, period - cy.sec_T, vx, off + level, cy.sec_vmax,
+                    abs(gamma) + beta * cy.sec_vmax + omega * omega, (t_bound - t_new) / period, rtol,
                     atol):
-                r.cyc_k, r.cyc_t = 1, tx
-            r.sec_dv, r.sec_T = dv, period
-            r.sec_n += 1
+                cy.cyc_k, cy.cyc_t = 1, tx
+            cy.sec_dv, cy.sec_T = dv, period
+            cy.sec_n += 1
         else:
-            r.sec_n, r.sec_sign, r.cyc_k = 1, sgn, 0
-        r.sec_t, r.sec_v, r.sec_vmax = tx, vx, max(abs(vx), abs(v))
+            cy.sec_n, cy.sec_sign, cy.cyc_k = 1, sgn, 0
+        cy.sec_t, cy.sec_v, cy.sec_vmax = tx, vx, max(abs(vx), abs(v))
 
     return cycle_crossing
 
@@ -304,13 +305,14 @@ def _watch_cycle(kind, r, coef, t, t_new, y0, th, v, k, off, sec_off, sec_acc, b
                  rtol, atol):
     """After an ordinary window [t, t_new] from φ = ``y0`` to (``th``, ``v``): the return
     map's bookkeeping in the run record ``r`` (a crossing of θ_s + 2πm, its period and
-    speed; the switch to the running cycle, ``r.regime``, once converged).  A window
+    speed; the switch to the running cycle, ``r.switch.regime``, once converged).  A window
     that crosses a level calls its kind's compiled :func:`_cycle_crossing_for`."""
+    cy = r.cycle
     # The return map (mbm.regimes, R1, R2): a crossing of a saddle level
     # θ = θ_s + 2πm in this window.
     m0 = math.floor((y0 - sec_off) / _TWO_PI)
     m1 = math.floor((th - sec_off) / _TWO_PI)
-    r.sec_vmax = max(r.sec_vmax, abs(v))
+    cy.sec_vmax = max(cy.sec_vmax, abs(v))
     if abs(m1 - m0) == 1.0:
         if kind == KIND_TAYLOR:
             _cycle_crossing_taylor(r, coef, t, t_new, y0, th, v, k, off, sec_off, sec_acc, beta, gamma, omega,
@@ -319,4 +321,4 @@ def _watch_cycle(kind, r, coef, t, t_new, y0, th, v, k, off, sec_off, sec_acc, b
             _cycle_crossing_split(r, coef, t, t_new, y0, th, v, k, off, sec_off, sec_acc, beta, gamma, omega,
                                   t_bound, rtol, atol, m0, m1)
     elif m1 != m0:
-        r.sec_n, r.cyc_k = 0, 0
+        cy.sec_n, cy.cyc_k = 0, 0

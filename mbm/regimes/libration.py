@@ -278,7 +278,7 @@ def _libration_test(r, t, y0, y1, k, off, gamma, omega, t_bound, rtol, atol):
         if (n_rest >= LIBRATION_MIN_PERIODS
                 and drift * lb_vmax <= SWITCH_SAFETY * (atol + rtol * theta_min)
                 and drift * (omega * omega + abs(gamma)) <= SWITCH_SAFETY * atol):
-            r.regime = REGIME_LIBRATION
-            r.t_regime = t
-            r.cyc_theta, r.cyc_v, r.cyc_t, r.cyc_sign, r.cyc_wind = y0, y1, t, 0.0, k
-            r.cyc_T, r.cyc_Tlo = lb_hi, lb_lo
+            r.switch.regime = REGIME_LIBRATION
+            r.switch.t_regime = t
+            r.cycle.cyc_theta, r.cycle.cyc_v, r.cycle.cyc_t, r.cycle.cyc_sign, r.cycle.cyc_wind = y0, y1, t, 0.0, k
+            r.cycle.cyc_T, r.cycle.cyc_Tlo = lb_hi, lb_lo

@@ -108,11 +108,12 @@ def _strobe_samples(kind, p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det, n_tot
     ``sp_lo``: T_d (regimes.strobe_period); ``sp_det``: e^{−βT_d}; ``n_total``: the
     run's windows before this one.  Returns the next sample's time (after t_new)."""
     r = p[0]
-    beta, gamma, omega = r.beta, r.gamma, r.omega
-    amp, freq, phase = r.drive_amp, r.drive_freq, r.drive_phase
-    rtol, atol = r.rtol, r.atol
+    sb = r.strobe
+    beta, gamma, omega = r.model.beta, r.model.gamma, r.model.omega
+    amp, freq, phase = r.model.drive_amp, r.model.drive_freq, r.model.drive_phase
+    rtol, atol = r.control.rtol, r.control.atol
     while True:
-        tn, rn = strobe_time(r.str_t0, float(r.str_n), sp_hi, sp_lo)
+        tn, rn = strobe_time(sb.str_t0, float(sb.str_n), sp_hi, sp_lo)
         if not (tn <= t_new):
             return tn
         a, b = evaluate(kind, coef, tn - t)
@@ -120,55 +121,55 @@ def _strobe_samples(kind, p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det, n_tot
         su, _ = drive_phase_sincos(freq, phase, tn)
         acc = (gamma + amp * su) - beta * b - omega * omega * math.sin(a)
         ac, bc = a + b * rn, b + acc * rn
-        if r.str_n >= 2:
+        if sb.str_n >= 2:
             # (S1): the deviation over the last drive period, p turns.
-            dphi = ac - r.str_phi
+            dphi = ac - sb.str_phi
             m = np.floor(dphi / _TWO_PI + 0.5)
-            turns = (k - r.str_k) + m
+            turns = (k - sb.str_k) + m
             dth = (dphi - m * TWO_PI_A) - m * TWO_PI_B
-            dv = bc - r.str_v
+            dv = bc - sb.str_v
             tau = math.nan
-            if r.str_m >= 3 and turns == r.str_p:
+            if sb.str_m >= 3 and turns == sb.str_p:
                 # (S5): the switch rule; the anchor is this sample at t_n itself.
                 scale = SWITCH_SAFETY * min(atol + rtol * abs(b), omega * (atol + rtol * abs(off + a)))
-                ok, tau, r.str_rho, _, _ = strobe_switch(
-                    r.str_d3t, r.str_d3v, r.str_d2t, r.str_d2v, r.str_d1t, r.str_d1v, dth, dv, sp_det,
-                    omega, scale, r.str_tau1, r.str_tau2, r.str_rho)
+                ok, tau, sb.str_rho, _, _ = strobe_switch(
+                    sb.str_d3t, sb.str_d3v, sb.str_d2t, sb.str_d2v, sb.str_d1t, sb.str_d1v, dth, dv, sp_det,
+                    omega, scale, sb.str_tau1, sb.str_tau2, sb.str_rho)
                 # (S6): a period the stored re-run can take (it stops at CYCLE_MAX_WINDOWS).
-                if ok and n_total + 1 - r.str_nw <= CYCLE_MAX_WINDOWS // 2:
-                    r.regime = REGIME_PHASE_LOCKED
-                    r.t_regime = t_new
-                    r.str_ta, r.str_psi = tn, strobe_phase(freq, phase, tn)
-                    r.str_k, r.str_phi, r.str_v = k, a, b
-                    r.str_n += 1
+                if ok and n_total + 1 - sb.str_nw <= CYCLE_MAX_WINDOWS // 2:
+                    r.switch.regime = REGIME_PHASE_LOCKED
+                    r.switch.t_regime = t_new
+                    sb.str_ta, sb.str_psi = tn, strobe_phase(freq, phase, tn)
+                    sb.str_k, sb.str_phi, sb.str_v = k, a, b
+                    sb.str_n += 1
                     return math.inf
-            if r.str_m > 0 and turns == r.str_p:
-                r.str_d3t, r.str_d3v = r.str_d2t, r.str_d2v
-                r.str_d2t, r.str_d2v = r.str_d1t, r.str_d1v
-                r.str_m = min(r.str_m + 1, 3)
+            if sb.str_m > 0 and turns == sb.str_p:
+                sb.str_d3t, sb.str_d3v = sb.str_d2t, sb.str_d2v
+                sb.str_d2t, sb.str_d2v = sb.str_d1t, sb.str_d1v
+                sb.str_m = min(sb.str_m + 1, 3)
             else:
-                r.str_p, r.str_m, r.str_rho = turns, 1, math.nan
-            r.str_d1t, r.str_d1v = dth, dv
-            r.str_tau2, r.str_tau1 = r.str_tau1, tau
+                sb.str_p, sb.str_m, sb.str_rho = turns, 1, math.nan
+            sb.str_d1t, sb.str_d1v = dth, dv
+            sb.str_tau2, sb.str_tau1 = sb.str_tau1, tau
         # (S7): the maps P^q, q = 2 .. STROBE_MAX_PERIODS (q = 1 first, above).
         scale = SWITCH_SAFETY * min(atol + rtol * abs(b), omega * (atol + rtol * abs(off + a)))
         qs, ps = _strobe_subharmonic(p, k, ac, bc, scale, sp_hi, n_total)
         if qs > 0:
-            r.regime = REGIME_PHASE_LOCKED
-            r.t_regime = t_new
-            r.str_ta, r.str_psi = tn, strobe_phase(freq, phase, tn)
-            r.str_k, r.str_phi, r.str_v = k, a, b
-            r.str_p, r.str_q = ps, float(qs)
-            r.str_n += 1
+            r.switch.regime = REGIME_PHASE_LOCKED
+            r.switch.t_regime = t_new
+            sb.str_ta, sb.str_psi = tn, strobe_phase(freq, phase, tn)
+            sb.str_k, sb.str_phi, sb.str_v = k, a, b
+            sb.str_p, sb.str_q = ps, float(qs)
+            sb.str_n += 1
             return math.inf
-        slot = 4 * (r.str_n % STROBE_RING)
-        r.str_ring[slot] = k
-        r.str_ring[slot + 1] = ac
-        r.str_ring[slot + 2] = bc
-        r.str_ring[slot + 3] = float(n_total + 1)
-        r.str_k, r.str_phi, r.str_v = k, ac, bc
-        r.str_n += 1
-        r.str_nw = n_total + 1
+        slot = 4 * (sb.str_n % STROBE_RING)
+        sb.str_ring[slot] = k
+        sb.str_ring[slot + 1] = ac
+        sb.str_ring[slot + 2] = bc
+        sb.str_ring[slot + 3] = float(n_total + 1)
+        sb.str_k, sb.str_phi, sb.str_v = k, ac, bc
+        sb.str_n += 1
+        sb.str_nw = n_total + 1
 
 
 # _strobe_dev and _strobe_subharmonic are called, not inlined: they are kind-free, run once
@@ -178,7 +179,7 @@ def _strobe_samples(kind, p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det, n_tot
 def _strobe_dev(r, n, i, d, k, phi, v):
     """``(turns, Δθ, Δθ')`` of z_i − z_{i−d} (S1's arithmetic; S7): samples before the
     current one, index ``n`` (state ``k``, ``phi``, ``v``), from the record's ring."""
-    ring = r.str_ring
+    ring = r.strobe.str_ring
     if i == n:
         k1, f1, v1 = k, phi, v
     else:
@@ -199,8 +200,9 @@ def _strobe_subharmonic(p, k, phi, v, scale, sp_hi, n_total):
     ``scale``: S5's at this sample; ``sp_hi``: T_d; ``n_total``: the run's windows
     before this window.  Updates the fits' state of every q tested."""
     r = p[0]
-    beta, omega = r.beta, r.omega
-    n = r.str_n
+    sb = r.strobe
+    beta, omega = r.model.beta, r.model.omega
+    n = sb.str_n
     for q in range(2, STROBE_MAX_PERIODS + 1):
         if n < 4 * q + 1:
             break
@@ -213,32 +215,32 @@ def _strobe_subharmonic(p, k, phi, v, scale, sp_hi, n_total):
         if p3 == p0 and p2 == p0 and p1 == p0:
             # (S7): S3-S5 on P^q, det DP^q = e^{−βqT_d} exactly.
             det = math.exp(-beta * (q * sp_hi))
-            ok, tau, r.str_qrho[q], _, bound = strobe_switch(
-                d3t, d3v, d2t, d2v, d1t, d1v, ct, cv, det, omega, scale, r.str_qtau1[q], r.str_qtau2[q],
-                r.str_qrho[q])
+            ok, tau, sb.str_qrho[q], _, bound = strobe_switch(
+                d3t, d3v, d2t, d2v, d1t, d1v, ct, cv, det, omega, scale, sb.str_qtau1[q], sb.str_qtau2[q],
+                sb.str_qrho[q])
             # (S6): q periods the stored re-run can take.
-            nw = r.str_ring[4 * ((n - q) % STROBE_RING) + 3]
+            nw = sb.str_ring[4 * ((n - q) % STROBE_RING) + 3]
             ok = ok and n_total + 1 - nw <= CYCLE_MAX_WINDOWS // 2
             base = q * STROBE_MAX_PERIODS
             for d in range(1, q):
                 # (S7): every other class within the scale of its limit, and the classes
                 # d periods apart with distinct limits, for every d | q, d < q.
-                b_d = r.str_qb[base + (n - d) % q]
+                b_d = sb.str_qb[base + (n - d) % q]
                 ok = ok and b_d <= scale
                 if ok and q % d == 0:
                     _, sdt, sdv = _strobe_dev(r, n, n, d, k, phi, v)
                     sep = math.sqrt((omega * sdt) ** 2 + sdv * sdv)
                     ok = sep - bound - b_d > STROBE_DISTINCT * scale
         else:
-            r.str_qrho[q] = math.nan
+            sb.str_qrho[q] = math.nan
             # Not (yet) the linear map's deviations: this class's last bound is void.
-            r.str_qb[q * STROBE_MAX_PERIODS + n % q] = math.inf
-        r.str_qtau2[q] = r.str_qtau1[q]
-        r.str_qtau1[q] = tau
+            sb.str_qb[q * STROBE_MAX_PERIODS + n % q] = math.inf
+        sb.str_qtau2[q] = sb.str_qtau1[q]
+        sb.str_qtau1[q] = tau
         if bound < math.inf:
             # (S7): a tail bound covers every later sample of its class, so a class's
             # last finite one stands until its next.
-            r.str_qb[q * STROBE_MAX_PERIODS + n % q] = bound
+            sb.str_qb[q * STROBE_MAX_PERIODS + n % q] = bound
         if ok:
             return q, p0
     return 0, 0.0
@@ -248,20 +250,21 @@ def _strobe_subharmonic(p, k, phi, v, scale, sp_hi, n_total):
 def _strobe_setup(r, t, freq, beta, n_total):
     """The stroboscopic watch's constants of a driven run (S1-S7): ``(T_d hi, T_d lo,
     e^{−βT_d}, the next sample's time)``; a fresh run sets the samples' origin."""
+    sb = r.strobe
     sp_hi, sp_lo = strobe_period(freq, 1.0)
     sp_det = math.exp(-beta * sp_hi)  # (S2): det DP, exactly e^{−βT_d}
     if n_total == 0:
-        r.str_t0, r.str_n, r.str_m = t, 1, 0
-        r.str_tau1, r.str_tau2, r.str_rho = math.nan, math.nan, math.nan
+        sb.str_t0, sb.str_n, sb.str_m = t, 1, 0
+        sb.str_tau1, sb.str_tau2, sb.str_rho = math.nan, math.nan, math.nan
         # (S7): the maps P^q, q > 1.
-        r.str_q = 1.0
+        sb.str_q = 1.0
         for q in range(STROBE_MAX_PERIODS + 1):
-            r.str_qtau1[q], r.str_qtau2[q], r.str_qrho[q] = math.nan, math.nan, math.nan
+            sb.str_qtau1[q], sb.str_qtau2[q], sb.str_qrho[q] = math.nan, math.nan, math.nan
         for q in range((STROBE_MAX_PERIODS + 1) * STROBE_MAX_PERIODS):
-            r.str_qb[q] = math.inf
+            sb.str_qb[q] = math.inf
     sp_next = math.inf
-    if r.regime == REGIME_NONE:
-        sp_next = strobe_time(r.str_t0, float(r.str_n), sp_hi, sp_lo)[0]
+    if r.switch.regime == REGIME_NONE:
+        sp_next = strobe_time(sb.str_t0, float(sb.str_n), sp_hi, sp_lo)[0]
     return sp_hi, sp_lo, sp_det, sp_next
 
 

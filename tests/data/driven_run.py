@@ -26,10 +26,10 @@ def run(params, y0, T, t, tol, regimes_on=1, call_windows=0):
     out = np.full((3, t.size), np.nan)
     while True:
         loop.run(p, t, out, np.empty(0), np.empty((0, 2)), np.empty((0, 0)), np.zeros(1, np.int64))
-        if p[0]["status"] != loop.STATUS_PAUSED:
+        if loop.flat(p)[0]["status"] != loop.STATUS_PAUSED:
             break
-    assert p[0]["status"] == 0
-    return out, p[0]
+    assert loop.flat(p)[0]["status"] == 0
+    return out, loop.flat(p)[0]
 
 
 def theta_ld(out):

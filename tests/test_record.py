@@ -1,0 +1,104 @@
+"""The run record (mbm.core.record): its named groups, its size where it is documented,
+and the one initialiser every path uses."""
+
+import math
+import re
+from pathlib import Path
+
+import numpy as np
+
+import mbm
+from mbm import loop
+from mbm.core import record
+
+ROOT = Path(__file__).resolve().parents[1]
+
+# The layout, group by group: a change of the record is a change of this table (and of
+# the size quoted in the README).
+LAYOUT = {
+    "model": ("beta", "gamma", "omega", "drive_amp", "drive_freq", "drive_phase"),
+    "state": ("t", "theta", "v", "t_bound"),
+    "winding": ("phi", "wind"),
+    "control": ("kind", "karg", "controller", "h_abs", "max_step", "max_dtheta", "rtol", "atol", "error_order"),
+    "progress": ("max_windows", "call_windows", "n_windows", "j", "status"),
+    "switch": ("regimes", "regime", "t_regime"),
+    "cycle": ("sec_n", "sec_sign", "sec_t", "sec_v", "sec_T", "sec_dv", "sec_vmax", "cyc_theta", "cyc_v",
+              "cyc_T", "cyc_t", "cyc_sign", "cyc_k", "cyc_wind", "cyc_Tlo"),
+    "strobe": ("str_t0", "str_n", "str_k", "str_phi", "str_v", "str_p", "str_m", "str_d1t", "str_d1v",
+               "str_d2t", "str_d2v", "str_d3t", "str_d3v", "str_ta", "str_psi", "str_tau1", "str_tau2",
+               "str_rho", "str_nw", "str_q", "str_ring", "str_qtau1", "str_qtau2", "str_qrho", "str_qb"),
+}
+SIZE = 1304
+
+
+def test_layout_is_the_named_groups():
+    assert loop.RUN.names == tuple(LAYOUT)
+    for group, fields in LAYOUT.items():
+        assert loop.RUN.fields[group][0].names == fields
+    assert loop.RUN.itemsize == SIZE
+    assert set(loop.GROUP) == {f for fields in LAYOUT.values() for f in fields}
+
+
+def test_documented_size_is_the_record_size():
+    readme = (ROOT / "README.md").read_text()
+    quoted = re.search(r"`mbm\.loop\.RUN\.itemsize`, is (\d+) bytes", readme)
+    assert quoted and int(quoted.group(1)) == loop.RUN.itemsize
+
+
+def test_words_and_flat_view_address_the_same_fields():
+    p = loop.new_run(0.1, 0.2, 1.5, 3.0, 0.4, -0.5, 9.0, loop.KIND_TAYLOR, 24, loop.CONTROLLER_ADAPTIVE,
+                     -1.0, 2.5, 1e-7, 1e-8, 24, 1000, drive_amplitude=0.3, drive_frequency=0.7,
+                     drive_phase=0.2)
+    words = p.view(np.float64)
+    ints = p.view(np.int64)
+    f = loop.flat(p)[0]
+    for name, group in loop.GROUP.items():
+        value = p[0][group][name]
+        assert np.array_equal(f[name], value, equal_nan=True)
+        if np.ndim(value) == 0:
+            w = loop.WORD[name]
+            got = ints[w] if np.issubdtype(np.asarray(value).dtype, np.integer) else words[w]
+            assert got == value or (math.isnan(got) and math.isnan(value)), name
+    assert loop.WORD["v"] == loop.WORD["theta"] + 1
+
+
+def test_new_run_is_the_fresh_record():
+    p = loop.new_run(0.1, 0.2, 1.5, 3.0, 0.4, -0.5, 9.0, loop.KIND_SPLIT, 4, loop.CONTROLLER_FIXED, 0.1,
+                     math.inf, 1e-6, 1e-9, 4, 77, call_windows=5, max_dtheta=0.5, regimes=0)
+    r = loop.flat(p)[0]
+    assert (r["beta"], r["gamma"], r["omega"]) == (0.1, 0.2, 1.5)
+    assert (r["t"], r["theta"], r["v"], r["t_bound"]) == (3.0, 0.4, -0.5, 9.0)
+    assert (r["phi"], r["wind"]) == (0.4, 0.0)
+    assert (r["kind"], r["karg"], r["controller"], r["h_abs"]) == (loop.KIND_SPLIT, 4, loop.CONTROLLER_FIXED, 0.1)
+    assert (r["max_dtheta"], r["rtol"], r["atol"], r["error_order"]) == (0.5, 1e-6, 1e-9, 4)
+    assert (r["max_windows"], r["call_windows"], r["n_windows"], r["j"], r["status"]) == (77, 5, 0, 0, 0)
+    assert r["regimes"] == 0 and r["regime"] == mbm.regimes.REGIME_NONE and math.isnan(r["t_regime"])
+    assert math.isnan(r["cyc_T"]) and r["str_q"] == 1.0 and r["sec_n"] == 0
+    assert np.all(np.isnan(r["str_qtau1"])) and np.all(np.isinf(r["str_qb"])) and not np.any(r["str_ring"])
+    assert (r["drive_amp"], r["drive_freq"], r["drive_phase"]) == (0.0, 0.0, 0.0)
+
+
+def test_batch_records_are_new_run_records_bit_for_bit():
+    # init_runs (solve_batch's) and new_run (every other path's) write the same words
+    beta, gamma, omega = np.array([0.1, 0.0]), np.array([1.2, 0.0]), np.array([1.0, 2.0])
+    y0 = np.array([[0.5, 0.0], [1.0, -0.25]])
+    plan = np.array([[loop.KIND_TAYLOR, loop.KIND_EXACT], [24, 0], [loop.CONTROLLER_ADAPTIVE, loop.CONTROLLER_FIXED],
+                     [24, 0]], dtype=np.int64)
+    h = np.array([-1.0, 5.0])
+    model = np.stack([beta, gamma, omega, np.zeros(2), np.zeros(2), np.zeros(2)])
+    p = np.empty(2, dtype=loop.RUN)
+    loop.init_runs(p, model, 0.0, y0, 5.0, plan, h, math.inf, 1e-8, 1e-9, 1000)
+    for i in range(2):
+        want = loop.new_run(beta[i], gamma[i], omega[i], 0.0, y0[i, 0], y0[i, 1], 5.0, plan[0, i], plan[1, i],
+                            plan[2, i], h[i], math.inf, 1e-8, 1e-9, plan[3, i], 1000)
+        assert p[i:i + 1].tobytes() == want.tobytes()
+
+
+def test_solve_njit_and_batch_build_records_with_the_initialiser():
+    # no path spells the record out field by field: solve_njit and solve_batch call the
+    # compiled initialiser (and solve_njit's run equals mbm.solve's, tests/test_fast.py)
+    src = (ROOT / "mbm" / "fast.py").read_text()
+    njit_src = src[src.index("def solve_njit("):src.index("def _is_zero(")]
+    batch_src = src[src.index("def solve_batch("):]
+    assert "loop.init_run(" in njit_src and "loop.init_runs(" in batch_src
+    assert "np.zeros(1, dtype=loop.RUN)" not in njit_src and 'p["' not in batch_src
