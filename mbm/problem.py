@@ -228,7 +228,7 @@ class Pendulum:
 
     @property
     def equilibrium(self):
-        """The stable rest angle ``arcsin(γ/ω²)`` in [−π/2, π/2], or None when |γ| > ω²."""
+        """The stable rest angle ``arcsin(γ/ω²)`` in [−π/2, π/2], or None when ``|γ| > ω²``."""
         s = self._gamma / self._omega**2
         if abs(s) > 1.0:
             return None

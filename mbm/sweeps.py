@@ -491,7 +491,7 @@ def sweep(*, beta, gamma, omega=1.0, theta0=0.0, theta_dot0=0.0, t_span, t_eval=
             rounded to the nearest integer (a locked scene: the wells it moved by).
             Float (integer values), so that failed scenes can be NaN.
         ``"regime"``
-            ``regime``: ``"running"`` where |θ(t1) − θ(t_m)| ≥ :data:`REGIME_TURNS` · 2π
+            ``regime``: ``"running"`` where ``|θ(t1) − θ(t_m)|`` ≥ :data:`REGIME_TURNS` · 2π
             (the mean velocity ≥ 2π/(t1 − t_m) in magnitude), else ``"locked"``;
             ``"failed"`` where the status is not 0.  Misreads a running scene whose
             period exceeds (t1 − t0)/2 and a scene still slipping wells after t_m.
