@@ -105,3 +105,18 @@ def test_site_builds_with_the_gallery_executed(tmp_path):
         page = (html / "auto_examples" / f"{example}.html").read_text(encoding="utf-8")
         figures = set(re.findall(rf"sphx_glr_{example}_\d+\.png", page))
         assert len(figures) == n, (example, sorted(figures))
+
+
+def test_getting_started_example_runs():
+    """The first run of the getting-started page prints what its comments say."""
+    import contextlib
+    import io
+
+    text = (DOCS / "getting_started.md").read_text(encoding="utf-8")
+    block = re.search(r"```python\n(.*?)```", text, flags=re.S).group(1)
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        exec(compile(block, "getting_started.md", "exec"), {})
+    lines = out.getvalue().splitlines()
+    assert float(lines[0]) < 1e-9  # "below 1e-9"
+    assert lines[1].startswith("taylor - ")
