@@ -16,10 +16,6 @@ sys.path.insert(0, str(DOCS))  # _gallery_scraper
 
 os.environ.setdefault("MPLBACKEND", "Agg")
 os.environ.setdefault("MBM_COMPILE_NOTICE", "0")
-# The examples save their PNGs here; the scraper below moves them into the gallery.
-GALLERY_OUT = DOCS / "_build" / "gallery_png"
-os.environ["MBM_EXAMPLES_OUT"] = str(GALLERY_OUT)
-shutil.rmtree(GALLERY_OUT, ignore_errors=True)
 
 import mbm  # noqa: E402
 from _gallery_scraper import PngScraper  # noqa: E402
@@ -52,8 +48,6 @@ autodoc_default_options = {"members": False}
 numpydoc_show_class_members = False
 numpydoc_class_members_toctree = False
 
-
-
 sphinx_gallery_conf = {
     "examples_dirs": str(ROOT / "examples"),
     "gallery_dirs": "auto_examples",
@@ -81,3 +75,17 @@ html_theme_options = {
     "secondary_sidebar_items": ["page-toc"],
 }
 html_sidebars = {"index": [], "getting_started": []}
+
+
+def _gallery_out(app):
+    """The examples save their PNGs to ``$MBM_EXAMPLES_OUT``: a fresh folder beside this
+    build's output, set before sphinx-gallery runs them (``_gallery_scraper`` moves
+    each block's files into the gallery)."""
+    out = Path(app.outdir).parent / "gallery_png"
+    shutil.rmtree(out, ignore_errors=True)
+    out.mkdir(parents=True)
+    os.environ["MBM_EXAMPLES_OUT"] = str(out)
+
+
+def setup(app):
+    app.connect("builder-inited", _gallery_out, priority=100)  # before sphinx-gallery (500)
