@@ -5,7 +5,7 @@ From the root of a checkout::
     python -m benchmarks [--quick] [--out docs/benchmark.md] ...   # the tables
     python -m benchmarks extras [--overheads] [--out FILE] ...     # benchmarks.extras
     python -m benchmarks overheads [--update FILE] ...              # benchmarks.overheads
-    python -m benchmarks readme [--check]                          # README quotes <- docs/
+    python -m benchmarks readme [--check]                          # README, docs/benchmarks.md quotes <- docs/
 """
 
 import argparse
@@ -20,8 +20,11 @@ from .scenes import SCENES
 
 __all__ = ["main", "tables_main", "readme_main"]
 
-# The README whose quotes `python -m benchmarks readme` refreshes: the checkout's.
-README = Path(__file__).resolve().parents[1] / "README.md"
+# The checkout's root; the files whose quotes `python -m benchmarks readme` refreshes
+# (quoted paths are relative to the root): the README and the site's benchmarks page.
+ROOT = Path(__file__).resolve().parents[1]
+README = ROOT / "README.md"
+QUOTING = (README, ROOT / "docs" / "benchmarks.md")
 # How results recorded before the move out of the package name their command.
 _OLD_COMMAND = "python -m mbm.bench"
 
@@ -120,29 +123,41 @@ def tables_main(argv=None):
 
 
 def readme_main(argv=None):
-    """``python -m benchmarks readme``: copy the quoted blocks from ``docs/`` into the README.
+    """``python -m benchmarks readme``: copy the quoted blocks from ``docs/`` into the
+    README and the site's benchmarks page (:data:`QUOTING`).
 
     With ``--check``, change nothing and exit 1 if a quote differs from its block.
     """
     parser = argparse.ArgumentParser(prog="python -m benchmarks readme",
-                                     description="Refresh the README's quotes of generated files.")
-    parser.add_argument("--readme", default=str(README), help="the README (default %(default)s)")
+                                     description="Refresh the quotes of generated files in the README "
+                                                 "and docs/benchmarks.md.")
+    parser.add_argument("--readme", action="append", default=None,
+                        help="a file to refresh (repeatable; default the README and "
+                             "docs/benchmarks.md, quoted paths relative to the checkout's root)")
+    parser.add_argument("--root", default=None,
+                        help="what quoted paths are relative to (default: the checkout's root for "
+                             "the default files, else each file's directory)")
     parser.add_argument("--check", action="store_true",
                         help="report quotes that differ from their blocks; change nothing")
     args = parser.parse_args(argv)
-    readme = Path(args.readme)
+    files = [Path(f) for f in args.readme] if args.readme else list(QUOTING)
+
+    def root_of(f):
+        return Path(args.root) if args.root else (f.parent if args.readme else ROOT)
+
     if args.check:
-        text = readme.read_text(encoding="utf-8")
         stale = []
-        for path, name, body in report.readme_quotes(text):
-            blocks = report.extract_blocks((readme.parent / path).read_text(encoding="utf-8"))
-            if blocks.get(name) != body:
-                stale.append(f"{path} {name}")
+        for f in files:
+            for path, name, body in report.readme_quotes(f.read_text(encoding="utf-8")):
+                blocks = report.extract_blocks((root_of(f) / path).read_text(encoding="utf-8"))
+                if blocks.get(name) != body:
+                    stale.append(f"{f.name}: {path} {name}")
         for s in stale:
             print(f"stale quote: {s}", file=sys.stderr)
         return 1 if stale else 0
-    for s in report.sync_readme(readme):
-        print(f"updated quote: {s}", file=sys.stderr)
+    for f in files:
+        for s in report.sync_readme(f, root=root_of(f)):
+            print(f"updated quote in {f.name}: {s}", file=sys.stderr)
     return 0
 
 

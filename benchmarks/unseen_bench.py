@@ -29,7 +29,7 @@ import numpy as np
 
 import mbm
 
-from . import harness, peers
+from . import harness, peers, report
 from .references import heyoka_ld_reference
 from .scenes import BenchScene
 
@@ -167,13 +167,15 @@ def render(result):
         "",
         "## Summary",
         "",
-        "| target | scenes | median ratio | min ratio | mbm faster | mbm ≥ 1.5× |",
-        "|---|---:|---:|---:|---:|---:|",
     ]
+    table = ["| target | scenes | median ratio | min ratio | mbm faster | mbm ≥ 1.5× |",
+             "|---|---:|---:|---:|---:|---:|"]
     for target, s in summary(result).items():
         med = "—" if s["median"] is None else f"{s['median']:.2f}"
         mn = "—" if s["min"] is None else f"{s['min']:.2f}"
-        lines.append(f"| {target} | {s['compared']} | {med} | {mn} | {s['mbm_faster']} | {s['at_least_1.5']} |")
+        table.append(f"| {target} | {s['compared']} | {med} | {mn} | {s['mbm_faster']} | {s['at_least_1.5']} |")
+    # The README and the benchmarks page quote this table (python -m benchmarks readme).
+    lines += report.block("summary", table)
     lines += ["", "## Scenes", "",
               "| scene | β | γ | ω | θ₀ | θ'₀ | T | regime | target | mbm µs (rtol) | heyoka µs (tol) | ratio |",
               "|---|---:|---:|---:|---:|---:|---:|---|---|---:|---:|---:|"]

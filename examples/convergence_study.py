@@ -1,4 +1,5 @@
-"""Regenerate the measurements of ``docs/convergent.md``: orders, error constants, costs.
+"""Regenerate the measurements of ``docs/convergent.md``: orders, error constants, costs
+=====================================================================================
 
 Usage::
 

@@ -1,6 +1,7 @@
-"""Event-point moving boundary method (3.32) on the second paper's examples.
+"""Event-point moving boundary method (3.32) on the second paper's examples
+========================================================================
 
-Compares, over 0 ≤ t ≤ 80 against CVODE at 1e-12 (max |θ − θ_ref| on 4001 points):
+Compares, over 0 ≤ t ≤ 80 against CVODE at 1e-12 (max abs(θ − θ_ref) on 4001 points):
 
 * the single approximant θ₀ (no re-anchoring),
 * the hybrid mode: windows between CVODE's event points, anchored at CVODE's states,

@@ -1,4 +1,5 @@
-"""Figures 1–6 of Beléndez et al. (2007), "Exact solution for the nonlinear pendulum".
+"""Figures 1–6 of Beléndez et al. (2007), "Exact solution for the nonlinear pendulum"
+==================================================================================
 
 θ'' + ω₀² sin θ = 0, θ(0) = θ₀, θ'(0) = 0: the exact solution (31) (bold) against the
 harmonic approximation (32) with the exact frequency (33) (thin), as functions of

@@ -1,4 +1,5 @@
-"""Figure 1 of Salas (2021), "Elementary Solution to the Damped Pendulum".
+"""Figure 1 of Salas (2021), "Elementary Solution to the Damped Pendulum"
+======================================================================
 
 x'' + 0.4 x' + sin x = 0, x(0) = 0, x'(0) = 0.25, 0 <= t <= 20 (2ε = 0.4, (3.11)):
 Runge–Kutta (dashed; scipy's RK45 at rtol 1e-10), Johannessen's sn approximant (3.9)

@@ -1,4 +1,5 @@
-"""Figures 1–4 of Salas, Martínez & Ocampo (2022), the pendulum with a constant torque.
+"""Figures 1–4 of Salas, Martínez & Ocampo (2022), the pendulum with a constant torque
+===================================================================================
 
 * Figure 1: Example 1 (β = 0.1, γ = 0.3, θ₀ = 30°, θ̇₀ = 0, 0 ≤ t ≤ 80): the
   numerical solution (Runge–Kutta: scipy's RK45 at rtol 1e-10) against the single ℘

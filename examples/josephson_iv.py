@@ -1,4 +1,5 @@
-"""Current–voltage curve of a Josephson junction in the RCSJ model, with hysteresis.
+"""Current–voltage curve of a Josephson junction in the RCSJ model, with hysteresis
+================================================================================
 
 In reduced units the resistively and capacitively shunted junction is the damped,
 torqued pendulum θ'' + βθ' + sin θ = γ (θ the phase, ⟨θ'⟩ the dc voltage, γ = I/I_c,

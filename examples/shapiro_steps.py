@@ -1,4 +1,5 @@
-"""Shapiro steps of a microwave-driven Josephson junction (RCSJ model), with :func:`mbm.iv_curve`.
+"""Shapiro steps of a microwave-driven Josephson junction (RCSJ model), with :func:`mbm.iv_curve`
+==============================================================================================
 
 The bias current is γ + A sin(Ωt): θ'' + βθ' + sin θ = γ + A sin(Ωt) in reduced units
 (θ the phase, ⟨θ'⟩ the dc voltage).  The drive locks the phase's rotation to the drive,

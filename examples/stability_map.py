@@ -1,4 +1,5 @@
-"""A (β, γ) stability map of the driven, damped pendulum: ⟨θ'⟩ from rest and launched.
+"""A (β, γ) stability map of the driven, damped pendulum: ⟨θ'⟩ from rest and launched
+==================================================================================
 
 θ'' + βθ' + sin θ = γ (the RCSJ model of a Josephson junction: ⟨θ'⟩ is its dc
 voltage) over a grid of damping β and torque γ, from two initial states: at rest

@@ -1,4 +1,5 @@
-"""Step-size study: MBM error against the window length τ, with fitted orders.
+"""Step-size study: MBM error against the window length τ, with fitted orders
+==========================================================================
 
 Runs :func:`mbm.cli_study.run_study` (the engine of ``mbm study``) on the second
 paper's Example 1 for a convergent Taylor approximant, a 4th-order splitting and the

@@ -1,7 +1,8 @@
-"""Recompute Table 1 of the first paper (Salas 2021) and print it beside the printed values.
+"""Recompute Table 1 of the first paper (Salas 2021) and print it beside the printed values
+========================================================================================
 
 θ'' + 2εθ' + sin θ = 0, θ(0) = 0, θ'(0) = θ̇₀, ω = 1, 0 ≤ t ≤ 20; the error is
-max |θ − θ_ref| with θ_ref from :func:`mbm.reference.reference` (CVODE at 1e-12).
+max abs(θ − θ_ref) with θ_ref from :func:`mbm.reference.reference` (CVODE at 1e-12).
 
 The table's column parameters are not printed.  From the text: the left half sweeps
 2ε = 0.02 … 0.4 (11 values) at the Example's θ̇₀ = 0.25 ((3.10); the printed

@@ -1,12 +1,12 @@
-"""A small progress bar for long command-line runs (studies, sweeps, benchmarks).
+"""The progress bar of long command-line runs (studies, sweeps, benchmarks), on tqdm.
 
-Writes one self-overwriting line to stderr, and nothing at all when stderr is not a
-terminal (pipes, log files, pytest's capture), so that captured output stays clean.
-No external dependency.
+Draws one tqdm line on stderr, and nothing at all when stderr is not a terminal
+(pipes, log files, pytest's capture), so that captured output stays clean.
 """
 
 import sys
-import time
+
+from tqdm import tqdm
 
 __all__ = ["Progress", "progress"]
 
@@ -15,6 +15,8 @@ BAR_WIDTH = 28
 # Minimum seconds between redraws: a sweep of thousands of cheap steps would otherwise
 # spend more time writing to the terminal than computing.
 MIN_REDRAW_S = 0.1
+# The line drawn: ``label [#####-----] i/total  elapsed``.
+BAR_FORMAT = "{desc} [{bar:%d}] {n_fmt}/{total_fmt} {elapsed}" % BAR_WIDTH
 
 
 class Progress:
@@ -52,47 +54,49 @@ class Progress:
                 enabled = False
         self.enabled = bool(enabled)
         self.count = 0
-        self._t0 = time.perf_counter()
-        self._last = -float("inf")
-
-    def _line(self):
-        frac = self.count / self.total if self.total else 1.0
-        filled = int(round(BAR_WIDTH * min(frac, 1.0)))
-        bar = "#" * filled + "-" * (BAR_WIDTH - filled)
-        elapsed = time.perf_counter() - self._t0
-        return f"\r{self.label} [{bar}] {self.count}/{self.total} {elapsed:6.1f} s"
+        self._bar = (tqdm(total=self.total, desc=self.label, file=self.stream, ascii="-#",
+                          bar_format=BAR_FORMAT, mininterval=MIN_REDRAW_S, dynamic_ncols=False,
+                          leave=True)
+                     if self.enabled else None)
 
     def update(self, n=1):
-        """Advance by ``n`` steps and redraw (at most every :data:`MIN_REDRAW_S`)."""
+        """Advance by ``n`` steps and redraw (at most every :data:`MIN_REDRAW_S`).
+
+        Parameters
+        ----------
+        n : int, optional
+            Steps done (default 1).
+        """
         self.count += int(n)
-        if not self.enabled:
-            return
-        now = time.perf_counter()
-        if now - self._last >= MIN_REDRAW_S or self.count >= self.total:
-            self._last = now
-            self.stream.write(self._line())
-            self.stream.flush()
+        if self._bar is not None:
+            self._bar.update(int(n))
 
     def message(self, text, stream=None):
         """Print ``text`` as a line of its own without breaking the bar.
 
         With the bar drawn on ``stream`` (default: the bar's stream) the bar line is
-        cleared, ``text`` printed and the bar redrawn under it; otherwise ``text`` is
-        just printed to ``stream`` (nothing when that is None and the bar is off).
+        cleared, ``text`` printed and the bar redrawn under it (``tqdm.write``);
+        otherwise ``text`` is just printed to ``stream`` (nothing when that is None and
+        the bar is off).
+
+        Parameters
+        ----------
+        text : str
+            The line to print.
+        stream : file-like, optional
+            Where to print it (default the bar's stream).
         """
         target = self.stream if stream is None else stream
-        if self.enabled and target is self.stream:
-            width = len(self._line()) - 1
-            target.write("\r" + " " * width + "\r" + str(text) + "\n" + self._line())
-            target.flush()
+        if self._bar is not None and target is self.stream:
+            self._bar.write(str(text), file=target)
         elif stream is not None:
             print(text, file=stream, flush=True)
 
     def close(self):
         """Finish the line (a newline), if anything was drawn."""
-        if self.enabled:
-            self.stream.write(self._line() + "\n")
-            self.stream.flush()
+        if self._bar is not None:
+            self._bar.close()
+            self._bar = None
             self.enabled = False
 
     def __enter__(self):

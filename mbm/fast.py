@@ -677,17 +677,19 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
     ----------
     beta, gamma, omega : array_like
         Model parameters, broadcast to a common shape (N,), N ≥ 1.
-    drive_amplitude, drive_frequency, drive_phase : array_like, optional
-        The AC drive A sin(Ωt + φ) of each scene (default 0: none), broadcast with
-        ``beta``, ``gamma``, ``omega`` (see :class:`mbm.Pendulum`).
     y0 : array_like, shape (2,) or (N, 2)
         Initial states.
     t_span : (float, float)
         Common time span.
     t_eval : array_like, shape (m,)
         Common output times.
-    rtol, atol, approximant, tau, max_step, max_windows, wrap
+    rtol, atol, approximant, tau, max_step, max_windows
         As in :func:`solve` (one value for all scenes; "auto" chooses per scene).
+    drive_amplitude, drive_frequency, drive_phase : array_like, optional
+        The AC drive A sin(Ωt + φ) of each scene (default 0: none), broadcast with
+        ``beta``, ``gamma``, ``omega`` (see :class:`mbm.Pendulum`).
+    wrap : bool, optional
+        As in :func:`solve`.
 
     Returns
     -------

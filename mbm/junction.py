@@ -128,7 +128,9 @@ DRIVE_MAX_BLOCKS = 4
 class IVCurve:
     """An I–V curve: the mean velocity at each bias point, in the order visited.
 
-    Attributes
+    A dataclass built by :func:`iv_curve`: each parameter is an attribute.
+
+    Parameters
     ----------
     gamma : ndarray
         Bias points, in the order visited.
@@ -173,7 +175,13 @@ class IVCurve:
         return np.flatnonzero(step >= 0.0), np.flatnonzero(step < 0.0)
 
     def to_csv(self, path):
-        """Write gamma, mean_velocity, regime, period as CSV (the currents in a header comment)."""
+        """Write gamma, mean_velocity, regime, period as CSV (the currents in a header comment).
+
+        Parameters
+        ----------
+        path : str or path-like
+            The file to write.
+        """
         with open(path, "w") as f:
             drive = (f", drive_amplitude={self.drive_amplitude!r}, drive_frequency={self.drive_frequency!r}, "
                      f"drive_phase={self.drive_phase!r}" if self.drive_amplitude != 0.0 else "")
@@ -185,6 +193,11 @@ class IVCurve:
 
     def plot(self, ax=None):
         """Draw the curve (voltage ⟨θ'⟩ across, bias γ up), up and down branches marked.
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes, optional
+            Where to draw (default a new figure).
 
         Returns
         -------
@@ -243,8 +256,26 @@ def integrate_mbm(model, y, span):
     """The runs behind :func:`iv_curve`: ``solve_ivp(method=mbm.MBM)`` over (0, span)
     from ``y`` with dense output (the windows' formulas), all windows in one step.
 
-    The result also carries ``regime`` and ``mean_velocity``, the solver's (the
-    long-horizon regime the run reached, :mod:`mbm.regimes`)."""
+    Parameters
+    ----------
+    model : Pendulum
+        The junction at one bias point.
+    y : array_like, shape (2,)
+        The initial state at t = 0.
+    span : float
+        The end time.
+
+    Returns
+    -------
+    scipy.integrate OdeResult
+        solve_ivp's result; it also carries ``regime`` and ``mean_velocity``, the
+        solver's (the long-horizon regime the run reached, :mod:`mbm.regimes`).
+
+    Raises
+    ------
+    RuntimeError
+        If the run fails (its message names γ).
+    """
     from scipy.integrate import solve_ivp
 
     from .solver import MBM
@@ -393,6 +424,16 @@ def driven_mean_velocity(model, y0, integrate=integrate_mbm):
     continued run.  Where a run reports the phase-locked regime (its result's
     ``regime``, :mod:`mbm.regimes` S1–S7), ⟨θ'⟩ is its ``mean_velocity``, (p/q)Ω exactly,
     and no more blocks are measured.
+
+    Parameters
+    ----------
+    model : Pendulum
+        A driven model (β > 0, Ω > 0).
+    y0 : array_like, shape (2,)
+        The state at t = 0.
+    integrate : callable, optional
+        ``integrate(model, y, span)`` returning a dense ``solve_ivp`` result over
+        (0, span), as in :func:`mean_velocity`; default :func:`integrate_mbm`.
 
     Returns
     -------

@@ -168,8 +168,20 @@ class Pendulum:
         return self._hash
 
     def __call__(self, t, y):
-        """Right-hand side ``[θ', γ + A sin(Ωt + φ) − β θ' − ω² sin θ]``; ``y`` may have
-        shape (2,) or (2, k) (``t`` a scalar)."""
+        """Right-hand side ``[θ', γ + A sin(Ωt + φ) − β θ' − ω² sin θ]``.
+
+        Parameters
+        ----------
+        t : float
+            Time.
+        y : array_like, shape (2,) or (2, k)
+            State(s) [θ, θ'].
+
+        Returns
+        -------
+        ndarray
+            dy/dt, the shape of ``y``.
+        """
         y = np.asarray(y, dtype=float)
         theta, v = y[0], y[1]
         if self._drive[0] != 0.0:
@@ -181,7 +193,19 @@ class Pendulum:
     fun = __call__
 
     def jac(self, t, y):
-        """Jacobian of the right-hand side with respect to ``y`` (the drive does not enter it)."""
+        """Jacobian of the right-hand side with respect to ``y`` (the drive does not enter it).
+
+        Parameters
+        ----------
+        t : float
+            Time.
+        y : array_like, shape (2,)
+            State [θ, θ'].
+
+        Returns
+        -------
+        ndarray, shape (2, 2)
+        """
         theta = float(np.asarray(y, dtype=float)[0])
         return np.array([[0.0, 1.0], [-self._omega**2 * math.cos(theta), -self._beta]])
 
@@ -221,14 +245,23 @@ class Pendulum:
 
         Conserved when β = 0; non-increasing along solutions when γ = 0.  The AC drive
         is not in it: with A ≠ 0 it changes at the rate (A sin(Ωt + φ) − βθ')θ', so it
-        is not conserved, not even at β = 0.  ``y`` may have shape (2,) or (2, k).
+        is not conserved, not even at β = 0.
+
+        Parameters
+        ----------
+        y : array_like, shape (2,) or (2, k)
+            State(s) [θ, θ'].
+
+        Returns
+        -------
+        float or ndarray, shape (k,)
         """
         y = np.asarray(y, dtype=float)
         return 0.5 * y[1] ** 2 + self._omega**2 * (1.0 - np.cos(y[0])) - self._gamma * y[0]
 
     @property
     def equilibrium(self):
-        """The stable rest angle ``arcsin(γ/ω²)`` in [−π/2, π/2], or None when |γ| > ω²."""
+        """The stable rest angle ``arcsin(γ/ω²)`` in [−π/2, π/2], or None when ``|γ| > ω²``."""
         s = self._gamma / self._omega**2
         if abs(s) > 1.0:
             return None

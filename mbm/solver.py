@@ -10,6 +10,7 @@ approximant's kernels; they never look inside a formula.
 """
 
 import functools
+import inspect
 import math
 import sys
 import warnings
@@ -212,9 +213,9 @@ class MBM(_MBMBase):
         The model; skips probing ``fun``.
     anchors : {"windows", "events"}, optional
         ``"windows"`` (default): this class.  ``"events"``: anchor at event points
-        (3.32), an :class:`MBMEventPoints` is built instead.
-    events_from : {"cvode", "approximant"}, optional
-        With ``anchors="events"``: see :class:`MBMEventPoints`.
+        (3.32), an :class:`MBMEventPoints` is built instead, with the options it takes
+        (``events_from="cvode"`` or ``"approximant"``: where the event points come
+        from).
     windows_per_step : int, None or "auto", optional
         Windows per solve_ivp step.  ``"auto"`` (default): up to
         :data:`WINDOWS_PER_STEP` (256) when solve_ivp passes ``t_eval`` and no
@@ -537,6 +538,17 @@ def _new_record(model, t0, y, t_bound, kind, controller, h_abs, max_step, rtol, 
     return words
 
 
+def _init_signature(cls):
+    """``cls.__init__``'s signature without ``self``: what ``cls(...)`` takes."""
+    sig = inspect.signature(cls.__init__)
+    return sig.replace(parameters=list(sig.parameters.values())[1:])
+
+
+# MBM.__new__ takes (*args, **kwargs) to route anchors="events": state the options of
+# __init__ for help(), Sphinx and numpydoc.
+MBM.__signature__ = _init_signature(MBM)
+
+
 class MBMEventPoints(_MBMBase):
     """The event-point moving boundary method (3.32), a `solve_ivp` method.
 
@@ -550,14 +562,16 @@ class MBMEventPoints(_MBMBase):
 
     Parameters
     ----------
-    fun, t0, y0, t_bound, approximant, model, max_step, rtol, atol, vectorized, **extraneous
-        As in :class:`MBM` (rtol and atol are validated; the windows do not depend on
-        them).
+    fun, t0, y0, t_bound, approximant, model
+        As in :class:`MBM`.
     anchors : {"events"}, optional
         Accepted so that ``MBM(..., anchors="events")`` and this class take the same
         options.
     events_from : {"cvode", "approximant"}, optional
         Where the event points come from (default ``"cvode"``).
+    max_step, rtol, atol, vectorized, **extraneous
+        As in :class:`MBM` (rtol and atol are validated; the windows do not depend on
+        them).
 
     Attributes
     ----------

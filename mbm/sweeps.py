@@ -460,14 +460,6 @@ def sweep(*, beta, gamma, omega=1.0, theta0=0.0, theta_dot0=0.0, t_span, t_eval=
         The parameters (θ₀ = ``theta0``, θ'₀ = ``theta_dot0``).  Each 1-D array is a
         dimension of the grid, with the values as its coordinate, in this argument
         order; each scalar is an attribute of the Dataset.  Finite; β ≥ 0; ω > 0.
-    drive_amplitude, drive_frequency, drive_phase : float or array_like, shape (k,), optional
-        The AC drive A sin(Ωt + φ) (:class:`mbm.Pendulum`; Ω ≥ 0), as the parameters
-        above (dimensions after theirs, scalars as attributes) where any is not 0;
-        all three 0 (the default): no drive, and neither dimensions nor attributes.
-        A driven scene's only regime is the phase-locked one (a Shapiro step,
-        :mod:`mbm.regimes` S1–S7), where its ``"mean_velocity"`` is (p/q)Ω exactly;
-        elsewhere it is the two samples' estimate, not a whole-drive-period average
-        (:func:`mbm.iv_curve` measures that).
     t_span : (float, float)
         ``(t0, t1)`` with t1 > t0, common to every scene.
     t_eval : array_like, shape (m,), optional
@@ -491,11 +483,11 @@ def sweep(*, beta, gamma, omega=1.0, theta0=0.0, theta_dot0=0.0, t_span, t_eval=
             rounded to the nearest integer (a locked scene: the wells it moved by).
             Float (integer values), so that failed scenes can be NaN.
         ``"regime"``
-            ``regime``: ``"running"`` where |θ(t1) − θ(t_m)| ≥ :data:`REGIME_TURNS` · 2π
+            ``regime``: ``"running"`` where ``|θ(t1) − θ(t_m)|`` ≥ :data:`REGIME_TURNS` · 2π
             (the mean velocity ≥ 2π/(t1 − t_m) in magnitude), else ``"locked"``;
             ``"failed"`` where the status is not 0.  Misreads a running scene whose
             period exceeds (t1 − t0)/2 and a scene still slipping wells after t_m.
-    rtol, atol, approximant, tau, max_windows
+    rtol, atol, approximant, tau
         As in :func:`mbm.solve_batch` (one value for every scene; ``"auto"`` chooses
         per scene).  Checked before anything runs.
     chunks : int or dict, optional
@@ -510,6 +502,16 @@ def sweep(*, beta, gamma, omega=1.0, theta0=0.0, theta_dot0=0.0, t_span, t_eval=
         with ``chunks``, the Dataset is computed now (``persist``: still dask-backed, its chunks held in
         memory or on the cluster) under ``dask.diagnostics.ProgressBar`` or, with a
         distributed Client, ``distributed.progress``.
+    max_windows : int, optional
+        As in :func:`mbm.solve_batch`.
+    drive_amplitude, drive_frequency, drive_phase : float or array_like, shape (k,), optional
+        The AC drive A sin(Ωt + φ) (:class:`mbm.Pendulum`; Ω ≥ 0), as the parameters
+        above (dimensions after theirs, scalars as attributes) where any is not 0;
+        all three 0 (the default): no drive, and neither dimensions nor attributes.
+        A driven scene's only regime is the phase-locked one (a Shapiro step,
+        :mod:`mbm.regimes` S1–S7), where its ``"mean_velocity"`` is (p/q)Ω exactly;
+        elsewhere it is the two samples' estimate, not a whole-drive-period average
+        (:func:`mbm.iv_curve` measures that).
 
     Returns
     -------

@@ -40,8 +40,8 @@ def test_layout_is_the_named_groups():
 
 
 def test_documented_size_is_the_record_size():
-    readme = (ROOT / "README.md").read_text()
-    quoted = re.search(r"`mbm\.loop\.RUN\.itemsize`, is (\d+) bytes", readme)
+    page = (ROOT / "docs" / "guide" / "sweeps.md").read_text()
+    quoted = re.search(r"`mbm\.loop\.RUN\.itemsize`, is (\d+) bytes", page)
     assert quoted and int(quoted.group(1)) == loop.RUN.itemsize
 
 

@@ -55,3 +55,17 @@ def test_a_target_nobody_meets_is_a_dash():
                           "mbm": "0.1"}, "seed": 3, "n_scenes": 1, "repeats": 1, "run": "now", "rows": [row]}
     assert "| 1e-30 | — | — | — |" in ub.render(result)
     assert ub.summary(result)["1e-30"]["compared"] == 0
+
+
+def test_recorded_report_is_the_render_of_its_json():
+    """docs/unseen.md is what ``render`` writes from docs/unseen.json (the README and the
+    benchmarks page quote its summary block: no figure of it is typed by hand)."""
+    import json
+    from pathlib import Path
+
+    from benchmarks.report import extract_blocks
+
+    docs = Path(__file__).resolve().parents[1] / "docs"
+    text = (docs / "unseen.md").read_text(encoding="utf-8")
+    assert ub.render(json.loads((docs / "unseen.json").read_text(encoding="utf-8"))) == text
+    assert "summary" in extract_blocks(text)

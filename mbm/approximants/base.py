@@ -146,23 +146,65 @@ class Approximant:
     drive_capable = False
 
     def check_model(self, model):
-        """Raise :class:`ApproximantDomainError` if the model is outside the approximant's scope."""
+        """Raise :class:`ApproximantDomainError` if the model is outside the approximant's scope.
+
+        Parameters
+        ----------
+        model : Pendulum
+            The equation's parameters.
+        """
 
     def check_drive(self, model):
         """Raise :class:`ApproximantDomainError` if ``model`` is driven and this approximant
-        cannot integrate the drive (not :attr:`drive_capable`)."""
+        cannot integrate the drive (not :attr:`drive_capable`).
+
+        Parameters
+        ----------
+        model : Pendulum
+            The equation's parameters.
+        """
         if model.driven and not self.drive_capable:
             raise ApproximantDomainError(drive_refusal(self.name, model.drive_amplitude))
 
     def drive_anchor(self, model, t0, theta0, v0):
         """The coefficient vector anchored at (θ₀, θ̇₀) at time ``t0`` of a driven model
-        (only a :attr:`drive_capable` approximant has one)."""
+        (only a :attr:`drive_capable` approximant has one).
+
+        Parameters
+        ----------
+        model : Pendulum
+            A driven model.
+        t0 : float
+            The anchor's time (the drive's phase there).
+        theta0, v0 : float
+            The anchor state.
+
+        Returns
+        -------
+        ndarray
+            The coefficient vector (``coef[0]`` the status).
+        """
         raise ApproximantDomainError(drive_refusal(self.name, model.drive_amplitude))
 
     def anchor_coefficients(self, model, theta0, v0, t0=0.0):
-        """The anchor kernel's coefficient vector (``coef[0]`` the status): the driven
-        series at time ``t0`` for a driven model (:meth:`drive_anchor`), else
-        ``anchor_kernel`` (which does not depend on the time)."""
+        """The anchor kernel's coefficient vector (``coef[0]`` the status).
+
+        The driven series at time ``t0`` for a driven model (:meth:`drive_anchor`),
+        else ``anchor_kernel`` (which does not depend on the time).
+
+        Parameters
+        ----------
+        model : Pendulum
+            The equation's parameters.
+        theta0, v0 : float
+            The anchor state.
+        t0 : float, optional
+            The anchor's time (default 0).
+
+        Returns
+        -------
+        ndarray
+        """
         if model.driven:
             return self.drive_anchor(model, t0, theta0, v0)
         return self.anchor_kernel(model.beta, model.gamma, model.omega, theta0, v0)
@@ -170,8 +212,17 @@ class Approximant:
     def event_center(self, model):
         """The angle d of the zero-crossing event surface θ = d in (3.32), or None.
 
-        Default: the pendulum's stable equilibrium arcsin(γ/ω²) (None when |γ| > ω²).
+        Default: the pendulum's stable equilibrium arcsin(γ/ω²) (None when ``|γ| > ω²``).
         Approximants that oscillate about another centre override this.
+
+        Parameters
+        ----------
+        model : Pendulum
+            The equation's parameters.
+
+        Returns
+        -------
+        float or None
         """
         return model.equilibrium
 
@@ -180,7 +231,17 @@ class Approximant:
         return ()
 
     def params_from_coef(self, coef):
-        """The dictionary exposed as :attr:`Anchored.params`."""
+        """The dictionary exposed as :attr:`Anchored.params`.
+
+        Parameters
+        ----------
+        coef : ndarray
+            A coefficient vector of this approximant.
+
+        Returns
+        -------
+        dict
+        """
         return {k: float(v) for k, v in zip(self.param_names(), coef[1:])}
 
     def anchor(self, model, theta0, v0, t0=0.0):
@@ -225,7 +286,20 @@ class Approximant:
         return Anchored(self, model, theta0, v0, coef, t0)
 
     def raise_for_status(self, coef, theta0, v0):
-        """Raise the error that ``coef[0]`` encodes, if any."""
+        """Raise the error that ``coef[0]`` encodes, if any.
+
+        Parameters
+        ----------
+        coef : ndarray
+            A coefficient vector of this approximant.
+        theta0, v0 : float
+            The anchor state (named in the message).
+
+        Raises
+        ------
+        ApproximantDomainError
+            If ``coef[0]`` is not 0.
+        """
         code = int(coef[0])
         if code != 0:
             msg = self.status_messages.get(code, f"status {code}")
@@ -240,6 +314,21 @@ class Approximant:
 
 class Anchored:
     """An approximant anchored at a state: the analytic formula θ(t), θ'(t).
+
+    Built by :meth:`Approximant.anchor`.
+
+    Parameters
+    ----------
+    approximant : Approximant
+        The approximant anchored.
+    model : Pendulum
+        The equation's parameters.
+    theta0, v0 : float
+        The anchor state.
+    coef : ndarray
+        The kernel's coefficient vector.
+    t0 : float, optional
+        The anchor's time (default 0).
 
     Attributes
     ----------

@@ -2,8 +2,9 @@
 
 A run whose motion has settled on its attractor ends with one last "window" to
 ``t_bound`` whose formula is the rest of the motion, so it costs its transient only.
-One module per regime, each with its derivation in its docstring (the code's comments
-cite its items):
+One module per regime; their derivations (items L1–L7, R1–R3, C1–C4, S1–S7, which
+the code's comments cite) are in the documentation's theory page,
+``docs/theory/regimes.md``:
 
 - :mod:`mbm.regimes.locked` (L1–L7): LOCKED (β > 0, |γ| < ω²), a run settling on a
   stable equilibrium: the linearized closed form, first or second order, with rigorous

@@ -8,41 +8,8 @@ the window :func:`cycle_coef`, evaluated by mbm.loop (``_cycle_phase``,
 ``_period_windows``).  A libration (:mod:`mbm.regimes.libration`, C3) is stored in the
 same layout, winding sign 0.
 
-Derivation (the comments below cite these items)
--------------------------------------------------
-
-(R1) Section.  After each window the loop looks for a crossing of a level
-θ = θ_s + 2πm inside it (the window's formula, safeguarded Newton on θ(s) − θ_s − 2πm):
-the crossings (t_n, v_n) of successive levels in one direction are the return map of
-the section θ ≡ θ_s (mod 2π).  θ_s = π − d is the saddle, the top of the tilted
-potential's barrier (d = arcsin(γ/ω²), clamped to ±π/2 when |γ| ≥ ω², where no
-equilibrium exists and every level is crossed alike; :func:`section_offset`): a
-motion trapped in a well never reaches it, so a librating or settling run does no
-section work (at θ ≡ 0 every swing through the bottom of the well was a crossing,
-solved by Newton: a quarter of P1's run time).
-
-(R2) Convergence.  Near the cycle the return map contracts geometrically: the flow's
-divergence is −β, so the cycle's non-trivial Floquet multiplier, the slope of the
-return map there, is μ = e^{−βT_c} (Liouville); the loop measures it as
-μ = |v_n − v_{n−1}| / |v_{n−1} − v_{n−2}|.  The deviations still to come sum to at
-most |Δv|·μ/(1 − μ) in v and |ΔT|·μ/(1 − μ) in the period; the period's error repeats
-in each of the N periods left to t_bound, so it shifts the phase by up to
-N·|ΔT|/(1 − μ).  The run switches when μ ≤ CYCLE_MAX_MULTIPLIER,
-|Δv|/(1 − μ) ≤ SWITCH_SAFETY · (atol + rtol·|v_n|), N|ΔT|/(1 − μ) · max|θ''| within the
-same, and N|ΔT|/(1 − μ) · max|θ'| ≤ SWITCH_SAFETY · (atol + rtol·|θ_n|)
-(:func:`cycle_switch`): the longer the horizon, the later (by log N periods) the switch.
-From there the period is averaged over CYCLE_AVERAGE_PERIODS more returns, and the
-last crossing is the cycle's anchor.
-
-(R3) Extension.  After the switch the motion is the last period's, shifted: with
-τ = t − t_n = nT_c + s (0 ≤ s < T_c), θ(t) = θ_p(s) ± 2πn, where θ_p is the run
-re-taken from the anchor (θ_s + 2πm, v_n) by the same approximant and controller (the
-windows of one period, a function of the anchor only, so every path and the dense
-output give the same value; they are re-taken once per call of the loop or of the
-dense output and each output is looked up in them, whatever the horizon).  Its error per period is the ordinary windows' (one period
-of them), and its phase error grows with n·ΔT as the ordinary run's would: the
-extension is the ordinary run without the windows between outputs, not a bound
-tighter than it (the phase of a limit cycle is neutral).
+The derivation, items R1–R3 (the comments below cite them), is in the
+documentation's theory page, ``docs/theory/regimes.md``.
 """
 
 import math

@@ -7,47 +7,8 @@ potential, exactly periodic from its first instant).
 window is the running cycle's (R3, :mod:`mbm.regimes.cycle`) with winding sign 0 and
 a double-double period (C3).  U(x) in double is L3's (:mod:`mbm.regimes.locked`).
 
-Derivation (the comments below cite these items)
--------------------------------------------------
-
-(C1) Energy and trapping.  With β = 0, H = θ'²/2 + V(θ), V = −ω² cos θ − γθ, is
-constant.  The angle is reduced by 2π into the well of d = arcsin(γ/ω²) (a double:
-any reference near the bottom serves), φ ∈ (−π − d, π − d], and with x = φ − d
-
-    U(x) = V(d + x) − V(d) = 2ω² cos d sin²(x/2) + (ω² sin d − γ) sin x − γ(x − sin x),
-
-an identity whose terms carry no cancellation (ω² sin d − γ is the rounding of d,
-~1e-16, formed in double-double; x − sin x by its series below X_MINUS_SIN_SERIES).
-The motion is trapped when x lies between the saddles x_l = −π − 2d, x_r = π − 2d and
-H' = θ'²/2 + U(x) is below both U(x_l) and U(x_r) (as L3): it librates between the
-turning points x₋ < 0 < x₊, U(x±) = H' (Newton in double, then
-LIBRATION_DD_NEWTON steps in double-double), with period T.
-
-(C2) Period.  T = 2∫ dx / sqrt(2(H' − U)) over [x₋, x₊]; with x = m + r sin ψ (m, r
-the midpoint and half-width of [x₋, x₊]), T = 2∫_{−π/2}^{π/2} g dψ,
-g(ψ) = r cos ψ / sqrt(2F(x(ψ))), F = H' − U.  g is analytic (F vanishes like cos²ψ at
-ψ = ±π/2) and extends to a 2π-periodic function (g(π − ψ) = g(ψ)), so the midpoint
-rule T_M = (2π/M) Σ g(ψ_j), ψ_j = −π/2 + (j + ½)π/M, is the trapezoidal rule on a
-periodic analytic function and converges geometrically.  Every step is in
-double-double; M doubles from LIBRATION_NODES_MIN until
-|T_M − T_{M/2}| ≤ LIBRATION_QUAD_RTOL · T_M.  Once the convergence is geometric the
-error of T_M is far below that of T_{M/2}, which |T_M − T_{M/2}| measures, so
-δT = |T_M − T_{M/2}| + LIBRATION_DD_FLOOR · T_M bounds |T_M − T| (tested against
-mpmath at 50 digits).  Near the separatrix T diverges logarithmically, g has a
-near-singularity, and without convergence by LIBRATION_NODES_MAX there is no switch.
-
-(C3) Extension.  θ(t₀ + nT + s) = θ_p(s), θ_p the run re-taken from the anchor (the
-initial state) by the same approximant and controller over one period: the running
-cycle's R3 with winding sign 0.  An output's error is θ_p's own (the ordinary windows'
-over at most one period, not growing with the horizon) plus the phase error of the
-stored period, |θ_p(s') − θ_p(s)| ≤ v_max·n·δT with v_max = sqrt(2H') (the speed at
-x = 0, where U = 0).  T is stored in double-double and s = τ − nT formed with an
-exact product, so T's rounding to a double (1e-16·T a period) does not accumulate.
-
-(C4) Switch rule.  At the run's first window, when N·δT·v_max ≤ SWITCH_SAFETY ·
-(atol + rtol·θ_min) and N·δT·(ω² + |γ|) ≤ SWITCH_SAFETY · atol (|θ''| ≤ ω² + |γ|),
-N the periods to t_bound plus one and θ_min ≤ |θ| over the orbit, and the span holds
-at least LIBRATION_MIN_PERIODS periods (shorter runs are cheaper window by window).
+The derivation, items C1–C4 (the comments below cite them), is in the
+documentation's theory page, ``docs/theory/regimes.md``.
 """
 
 import math

@@ -10,84 +10,8 @@ L2, the second-order one L6; :func:`locked_choice` takes the one whose bound pas
 (L5, L7).  U(x) and x − sin x (:func:`_potential`, L3) serve the libration's trapping
 test too (:mod:`mbm.regimes.libration`, C1).
 
-Derivation (the comments below cite these items)
--------------------------------------------------
-
-(L1) Linearization.  With θ = θ* + x and ω² sin θ* = γ,
-
-    x'' + βx' + ω_l² x = −ω² r(x),   ω_l² = ω² cos d = sqrt(ω⁴ − γ²),
-    r(x) = sin(θ* + x) − sin θ* − cos θ* · x.
-
-By Taylor's theorem with the Lagrange remainder, r(x) = −sin d · x²/2 − cos(θ*+ξ) x³/6,
-so |r(x)| ≤ ρ(|x|), ρ(A) = |sin d| A²/2 + A³/6.
-
-(L2) Closed form of the linear part, from x(0) = x₀, x'(0) = v₀: with
-s² = ω_l² − β²/4 (the sign tells the damping), b = v₀ + βx₀/2, E = e^{−βt/2},
-
-    x_lin = x₀ E·C(t) + b E·S(t),
-    x_lin' = x₀ (−β/2 E·C − s² E·S) + b (E·C − β/2 E·S),
-
-where C = cos(st), S = sin(st)/s (under-damped, s² > 0); C = cosh(μt), S = sinh(μt)/μ,
-μ² = −s² (over-damped); C = 1, S = t (critical).  (C' = −s² S, S' = C in every case.)
-Over-damped, E·C and E·S are formed from λ₁ = −β/2 + μ = −ω_l²/(β/2 + μ) (no
-cancellation) as E·C = (e^{λ₁t} + e^{λ₂t})/2 and E·S = e^{λ₁t}·(−expm1(−2μt))/(2μ), which
-neither overflow nor cancel near critical damping.
-
-(L3) Trapping and amplitude.  H = x'²/2 + U(x), U(x) = ω²(cos d − cos(d + x)) − γx
-= ω²(2 cos d sin²(x/2) − sin d (x − sin x)) (the form evaluated), is non-increasing along the exact motion
-(dH/dt = −βx'²).  The well of θ* is bounded by the saddles x_r = π − 2d and
-x_l = −π − 2d, with U(x_r) = 2ω² cos d − γ(π − 2d), U(x_l) = 2ω² cos d + γ(π + 2d); U
-increases on [0, x_r] and decreases on [x_l, 0].  If x₀ ∈ (x_l, x_r) and
-H₀ < min(U(x_l), U(x_r)), the exact motion stays in the well for all later t, with
-|x(t)| ≤ A = max(A₊, A₋), A± the roots of U = H₀ on either side (Newton from the
-linear amplitude sqrt(2H₀/ω_l²), or bisection where Newton does not converge; either
-way the point kept has U ≥ H₀, checked, so A is an upper bound).  Near the saddle or a bifurcation
-(|γ| → ω²: the barrier → 0) no A exists or A is large, and the switch waits.
-
-(L4) Bound on the neglected remainder.  e = x − x_lin solves e'' + βe' + ω_l² e =
-−ω² r(x(t)), e(0) = e'(0) = 0, so e = −ω² ∫ g(t − s) r(x(s)) ds with g the oscillator's
-Green's function (g'' + βg' + ω_l² g = δ), and for every t ≥ 0
-
-    |e(t)| ≤ ω² ρ(A) G₀,  |e'(t)| ≤ ω² ρ(A) G₁,  G₀ = ∫₀^∞ |g|,  G₁ = ∫₀^∞ |g'|.
-
-Under-damped, g = E sin(st)/s, |sin(st)/s| ≤ min(t, 1/s):
-G₀ ≤ min(4/β², 2/(βs)), and g' = E (cos st − (β/2) sin(st)/s) gives
-G₁ ≤ 2/β + min(2/β, 1/s).  Over-damped or critical, g ≥ 0, so G₀ = ∫g = 1/ω_l²
-exactly, and g rises once and decays, so G₁ = 2 max g; g = e^{λ₁t}(1 − e^{−2μt})/(2μ)
-≤ min(t, 1/(2μ)) e^{λ₁t} gives G₁ ≤ 2 min(1/(e|λ₁|), 1/(2μ)) (critical: 4/(eβ), exact).
-
-(L5) Switch rule.  The run switches when ω² ρ(A) G₀ ≤ SWITCH_SAFETY · (atol + rtol·|θ*|)
-and ω² ρ(A) G₁ ≤ SWITCH_SAFETY · atol: after the switch every output differs from the
-exact motion through the state reached by at most that, for any horizon (the error
-the run carried into the switch is then propagated by a contracting linear flow).
-Rounding in H₀ and U is covered by the margin AMPLITUDE_MARGIN on A.
-
-(L6) Second order (under-damped, s² > 0).  L4's G₀ grows like 1/β: it bounds the
-response to the quadratic term −ω² r₂(x) = (γ/2)x² as if that forcing resonated, which
-it does not (x_lin² has frequencies 0 and 2s).  The second-order form x_L = x_lin + x₂
-solves it exactly: with z = C e^{λt}, λ = −β/2 + is, C = x₀ − i b/s (x_lin = Re z),
-x_lin² = (Re(z²) + |z|²)/2, and x₂'' + βx₂' + ω_l² x₂ = (γ/4)(Re(C² e^{2λt}) + |C|² e^{−βt}),
-x₂(0) = x₂'(0) = 0, is
-
-    x₂ = e^{−βt}(Q_r cos 2st − Q_i sin 2st) + M e^{−βt} + E·(D_r cos st − D_i sin st),
-
-Q = (γ/4)C²/P(2λ), M = (γ/4)|C|²/ω_l², P(μ) = μ² + βμ + ω_l² (P(2λ) = ω_l² − 4s² − 2iβs,
-never 0: no resonance), D_r = −(Q_r + M), D_i = (x_p'(0) − (β/2)D_r)/s with
-x_p'(0) = −βQ_r − 2sQ_i − βM (the homogeneous part that makes x₂(0) = x₂'(0) = 0).
-|x₂| ≤ X₂ = |Q| + |M| + |D| for all t ≥ 0.
-
-(L7) Its bound.  e₂ = x − x_L solves the oscillator forced by −ω²(r(x) − r₂(x_lin)), and
-|r(x) − r₂(x)| ≤ ρ₃(A) = cos d·A³/6 + |sin d|·A⁴/24 (Lagrange remainders of sin and cos),
-|r₂(x) − r₂(x_lin)| = (|sin d|/2)|x − x_lin||x + x_lin| ≤ (|sin d|/2)(X₂ + E)(A + |C|),
-E = sup|e₂| (finite: x, x_L are bounded), so with q = ω²G₀(|sin d|/2)(A + |C|) < 1
-
-    E ≤ ω²G₀ (ρ₃(A) + (|sin d|/2)(A + |C|)X₂) / (1 − q),
-    sup|e₂'| ≤ ω²G₁ (ρ₃(A) + (|sin d|/2)(A + |C|)(X₂ + E)).
-
-The neglected terms are cubic, not quadratic, in A: on P4 (β = 0.01, γ = 0.3) at
-1e-10 the switch comes at A ≈ 6e-5 instead of 7e-7, a third of the transient earlier.
-The run takes the first-order form where its bound passes (L5), else the second-order
-one where this bound does (:func:`locked_choice`); the switch rule is L5's for either.
+The derivation, items L1–L7 (the comments below cite them), is in the
+documentation's theory page, ``docs/theory/regimes.md``.
 """
 
 import math

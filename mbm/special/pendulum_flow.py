@@ -137,7 +137,7 @@ def flow_setup_kernel(theta0, v0, omega):
     ----------
     theta0, v0 : float
         The state at t = 0 (finite; θ₀ may be a large multiple of 2π, up to
-        |θ₀| <= THETA_REDUCE_MAX = 1e15).
+        ``|θ₀| <= THETA_REDUCE_MAX = 1e15``).
     omega : float
         ω > 0.
 
@@ -378,7 +378,7 @@ def pendulum_flow_kernel(theta0, v0, omega, t):
     -------
     theta, theta_dot : float
         Exactly ``(theta0, v0)`` at ``t == 0.0``.  NaN for invalid input (ω <= 0,
-        non-finite values, |θ₀| > 1e15, energy overflow) and for |ω t| > ~1e300.
+        non-finite values, ``|θ₀| > 1e15``, energy overflow) and for ``|ω t| > ~1e300``.
 
     Notes
     -----
@@ -459,14 +459,14 @@ def pendulum_flow(model, y0, t):
     model : Pendulum
         Must have β = 0 and γ = 0.
     y0 : array_like, shape (2,)
-        [θ₀, θ̇₀], finite, |θ₀| <= 1e15.
+        [θ₀, θ̇₀], finite, ``|θ₀| <= 1e15``.
     t : float or array_like
         Times (any real, any shape).
 
     Returns
     -------
     ndarray, shape (2,) + shape(t)
-        [θ(t), θ'(t)]; exactly ``y0`` where t == 0.  NaN where |ω t| > ~1e300.
+        [θ(t), θ'(t)]; exactly ``y0`` where t == 0.  NaN where ``|ω t| > ~1e300``.
 
     Raises
     ------
@@ -508,7 +508,7 @@ def period(model, y0):
         If ``model`` is not a :class:`~mbm.problem.Pendulum`.
     ValueError
         If ``model`` has β ≠ 0 or γ ≠ 0, or ``y0`` is not two finite reals
-        (with |θ₀| <= 1e15).
+        (with ``|θ₀| <= 1e15``).
     """
     th0, v0 = _validated(model, y0, "period")
     return float(period_kernel(th0, v0, model.omega))
