@@ -16,6 +16,25 @@ entry's closure, so numba prunes the other kinds' and sets' branches and a scene
 compiles only the kernels and regimes it can reach.  A run whose regime set changes
 (a switch to a stored period) pauses, and its caller resumes it through the new set's
 entry (:func:`run`, :func:`_run_chain`).
+
+Long horizons (:mod:`mbm.regimes`), each compiled only into the entries of its set:
+with ``regimes`` set, before each window the state is tested for the locked regime
+(RS_DAMPED); once the bound on the neglected nonlinearity over the rest of the
+horizon is within the tolerance (L5), the window (to ``t_bound``, or ``max_step``
+long) is the linearized closed form (or the second-order one, L6-L7, where the
+window store has room for it), stored with layout ``regimes.LOCKED_TAG``, and
+``regime``, ``t_regime`` record the switch.  After each window the return map of
+θ ≡ θ_s (mod 2π) is watched (R1, R2); once it has converged for the rest of the
+horizon, the windows are the stored period shifted (RS_CYCLE: ``regimes.CYCLE_TAG``,
+R3), the period's windows re-taken once from the cycle's anchor at the first such
+window of the call and every output looked up in them.  A conservative run (β = 0,
+RS_CONSERVATIVE) trapped in a well is tested before its first window (C1-C4): with
+its period known to double-double precision, the whole run is one such window.
+AC drive (RS_DRIVEN): each window is anchored at its start time by
+:func:`anchor_driven`; the stroboscopic samples at t_s + nT_d are watched (S1–S7),
+and once their deviations have converged for good the windows are the stored drive
+period from the anchor sample (RS_STROBE: ``regimes.STROBE_TAG``, S6), ``regime``
+phase-locked.
 """
 
 import math
@@ -328,25 +347,6 @@ def _runner(kind, rset):
     Both are constants of the closure, so numba prunes the other kinds' and sets'
     branches before it compiles (a first run compiles the kernels and regimes its scene
     class uses), and caches each closure apart (its constants are in the cache's key).
-
-    Long horizons (:mod:`mbm.regimes`), each compiled only into the entries of its set:
-    with ``regimes`` set, before each window the state is tested for the locked regime
-    (RS_DAMPED); once the bound on the neglected nonlinearity over the rest of the
-    horizon is within the tolerance (L5), the window (to ``t_bound``, or ``max_step``
-    long) is the linearized closed form (or the second-order one, L6-L7, where the
-    window store has room for it), stored with layout ``regimes.LOCKED_TAG``, and
-    ``regime``, ``t_regime`` record the switch.  After each window the return map of
-    θ ≡ θ_s (mod 2π) is watched (R1, R2); once it has converged for the rest of the
-    horizon, the windows are the stored period shifted (RS_CYCLE: ``regimes.CYCLE_TAG``,
-    R3), the period's windows re-taken once from the cycle's anchor at the first such
-    window of the call and every output looked up in them.  A conservative run (β = 0,
-    RS_CONSERVATIVE) trapped in a well is tested before its first window (C1-C4): with
-    its period known to double-double precision, the whole run is one such window.
-    AC drive (RS_DRIVEN): each window is anchored at its start time by
-    :func:`anchor_driven`; the stroboscopic samples at t_s + nT_d are watched (S1–S7),
-    and once their deviations have converged for good the windows are the stored drive
-    period from the anchor sample (RS_STROBE: ``regimes.STROBE_TAG``, S6), ``regime``
-    phase-locked.
     """
 
     @numba.njit(cache=True)
