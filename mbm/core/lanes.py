@@ -1,6 +1,6 @@
 """The lockstep lanes of :func:`mbm.solve_batch`: LANES scenes per round, one window each.
 
-A batch group (:func:`_run_lanes`) is a scheduler over the loop's window: LANES scenes
+A batch group (:func:`_lanes`) is a scheduler over the loop's window: LANES scenes
 advance one ordinary Taylor window per round in lockstep, the loop's tests, controller
 and output steps per lane (the same compiled controller, :mod:`mbm.core.controller`,
 and the same cycle watch), the anchors and the first tries' window ends computed for
@@ -10,6 +10,8 @@ is the loop's own, the lane handing its scene over as a paused run.
 """
 
 import math
+import threading
+
 import numba
 import numpy as np
 
@@ -27,7 +29,7 @@ from .controller import (
     accept_try,
     first_try,
 )
-from .loop import _run_any, damped_setup, emit_taylor, locked_test, run_taylor
+from .loop import REACHES, _regime_set, _run_any_of, _run_sets, damped_setup, emit_taylor, locked_test
 from .window import (
     KIND_TAYLOR,
     _reduce_phi,
@@ -51,11 +53,11 @@ _INLINE = dict(cache=True, inline="always")
 LANE_GROUP = 256
 
 
-# _run_lanes names its eight coefficient rows in one tuple.
+# _lanes names its eight coefficient rows in one tuple.
 assert LANES == 8
 
 
-# The lockstep state of one lane (_run_lanes): the scene, the loop's locals of _run that
+# The lockstep state of one lane (_lanes): the scene, the loop's locals of _run that
 # change per window, and the constants _run derives once per call.
 LANE = np.dtype([
     ("scene", np.int64), ("t", np.float64), ("phi", np.float64), ("v", np.float64),
@@ -70,12 +72,15 @@ LANE = np.dtype([
 
 @numba.njit(**_INLINE)
 def lane_eligible(r):
-    """Whether run record ``r`` can take lockstep windows in :func:`_run_lanes`: a fresh
-    undriven Taylor run at the vector kernel's degree, adaptive, β > 0, no window budget
-    and no θ-step limit (everything else runs as :func:`_run` alone)."""
-    return (r.control.kind == KIND_TAYLOR and r.control.karg == SIMD_ORDER and r.control.controller == CONTROLLER_ADAPTIVE
-            and r.model.drive_amp == 0.0 and r.model.beta > 0.0 and r.progress.call_windows == 0 and r.control.max_dtheta == math.inf
-            and r.progress.n_windows == 0 and r.switch.regime == REGIME_NONE and r.progress.status == STATUS_OK)
+    """Whether run record ``r`` can take lockstep windows in the lanes: a fresh undriven
+    Taylor run at the vector kernel's degree, adaptive, β > 0, regime switching on (so in
+    RS_DAMPED), no window budget and no θ-step limit (everything else runs by the loop
+    alone)."""
+    c, g = r.control, r.progress
+    return (c.kind == KIND_TAYLOR and c.karg == SIMD_ORDER and c.controller == CONTROLLER_ADAPTIVE
+            and r.model.drive_amp == 0.0 and r.model.beta > 0.0 and r.switch.regimes != 0 and g.call_windows == 0
+            and c.max_dtheta == math.inf and g.n_windows == 0 and r.switch.regime == REGIME_NONE
+            and g.status == STATUS_OK)
 
 
 @numba.njit(**_INLINE)
@@ -103,7 +108,8 @@ def _lane_start(r, i, ln, coefs, lane):
 
 @numba.njit(**_INLINE)
 def _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel):
-    # The lane's state written back as a paused run's, and the run finished by _run.
+    # The lane's state written back as a paused run's, and the run finished by the loop
+    # (a lane's scene is in RS_DAMPED, or reached RS_CYCLE).
     i = ln.scene
     r = p[i]
     r.state.t, r.state.theta, r.state.v, r.control.h_abs = ln.t, theta_of(ln.wind, ln.phi), ln.v, ln.h_abs
@@ -112,7 +118,7 @@ def _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel):
     r.progress.j = ln.j
     ln.scene = -1
     ln.ready = 0
-    run_taylor(p[i:i + 1], t_eval, out[i], win_t, win_y, win_coef, cancel)
+    _run_sets(KIND_TAYLOR, 0, 1, 0, 0, 1, 0, p[i:i + 1], t_eval, out[i], win_t, win_y, win_coef, cancel)
 
 
 @numba.njit(**_INLINE)
@@ -202,8 +208,8 @@ def _lane_window(p, ln, coef, h, th, v, t_eval, out, wrapped, win_t, win_y, win_
         _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel)
 
 
-@numba.njit(cache=True)
-def _run_lanes(p, ids, t_eval, out, cancel):
+@numba.njit(**_INLINE)
+def _lanes(k0, k1, k2, k3, s0, s1, s2, s3, s4, s5, p, ids, t_eval, out, cancel):
     """Run the scenes ``ids`` of ``p`` (output rows ``out[ids]``), LANES at a time in lockstep.
 
     Each lockstep round takes one window of every lane: the loop's window for an
@@ -214,7 +220,8 @@ def _run_lanes(p, ids, t_eval, out, cancel):
     lane-wise Horner.  A lane whose next window is anything else hands its state to the
     loop as a paused run's, which finishes the scene, and the lane takes the next scene.
     So every scene's windows, outputs and record are those of the loop alone.  Scenes
-    that are not :func:`lane_eligible` run by :func:`_run_any`.
+    that are not :func:`lane_eligible` run by :func:`mbm.core.loop._run_any_of` (the
+    kinds and sets flagged).
     """
     win_t, win_y, win_coef = np.empty(0), np.empty((0, 2)), np.empty((0, 0))
     lanes = np.zeros(LANES, dtype=LANE)
@@ -241,7 +248,8 @@ def _run_lanes(p, ids, t_eval, out, cancel):
                 if lane_eligible(p[i]):
                     _lane_start(p[i], i, ln, coefs, q)
                 else:
-                    _run_any(p[i:i + 1], t_eval, out[i], win_t, win_y, win_coef, cancel)
+                    _run_any_of(k0, k1, k2, k3, s0, s1, s2, s3, s4, s5, p[i:i + 1], t_eval, out[i], win_t, win_y,
+                                win_coef, cancel)
             ln.ready = 1 if ln.scene >= 0 and _lane_before(p, ln, q, ins, t_eval, out, win_t, win_y, win_coef,
                                                            cancel) else 0
             live += ln.ready
@@ -263,16 +271,99 @@ def _run_lanes(p, ids, t_eval, out, cancel):
     return 0
 
 
-@numba.njit(cache=True, parallel=True, nogil=True)
-def run_batch(p, t_eval, out, order, cancel):
-    """:func:`run` for every row of ``p`` in parallel (``prange``), in the order ``order``.
+def _lanes_for(flags):
+    """The compiled lanes of a batch whose scenes' kinds and regime sets are ``flags``
+    (:func:`batch_flags`): constants of the closure, so only those kinds' and sets'
+    entries are compiled (and each closure is cached apart); the lockstep lanes only
+    where undriven damped Taylor scenes may be."""
+    k0, k1, k2, k3, s0, s1, s2, s3, s4, s5 = flags
 
-    ``order`` is cut into groups of LANE_GROUP scenes, run in parallel; each group by
-    :func:`_run_lanes` (LANES scenes in lockstep, every scene's result that of
-    :func:`run` alone).  ``out`` has shape (N, 2, m), or (N, 3, m) for θ wrapped with
-    its winding count.  Runs without the GIL, so a caller may run it in a thread and
-    set ``cancel[0]`` to stop every scene at its next window.
+    @numba.njit(cache=True, nogil=True)
+    def run_lanes(p, ids, t_eval, out, cancel):
+        """Run the scenes ``ids`` of ``p`` (output rows ``out[ids]``): :func:`_lanes`."""
+        if k0 == 1:
+            if s1 == 1:
+                return _lanes(k0, k1, k2, k3, s0, s1, s2, s3, s4, s5, p, ids, t_eval, out, cancel)
+        win_t, win_y, win_coef = np.empty(0), np.empty((0, 2)), np.empty((0, 0))
+        for i in ids:
+            _run_any_of(k0, k1, k2, k3, s0, s1, s2, s3, s4, s5, p[i:i + 1], t_eval, out[i], win_t, win_y,
+                        win_coef, cancel)
+        return 0
+
+    return run_lanes
+
+
+#: Every kind and regime set flagged: a batch of any records.
+ALL_FLAGS = (1,) * 10
+
+
+#: The compiled lanes of each flags met so far (:func:`_lanes_for`).
+LANES_ENTRIES = {}
+
+
+def lanes_entry(flags):
+    """The compiled lanes for ``flags`` (made at its first use)."""
+    entry = LANES_ENTRIES.get(flags)
+    if entry is None:
+        entry = LANES_ENTRIES[flags] = _lanes_for(flags)
+    return entry
+
+
+def batch_flags(p):
+    """The kinds (taylor, exact, salas-torque, split) and regime sets (RS index) the
+    records ``p`` start in or may reach (:data:`mbm.core.loop.REACHES`), as ten 0/1 flags."""
+    c, w, m = p["control"], p["switch"], p["model"]
+    kinds = [0, 0, 0, 0]
+    sets = [0] * 6
+    rows = zip(c["kind"].tolist(), c["controller"].tolist(), w["regimes"].tolist(),
+               np.sign(m["beta"]).tolist(), (m["drive_amp"] != 0.0).tolist(), w["regime"].tolist())
+    for kind, controller, regimes, beta_sign, driven, regime in set(rows):
+        if 0 <= kind < 4:
+            kinds[kind] = 1
+        rset = _regime_set(kind, controller, regimes, beta_sign, 1.0 if driven else 0.0, regime)
+        for s in (rset,) + REACHES[rset]:
+            sets[s] = 1
+    return tuple(kinds) + tuple(sets)
+
+
+def run_batch(p, t_eval, out, order, cancel, flags=None):
+    """:func:`mbm.loop.run` for every row of ``p``, in the order ``order``, on
+    ``numba.get_num_threads()`` threads.
+
+    ``order`` is cut into groups of LANE_GROUP scenes; each thread takes the next group
+    and runs it by the compiled lanes of the batch's ``flags`` (default
+    :func:`batch_flags` of ``p``; LANES scenes in lockstep, every scene's result that of
+    the loop alone).  The lanes run without the GIL, so a caller may run this in a
+    thread and set ``cancel[0]`` to stop every scene at its next window.  ``out`` has
+    shape (N, 2, m), or (N, 3, m) for θ wrapped with its winding count.
     """
-    n_groups = (order.size + LANE_GROUP - 1) // LANE_GROUP
-    for g in numba.prange(n_groups):
-        _run_lanes(p, order[g * LANE_GROUP:min((g + 1) * LANE_GROUP, order.size)], t_eval, out, cancel)
+    entry = lanes_entry(batch_flags(p) if flags is None else tuple(flags))
+    groups = [order[g:g + LANE_GROUP] for g in range(0, order.size, LANE_GROUP)]
+    n_threads = min(numba.get_num_threads(), len(groups))
+    if n_threads <= 1:
+        for ids in groups:
+            entry(p, ids, t_eval, out, cancel)
+        return
+    todo = iter(groups)
+    lock = threading.Lock()
+    failure = []
+
+    def work():
+        try:
+            while True:
+                with lock:
+                    ids = next(todo, None)
+                if ids is None:
+                    return
+                entry(p, ids, t_eval, out, cancel)
+        except BaseException as exc:  # pragma: no cover - re-raised below
+            failure.append(exc)
+            cancel[0] = 1
+
+    threads = [threading.Thread(target=work, name=f"mbm-lanes-{i}", daemon=True) for i in range(n_threads)]
+    for th in threads:
+        th.start()
+    for th in threads:
+        th.join()
+    if failure:
+        raise failure[0]

@@ -534,27 +534,61 @@ def _record_set(kind, r):
 
 
 @numba.njit(**_INLINE)
-def _run_chain(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
-    """A run of kind ``kind`` through its regime sets' entries in turn: a pause at a
-    regime switch is resumed through the new set's entry (every other stop returns)."""
+def _run_sets(kind, s0, s1, s2, s3, s4, s5, p, t_eval, out, win_t, win_y, win_coef, cancel):
+    """A run of kind ``kind`` through its regime sets' entries in turn, of the sets
+    flagged (``s<i> == 1`` for set i, constants where the caller is compiled: the others
+    are pruned, not compiled): a pause at a regime switch is resumed through the new
+    set's entry (every other stop returns); a set not flagged is STATUS_ANCHOR."""
     r = p[0]
     n = 0
     while True:
         rset = _record_set(kind, r)
+        ok = True
         if rset == RS_PLAIN:
-            n += _dispatch(kind, RS_PLAIN, p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
+            if s0 == 1:
+                n += _dispatch(kind, RS_PLAIN, p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
+            else:
+                ok = False
         elif rset == RS_DAMPED:
-            n += _dispatch(kind, RS_DAMPED, p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
+            if s1 == 1:
+                n += _dispatch(kind, RS_DAMPED, p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
+            else:
+                ok = False
         elif rset == RS_CONSERVATIVE:
-            n += _dispatch(kind, RS_CONSERVATIVE, p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
+            if s2 == 1:
+                n += _dispatch(kind, RS_CONSERVATIVE, p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
+            else:
+                ok = False
         elif rset == RS_DRIVEN:
-            n += _dispatch(kind, RS_DRIVEN, p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
+            if s3 == 1:
+                n += _dispatch(kind, RS_DRIVEN, p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
+            else:
+                ok = False
         elif rset == RS_CYCLE:
-            n += _dispatch(kind, RS_CYCLE, p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
-        else:
+            if s4 == 1:
+                n += _dispatch(kind, RS_CYCLE, p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
+            else:
+                ok = False
+        elif s5 == 1:
             n += _dispatch(kind, RS_STROBE, p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
+        else:
+            ok = False
+        if not ok:
+            r.progress.status = STATUS_ANCHOR
+            return n
         if r.progress.status != STATUS_PAUSED or _record_set(kind, r) == rset:
             return n
+
+
+@numba.njit(**_INLINE)
+def _run_chain(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
+    """:func:`_run_sets` through every set of the kind."""
+    return _run_sets(kind, 1, 1, 1, 1, 1, 1, p, t_eval, out, win_t, win_y, win_coef, cancel)
+
+
+#: The sets a run starting in a set may reach (a switch to a stored period).
+REACHES = {RS_PLAIN: (), RS_DAMPED: (RS_CYCLE,), RS_CONSERVATIVE: (RS_CYCLE,), RS_DRIVEN: (RS_STROBE,),
+           RS_CYCLE: (), RS_STROBE: ()}
 
 
 # One compiled whole run per kind (every set it may reach), for the compiled callers
@@ -621,17 +655,26 @@ def run(p, t_eval, out, win_t, win_y, win_coef, cancel):
             return n
 
 
-@numba.njit(cache=True)
-def _run_any(p, t_eval, out, win_t, win_y, win_coef, cancel):
-    # The kind read from the record, for a batch of mixed kinds: calls the entries.
+@numba.njit(**_INLINE)
+def _run_any_of(k0, k1, k2, k3, s0, s1, s2, s3, s4, s5, p, t_eval, out, win_t, win_y, win_coef, cancel):
+    """The run of the record's kind through :func:`_run_sets`, for a batch of mixed kinds:
+    ``k0``-``k3`` (taylor, exact, salas-torque, split) and ``s0``-``s5`` (by RS index)
+    flag, as 0/1 constants of the caller's closure (numba prunes a branch on a constant
+    argument, not on a tuple's item), the kinds and sets compiled; any other kind is
+    STATUS_ANCHOR."""
     kind = p[0].control.kind
     if kind == KIND_TAYLOR:
-        return run_taylor(p, t_eval, out, win_t, win_y, win_coef, cancel)
+        if k0 == 1:
+            return _run_sets(KIND_TAYLOR, s0, s1, s2, s3, s4, s5, p, t_eval, out, win_t, win_y, win_coef, cancel)
     elif kind == KIND_EXACT:
-        return run_exact(p, t_eval, out, win_t, win_y, win_coef, cancel)
+        if k1 == 1:
+            return _run_sets(KIND_EXACT, s0, s1, s2, s3, s4, s5, p, t_eval, out, win_t, win_y, win_coef, cancel)
     elif kind == KIND_SALAS_TORQUE:
-        return run_salas_torque(p, t_eval, out, win_t, win_y, win_coef, cancel)
+        if k2 == 1:
+            return _run_sets(KIND_SALAS_TORQUE, s0, s1, s2, s3, s4, s5, p, t_eval, out, win_t, win_y, win_coef,
+                             cancel)
     elif kind == KIND_SPLIT:
-        return run_split(p, t_eval, out, win_t, win_y, win_coef, cancel)
+        if k3 == 1:
+            return _run_sets(KIND_SPLIT, s0, s1, s2, s3, s4, s5, p, t_eval, out, win_t, win_y, win_coef, cancel)
     p[0].progress.status = STATUS_ANCHOR
     return 0
