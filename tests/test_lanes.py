@@ -1,4 +1,4 @@
-"""solve_batch in lockstep lanes (mbm.loop._run_lanes) and its across-scene kernels.
+"""solve_batch in lockstep lanes (mbm.core.lanes._lanes) and its across-scene kernels.
 
 The lanes' anchor (taylor24_lanes) and window-end Horner (horner24_lanes) apply the
 one-scene kernels' operations lane-wise, so they must give those kernels' bits; and a
@@ -117,12 +117,13 @@ def test_lane_batch_backwards_and_window_limit():
 
 
 def test_lane_eligibility():
-    p = np.zeros(3, dtype=loop.RUN)
+    p = np.zeros(4, dtype=loop.RUN)
     f = loop.flat(p)
     f["kind"], f["karg"], f["controller"] = loop.KIND_TAYLOR, SIMD_ORDER, loop.CONTROLLER_ADAPTIVE
-    f["beta"], f["max_dtheta"] = 0.1, np.inf
+    f["beta"], f["max_dtheta"], f["regimes"] = 0.1, np.inf, 1
     f["karg"][1] = 12  # another degree: the one-scene loop
     f["drive_amp"][2] = 0.5  # driven: the one-scene loop
+    f["regimes"][3] = 0  # regime switching off (RS_PLAIN): the one-scene loop
 
     import numba
 
@@ -130,4 +131,22 @@ def test_lane_eligibility():
     def eligible(p):
         return [loop.lane_eligible(p[i]) for i in range(p.size)]
 
-    assert eligible(p) == [True, False, False]
+    assert eligible(p) == [True, False, False, False]
+
+
+def test_batch_compiles_only_the_kinds_and_sets_its_scenes_reach():
+    # an undriven damped auto batch: Taylor in RS_DAMPED (and RS_CYCLE it may reach),
+    # the exact flow for β = γ = 0 in RS_PLAIN; nothing driven, conservative or split
+    b = mbm.solve_batch([0.1, 0.0], [0.3, 0.0], 1.0, [0.5, 0.0], (0.0, 5.0), [5.0])
+    assert list(b.status) == [0, 0]
+    p = np.zeros(2, dtype=loop.RUN)
+    f = loop.flat(p)
+    f["kind"] = [loop.KIND_TAYLOR, loop.KIND_EXACT]
+    f["controller"] = [loop.CONTROLLER_ADAPTIVE, loop.CONTROLLER_FIXED]
+    f["beta"], f["regimes"] = [0.1, 0.0], 1
+    taylor, exact, salas, split = 1, 1, 0, 0
+    plain, damped, conservative, driven, cycle, strobe = 1, 1, 0, 0, 1, 0
+    assert loop.batch_flags(p) == (taylor, exact, salas, split, plain, damped, conservative, driven, cycle, strobe)
+    assert loop.batch_flags(p) in loop.LANES_ENTRIES
+    f["drive_amp"][0] = 0.5  # driven: its strobe set too, the damped one no longer
+    assert loop.batch_flags(p)[4:] == (1, 0, 0, 1, 0, 1)

@@ -405,13 +405,13 @@ def test_distributed_identical_and_kernels_loaded_from_cache(cluster, reference)
     ds = sweep(**SWEEP, chunks={"beta": 1, "gamma": 4})
     out = ds.compute()  # the Client is the default scheduler
     _assert_identical_bits(out, reference)
-    # Each worker loaded run_batch from numba's cache: hits, no compilation.  (Lambdas:
-    # cloudpickle ships them by value; a function of this module would be looked up
-    # by name on the worker, which cannot import the tests.)
-    stats = cluster.run(lambda: __import__("mbm.loop").loop.run_batch.stats)
+    # Each worker loaded the batch's lanes from numba's cache: hits, no compilation.
+    # (Lambdas: cloudpickle ships them by value; a function of this module would be
+    # looked up by name on the worker, which cannot import the tests.)
+    stats = cluster.run(lambda: [e.stats for e in __import__("mbm.loop").loop.LANES_ENTRIES.values()])
     assert len(stats) == 2
-    assert sum(sum(s.cache_hits.values()) for s in stats.values()) >= 1
-    assert all(sum(s.cache_misses.values()) == 0 for s in stats.values())
+    assert sum(sum(s.cache_hits.values()) for ss in stats.values() for s in ss) >= 1
+    assert all(sum(s.cache_misses.values()) == 0 for ss in stats.values() for s in ss)
     # And the numba threads follow the worker's (the pre-spawn environment).
     threads = cluster.run(lambda: __import__("numba").get_num_threads())
     assert set(threads.values()) == {1}

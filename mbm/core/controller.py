@@ -225,6 +225,30 @@ def _first(kind, coef, t, y0, y1, off, direction, t_bound, omega, max_step, rtol
 
 
 @numba.njit(**_INLINE)
+def first_try(kind, coef, t, y0, y1, off, direction, t_bound, h_abs, max_step, rtol, atol, log_eps):
+    """:func:`adaptive_window`'s first try: ``(ok, h, prior, t_new)``, the window tried
+    (``h_abs`` no longer than ``max_step`` nor the kind's a-priori window ``prior``),
+    and whether it is above the floor (``ok``; else the controller's own status).
+    Shared by the loop (:func:`_adaptive`) and the lanes (:mod:`mbm.core.lanes`)."""
+    min_h = MIN_WINDOW_ULPS * _EPS * max(abs(t), 1e-300)
+    prior = prior_window(kind, coef, off + y0, y1, rtol, atol, log_eps)
+    h = min(h_abs, max_step, prior)
+    if h >= min_h:
+        return True, h, prior, _window_end(t, direction, t_bound, h)
+    return False, h, prior, t
+
+
+@numba.njit(**_INLINE)
+def accept_try(et, ev, y0, y1, off, theta, v, rtol, atol, prior, error_order, h):
+    """The test of the first try of length ``h`` (estimate ``et``, ``ev``; the state from
+    φ = ``y0``, θ' = ``y1`` to ``theta``, ``v``): ``(accepted, h_next)``, as
+    :func:`adaptive_window`'s."""
+    err = _error_norm(et, ev, off + y0, y1, off + theta, v, rtol, atol)
+    fac = _accepted_factor(err, theta, v, prior, -1.0 / (error_order + 1.0), False)
+    return fac > 0.0, h * fac
+
+
+@numba.njit(**_INLINE)
 def _adaptive(kind, coef, t, y0, y1, off, direction, t_bound, h_abs, max_step, rtol, atol, error_order,
               log_eps):
     """:func:`adaptive_window` of kind ``kind``: its first try here (inlined: the common
@@ -235,16 +259,13 @@ def _adaptive(kind, coef, t, y0, y1, off, direction, t_bound, h_abs, max_step, r
         return STATUS_TOO_SMALL, t, y0, y1, h_abs
     if kind == KIND_SALAS_TORQUE:
         return STATUS_TOO_SMALL, t, y0, y1, h_abs
-    min_h = MIN_WINDOW_ULPS * _EPS * max(abs(t), 1e-300)
-    prior = prior_window(kind, coef, off + y0, y1, rtol, atol, log_eps)
-    h = min(h_abs, max_step, prior)
-    if h >= min_h:
-        t_new = _window_end(t, direction, t_bound, h)
+    ok, h, prior, t_new = first_try(kind, coef, t, y0, y1, off, direction, t_bound, h_abs, max_step, rtol, atol,
+                                    log_eps)
+    if ok:
         theta, v, et, ev = step(kind, coef, t_new - t, True)
-        err = _error_norm(et, ev, off + y0, y1, off + theta, v, rtol, atol)
-        fac = _accepted_factor(err, theta, v, prior, -1.0 / (error_order + 1.0), False)
-        if fac > 0.0:
-            return STATUS_OK, t_new, theta, v, h * fac
+        accepted, h_next = accept_try(et, ev, y0, y1, off, theta, v, rtol, atol, prior, error_order, h)
+        if accepted:
+            return STATUS_OK, t_new, theta, v, h_next
     if kind == KIND_SPLIT:
         return _adaptive_window_split(coef, t, y0, y1, off, direction, t_bound, h_abs, max_step, rtol,
                                       atol, error_order, log_eps)

@@ -1,6 +1,6 @@
 """The lockstep lanes of :func:`mbm.solve_batch`: LANES scenes per round, one window each.
 
-A batch group (:func:`_run_lanes`) is a scheduler over the loop's window: LANES scenes
+A batch group (:func:`_lanes`) is a scheduler over the loop's window: LANES scenes
 advance one ordinary Taylor window per round in lockstep, the loop's tests, controller
 and output steps per lane (the same compiled controller, :mod:`mbm.core.controller`,
 and the same cycle watch), the anchors and the first tries' window ends computed for
@@ -10,10 +10,11 @@ is the loop's own, the lane handing its scene over as a paused run.
 """
 
 import math
+import threading
+
 import numba
 import numpy as np
 
-from ..approximants.taylor import taylor_eval_range
 from ..approximants.taylor_simd import (
     HEADER as SIMD_HEADER,
     LANES,
@@ -23,28 +24,21 @@ from ..approximants.taylor_simd import (
 )
 from .controller import (
     CONTROLLER_ADAPTIVE,
-    MIN_WINDOW_ULPS,
-    _EPS,
-    _accepted_factor,
     _adaptive_window_taylor,
-    _error_norm,
     _first_window_taylor,
-    _window_end,
+    accept_try,
+    first_try,
 )
-from .loop import _run_any, run_taylor
+from .loop import REACHES, _regime_set, _run_any_of, _run_sets, damped_setup, emit_taylor, locked_test
 from .window import (
     KIND_TAYLOR,
-    _put,
     _reduce_phi,
     estimate,
-    prior_window,
     theta_of,
     window_log_eps,
 )
 from ..regimes.common import REGIME_NONE
-from ..regimes.cycle import section_offset
 from ..regimes.cycle_windows import _TWO_PI, _watch_cycle
-from ..regimes.locked import _lock_setup, locked_choice, locked_quick_reject
 from ..status import STATUS_OK
 
 # Small per-window pieces are inlined into their callers, where the kind is a constant
@@ -59,11 +53,11 @@ _INLINE = dict(cache=True, inline="always")
 LANE_GROUP = 256
 
 
-# _run_lanes names its eight coefficient rows in one tuple.
+# _lanes names its eight coefficient rows in one tuple.
 assert LANES == 8
 
 
-# The lockstep state of one lane (_run_lanes): the scene, the loop's locals of _run that
+# The lockstep state of one lane (_lanes): the scene, the loop's locals of _run that
 # change per window, and the constants _run derives once per call.
 LANE = np.dtype([
     ("scene", np.int64), ("t", np.float64), ("phi", np.float64), ("v", np.float64),
@@ -78,31 +72,31 @@ LANE = np.dtype([
 
 @numba.njit(**_INLINE)
 def lane_eligible(r):
-    """Whether run record ``r`` can take lockstep windows in :func:`_run_lanes`: a fresh
-    undriven Taylor run at the vector kernel's degree, adaptive, β > 0, no window budget
-    and no θ-step limit (everything else runs as :func:`_run` alone)."""
-    return (r.control.kind == KIND_TAYLOR and r.control.karg == SIMD_ORDER and r.control.controller == CONTROLLER_ADAPTIVE
-            and r.model.drive_amp == 0.0 and r.model.beta > 0.0 and r.progress.call_windows == 0 and r.control.max_dtheta == math.inf
-            and r.progress.n_windows == 0 and r.switch.regime == REGIME_NONE and r.progress.status == STATUS_OK)
+    """Whether run record ``r`` can take lockstep windows in the lanes: a fresh undriven
+    Taylor run at the vector kernel's degree, adaptive, β > 0, regime switching on (so in
+    RS_DAMPED), no window budget and no θ-step limit (everything else runs by the loop
+    alone)."""
+    c, g = r.control, r.progress
+    return (c.kind == KIND_TAYLOR and c.karg == SIMD_ORDER and c.controller == CONTROLLER_ADAPTIVE
+            and r.model.drive_amp == 0.0 and r.model.beta > 0.0 and r.switch.regimes != 0 and g.call_windows == 0
+            and c.max_dtheta == math.inf and g.n_windows == 0 and r.switch.regime == REGIME_NONE
+            and g.status == STATUS_OK)
 
 
 @numba.njit(**_INLINE)
 def _lane_start(r, i, ln, coefs, lane):
-    # _run's set-up for a fresh run (the undriven Taylor branches of its can_* flags).
+    # The loop's set-up for a fresh run (the undriven Taylor branches).
     ln.scene = i
     ln.t, ln.phi, ln.v, ln.h_abs, ln.wind = r.state.t, r.state.theta, r.state.v, r.control.h_abs, 0.0
     ln.j, ln.n_windows, ln.ready = r.progress.j, 0, 0
     ln.direction = 1.0 if r.state.t_bound >= r.state.t else -1.0
     ln.log_eps = window_log_eps(r.control.rtol)
     beta, gamma, omega = r.model.beta, r.model.gamma, r.model.omega
-    can_lock = r.switch.regimes != 0 and ln.direction > 0.0 and abs(gamma) < omega * omega
-    ln.lk_d, ln.lk_wl2, ln.lk_g0, ln.lk_g1, ln.lk_sd, ln.lk_q2, can_lock2 = _lock_setup(
-        beta, gamma, omega, can_lock, can_lock)
-    ln.can_lock, ln.can_lock2 = can_lock, can_lock2
-    can_cycle = r.switch.regimes != 0 and ln.direction > 0.0
-    ln.can_cycle = can_cycle
-    ln.sec_off = section_offset(gamma, omega) if can_cycle else 0.0
-    ln.sec_acc = gamma - omega * omega * math.sin(ln.sec_off)
+    # The loop's set-up of RS_DAMPED, without a window store (width 0).
+    may = r.switch.regimes != 0 and r.control.controller == CONTROLLER_ADAPTIVE and ln.direction > 0.0
+    can_lock, lk, can_cycle, ln.sec_off, ln.sec_acc = damped_setup(r, may, 0)
+    ln.lk_d, ln.lk_wl2, ln.lk_g0, ln.lk_g1, ln.lk_sd, ln.lk_q2, can_lock2 = lk
+    ln.can_lock, ln.can_lock2, ln.can_cycle = can_lock, can_lock2, can_cycle
     # The header of the lane's coefficient row (taylor.py's layout; the kernel writes
     # the coefficients after it).
     coefs[lane, 0] = 0.0
@@ -114,7 +108,8 @@ def _lane_start(r, i, ln, coefs, lane):
 
 @numba.njit(**_INLINE)
 def _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel):
-    # The lane's state written back as a paused run's, and the run finished by _run.
+    # The lane's state written back as a paused run's, and the run finished by the loop
+    # (a lane's scene is in RS_DAMPED, or reached RS_CYCLE).
     i = ln.scene
     r = p[i]
     r.state.t, r.state.theta, r.state.v, r.control.h_abs = ln.t, theta_of(ln.wind, ln.phi), ln.v, ln.h_abs
@@ -123,27 +118,112 @@ def _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel):
     r.progress.j = ln.j
     ln.scene = -1
     ln.ready = 0
-    run_taylor(p[i:i + 1], t_eval, out[i], win_t, win_y, win_coef, cancel)
+    _run_sets(KIND_TAYLOR, 0, 1, 0, 0, 1, 0, p[i:i + 1], t_eval, out[i], win_t, win_y, win_coef, cancel)
 
 
-@numba.njit(cache=True)
-def _run_lanes(p, ids, t_eval, out, cancel):
+@numba.njit(**_INLINE)
+def _lane_before(p, ln, q, ins, t_eval, out, win_t, win_y, win_coef, cancel):
+    """The loop's tests before the lane's next window, in its order: a lane whose window
+    is not an ordinary Taylor one (the run's end, ``max_windows``, the interrupt flag, a
+    non-finite state, the locked form) hands off; else the lane's inputs of the
+    across-scene kernel.  Returns whether the lane takes a window this round."""
+    r = p[ln.scene]
+    t, y0, y1, k = ln.t, ln.phi, ln.v, ln.wind
+    if (not (ln.direction * (r.state.t_bound - t) > 0.0) or ln.n_windows >= r.progress.max_windows
+            or cancel[0] != 0 or not (math.isfinite(y0) and math.isfinite(y1))):
+        _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel)
+        return False
+    k, y0 = _reduce_phi(k, y0)
+    ln.wind, ln.phi = k, y0
+    if ln.can_lock != 0:
+        lk = (ln.lk_d, ln.lk_wl2, ln.lk_g0, ln.lk_g1, ln.lk_sd, ln.lk_q2, ln.can_lock2 != 0)
+        if locked_test(r, y0, y1, k * _TWO_PI, lk)[0] > 0:
+            _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel)
+            return False
+    ins[0, q] = r.model.beta
+    ins[1, q] = r.model.gamma
+    ins[2, q] = r.model.omega * r.model.omega
+    ins[3, q] = math.sin(y0)
+    ins[4, q] = math.cos(y0)
+    ins[5, q] = y0
+    ins[6, q] = y1
+    return True
+
+
+@numba.njit(**_INLINE)
+def _lane_try(r, ln, coef):
+    """The controller's first try of the lane's window (the loop's :func:`first_try`, and
+    the first window's search for a fresh run): the length whose end θ, θ' the lane-wise
+    Horner evaluates (0: below the floor)."""
+    t, y0, y1 = ln.t, ln.phi, ln.v
+    off = ln.wind * _TWO_PI
+    c = r.control
+    if ln.h_abs <= 0.0:
+        ln.h_abs = _first_window_taylor(coef, t, y0, y1, off, ln.direction, r.state.t_bound, r.model.omega,
+                                        c.max_step, c.rtol, c.atol, c.error_order, ln.log_eps)
+    first, ln.h_try, ln.prior, ln.t_end = first_try(KIND_TAYLOR, coef, t, y0, y1, off, ln.direction,
+                                                    r.state.t_bound, ln.h_abs, c.max_step, c.rtol, c.atol,
+                                                    ln.log_eps)
+    # A window below the floor: adaptive_window's own status (_lane_window).
+    ln.first = 1 if first else 0
+    return ln.t_end - t if first else 0.0
+
+
+@numba.njit(**_INLINE)
+def _lane_window(p, ln, coef, h, th, v, t_eval, out, wrapped, win_t, win_y, win_coef, cancel):
+    """The lane's window after the lane-wise Horner (``th``, ``v`` at the try's end, ``h``
+    after the start): the loop's test of the first try (:func:`accept_try`), on a
+    rejection the compiled controller, the outputs (:func:`emit_taylor`) and the cycle
+    watch; a failure or a regime switch hands off."""
+    i = ln.scene
+    r = p[i]
+    c = r.control
+    t, y0, y1, k = ln.t, ln.phi, ln.v, ln.wind
+    off = k * _TWO_PI
+    accepted, t_new, h_next = False, ln.t_end, 0.0
+    if ln.first != 0:
+        et, ev = estimate(KIND_TAYLOR, coef, h)
+        accepted, h_next = accept_try(et, ev, y0, y1, off, th, v, c.rtol, c.atol, ln.prior, c.error_order, ln.h_try)
+    if not accepted:
+        # Rejected (or below the floor): adaptive_window itself, from the start.
+        st, t_new, th, v, h_next = _adaptive_window_taylor(coef, t, y0, y1, off, ln.direction, r.state.t_bound,
+                                                           ln.h_abs, c.max_step, c.rtol, c.atol, c.error_order,
+                                                           ln.log_eps)
+        if st != STATUS_OK:
+            _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel)
+            return
+    j = ln.j
+    if j < t_eval.size and ln.direction * (t_eval[j] - t_new) <= 0.0:
+        # (The views of out made only for a window that has outputs.)
+        out_theta = out[i, 0]
+        ln.j = emit_taylor(coef, t, t_new, t_eval, j, ln.direction, k, out_theta, out[i, 1],
+                           out[i, 2] if wrapped else out_theta, wrapped)
+    if ln.can_cycle != 0 and r.switch.regime == REGIME_NONE:
+        m = r.model
+        _watch_cycle(KIND_TAYLOR, r, coef, t, t_new, y0, th, v, k, off, ln.sec_off, ln.sec_acc, m.beta, m.gamma,
+                     m.omega, r.state.t_bound, c.rtol, c.atol)
+    ln.t, ln.phi, ln.v, ln.h_abs = t_new, th, v, h_next
+    ln.n_windows += 1
+    if r.switch.regime != REGIME_NONE:
+        _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel)
+
+
+@numba.njit(**_INLINE)
+def _lanes(k0, k1, k2, k3, s0, s1, s2, s3, s4, s5, p, ids, t_eval, out, cancel):
     """Run the scenes ``ids`` of ``p`` (output rows ``out[ids]``), LANES at a time in lockstep.
 
-    Each lockstep round takes one window of every lane: _run's window for an ordinary
-    Taylor window (the same tests, controller and output steps, in the same order), with
-    the anchors of all lanes in one call of the across-scene kernel
-    (:func:`mbm.approximants.taylor_simd.taylor24_lanes`, each lane's coefficients the
-    bits of the one-scene kernel).  A lane whose next window is anything else (the
-    run's end, a failure, ``max_windows``, the interrupt flag, a locked or cycle
-    window) hands its state to :func:`_run` as a paused run's, which finishes the
-    scene, and the lane takes the next scene.  So every scene's windows, outputs and
-    record are those of :func:`_run` alone.  Scenes that are not
-    :func:`lane_eligible` run by :func:`_run_any`.
+    Each lockstep round takes one window of every lane: the loop's window for an
+    ordinary Taylor window (its tests, controller and output steps, in its order: the
+    loop's own functions), with the anchors of all lanes in one call of the
+    across-scene kernel (:func:`mbm.approximants.taylor_simd.taylor24_lanes`, each lane's
+    coefficients the bits of the one-scene kernel) and the first tries' ends in one
+    lane-wise Horner.  A lane whose next window is anything else hands its state to the
+    loop as a paused run's, which finishes the scene, and the lane takes the next scene.
+    So every scene's windows, outputs and record are those of the loop alone.  Scenes
+    that are not :func:`lane_eligible` run by :func:`mbm.core.loop._run_any_of` (the
+    kinds and sets flagged).
     """
-    win_t = np.empty(0)
-    win_y = np.empty((0, 2))
-    win_coef = np.empty((0, 0))
+    win_t, win_y, win_coef = np.empty(0), np.empty((0, 2)), np.empty((0, 0))
     lanes = np.zeros(LANES, dtype=LANE)
     ins = np.zeros((7, LANES))
     ins[2, :] = 1.0
@@ -156,7 +236,6 @@ def _run_lanes(p, ids, t_eval, out, cancel):
         lanes[q].scene = -1
     # The lanes' coefficient rows, as views made once.
     rows = (coefs[0], coefs[1], coefs[2], coefs[3], coefs[4], coefs[5], coefs[6], coefs[7])
-    ne = t_eval.size
     wrapped = out.shape[1] == 3
     nxt = 0
     while True:
@@ -169,129 +248,122 @@ def _run_lanes(p, ids, t_eval, out, cancel):
                 if lane_eligible(p[i]):
                     _lane_start(p[i], i, ln, coefs, q)
                 else:
-                    _run_any(p[i:i + 1], t_eval, out[i], win_t, win_y, win_coef, cancel)
-            if ln.scene < 0:
-                continue
-            r = p[ln.scene]
-            # _run's tests before a window, in its order.
-            t, y0, y1, k = ln.t, ln.phi, ln.v, ln.wind
-            if (not (ln.direction * (r.state.t_bound - t) > 0.0) or ln.n_windows >= r.progress.max_windows
-                    or cancel[0] != 0 or not (math.isfinite(y0) and math.isfinite(y1))):
-                _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel)
-                continue
-            k, y0 = _reduce_phi(k, y0)
-            ln.wind, ln.phi = k, y0
-            off = k * _TWO_PI
-            if ln.can_lock != 0 and not locked_quick_reject(
-                    off + y0, y1, ln.lk_d, ln.lk_sd, ln.lk_wl2, ln.lk_g0, r.model.omega, r.control.rtol, r.control.atol, ln.lk_q2):
-                lk_order, _ = locked_choice(r.model.beta, r.model.gamma, r.model.omega, y0, y1, ln.lk_d, ln.lk_wl2, ln.lk_g0,
-                                            ln.lk_g1, r.control.rtol, r.control.atol, off, ln.can_lock2 != 0)
-                if lk_order > 0:
-                    _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel)
-                    continue
-            ins[0, q] = r.model.beta
-            ins[1, q] = r.model.gamma
-            ins[2, q] = r.model.omega * r.model.omega
-            ins[3, q] = math.sin(y0)
-            ins[4, q] = math.cos(y0)
-            ins[5, q] = y0
-            ins[6, q] = y1
-            ln.ready = 1
-            live += 1
+                    _run_any_of(k0, k1, k2, k3, s0, s1, s2, s3, s4, s5, p[i:i + 1], t_eval, out[i], win_t, win_y,
+                                win_coef, cancel)
+            ln.ready = 1 if ln.scene >= 0 and _lane_before(p, ln, q, ins, t_eval, out, win_t, win_y, win_coef,
+                                                           cancel) else 0
+            live += ln.ready
         if live == 0:
             if nxt >= ids.size:
                 break
             continue
         taylor24_lanes(ins, coefs, soa)
-        # adaptive_window's first try of every lane: its a-priori window (each lane's),
-        # then θ, θ' at the window's end in one lane-wise Horner.
         for q in range(LANES):
             ln = lanes[q]
-            hs[q] = 0.0
-            if ln.ready == 0:
-                continue
-            r = p[ln.scene]
-            coef = rows[q]
-            t, y0, y1 = ln.t, ln.phi, ln.v
-            off = ln.wind * _TWO_PI
-            if ln.h_abs <= 0.0:
-                ln.h_abs = _first_window_taylor(coef, t, y0, y1, off, ln.direction, r.state.t_bound, r.model.omega,
-                                                r.control.max_step, r.control.rtol, r.control.atol, r.control.error_order, ln.log_eps)
-            min_h = MIN_WINDOW_ULPS * _EPS * max(abs(t), 1e-300)
-            ln.prior = prior_window(KIND_TAYLOR, coef, off + y0, y1, r.control.rtol, r.control.atol, ln.log_eps)
-            ln.h_try = min(ln.h_abs, r.control.max_step, ln.prior)
-            # A window below the floor: adaptive_window's own status (below).
-            ln.first = 1 if ln.h_try >= min_h else 0
-            if ln.first != 0:
-                ln.t_end = _window_end(t, ln.direction, r.state.t_bound, ln.h_try)
-                hs[q] = ln.t_end - t
+            hs[q] = _lane_try(p[ln.scene], ln, rows[q]) if ln.ready != 0 else 0.0
         horner24_lanes(soa, hs, hv)
         for q in range(LANES):
             ln = lanes[q]
-            if ln.ready == 0:
-                continue
-            ln.ready = 0
-            i = ln.scene
-            r = p[i]
-            coef = rows[q]
-            t, y0, y1, k = ln.t, ln.phi, ln.v, ln.wind
-            off = k * _TWO_PI
-            direction, t_bound, max_step = ln.direction, r.state.t_bound, r.control.max_step
-            rtol, atol = r.control.rtol, r.control.atol
-            accepted = False
-            if ln.first != 0:
-                # adaptive_window's test of its first try, in its words.
-                t_new = ln.t_end
-                th, v = hv[0, q], hv[1, q]
-                et, ev = estimate(KIND_TAYLOR, coef, hs[q])
-                err = _error_norm(et, ev, off + y0, y1, off + th, v, rtol, atol)
-                fac = _accepted_factor(err, th, v, ln.prior, -1.0 / (r.control.error_order + 1.0), False)
-                if fac > 0.0:
-                    h_next = ln.h_try * fac
-                    accepted = True
-            if not accepted:
-                # Rejected (or below the floor): adaptive_window itself, from the start.
-                st, t_new, th, v, h_next = _adaptive_window_taylor(
-                    coef, t, y0, y1, off, direction, t_bound, ln.h_abs, max_step, rtol, atol,
-                    r.control.error_order, ln.log_eps)
-                if st != STATUS_OK:
-                    _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel)
-                    continue
-            # The window's outputs, as _run's Taylor branch (the views of out made only
-            # for a window that has outputs).
-            j = ln.j
-            j2 = j
-            while j2 < ne and (direction * (t_eval[j2] - t_new) <= 0.0):
-                j2 += 1
-            if j2 > j:
-                out_theta = out[i, 0]
-                out_v = out[i, 1]
-                out_w = out[i, 2] if wrapped else out_theta
-                taylor_eval_range(coef, t, t_eval, j, j2, out_theta, out_v)
-                if k != 0.0 or wrapped:
-                    for jj in range(j, j2):
-                        _put(out_theta, out_w, wrapped, jj, k, out_theta[jj])
-            ln.j = j2
-            if ln.can_cycle != 0 and r.switch.regime == REGIME_NONE:
-                _watch_cycle(KIND_TAYLOR, r, coef, t, t_new, y0, th, v, k, off, ln.sec_off, ln.sec_acc,
-                             r.model.beta, r.model.gamma, r.model.omega, t_bound, rtol, atol)
-            ln.t, ln.phi, ln.v, ln.h_abs = t_new, th, v, h_next
-            ln.n_windows += 1
-            if r.switch.regime != REGIME_NONE:
-                _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel)
+            if ln.ready != 0:
+                ln.ready = 0
+                _lane_window(p, ln, rows[q], hs[q], hv[0, q], hv[1, q], t_eval, out, wrapped, win_t, win_y,
+                             win_coef, cancel)
     return 0
 
 
-@numba.njit(cache=True, parallel=True, nogil=True)
-def run_batch(p, t_eval, out, order, cancel):
-    """:func:`run` for every row of ``p`` in parallel (``prange``), in the order ``order``.
+def _lanes_for(flags):
+    """The compiled lanes of a batch whose scenes' kinds and regime sets are ``flags``
+    (:func:`batch_flags`): constants of the closure, so only those kinds' and sets'
+    entries are compiled (and each closure is cached apart); the lockstep lanes only
+    where undriven damped Taylor scenes may be."""
+    k0, k1, k2, k3, s0, s1, s2, s3, s4, s5 = flags
 
-    ``order`` is cut into groups of LANE_GROUP scenes, run in parallel; each group by
-    :func:`_run_lanes` (LANES scenes in lockstep, every scene's result that of
-    :func:`run` alone).  ``out`` has shape (N, 2, m), or (N, 3, m) for θ wrapped with
-    its winding count.  Runs without the GIL, so a caller may run it in a thread and
-    set ``cancel[0]`` to stop every scene at its next window.
+    @numba.njit(cache=True, nogil=True)
+    def run_lanes(p, ids, t_eval, out, cancel):
+        """Run the scenes ``ids`` of ``p`` (output rows ``out[ids]``): :func:`_lanes`."""
+        if k0 == 1:
+            if s1 == 1:
+                return _lanes(k0, k1, k2, k3, s0, s1, s2, s3, s4, s5, p, ids, t_eval, out, cancel)
+        win_t, win_y, win_coef = np.empty(0), np.empty((0, 2)), np.empty((0, 0))
+        for i in ids:
+            _run_any_of(k0, k1, k2, k3, s0, s1, s2, s3, s4, s5, p[i:i + 1], t_eval, out[i], win_t, win_y,
+                        win_coef, cancel)
+        return 0
+
+    return run_lanes
+
+
+#: Every kind and regime set flagged: a batch of any records.
+ALL_FLAGS = (1,) * 10
+
+
+#: The compiled lanes of each flags met so far (:func:`_lanes_for`).
+LANES_ENTRIES = {}
+
+
+def lanes_entry(flags):
+    """The compiled lanes for ``flags`` (made at its first use)."""
+    entry = LANES_ENTRIES.get(flags)
+    if entry is None:
+        entry = LANES_ENTRIES[flags] = _lanes_for(flags)
+    return entry
+
+
+def batch_flags(p):
+    """The kinds (taylor, exact, salas-torque, split) and regime sets (RS index) the
+    records ``p`` start in or may reach (:data:`mbm.core.loop.REACHES`), as ten 0/1 flags."""
+    c, w, m = p["control"], p["switch"], p["model"]
+    kinds = [0, 0, 0, 0]
+    sets = [0] * 6
+    rows = zip(c["kind"].tolist(), c["controller"].tolist(), w["regimes"].tolist(),
+               np.sign(m["beta"]).tolist(), (m["drive_amp"] != 0.0).tolist(), w["regime"].tolist())
+    for kind, controller, regimes, beta_sign, driven, regime in set(rows):
+        if 0 <= kind < 4:
+            kinds[kind] = 1
+        rset = _regime_set(kind, controller, regimes, beta_sign, 1.0 if driven else 0.0, regime)
+        for s in (rset,) + REACHES[rset]:
+            sets[s] = 1
+    return tuple(kinds) + tuple(sets)
+
+
+def run_batch(p, t_eval, out, order, cancel, flags=None):
+    """:func:`mbm.loop.run` for every row of ``p``, in the order ``order``, on
+    ``numba.get_num_threads()`` threads.
+
+    ``order`` is cut into groups of LANE_GROUP scenes; each thread takes the next group
+    and runs it by the compiled lanes of the batch's ``flags`` (default
+    :func:`batch_flags` of ``p``; LANES scenes in lockstep, every scene's result that of
+    the loop alone).  The lanes run without the GIL, so a caller may run this in a
+    thread and set ``cancel[0]`` to stop every scene at its next window.  ``out`` has
+    shape (N, 2, m), or (N, 3, m) for θ wrapped with its winding count.
     """
-    n_groups = (order.size + LANE_GROUP - 1) // LANE_GROUP
-    for g in numba.prange(n_groups):
-        _run_lanes(p, order[g * LANE_GROUP:min((g + 1) * LANE_GROUP, order.size)], t_eval, out, cancel)
+    entry = lanes_entry(batch_flags(p) if flags is None else tuple(flags))
+    groups = [order[g:g + LANE_GROUP] for g in range(0, order.size, LANE_GROUP)]
+    n_threads = min(numba.get_num_threads(), len(groups))
+    if n_threads <= 1:
+        for ids in groups:
+            entry(p, ids, t_eval, out, cancel)
+        return
+    todo = iter(groups)
+    lock = threading.Lock()
+    failure = []
+
+    def work():
+        try:
+            while True:
+                with lock:
+                    ids = next(todo, None)
+                if ids is None:
+                    return
+                entry(p, ids, t_eval, out, cancel)
+        except BaseException as exc:  # pragma: no cover - re-raised below
+            failure.append(exc)
+            cancel[0] = 1
+
+    threads = [threading.Thread(target=work, name=f"mbm-lanes-{i}", daemon=True) for i in range(n_threads)]
+    for th in threads:
+        th.start()
+    for th in threads:
+        th.join()
+    if failure:
+        raise failure[0]

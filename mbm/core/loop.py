@@ -16,6 +16,25 @@ entry's closure, so numba prunes the other kinds' and sets' branches and a scene
 compiles only the kernels and regimes it can reach.  A run whose regime set changes
 (a switch to a stored period) pauses, and its caller resumes it through the new set's
 entry (:func:`run`, :func:`_run_chain`).
+
+Long horizons (:mod:`mbm.regimes`), each compiled only into the entries of its set:
+with ``regimes`` set, before each window the state is tested for the locked regime
+(RS_DAMPED); once the bound on the neglected nonlinearity over the rest of the
+horizon is within the tolerance (L5), the window (to ``t_bound``, or ``max_step``
+long) is the linearized closed form (or the second-order one, L6-L7, where the
+window store has room for it), stored with layout ``regimes.LOCKED_TAG``, and
+``regime``, ``t_regime`` record the switch.  After each window the return map of
+θ ≡ θ_s (mod 2π) is watched (R1, R2); once it has converged for the rest of the
+horizon, the windows are the stored period shifted (RS_CYCLE: ``regimes.CYCLE_TAG``,
+R3), the period's windows re-taken once from the cycle's anchor at the first such
+window of the call and every output looked up in them.  A conservative run (β = 0,
+RS_CONSERVATIVE) trapped in a well is tested before its first window (C1-C4): with
+its period known to double-double precision, the whole run is one such window.
+AC drive (RS_DRIVEN): each window is anchored at its start time by
+:func:`anchor_driven`; the stroboscopic samples at t_s + nT_d are watched (S1–S7),
+and once their deviations have converged for good the windows are the stored drive
+period from the anchor sample (RS_STROBE: ``regimes.STROBE_TAG``, S6), ``regime``
+phase-locked.
 """
 
 import math
@@ -118,297 +137,291 @@ def _store_window(win_t, win_y, win_coef, n, coef, t_new, theta, v):
     win_y[n + 1, 1] = v
 
 
+@numba.njit(**_INLINE)
+def damped_setup(r, may, width):
+    """The damped regimes' constants of an RS_DAMPED run (record ``r``): whether the
+    locked regime may apply (L5, where |γ| < ω² and its formula fits the window store),
+    the locked test's constants (:func:`mbm.regimes.locked._lock_setup`, the last whether
+    the second-order form L6-L7 fits), whether the return map is watched (R1-R3), the
+    section level's offset θ_s and θ'' = sec_acc − βθ' on it.  Shared by the loop and
+    the lanes (:mod:`mbm.core.lanes`)."""
+    beta, gamma, omega = r.model.beta, r.model.gamma, r.model.omega
+    can_lock = may and abs(gamma) < omega * omega and (width == 0 or width >= LOCKED_WIDTH)
+    lk = _lock_setup(beta, gamma, omega, can_lock, can_lock and (width == 0 or width >= LOCKED2_WIDTH))
+    can_cycle = may and (width == 0 or width >= CYCLE_WIDTH)
+    sec_off = section_offset(gamma, omega) if can_cycle else 0.0
+    # θ'' = sec_acc − βθ' on a section level (sin θ there is sin θ_s): _crossing.
+    sec_acc = gamma - omega * omega * math.sin(sec_off)
+    return can_lock, lk, can_cycle, sec_off, sec_acc
+
+
+@numba.njit(**_INLINE)
+def locked_test(r, y0, y1, off, lk):
+    """``(order, t_s)`` of the locked closed form from φ = ``y0``, θ' = ``y1`` (L5-L7; order
+    0: not locked), ``lk`` the constants of :func:`damped_setup`; once locked the quick
+    rejection is skipped.  Shared by the loop and the lanes."""
+    m, c = r.model, r.control
+    lk_d, lk_wl2, lk_g0, lk_g1, lk_sd, lk_q2, can_lock2 = lk
+    if r.switch.regime == REGIME_LOCKED or not locked_quick_reject(
+            off + y0, y1, lk_d, lk_sd, lk_wl2, lk_g0, m.omega, c.rtol, c.atol, lk_q2):
+        return locked_choice(m.beta, m.gamma, m.omega, y0, y1, lk_d, lk_wl2, lk_g0, lk_g1, c.rtol, c.atol, off,
+                             can_lock2)
+    return 0, 0.0
+
+
+@numba.njit(**_INLINE)
+def _regime_setup(kind, rset, r, may, width, t, n_total):
+    """Each regime's switch rule where it may apply in set ``rset``: windows from
+    rtol/atol, forwards (``may``), room for its formula in the window store (its set's own
+    conditions in :func:`regime_set`); every test depends on the record only, so a
+    resumed run repeats it.  Returns the damped set's constants (:func:`damped_setup`),
+    whether a conservative run takes the libration test (C1-C4: trapped in a well,
+    tested once before a fresh run's first window) and the stroboscopic watch's
+    constants of a driven one (S1-S7: Taylor, β > 0; not with max_dtheta, the short
+    windows of solve_ivp's event search, each of which would re-take a period)."""
+    can_lock = can_cycle = False
+    lk = (0.0, 1.0, 0.0, 0.0, 0.0, 0.0, False)
+    sec_off = sec_acc = 0.0
+    if rset == RS_DAMPED:
+        can_lock, lk, can_cycle, sec_off, sec_acc = damped_setup(r, may, width)
+    can_librate = False
+    if rset == RS_CONSERVATIVE:
+        can_librate = (may and (kind == KIND_TAYLOR or kind == KIND_SPLIT)
+                       and abs(r.model.gamma) < r.model.omega * r.model.omega and n_total == 0
+                       and r.switch.regime == REGIME_NONE and (width == 0 or width >= CYCLE_WIDTH))
+    sp = (0.0, 0.0, 0.0, math.inf)  # T_d hi, lo, e^{−βT_d}, the next sample's time
+    if rset == RS_DRIVEN:
+        m = r.model
+        if (may and m.beta > 0.0 and m.drive_freq > 0.0 and kind == KIND_TAYLOR
+                and r.control.max_dtheta == math.inf and (width == 0 or width >= STROBE_WIDTH)):
+            sp = _strobe_setup(r, t, m.drive_freq, m.beta, n_total)
+    return can_lock, lk, can_cycle, sec_off, sec_acc, can_librate, sp
+
+
+@numba.njit(**_INLINE)
+def _stop_before(kind, rset, r, n, n_total, store, cap, seen, cancel):
+    """Whether the run stops before its next window: ``(status, regime seen)``, status
+    STATUS_OK to go on.  A regime switch to another set pauses (the run goes on through
+    the new set's entry)."""
+    if n_total >= r.progress.max_windows:
+        return STATUS_MAX_WINDOWS, seen
+    budget = r.progress.call_windows
+    if (budget > 0 and n >= budget) or (store and n >= cap):
+        return STATUS_PAUSED, seen
+    if r.switch.regime != seen:
+        seen = r.switch.regime
+        c = r.control
+        if regime_set(kind, c.controller, r.switch.regimes, r.model.beta, r.model.drive_amp, seen) != rset:
+            return STATUS_PAUSED, seen
+    if cancel[0] != 0:
+        return STATUS_INTERRUPTED, seen
+    return STATUS_OK, seen
+
+
+@numba.njit(**_INLINE)
+def _source(kind, rset, r, t, y0, y1, k, off, direction, max_step, h_abs, log_eps, can_lock, lk, ws, per):
+    """The window from (t, φ = ``y0``, θ' = ``y1``, winding ``k``): a regime's stored
+    formula (RS_CYCLE: R3; RS_STROBE: S6, S7), the locked closed form (L2, L5), or the
+    approximant anchored at the state under its controller.  Returns ``(status, coef,
+    t_new, θ, θ', k_new, h_abs, h_next, is_locked, per)`` (``per``: the stored period's
+    windows, built at the first cycle window of the call)."""
+    m, c = r.model, r.control
+    beta, gamma, omega = m.beta, m.gamma, m.omega
+    rtol, atol, karg, error_order = c.rtol, c.atol, c.karg, c.error_order
+    t_bound = r.state.t_bound
+    if rset == RS_CYCLE or rset == RS_STROBE:
+        t_new = _window_end(t, direction, t_bound, max_step)
+        if rset == RS_CYCLE:
+            y = r.cycle
+            coef = cycle_coef(y.cyc_theta, y.cyc_v, y.cyc_T, t - y.cyc_t, beta, gamma, omega, rtol, atol,
+                              y.cyc_sign, karg, error_order, y.cyc_wind, y.cyc_Tlo)
+            if per[3] == -2:
+                per = _period_store(kind, coef)
+            th, v, k_new = _period_value(kind, coef, per[0], per[1], per[2], per[3], t_new - t)
+        else:
+            s = r.strobe
+            coef = strobe_coef(s.str_phi, s.str_v, s.str_k, s.str_ta, s.str_q, s.str_p, s.str_psi, beta,
+                               gamma, omega, m.drive_amp, m.drive_freq, rtol, atol, karg, error_order)
+            th, v, k_new = _strobe_value(kind, coef, t_new)
+        st = STATUS_OK if math.isfinite(th) and math.isfinite(v) else STATUS_NONFINITE
+        return st, coef, t_new, th, v, k_new, h_abs, h_abs, False, per
+    lk_order, lk_ts = 0, 0.0
+    if rset == RS_DAMPED and can_lock:
+        lk_order, lk_ts = locked_test(r, y0, y1, off, lk)
+    if lk_order > 0:
+        coef = locked_coef(beta, lk[1], lk_ts, y0, y1, gamma, lk_order)
+        t_new = _window_end(t, direction, t_bound, max_step)
+        th, v = locked_eval(coef, t_new - t)
+        if r.switch.regime != REGIME_LOCKED:
+            r.switch.regime = REGIME_LOCKED
+            r.switch.t_regime = t
+        st = STATUS_OK if math.isfinite(th) and math.isfinite(v) else STATUS_NONFINITE
+        return st, coef, t_new, th, v, k, h_abs, h_abs, True, per
+    if rset == RS_DRIVEN:
+        coef = anchor_driven(kind, karg, beta, gamma, omega, m.drive_amp, m.drive_freq, m.drive_phase, t, y0, y1,
+                             ws[0], ws[1])
+    else:
+        coef = anchor(kind, karg, beta, gamma, omega, y0, y1, ws[0], ws[1])
+    if coef[0] != 0.0:
+        return STATUS_ANCHOR, coef, t, y0, y1, k, h_abs, h_abs, False, per
+    if c.controller != CONTROLLER_ADAPTIVE:
+        st, t_new, th, v = fixed_window(kind, coef, t, direction, t_bound, min(h_abs, max_step))
+        return st, coef, t_new, th, v, k, h_abs, h_abs, False, per
+    if h_abs <= 0.0:
+        h_abs = _first(kind, coef, t, y0, y1, off, direction, t_bound, omega, max_step, rtol, atol, error_order,
+                       log_eps)
+    st, t_new, th, v, h_next = _adaptive(kind, coef, t, y0, y1, off, direction, t_bound, h_abs, max_step, rtol,
+                                         atol, error_order, log_eps)
+    return st, coef, t_new, th, v, k, h_abs, h_next, False, per
+
+
+@numba.njit(**_INLINE)
+def emit_taylor(coef, t, t_new, t_eval, j, direction, k, out_theta, out_v, out_w, wrapped):
+    """The outputs of an ordinary Taylor window in (t, t_new] in one call, four times at
+    once (the same Horner steps per time as evaluate, so the same bits; an output at
+    t_new is the evaluation that produced the state).  Returns the next output index.
+    Shared by the loop and the lanes."""
+    j2 = j
+    while j2 < t_eval.size and (direction * (t_eval[j2] - t_new) <= 0.0):
+        j2 += 1
+    if j2 > j:
+        # (Not called for an empty range: the call alone, its arrays passed and
+        # reference-counted, cost ~25 ns of a ~400 ns window.)
+        taylor_eval_range(coef, t, t_eval, j, j2, out_theta, out_v)
+        if k != 0.0 or wrapped:
+            for i in range(j, j2):
+                _put(out_theta, out_w, wrapped, i, k, out_theta[i])
+    return j2
+
+
+@numba.njit(**_INLINE)
+def _emit(kind, rset, is_locked, coef, per, t, t_new, th, v, k, k_new, t_eval, j, direction, out_theta, out_v,
+          out_w, wrapped):
+    """The outputs in (t, t_new] from the window's formula; returns the next output index."""
+    if kind == KIND_TAYLOR and rset != RS_CYCLE and rset != RS_STROBE and not is_locked:
+        return emit_taylor(coef, t, t_new, t_eval, j, direction, k, out_theta, out_v, out_w, wrapped)
+    while j < t_eval.size and (direction * (t_eval[j] - t_new) <= 0.0):
+        if t_eval[j] == t_new:
+            _put(out_theta, out_w, wrapped, j, k_new, th)
+            out_v[j] = v
+        else:
+            a, b, kc = _value_at(kind, rset, is_locked, coef, per[0], per[1], per[2], per[3], t, t_eval[j], k)
+            _put(out_theta, out_w, wrapped, j, kc, a)
+            out_v[j] = b
+        j += 1
+    return j
+
+
+@numba.njit(**_INLINE)
+def _watch(kind, rset, p, coef, t, t_new, y0, th, v, k, off, can_cycle, sec_off, sec_acc, sp, sp_next, n_total):
+    """The regime watches after an ordinary window: the return map (R1, R2) and the
+    stroboscopic samples in (t, t_new] (S1-S7).  Returns the next sample's time."""
+    r = p[0]
+    if rset == RS_DAMPED and can_cycle and r.switch.regime == REGIME_NONE:
+        m = r.model
+        _watch_cycle(kind, r, coef, t, t_new, y0, th, v, k, off, sec_off, sec_acc, m.beta, m.gamma, m.omega,
+                     r.state.t_bound, r.control.rtol, r.control.atol)
+    if rset == RS_DRIVEN and sp_next <= t_new and r.switch.regime == REGIME_NONE:
+        sp_next = _watch_strobe(kind, p, coef, t, t_new, k, off, sp[0], sp[1], sp[2], n_total)
+    return sp_next
+
+
+@numba.njit(**_INLINE)
+def _finish(r, status, t, y0, y1, k, h_abs, n_total, j, t_eval, out_theta, out_v, out_w, wrapped):
+    """The outputs of a span of zero length (the initial state), and the state reached,
+    the next window length, the counts and the status written back to the record."""
+    while j < t_eval.size and n_total == 0 and status != STATUS_PAUSED and t_eval[j] == t:
+        _put(out_theta, out_w, wrapped, j, k, y0)
+        out_v[j] = y1
+        j += 1
+    r.state.t, r.state.theta, r.state.v, r.control.h_abs = t, theta_of(k, y0), y1, h_abs
+    r.winding.phi, r.winding.wind = y0, k
+    r.progress.n_windows = n_total
+    r.progress.j = j
+    r.progress.status = status
+
+
 def _runner(kind, rset):
     """The loop's compiled entry for kind ``kind`` and regime set ``rset`` (:func:`regime_set`).
 
     Both are constants of the closure, so numba prunes the other kinds' and sets'
     branches before it compiles (a first run compiles the kernels and regimes its scene
     class uses), and caches each closure apart (its constants are in the cache's key).
-    The entry advances the run ``p[0]`` (a :data:`RUN` record) window by window; its
-    own docstring says how.
     """
 
     @numba.njit(cache=True)
     def run_entry(p, t_eval, out, win_t, win_y, win_coef, cancel):
-        """Advance the run ``p[0]`` (a :data:`RUN` record) window by window (kind ``kind``,
-        regime set ``rset``: :func:`regime_set`).
+        """Advance the run ``p[0]`` (a :data:`RUN` record) window by window.
 
         Stops at ``t_bound`` (status 0), at a failure (a ``STATUS_*`` code), at
-        ``max_windows`` (:data:`STATUS_MAX_WINDOWS`), or paused
-        (:data:`STATUS_PAUSED`) after ``call_windows`` windows, when the window store
-        is full or when the record's regime set is no longer ``rset`` (a regime switch:
-        the run resumes through the entry of its new set), or :data:`STATUS_INTERRUPTED`
-        once ``cancel[0]`` is set (by another thread: how a batch running without the
-        GIL honours Ctrl-C).  The state reached, the next window length, the window
-        count and the next output index are written back to ``p[0]``, so a paused run
-        resumes where it stopped.
+        ``max_windows``, paused (:data:`STATUS_PAUSED`) after ``call_windows`` windows,
+        when the window store is full or at a switch to another regime set, or
+        interrupted once ``cancel[0]`` is set (by another thread).  The state reached,
+        the next window length, the counts and the status are written back to ``p[0]``,
+        so a paused run resumes where it stopped.
 
-        Long horizons (:mod:`mbm.regimes`), each compiled only into the entries of its
-        set: with ``regimes`` set, before each window the state is tested for the locked
-        regime (RS_DAMPED); once the bound on the neglected nonlinearity over the rest of
-        the horizon is within the tolerance (L5 there), the window (to ``t_bound``, or
-        ``max_step`` long) is the linearized closed form (or, where only its bound passes,
-        the second-order one, L6-L7: where the window store has room for it), stored with
-        coefficient layout ``regimes.LOCKED_TAG``, and ``regime``, ``t_regime`` record the
-        switch.  After each window the return map of θ ≡ θ_s (mod 2π) is watched (R1, R2
-        there); once it has converged for the rest of the horizon, the windows are the
-        stored period shifted (RS_CYCLE: ``regimes.CYCLE_TAG``, R3), the period's windows
-        re-taken once from the cycle's anchor (at the first such window of the call) and
-        every output looked up in them.  A conservative run (β = 0, RS_CONSERVATIVE)
-        trapped in a well is tested before its first window (C1-C4 there): with its period
-        known to double-double precision, the whole run is one such window, with winding
-        sign 0.
-
-        AC drive (``drive_amp`` ≠ 0, RS_DRIVEN): each window is anchored at its start time
-        by :func:`anchor_driven` (the drive's series enters the coefficients).  The locked
-        and running regimes assume an autonomous equation and are not tested; instead the
-        stroboscopic samples at t_s + nT_d, T_d = 2π/Ω, are watched (S1–S7 there), and once
-        their deviations have converged for good the windows are the stored drive period
-        from the anchor sample (RS_STROBE: ``regimes.STROBE_TAG``, S6), ``regime``
-        phase-locked.
-
-        Parameters
-        ----------
-        p : ndarray of RUN, shape (1,)
-            The run record.
-        t_eval : ndarray, shape (m,)
-            Output times, monotone in the direction of integration, within the span.
-        out : ndarray, shape (2, m) or (3, m)
-            θ, θ' at ``t_eval``, filled from index ``p[0].progress.j`` on: an output in
-            (t, t_new] comes from that window's formula (the window end repeats the
-            evaluation that produced the state).  With three rows, row 0 is θ wrapped to
-            (−π, π] and row 2 its winding count (θ = 2π·row 2 + row 0).
-        win_t : ndarray, shape (cap + 1,) or (0,)
-            Window store (empty: none).  ``win_t[i]`` is the start of the call's window
-            i, ``win_t[n]`` the end of its last.
-        win_y : ndarray, shape (cap + 1, 2) or (0, 2)
-            The states at ``win_t``.
-        win_coef : ndarray, shape (cap, width) or (0, width)
-            The windows' coefficient vectors (cut or zero-padded to ``width``; width 0
-            stores none).
-        cancel : ndarray of int64, shape (1,)
-            Checked before each window; non-zero stops the run.
-
-        Returns
-        -------
-        n : int
-            Windows this call took.
+        ``out`` (2 or 3 rows, m) takes θ, θ' at ``t_eval`` from index ``p[0].progress.j``
+        on (three rows: θ wrapped to (−π, π], its winding count in row 2);
+        ``win_t`` (cap + 1,), ``win_y`` (cap + 1, 2), ``win_coef`` (cap, width) store the
+        call's windows (start times, states, coefficients cut or zero-padded to
+        ``width``; empty: none).  Returns the windows this call took.
         """
         r = p[0]
-        karg = r.control.karg
-        beta, gamma, omega = r.model.beta, r.model.gamma, r.model.omega
-        amp, freq, phase = r.model.drive_amp, r.model.drive_freq, r.model.drive_phase
         t, y0, y1, t_bound = r.state.t, r.state.theta, r.state.v, r.state.t_bound
-        h_abs, max_step, rtol, atol = r.control.h_abs, r.control.max_step, r.control.rtol, r.control.atol
-        adaptive = r.control.controller == CONTROLLER_ADAPTIVE
-        error_order = r.control.error_order
-        log_eps = window_log_eps(rtol)
+        h_abs = r.control.h_abs
+        log_eps = window_log_eps(r.control.rtol)
         direction = 1.0 if t_bound >= t else -1.0
-        budget = r.progress.call_windows
-        store = win_t.size > 0
-        cap = win_t.size - 1
-        width = win_coef.shape[1]
-        ne = t_eval.size
-        out_theta = out[0]
-        out_v = out[1]
-        # Three output rows: θ wrapped to (−π, π] and its winding count in the third.
-        wrapped = out.shape[0] == 3
-        out_w = out[2] if wrapped else out[0]
-        j = r.progress.j
-        n = 0
-        n_total = r.progress.n_windows
-        status = STATUS_OK
-        # The angle as θ = 2πk + φ (TWO_PI_A): y0 holds φ, k the winding count; a fresh
-        # run starts from θ as given (k = 0), a resumed one where it stopped.
-        wraps = kind == KIND_TAYLOR or kind == KIND_SPLIT  # WRAPPING_KINDS
+        store, cap, width = win_t.size > 0, win_t.size - 1, win_coef.shape[1]
+        wrapped = out.shape[0] == 3  # θ wrapped to (−π, π] and its winding count in a third row
+        out_theta, out_v, out_w = out[0], out[1], out[2] if wrapped else out[0]
+        j, n, n_total, status = r.progress.j, 0, r.progress.n_windows, STATUS_OK
+        # θ = 2πk + φ (TWO_PI_A): y0 holds φ, k the winding count; a fresh run starts
+        # from θ as given (k = 0), a resumed one where it stopped.
         k = 0.0
         if n_total > 0:
             k, y0 = r.winding.wind, r.winding.phi
         if store:
-            win_t[0] = t
-            win_y[0, 0] = theta_of(k, y0)
-            win_y[0, 1] = y1
-        # Each regime's switch rule where it may apply: windows from rtol/atol, forwards,
-        # room for its formula in the window store (its set's own conditions in
-        # regime_set); every test depends on the record only, so a resumed run repeats it.
-        may = r.switch.regimes != 0 and adaptive and direction > 0.0
-        # Locked regime (L5) where |γ| < ω², the second-order form (L6, L7) where its
-        # coefficients fit the window store; the running cycle's return map (R1-R3).
-        can_lock = can_lock2 = can_cycle = False
-        lk_d, lk_wl2, lk_g0, lk_g1, lk_sd, lk_q2 = 0.0, 1.0, 0.0, 0.0, 0.0, 0.0
-        lk_ts, lk_order = 0.0, 0
-        sec_off = sec_acc = 0.0
-        if rset == RS_DAMPED:
-            can_lock = may and abs(gamma) < omega * omega and (width == 0 or width >= LOCKED_WIDTH)
-            lk_d, lk_wl2, lk_g0, lk_g1, lk_sd, lk_q2, can_lock2 = _lock_setup(
-                beta, gamma, omega, can_lock, can_lock and (width == 0 or width >= LOCKED2_WIDTH))
-            can_cycle = may and (width == 0 or width >= CYCLE_WIDTH)
-            sec_off = section_offset(gamma, omega) if can_cycle else 0.0
-            # θ'' = sec_acc − βθ' on a section level (sin θ there is sin θ_s): _crossing.
-            sec_acc = gamma - omega * omega * math.sin(sec_off)
-        # Libration (C1-C4): a conservative run trapped in a well is periodic from its
-        # start; tested once, before a fresh run's first window.
-        can_librate = False
-        if rset == RS_CONSERVATIVE:
-            can_librate = (may and wraps and abs(gamma) < omega * omega and n_total == 0
-                           and r.switch.regime == REGIME_NONE and (width == 0 or width >= CYCLE_WIDTH))
-        # Phase-locked to the drive (S1-S7): stroboscopic samples at t_s + nT_d watched
-        # after each window (Taylor, β > 0; not with max_dtheta, the short windows of
-        # solve_ivp's event search, each of which would re-take a period).
-        sp_hi, sp_lo, sp_det, sp_next = 0.0, 0.0, 0.0, math.inf  # sp_next: the next sample's time
-        if rset == RS_DRIVEN:
-            if (may and beta > 0.0 and freq > 0.0 and kind == KIND_TAYLOR and r.control.max_dtheta == math.inf
-                    and (width == 0 or width >= STROBE_WIDTH)):
-                sp_hi, sp_lo, sp_det, sp_next = _strobe_setup(r, t, freq, beta, n_total)
-        # One coefficient workspace for the call's windows (anchor).
-        ws_coef, ws_scratch = taylor_workspace(karg)
-        # The stored period of a cycle window (R3), built at the first one this call meets.
-        per_n = -2
-        per_starts = np.empty(0)
-        per_ends = np.empty((0, 2))
-        per_coefs = np.empty((0, 0))
-        # The regime last checked against this entry's set (none yet: the first window
-        # checks, so an entry called for another set pauses at once).
-        seen = -1
+            win_t[0], win_y[0, 0], win_y[0, 1] = t, theta_of(k, y0), y1
+        may = r.switch.regimes != 0 and r.control.controller == CONTROLLER_ADAPTIVE and direction > 0.0
+        can_lock, lk, can_cycle, sec_off, sec_acc, can_librate, sp = _regime_setup(
+            kind, rset, r, may, width, t, n_total)
+        ws = taylor_workspace(r.control.karg)  # one coefficient workspace for the call's windows
+        per = (np.empty(0), np.empty((0, 2)), np.empty((0, 0)), -2)  # the stored period (R3)
+        sp_next = sp[3]
+        seen = -1  # the regime last checked against this entry's set (-1: the first window checks)
         while direction * (t_bound - t) > 0.0:
-            if n_total >= r.progress.max_windows:
-                status = STATUS_MAX_WINDOWS
-                break
-            if (budget > 0 and n >= budget) or (store and n >= cap):
-                status = STATUS_PAUSED
-                break
-            if r.switch.regime != seen:
-                # A regime switch: the run goes on through its new set's entry.
-                seen = r.switch.regime
-                if regime_set(kind, r.control.controller, r.switch.regimes, beta, amp, seen) != rset:
-                    status = STATUS_PAUSED
-                    break
-            if cancel[0] != 0:
-                status = STATUS_INTERRUPTED
+            status, seen = _stop_before(kind, rset, r, n, n_total, store, cap, seen, cancel)
+            if status != STATUS_OK:
                 break
             max_step = r.control.max_step
             if r.control.max_dtheta < math.inf and y1 != 0.0:
                 max_step = min(max_step, r.control.max_dtheta / abs(y1))
-            if wraps:
+            if kind == KIND_TAYLOR or kind == KIND_SPLIT:  # WRAPPING_KINDS
                 k, y0 = _reduce_phi(k, y0)
-            # θ's scale for the tolerances (scipy's rtol·|θ| of the whole angle).
-            off = k * _TWO_PI
-            if rset == RS_CONSERVATIVE:
-                if can_librate:
-                    can_librate = False
-                    _libration_test(r, t, y0, y1, k, off, gamma, omega, t_bound, rtol, atol)
-                    if r.switch.regime != REGIME_NONE:
-                        # The rest of the run is the stored period: RS_CYCLE's entry.
-                        status = STATUS_PAUSED
-                        break
-            is_locked = False
-            ordinary = True
-            k_new = k
-            st, h_next = STATUS_OK, h_abs
-            if rset == RS_CYCLE:
-                # The rest of the run is the stored period, shifted (mbm.regimes, R3).
-                ordinary = False
-                coef = cycle_coef(r.cycle.cyc_theta, r.cycle.cyc_v, r.cycle.cyc_T, t - r.cycle.cyc_t, beta, gamma, omega, rtol, atol,
-                                  r.cycle.cyc_sign, karg, error_order, r.cycle.cyc_wind, r.cycle.cyc_Tlo)
-                t_new = _window_end(t, direction, t_bound, max_step)
-                if per_n == -2:
-                    per_starts, per_ends, per_coefs, per_n = _period_store(kind, coef)
-                th, v, k_new = _period_value(kind, coef, per_starts, per_ends, per_coefs, per_n, t_new - t)
-            elif rset == RS_STROBE:
-                # The rest of the run is the stored period (q drive periods, S7) from the
-                # anchor (S6); its formula takes the absolute time.
-                ordinary = False
-                coef = strobe_coef(r.strobe.str_phi, r.strobe.str_v, r.strobe.str_k, r.strobe.str_ta, r.strobe.str_q, r.strobe.str_p, r.strobe.str_psi, beta,
-                                   gamma, omega, amp, freq, rtol, atol, karg, error_order)
-                t_new = _window_end(t, direction, t_bound, max_step)
-                th, v, k_new = _strobe_value(kind, coef, t_new)
-            else:
-                if rset == RS_DAMPED:
-                    if can_lock and (r.switch.regime == REGIME_LOCKED or not locked_quick_reject(
-                            off + y0, y1, lk_d, lk_sd, lk_wl2, lk_g0, omega, rtol, atol, lk_q2)):
-                        lk_order, lk_ts = locked_choice(beta, gamma, omega, y0, y1, lk_d, lk_wl2, lk_g0, lk_g1,
-                                                        rtol, atol, off, can_lock2)
-                        is_locked = lk_order > 0
-                if is_locked:
-                    # The rest of the run is the linearized closed form (mbm.regimes, L2, L5).
-                    ordinary = False
-                    coef = locked_coef(beta, lk_wl2, lk_ts, y0, y1, gamma, lk_order)
-                    t_new = _window_end(t, direction, t_bound, max_step)
-                    th, v = locked_eval(coef, t_new - t)
-                    if r.switch.regime != REGIME_LOCKED:
-                        r.switch.regime = REGIME_LOCKED
-                        r.switch.t_regime = t
-                else:
-                    if rset == RS_DRIVEN:
-                        coef = anchor_driven(kind, karg, beta, gamma, omega, amp, freq, phase, t, y0, y1, ws_coef,
-                                             ws_scratch)
-                    else:
-                        coef = anchor(kind, karg, beta, gamma, omega, y0, y1, ws_coef, ws_scratch)
-                    if coef[0] != 0.0:
-                        status = STATUS_ANCHOR
-                        break
-                    if adaptive:
-                        if h_abs <= 0.0:
-                            h_abs = _first(kind, coef, t, y0, y1, off, direction, t_bound, omega, max_step,
-                                                 rtol, atol, error_order, log_eps)
-                        st, t_new, th, v, h_next = _adaptive(
-                            kind, coef, t, y0, y1, off, direction, t_bound, h_abs, max_step, rtol, atol,
-                            error_order, log_eps)
-                    else:
-                        st, t_new, th, v = fixed_window(kind, coef, t, direction, t_bound, min(h_abs, max_step))
-            if not ordinary and not (math.isfinite(th) and math.isfinite(v)):
-                st = STATUS_NONFINITE
+            off = k * _TWO_PI  # θ's scale for the tolerances (scipy's rtol·|θ| of the whole angle)
+            if rset == RS_CONSERVATIVE and can_librate:
+                can_librate = False
+                m = r.model
+                _libration_test(r, t, y0, y1, k, off, m.gamma, m.omega, t_bound, r.control.rtol, r.control.atol)
+                if r.switch.regime != REGIME_NONE:
+                    status = STATUS_PAUSED  # the rest of the run is the stored period: RS_CYCLE's entry
+                    break
+            st, coef, t_new, th, v, k_new, h_abs, h_next, is_locked, per = _source(
+                kind, rset, r, t, y0, y1, k, off, direction, max_step, h_abs, log_eps, can_lock, lk, ws, per)
             if st != STATUS_OK:
                 status = st
                 break
-            if kind == KIND_TAYLOR and ordinary:
-                # The window's outputs in one call, four times at once (the same Horner
-                # steps per time as evaluate, so the same bits; an output at t_new is the
-                # evaluation that produced the state).
-                j2 = j
-                while j2 < ne and (direction * (t_eval[j2] - t_new) <= 0.0):
-                    j2 += 1
-                if j2 > j:
-                    # (Not called for an empty range: the call alone, its arrays passed and
-                    # reference-counted, cost ~25 ns of a ~400 ns window.)
-                    taylor_eval_range(coef, t, t_eval, j, j2, out_theta, out_v)
-                if k != 0.0 or wrapped:
-                    for i in range(j, j2):
-                        _put(out_theta, out_w, wrapped, i, k, out_theta[i])
-                j = j2
-            while j < ne and (direction * (t_eval[j] - t_new) <= 0.0):
-                if t_eval[j] == t_new:
-                    _put(out_theta, out_w, wrapped, j, k_new, th)
-                    out_v[j] = v
-                else:
-                    a, b, kc = _value_at(kind, rset, is_locked, coef, per_starts, per_ends, per_coefs, per_n, t,
-                                         t_eval[j], k)
-                    _put(out_theta, out_w, wrapped, j, kc, a)
-                    out_v[j] = b
-                j += 1
-            if rset == RS_DAMPED:
-                if can_cycle and r.switch.regime == REGIME_NONE:
-                    _watch_cycle(kind, r, coef, t, t_new, y0, th, v, k, off, sec_off, sec_acc, beta, gamma, omega,
-                                 t_bound, rtol, atol)
-            if rset == RS_DRIVEN:
-                if sp_next <= t_new and r.switch.regime == REGIME_NONE:
-                    # The stroboscopic samples in (t, t_new] (mbm.regimes, S1-S7).
-                    sp_next = _watch_strobe(kind, p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det, n_total)
+            j = _emit(kind, rset, is_locked, coef, per, t, t_new, th, v, k, k_new, t_eval, j, direction,
+                      out_theta, out_v, out_w, wrapped)
+            if not is_locked:
+                sp_next = _watch(kind, rset, p, coef, t, t_new, y0, th, v, k, off, can_cycle, sec_off, sec_acc, sp,
+                                 sp_next, n_total)
             if store:
                 _store_window(win_t, win_y, win_coef, n, coef, t_new, theta_of(k_new, th), v)
             t, y0, y1, h_abs, k = t_new, th, v, h_next, k_new
             n += 1
             n_total += 1
-        # A span of zero length: the outputs are the initial state.
-        while j < ne and n_total == 0 and status != STATUS_PAUSED and t_eval[j] == t:
-            _put(out_theta, out_w, wrapped, j, k, y0)
-            out_v[j] = y1
-            j += 1
-        r.state.t, r.state.theta, r.state.v, r.control.h_abs = t, theta_of(k, y0), y1, h_abs
-        r.winding.phi, r.winding.wind = y0, k
-        r.progress.n_windows = n_total
-        r.progress.j = j
-        r.progress.status = status
+        _finish(r, status, t, y0, y1, k, h_abs, n_total, j, t_eval, out_theta, out_v, out_w, wrapped)
         return n
 
     return run_entry
@@ -521,27 +534,61 @@ def _record_set(kind, r):
 
 
 @numba.njit(**_INLINE)
-def _run_chain(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
-    """A run of kind ``kind`` through its regime sets' entries in turn: a pause at a
-    regime switch is resumed through the new set's entry (every other stop returns)."""
+def _run_sets(kind, s0, s1, s2, s3, s4, s5, p, t_eval, out, win_t, win_y, win_coef, cancel):
+    """A run of kind ``kind`` through its regime sets' entries in turn, of the sets
+    flagged (``s<i> == 1`` for set i, constants where the caller is compiled: the others
+    are pruned, not compiled): a pause at a regime switch is resumed through the new
+    set's entry (every other stop returns); a set not flagged is STATUS_ANCHOR."""
     r = p[0]
     n = 0
     while True:
         rset = _record_set(kind, r)
+        ok = True
         if rset == RS_PLAIN:
-            n += _dispatch(kind, RS_PLAIN, p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
+            if s0 == 1:
+                n += _dispatch(kind, RS_PLAIN, p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
+            else:
+                ok = False
         elif rset == RS_DAMPED:
-            n += _dispatch(kind, RS_DAMPED, p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
+            if s1 == 1:
+                n += _dispatch(kind, RS_DAMPED, p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
+            else:
+                ok = False
         elif rset == RS_CONSERVATIVE:
-            n += _dispatch(kind, RS_CONSERVATIVE, p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
+            if s2 == 1:
+                n += _dispatch(kind, RS_CONSERVATIVE, p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
+            else:
+                ok = False
         elif rset == RS_DRIVEN:
-            n += _dispatch(kind, RS_DRIVEN, p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
+            if s3 == 1:
+                n += _dispatch(kind, RS_DRIVEN, p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
+            else:
+                ok = False
         elif rset == RS_CYCLE:
-            n += _dispatch(kind, RS_CYCLE, p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
-        else:
+            if s4 == 1:
+                n += _dispatch(kind, RS_CYCLE, p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
+            else:
+                ok = False
+        elif s5 == 1:
             n += _dispatch(kind, RS_STROBE, p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
+        else:
+            ok = False
+        if not ok:
+            r.progress.status = STATUS_ANCHOR
+            return n
         if r.progress.status != STATUS_PAUSED or _record_set(kind, r) == rset:
             return n
+
+
+@numba.njit(**_INLINE)
+def _run_chain(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
+    """:func:`_run_sets` through every set of the kind."""
+    return _run_sets(kind, 1, 1, 1, 1, 1, 1, p, t_eval, out, win_t, win_y, win_coef, cancel)
+
+
+#: The sets a run starting in a set may reach (a switch to a stored period).
+REACHES = {RS_PLAIN: (), RS_DAMPED: (RS_CYCLE,), RS_CONSERVATIVE: (RS_CYCLE,), RS_DRIVEN: (RS_STROBE,),
+           RS_CYCLE: (), RS_STROBE: ()}
 
 
 # One compiled whole run per kind (every set it may reach), for the compiled callers
@@ -608,17 +655,26 @@ def run(p, t_eval, out, win_t, win_y, win_coef, cancel):
             return n
 
 
-@numba.njit(cache=True)
-def _run_any(p, t_eval, out, win_t, win_y, win_coef, cancel):
-    # The kind read from the record, for a batch of mixed kinds: calls the entries.
+@numba.njit(**_INLINE)
+def _run_any_of(k0, k1, k2, k3, s0, s1, s2, s3, s4, s5, p, t_eval, out, win_t, win_y, win_coef, cancel):
+    """The run of the record's kind through :func:`_run_sets`, for a batch of mixed kinds:
+    ``k0``-``k3`` (taylor, exact, salas-torque, split) and ``s0``-``s5`` (by RS index)
+    flag, as 0/1 constants of the caller's closure (numba prunes a branch on a constant
+    argument, not on a tuple's item), the kinds and sets compiled; any other kind is
+    STATUS_ANCHOR."""
     kind = p[0].control.kind
     if kind == KIND_TAYLOR:
-        return run_taylor(p, t_eval, out, win_t, win_y, win_coef, cancel)
+        if k0 == 1:
+            return _run_sets(KIND_TAYLOR, s0, s1, s2, s3, s4, s5, p, t_eval, out, win_t, win_y, win_coef, cancel)
     elif kind == KIND_EXACT:
-        return run_exact(p, t_eval, out, win_t, win_y, win_coef, cancel)
+        if k1 == 1:
+            return _run_sets(KIND_EXACT, s0, s1, s2, s3, s4, s5, p, t_eval, out, win_t, win_y, win_coef, cancel)
     elif kind == KIND_SALAS_TORQUE:
-        return run_salas_torque(p, t_eval, out, win_t, win_y, win_coef, cancel)
+        if k2 == 1:
+            return _run_sets(KIND_SALAS_TORQUE, s0, s1, s2, s3, s4, s5, p, t_eval, out, win_t, win_y, win_coef,
+                             cancel)
     elif kind == KIND_SPLIT:
-        return run_split(p, t_eval, out, win_t, win_y, win_coef, cancel)
+        if k3 == 1:
+            return _run_sets(KIND_SPLIT, s0, s1, s2, s3, s4, s5, p, t_eval, out, win_t, win_y, win_coef, cancel)
     p[0].progress.status = STATUS_ANCHOR
     return 0
