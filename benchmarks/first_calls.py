@@ -10,6 +10,7 @@ paper's Example 1 (P2: β = 0.1, γ = 0.3, θ₀ = 30°, rtol = atol = 1e-9, 201
 * ``solve_ivp`` then ``mbm.solve`` in one process (the second's own compile);
 * ``solve_ivp`` then a further approximant kind (``salas-torque``, τ = 0.25: the demo's
   third row), the further kind's own compile;
+* ``mbm.solve_batch`` alone on 64 damped scenes (locked and running ones);
 * ``python -m mbm demo`` as a whole (wall time of the command).
 
 Run ``python -m benchmarks.first_calls`` (``--repeat N`` for the median of N fresh
@@ -49,6 +50,8 @@ def solve():
     mbm.solve(m, (0.0, 80.0), y0, rtol=1e-9, atol=1e-9, t_eval=t)
 def salas():
     solve_ivp(m, (0.0, 80.0), y0, method=mbm.MBM, approximant="salas-torque", tau=0.25, t_eval=t)
+def batch():
+    mbm.solve_batch(0.1, np.linspace(0.05, 1.5, 64), 1.0, y0, (0.0, 80.0), t, rtol=1e-9, atol=1e-9)
 def timed(fn):
     t0 = time.perf_counter(); fn(); return time.perf_counter() - t0
 """
@@ -59,6 +62,7 @@ ROWS = {
     "mbm.solve, first call": "print(json.dumps(timed(solve)))",
     "mbm.solve after solve_ivp (its own compile)": "timed(ivp); print(json.dumps(timed(solve)))",
     "salas-torque after solve_ivp (a further kind)": "timed(ivp); print(json.dumps(timed(salas)))",
+    "mbm.solve_batch, first call (64 damped scenes, γ 0.05 to 1.5)": "print(json.dumps(timed(batch)))",
 }
 DEMO_ROW = "python -m mbm demo, whole command"
 # The block the README quotes (benchmarks.report's quoting).
