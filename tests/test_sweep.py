@@ -405,10 +405,11 @@ def test_distributed_identical_and_kernels_loaded_from_cache(cluster, reference)
     ds = sweep(**SWEEP, chunks={"beta": 1, "gamma": 4})
     out = ds.compute()  # the Client is the default scheduler
     _assert_identical_bits(out, reference)
-    # Each worker loaded the batch's lanes from numba's cache: hits, no compilation.
+    # Each worker loaded the batch's kernels from numba's cache: hits, no compilation.
     # (Lambdas: cloudpickle ships them by value; a function of this module would be
     # looked up by name on the worker, which cannot import the tests.)
-    stats = cluster.run(lambda: [e.stats for e in __import__("mbm.loop").loop.LANES_ENTRIES.values()])
+    stats = cluster.run(lambda: [e.stats for e in (__import__("mbm.loop").loop._run_lanes,
+                                                    *__import__("mbm.loop").loop.ROWS_ENTRIES.values())])
     assert len(stats) == 2
     assert sum(sum(s.cache_hits.values()) for ss in stats.values() for s in ss) >= 1
     assert all(sum(s.cache_misses.values()) == 0 for ss in stats.values() for s in ss)
