@@ -8,6 +8,7 @@ the allowed range.  A leaf module: it imports nothing of mbm.
 """
 
 import math
+import numbers
 import warnings
 
 import numba
@@ -16,8 +17,13 @@ import numpy as np
 __all__ = [
     "RTOL_FLOOR",
     "DEFAULT_MAX_WINDOWS",
+    "PARAMETER_RULES",
     "check_real",
     "check_positive",
+    "check_rule",
+    "check_real_array",
+    "check_rule_array",
+    "check_drive",
     "check_span",
     "check_state",
     "check_tolerances",
@@ -40,46 +46,140 @@ RTOL_FLOOR = 100 * np.finfo(float).eps
 # e^{β|t|}) reaches it.
 DEFAULT_MAX_WINDOWS = 10**7
 
+# The rule of each model parameter beyond "finite" (one wording for every entry
+# point): (test, words).
+PARAMETER_RULES = {
+    "beta": (">=0", ">= 0 (damping)"),
+    "omega": (">0", "> 0"),
+    "drive_frequency": (">=0", ">= 0 (an angular frequency Omega)"),
+}
+_RULES = {">=0": lambda v: v >= 0.0, ">0": lambda v: v > 0.0}
+
+# What check_real refuses outright (float() would read a string, a bool, or drop the
+# imaginary part of a numpy complex).
+_NOT_REAL = (str, bytes, bool, np.bool_, complex, np.complexfloating)
+
 # The native float64 dtype (an identity test is the cheap one; an equal dtype that is
 # another object takes the conversion, which then copies nothing).
 _FLOAT64 = np.dtype(np.float64)
 
-def check_real(name, value):
-    """``value`` as a finite float, or an error naming ``name``."""
+def _float(name, value, what="a real number"):
+    """``value`` as a float (any real number, not checked for finiteness), or a
+    TypeError naming ``name``: str, bytes, bool, complex and arrays of more than one
+    element are refused (``float()`` would read a string or drop an imaginary part)."""
+    if type(value) is float:
+        return value
+    if isinstance(value, _NOT_REAL) or (
+            isinstance(value, np.ndarray) and (value.ndim != 0 or value.dtype.kind not in "iuf")):
+        raise TypeError(f"{name} must be {what}, got {value!r}")
     try:
-        v = float(value)
+        return float(value)
     except (TypeError, ValueError):
-        raise TypeError(f"{name} must be a real number, got {value!r}") from None
+        raise TypeError(f"{name} must be {what}, got {value!r}") from None
+
+
+def check_real(name, value):
+    """``value`` as a finite float, or an error naming ``name``.
+
+    The policy of every entry point for a real argument: a TypeError ("``name`` must
+    be a real number") for a str, bytes, bool, complex or a sequence; a ValueError
+    ("``name`` must be finite") for nan and ±inf.  Python and numpy integers and
+    floats (and 0-d real arrays) are accepted.
+    """
+    if type(value) is float and value - value == 0.0:
+        return value  # the common call: a finite float
+    v = _float(name, value)
     if not math.isfinite(v):
         raise ValueError(f"{name} must be finite, got {value!r}")
     return v
 
 
 def check_positive(name, value, allow_inf=False):
-    """``value`` as a float > 0 (finite unless ``allow_inf``), or an error naming ``name``."""
+    """``value`` as a float > 0 (finite unless ``allow_inf``), or an error naming ``name``.
+
+    Wording: "``name`` must be > 0, got ..." (ValueError; nan and, unless
+    ``allow_inf``, inf: "``name`` must be finite"), and :func:`check_real`'s TypeError.
+    """
     if type(value) is float and value > 0.0 and (allow_inf or value != math.inf):
         return value  # the common call, accepted as below without the conversions
-    if isinstance(value, (bool, np.bool_)):
-        raise TypeError(f"{name} must be a positive real number, got {value!r}")
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise TypeError(f"{name} must be a positive real number, got {value!r}") from None
-    if not (v > 0.0) or math.isnan(v) or (math.isinf(v) and not allow_inf):
-        raise ValueError(
-            f"{name} must be a positive {'number' if allow_inf else 'finite number'}, got {value!r}"
-        )
+    v = _float(name, value)
+    if math.isnan(v) or (math.isinf(v) and not allow_inf):
+        raise ValueError(f"{name} must be finite, got {value!r}")
+    if not v > 0.0:
+        raise ValueError(f"{name} must be > 0, got {value!r}")
     return v
+
+
+def check_rule(name, value, rule=None):
+    """``value`` as a finite float obeying the rule of parameter ``name``
+    (:data:`PARAMETER_RULES`; ``rule`` overrides it), or an error naming ``name``."""
+    v = check_real(name, value)
+    rule = PARAMETER_RULES.get(name) if rule is None else rule
+    if rule is not None and not _RULES[rule[0]](v):
+        raise ValueError(f"{name} must be {rule[1]}, got {value!r}")
+    return v
+
+
+def check_real_array(name, value):
+    """``value`` as a float ndarray of any shape: real numbers only (TypeError naming
+    ``name`` for strings, booleans, complex or other objects); not checked for
+    finiteness (:func:`check_rule_array`)."""
+    arr = np.asarray(value)
+    kind = arr.dtype.kind
+    if kind == "O" and all(isinstance(x, numbers.Real) and not isinstance(x, (bool, np.bool_))
+                           for x in arr.reshape(-1)):
+        kind = "f"
+    if kind not in "iuf":
+        raise TypeError(f"{name} must be a real number or an array of real numbers, got {value!r}")
+    return arr.astype(float)
+
+
+def check_rule_array(name, arr, rule=None):
+    """Check a float array (:func:`check_real_array`) element-wise: finite and, for a
+    parameter of :data:`PARAMETER_RULES` (or ``rule``), its rule; the first bad
+    element is named, as ``name[i]`` (``name`` for a 0-d array)."""
+    rule = PARAMETER_RULES.get(name) if rule is None else rule
+    flat = np.asarray(arr, dtype=float).reshape(-1)
+    for words, ok in (("finite", np.isfinite), (None if rule is None else rule[1],
+                                                 None if rule is None else _RULES[rule[0]])):
+        if words is None:
+            continue
+        bad = np.flatnonzero(~ok(flat))
+        if bad.size:
+            i = int(bad[0])
+            where = f"{name}[{i}] = " if np.ndim(arr) else ""
+            raise ValueError(f"{name} must be {words}, got {where}{float(flat[i])!r}")
+    return arr
+
+
+def check_drive(amplitude, frequency, index=None):
+    """A drive A sin(Ωt + φ) with A ≠ 0 needs Ω > 0: the ValueError otherwise (arrays:
+    the first such scene is named)."""
+    amp, freq = np.asarray(amplitude, dtype=float), np.asarray(frequency, dtype=float)
+    bad = (amp != 0.0) & ~(freq > 0.0)
+    if np.any(bad):
+        if np.ndim(bad):
+            i = int(np.flatnonzero(np.broadcast_to(bad, np.broadcast(amp, freq).shape).reshape(-1))[0])
+            f = float(np.broadcast_to(freq, bad.shape).reshape(-1)[i])
+            got = f"drive_frequency[{i}] = {f!r}"
+        else:
+            got = repr(float(freq))
+        raise ValueError(f"drive_frequency must be > 0 with a drive (drive_amplitude != 0), got {got}")
 
 
 def check_span(t_span, allow_empty=True):
     """``(t0, t_bound)`` as finite floats; ``allow_empty=False`` refuses t0 == t_bound."""
+    pair = f"t_span must be a pair of real numbers (t0, t_bound), got {t_span!r}"
     try:
         if len(t_span) != 2:
             raise ValueError
-        t0, t1 = float(t_span[0]), float(t_span[1])
-    except (TypeError, ValueError, IndexError):
-        raise ValueError(f"t_span must be a pair of real numbers (t0, t_bound), got {t_span!r}") from None
+        first, last = t_span[0], t_span[1]
+    except (TypeError, ValueError, IndexError, KeyError):
+        raise ValueError(pair) from None
+    try:
+        t0, t1 = _float("t_span", first), _float("t_span", last)
+    except TypeError:
+        raise TypeError(pair) from None
     if not (math.isfinite(t0) and math.isfinite(t1)):
         raise ValueError(f"t_span must be finite, got {t_span!r}")
     if not allow_empty and t0 == t1:
@@ -88,11 +188,12 @@ def check_span(t_span, allow_empty=True):
 
 
 def check_state(name, y0):
-    """``y0`` as a finite float array of shape (2,), or a ValueError naming ``name``."""
+    """``y0`` as a finite float array of shape (2,), or an error naming ``name``
+    (TypeError for what is not real numbers, ValueError for a wrong shape or a non-finite value)."""
     try:
-        y = np.asarray(y0, dtype=float)
+        y = check_real_array(name, y0)
     except (TypeError, ValueError):
-        raise ValueError(f"{name} must be array_like of 2 real numbers [theta, theta'], got {y0!r}") from None
+        raise TypeError(f"{name} must be array_like of 2 real numbers [theta, theta'], got {y0!r}") from None
     if y.shape != (2,):
         raise ValueError(f"{name} must have shape (2,) ([theta, theta']), got shape {y.shape}")
     if not np.all(np.isfinite(y)):
@@ -139,14 +240,15 @@ def t_eval_problem(t_eval, t0, t1, strict):
 
 def as_t_eval(t_eval):
     """``t_eval`` as a C-contiguous, aligned, writeable 1-D float64 array (the array
-    itself when it is one), unchecked: :func:`check_t_eval` without its check, for
+    itself when it is one; TypeError for what is not real numbers), otherwise unchecked:
+    :func:`check_t_eval` without its check, for
     callers that run :func:`t_eval_problem` in compiled code of their own (a read-only
     or unaligned array is copied: compiled code would otherwise be specialized again
     for it, minutes of compiling)."""
     te = t_eval
     # flags.carray: C-contiguous, aligned and writeable (what compiled code is typed for).
     if not (type(te) is np.ndarray and te.ndim == 1 and te.dtype is _FLOAT64 and te.flags.carray):
-        te = np.ascontiguousarray(t_eval, dtype=float).reshape(-1)
+        te = np.ascontiguousarray(check_real_array("t_eval", t_eval)).reshape(-1)
         if not te.flags.carray:
             te = te.copy()
     return te

@@ -18,8 +18,11 @@ from ._validate import (
     RTOL_FLOOR,
     _FLOAT64,
     as_t_eval,
+    check_drive,
     check_max_windows,
     check_positive,
+    check_real_array,
+    check_rule_array,
     check_span,
     check_state,
     check_t_eval,
@@ -136,14 +139,21 @@ def _reason(model, rtol, atol, approximant):
     return "chosen by the caller"
 
 
+# The types of a state's entries taken without check_state's conversion (bool, str,
+# complex and the rest go through it).
+_REAL_TYPES = (float, int, np.float64)
+
+
 def _state(y0):
     """(θ₀, θ̇₀) as floats: a fast path for a list, tuple or array of two finite reals."""
-    if (type(y0) in (list, tuple) and len(y0) == 2) or (type(y0) is np.ndarray and y0.shape == (2,)):
-        try:
-            theta0, v0 = float(y0[0]), float(y0[1])
-        except (TypeError, ValueError):
-            pass
-        else:
+    if type(y0) is np.ndarray and y0.shape == (2,) and y0.dtype is _FLOAT64:
+        theta0, v0 = float(y0[0]), float(y0[1])
+        if math.isfinite(theta0) and math.isfinite(v0):
+            return theta0, v0
+    elif type(y0) in (list, tuple) and len(y0) == 2:
+        theta0, v0 = y0
+        if type(theta0) in _REAL_TYPES and type(v0) in _REAL_TYPES:
+            theta0, v0 = float(theta0), float(v0)
             if math.isfinite(theta0) and math.isfinite(v0):
                 return theta0, v0
     y = check_state("y0", y0)  # raises, naming what is wrong
@@ -624,24 +634,13 @@ def _balanced_order(n):
 
 
 def _check_params(beta, gamma, omega, amp=None, freq=None, phase=None):
-    # The rules of Pendulum, over arrays; the first bad scene is named.
-    drive = () if amp is None else (
-        ("drive_amplitude", amp, np.isfinite, "finite"),
-        ("drive_frequency", freq, np.isfinite, "finite"),
-        ("drive_phase", phase, np.isfinite, "finite"),
-        ("drive_frequency", freq, lambda a: a >= 0.0, ">= 0 (an angular frequency Omega)"),
-    )
-    for name, arr, ok, rule in (
-        ("beta", beta, np.isfinite, "finite"),
-        ("gamma", gamma, np.isfinite, "finite"),
-        ("omega", omega, np.isfinite, "finite"),
-        ("beta", beta, lambda a: a >= 0.0, ">= 0 (damping)"),
-        ("omega", omega, lambda a: a > 0.0, "> 0"),
-    ) + drive:
-        bad = np.flatnonzero(~ok(arr))
-        if bad.size:
-            i = int(bad[0])
-            raise ValueError(f"{name} must be {rule}, got {name}[{i}] = {float(arr[i])!r}")
+    # The rules of Pendulum, over arrays (mbm._validate); the first bad scene is named.
+    names = ("beta", "gamma", "omega") + (() if amp is None else ("drive_amplitude", "drive_frequency",
+                                                                  "drive_phase"))
+    for name, arr in zip(names, (beta, gamma, omega, amp, freq, phase)):
+        check_rule_array(name, arr)
+    if amp is not None:
+        check_drive(amp, freq)
 
 
 def _run_batch_interruptibly(p, te, out, order):
@@ -718,7 +717,8 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
     params = (beta, gamma, omega) + ((drive_amplitude, drive_frequency, drive_phase) if driven_call else ())
     which = "beta, gamma, omega" + (", drive_amplitude, drive_frequency, drive_phase" if driven_call else "")
     try:
-        arrays = np.broadcast_arrays(*(np.atleast_1d(np.asarray(a, dtype=float)) for a in params))
+        arrays = np.broadcast_arrays(*(np.atleast_1d(check_real_array(name, a))
+                                       for name, a in zip(which.split(", "), params)))
     except ValueError:
         raise ValueError(
             f"{which} must broadcast to one shape (N,), got shapes "
@@ -734,7 +734,7 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
     if driven_call:
         amp, freq, phase = arrays[3:]
     _check_params(beta, gamma, omega, amp, freq, phase)
-    y0 = np.asarray(y0, dtype=float)
+    y0 = check_real_array("y0", y0)
     if y0.shape == (2,):
         y0 = np.broadcast_to(y0, (n, 2))
     if y0.shape != (n, 2):

@@ -64,7 +64,7 @@ import math
 
 import numpy as np
 
-from ._validate import check_positive, check_real, check_state
+from ._validate import check_drive, check_positive, check_real, check_real_array, check_rule, check_rule_array, check_state
 from .problem import Pendulum
 from .regimes import REGIME_NAMES, REGIME_PHASE_LOCKED
 
@@ -481,21 +481,18 @@ def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0
         For β ≤ 0 (no dissipation: no limit cycle to settle on), an empty or
         non-finite ``gamma``, ω ≤ 0, ``current_tol`` ≤ 0, a non-finite drive, or a
         drive (A ≠ 0) with Ω ≤ 0.
+    TypeError
+        For an argument that is not a real number (or, ``gamma``, real numbers).
     """
     beta = check_positive("beta", beta)
-    omega = check_positive("omega", omega)
+    omega = check_rule("omega", omega)
     current_tol = check_positive("current_tol", current_tol)
-    drive = (check_real("drive_amplitude", drive_amplitude), check_real("drive_frequency", drive_frequency),
-             check_real("drive_phase", drive_phase))
-    if drive[0] != 0.0 and not drive[1] > 0.0:
-        raise ValueError(f"drive_frequency must be > 0 with a drive (drive_amplitude != 0: ⟨θ'⟩ is averaged over its periods), "
-                         f"got {drive_frequency!r}")
-    Pendulum(beta, 0.0, omega, *drive)  # the model's own checks of the drive
-    g = np.asarray(gamma, dtype=float).reshape(-1)
+    drive = tuple(check_rule(name, value) for name, value in (
+        ("drive_amplitude", drive_amplitude), ("drive_frequency", drive_frequency), ("drive_phase", drive_phase)))
+    check_drive(drive[0], drive[1])
+    g = check_rule_array("gamma", check_real_array("gamma", gamma)).reshape(-1)
     if g.size == 0:
         raise ValueError("gamma must hold at least one bias point")
-    if not np.all(np.isfinite(g)):
-        raise ValueError("gamma must be finite")
     y = check_state("(theta0, theta_dot0)", [check_real("theta0", theta0), check_real("theta_dot0", theta_dot0)])
     regimes, velocities, periods, states, starts = [], [], [], [], []
     for gi in g:

@@ -158,7 +158,7 @@ def test_results_csv_and_plot(curves, tmp_path):
         (dict(current_tol=0.0), "current_tol"),
         (dict(theta0=math.inf), "theta0"),
         (dict(drive_amplitude=1.0), "drive_frequency must be > 0 with a drive"),
-        (dict(drive_amplitude=1.0, drive_frequency=-1.0), "drive_frequency must be > 0 with a drive"),
+        (dict(drive_amplitude=1.0, drive_frequency=-1.0), "drive_frequency must be >= 0"),
         (dict(drive_amplitude=math.nan, drive_frequency=1.0), "drive_amplitude must be finite"),
         (dict(drive_amplitude=1.0, drive_frequency=1.0, drive_phase=math.inf), "drive_phase must be finite"),
     ],
