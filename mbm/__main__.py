@@ -369,8 +369,9 @@ def iv_command(beta, gamma_max, points, omega=1.0, current_tol=1e-4, csv=None, p
     print(f"beta = {beta:g}, omega = {omega:g}, {2 * points} bias points", file=out)
     if drive_amplitude != 0.0:
         print(f"AC drive A = {drive_amplitude:g}, Omega = {drive_frequency:g}, phi = {drive_phase:g}", file=out)
-    print(f"switching current  {curve.switching_current:.6g}", file=out)
-    print(f"retrapping current {curve.retrapping_current:.6g}", file=out)
+    for name, value, (lo, hi) in (("switching current ", curve.switching_current, curve.switching_bracket),
+                                  ("retrapping current", curve.retrapping_current, curve.retrapping_bracket)):
+        print(f"{name} {value:.6g}" + (f"  in [{lo:.8g}, {hi:.8g}]" if math.isfinite(value) else ""), file=out)
     if csv:
         curve.to_csv(csv)
     if plot:

@@ -141,9 +141,17 @@ class IVCurve:
     start_state : ndarray, shape (n, 2)
         The state each point started from (the previous point's settled state).
     switching_current : float
-        The first locked → running transition located by bisection (NaN if none).
+        The first locked → running transition located by bisection (NaN if none): the
+        midpoint of ``switching_bracket``.
     retrapping_current : float
-        The first running → locked transition located by bisection (NaN if none).
+        The first running → locked transition located by bisection (NaN if none): the
+        midpoint of ``retrapping_bracket``.
+    switching_bracket, retrapping_bracket : tuple of float
+        ``(lo, hi)``, lo ≤ current ≤ hi, hi − lo ≤ ``current_tol``: the bias points
+        bisection found on either side of the transition ((nan, nan) if none).  The
+        switching bracket lies within [−ω², ω²]: a zero-voltage state needs
+        |γ| = ω²|⟨sin θ⟩| ≤ ω² (with or without a drive, whose mean is 0), so the
+        switching current never exceeds ω².
     beta, omega, current_tol : float
         The junction and the bisection tolerance.
     drive_amplitude, drive_frequency, drive_phase : float
@@ -165,6 +173,8 @@ class IVCurve:
     drive_amplitude: float = 0.0
     drive_frequency: float = 0.0
     drive_phase: float = 0.0
+    switching_bracket: tuple = (math.nan, math.nan)
+    retrapping_bracket: tuple = (math.nan, math.nan)
 
     def branches(self):
         """Index arrays of the up (γ increasing) and down (γ decreasing) parts of the sweep."""
@@ -178,7 +188,9 @@ class IVCurve:
             drive = (f", drive_amplitude={self.drive_amplitude!r}, drive_frequency={self.drive_frequency!r}, "
                      f"drive_phase={self.drive_phase!r}" if self.drive_amplitude != 0.0 else "")
             f.write(f"# beta={self.beta!r}, omega={self.omega!r}, switching_current={self.switching_current!r}, "
-                    f"retrapping_current={self.retrapping_current!r}, current_tol={self.current_tol!r}{drive}\n")
+                    f"retrapping_current={self.retrapping_current!r}, current_tol={self.current_tol!r}{drive}, "
+                    f"switching_bracket={tuple(map(float, self.switching_bracket))!r}, "
+                    f"retrapping_bracket={tuple(map(float, self.retrapping_bracket))!r}\n")
             f.write("gamma,mean_velocity,regime,period\n")
             for g, v, r, p in zip(self.gamma, self.mean_velocity, self.regime, self.period):
                 f.write(f"{float(g)!r},{float(v)!r},{r},{float(p)!r}\n")
@@ -502,26 +514,38 @@ def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0
         velocities.append(v)
         periods.append(period)
         states.append(y.copy())
-    switching = retrapping = math.nan
+    none = (math.nan, math.nan)
+    switching = retrapping = none
     for i in range(1, g.size):
         a, b = regimes[i - 1], regimes[i]
         if a == b:
             continue
-        if a == LOCKED and math.isnan(switching):
-            switching = _bisect(beta, omega, g[i - 1], g[i], states[i - 1], LOCKED, current_tol, integrate,
-                                drive)
-        elif a == RUNNING and math.isnan(retrapping):
-            retrapping = _bisect(beta, omega, g[i - 1], g[i], states[i - 1], RUNNING, current_tol, integrate,
-                                 drive)
+        if a == LOCKED and switching is none:
+            lo, hi = sorted(_bisect(beta, omega, g[i - 1], g[i], states[i - 1], LOCKED, current_tol, integrate,
+                                    drive))
+            # No zero-voltage state beyond |γ| = ω² (IVCurve): the bracket within it.
+            w2 = omega * omega
+            switching = (max(lo, -w2), min(hi, w2))
+        elif a == RUNNING and retrapping is none:
+            retrapping = tuple(sorted(_bisect(beta, omega, g[i - 1], g[i], states[i - 1], RUNNING, current_tol,
+                                              integrate, drive)))
     return IVCurve(gamma=g, mean_velocity=np.array(velocities), regime=np.array(regimes),
                    period=np.array(periods), start_state=np.array(starts),
-                   switching_current=float(switching), retrapping_current=float(retrapping),
+                   switching_current=_midpoint(switching), retrapping_current=_midpoint(retrapping),
                    beta=beta, omega=omega, current_tol=current_tol, drive_amplitude=drive[0],
-                   drive_frequency=drive[1], drive_phase=drive[2])
+                   drive_frequency=drive[1], drive_phase=drive[2], switching_bracket=tuple(map(float, switching)),
+                   retrapping_bracket=tuple(map(float, retrapping)))
+
+
+def _midpoint(bracket):
+    # The reported current: the bracket's midpoint, inside it (nan without a bracket).
+    lo, hi = bracket
+    return float(min(max(0.5 * (lo + hi), lo), hi))
 
 
 def _bisect(beta, omega, g_a, g_b, y_a, regime_a, tol, integrate, drive=(0.0, 0.0, 0.0)):
-    # [g_a, g_b]: regime_a at g_a (settled state y_a), the other regime at g_b.  A probe
+    # [g_a, g_b]: regime_a at g_a (settled state y_a), the other regime at g_b; returns
+    # the final (g_a, g_b), |g_b − g_a| ≤ tol.  A probe
     # that keeps regime_a becomes the new g_a with its settled state: the bias steps
     # shrink as the interval does, an adiabatic sweep in the limit (a finite step from
     # a locked state can kick it over the saddle below the switching current ω²).
@@ -532,4 +556,4 @@ def _bisect(beta, omega, g_a, g_b, y_a, regime_a, tol, integrate, drive=(0.0, 0.
             g_a, y_a = mid, y
         else:
             g_b = mid
-    return 0.5 * (g_a + g_b)
+    return g_a, g_b

@@ -260,3 +260,30 @@ def test_driven_zero_step_is_locked_and_switches():
     above = junction.driven_mean_velocity(mbm.Pendulum(2.0, c.switching_current + 2 * c.current_tol, 1.0, 1.0, 1.0),
                                           [0.0, 0.0])
     assert below[0] == "locked" and above[0] == "running"
+
+
+@pytest.mark.parametrize("beta, omega", [(0.5, 1.0), (0.5, 1.5)])
+def test_currents_carry_their_brackets(beta, omega, tmp_path):
+    # The switching current is never beyond ω² (no zero-voltage state there): at β = 0.5
+    # a bisection midpoint above it, 1.0000390625, was once reported.
+    w2 = omega**2
+    up = np.linspace(0.0, 1.5 * w2, 7)
+    c = junction.iv_curve(beta, np.r_[up, up[::-1]], omega=omega)
+    for value, (lo, hi) in ((c.switching_current, c.switching_bracket),
+                            (c.retrapping_current, c.retrapping_bracket)):
+        assert lo <= value <= hi
+        assert 0.0 <= hi - lo <= c.current_tol
+    assert c.switching_bracket[1] <= w2 and c.switching_current <= w2
+    assert w2 - c.switching_current <= c.current_tol
+    # the bracket is what bisection found: locked at its low end, running at its high end
+    lo, hi = c.retrapping_bracket
+    assert junction.mean_velocity(mbm.Pendulum(beta, lo, omega), [0.0, 0.0])[0] == junction.LOCKED
+    path = tmp_path / "iv.csv"
+    c.to_csv(path)
+    assert f"switching_bracket={tuple(map(float, c.switching_bracket))!r}" in path.read_text().splitlines()[0]
+
+
+def test_no_transition_no_bracket():
+    c = junction.iv_curve(0.5, [0.1, 0.2])
+    assert math.isnan(c.switching_current) and all(math.isnan(x) for x in c.switching_bracket)
+    assert math.isnan(c.retrapping_current) and all(math.isnan(x) for x in c.retrapping_bracket)
