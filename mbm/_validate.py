@@ -16,6 +16,8 @@ import numpy as np
 
 __all__ = [
     "RTOL_FLOOR",
+    "WINDOW_MARGIN",
+    "ANGLE_PER_WINDOW",
     "DEFAULT_MAX_WINDOWS",
     "PARAMETER_RULES",
     "check_real",
@@ -32,6 +34,7 @@ __all__ = [
     "t_eval_problem",
     "t_eval_error",
     "check_max_windows",
+    "check_window_budget",
     "warn_extraneous",
 ]
 
@@ -58,6 +61,15 @@ _RULES = {">=0": lambda v: v >= 0.0, ">0": lambda v: v > 0.0}
 # What check_real refuses outright (float() would read a string, a bool, or drop the
 # imaginary part of a numpy complex).
 _NOT_REAL = (str, bytes, bool, np.bool_, complex, np.complexfloating)
+
+# check_window_budget: a run is refused before it starts only when a lower bound of
+# its windows exceeds max_windows this many times (the bound is loose, the run would
+# fail at max_windows anyway: no legitimate run is refused).
+WINDOW_MARGIN = 100.0
+# ... where a window advances θ by at most this many radians: measured ≤ 20 (Taylor)
+# and ≤ 260 (split2) on the runaway scenes γ = 1e4–1e6 at rtol 1e-1–1e-6, growing
+# like γ^0.06; 1e4 leaves a factor 40 over the largest.
+ANGLE_PER_WINDOW = 1.0e4
 
 # The native float64 dtype (an identity test is the cheap one; an equal dtype that is
 # another object takes the conversion, which then copies nothing).
@@ -285,6 +297,88 @@ def check_max_windows(max_windows):
     if max_windows < 1:
         raise ValueError(f"max_windows must be an integer >= 1, got {max_windows!r}")
     return int(max_windows)
+
+
+def _transient_angle(beta, gamma, omega, v0, span):
+    """A lower bound of the angle a forward, undriven run covers while no regime of
+    :mod:`mbm.regimes` can take over, and the time it takes (0, 0 when no bound).
+
+    Only |γ| > ω² has one: no equilibrium (no locked regime, no libration), and the
+    velocity obeys s·v' ≥ F − β s·v, s = sign γ, F = |γ| − ω² (comparison with the
+    linear equation: v ≥ v_low).  At β = 0 nothing else can happen over the span;
+    for β > 0 only while the fastest solution (F + 2ω² in place of F) is below half
+    the cycle's least velocity F/β: the return map's steps then are ≥ F·T_c/2, so the
+    cycle watch cannot see a converged cycle.
+    """
+    w2 = omega * omega
+    f = abs(gamma) - w2
+    if not f > 0.0 or not span > 0.0:
+        return 0.0, 0.0
+    u0 = math.copysign(1.0, gamma) * v0
+    if beta == 0.0:
+        t = span
+        # ∫ max(0, u0 + f t) dt over [0, t]
+        if u0 >= 0.0:
+            return u0 * t + 0.5 * f * t * t, t
+        t_pos = -u0 / f
+        return (0.5 * f * (t - t_pos) ** 2 if t > t_pos else 0.0), t
+    fast = (f + 2.0 * w2) / beta
+    half = 0.5 * f / beta
+    if u0 >= half:
+        return 0.0, 0.0
+    # the fastest solution fast + (u0 − fast) e^{−βt} reaches `half` at t_half
+    t = min(span, math.log((fast - u0) / (fast - half)) / beta)
+    a = f / beta
+    c = u0 - a
+    # ∫ max(0, a + c e^{−βs}) ds over [0, t]: v_low increases from u0 (< a) to its end
+    t_pos = 0.0 if u0 >= 0.0 else math.log(c / -a) / beta
+    if t <= t_pos:
+        return 0.0, t
+    angle = a * (t - t_pos) + (c / beta) * (math.exp(-beta * t_pos) - math.exp(-beta * t))
+    return max(angle, 0.0), t
+
+
+def check_window_budget(beta, gamma, omega, drive_amplitude, t0, t1, v0, tau, max_step, max_windows,
+                        exact=False):
+    """Refuse a run whose windows would exceed ``max_windows`` by a wide margin, before it runs.
+
+    A lower bound of the windows (:func:`_transient_angle`: the angle covered at most
+    :data:`ANGLE_PER_WINDOW` radians a window, and the time in windows of at most
+    ``tau`` or ``max_step``) above :data:`WINDOW_MARGIN` · ``max_windows`` is a
+    ValueError naming the parameter that causes it.  Backward and driven runs and
+    exact flows are not predicted (no bound: they run, and stop at ``max_windows``
+    with its status).
+    """
+    if drive_amplitude != 0.0 or not t1 > t0 or exact:
+        return
+    span = t1 - t0
+    limit = WINDOW_MARGIN * max_windows
+    w2 = omega * omega
+    # the cheap test first: the most the run can cover, |θ'| ≤ |v0| + (|γ| + ω²)·t
+    longest = min(math.inf if tau is None else tau, max_step)
+    if (abs(v0) + (abs(gamma) + w2) * span) * span < limit * ANGLE_PER_WINDOW and span < limit * longest:
+        return
+    angle, t = _transient_angle(beta, gamma, omega, v0, span)
+    by_angle, by_time = angle / ANGLE_PER_WINDOW, t / longest
+    if tau is not None:
+        by_angle = 0.0  # fixed windows: their count is the time's
+    n = max(by_angle, by_time)
+    if n <= limit:
+        return
+    if by_angle >= by_time:
+        cause = (f"gamma={gamma!r} (with beta={beta!r}, omega={omega!r}"
+                 + (f", theta'0={v0!r}" if v0 != 0.0 else "") + ")")
+        why = f"θ runs through more than {angle:.3g} rad, at most {ANGLE_PER_WINDOW:g} rad a window"
+        fix = "lower |gamma|, shorten t_span or raise max_windows"
+    else:
+        name = "tau" if tau is not None and tau <= max_step else "max_step"
+        cause = f"{name}={longest!r} over t_span {(t0, t1)!r} with gamma={gamma!r}"
+        why = f"{t:.3g} time units before any regime can take over"
+        fix = f"raise {name}, shorten t_span or raise max_windows"
+    raise ValueError(
+        f"{cause} would take more than {n:.3g} windows, {n / max_windows:.3g} times "
+        f"max_windows={max_windows} ({why}): the run would stop at max_windows; {fix}"
+    )
 
 
 def warn_extraneous(extraneous, stacklevel=3):

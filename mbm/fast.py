@@ -27,6 +27,9 @@ from ._validate import (
     check_state,
     check_t_eval,
     check_tolerances,
+    check_window_budget,
+    ANGLE_PER_WINDOW,
+    WINDOW_MARGIN,
     t_eval_error,
     t_eval_problem,
 )
@@ -324,11 +327,12 @@ class Integrator:
         self._plan = _plan(ap, self._tau, self.max_step, 0.0, 0.0)
         self._span_plan = self._tau is None and ap.exact and not math.isfinite(self.max_step)
         controller, h_abs, error_order = self._plan
+        self._max_windows = check_max_windows(max_windows)
         beta, gamma, omega = model.params
         amp, freq, phase = model.drive
         template = loop.new_run(beta, gamma, omega, 0.0, 0.0, 0.0, 0.0, kind, karg, controller,
                                 h_abs, self.max_step, self.rtol, self.atol, error_order,
-                                check_max_windows(max_windows), CALL_WINDOWS, drive_amplitude=amp,
+                                self._max_windows, CALL_WINDOWS, drive_amplitude=amp,
                                 drive_frequency=freq, drive_phase=phase)
         # The record's words as float64: each call's compiled entry copies them into
         # words of its own.
@@ -371,6 +375,7 @@ class Integrator:
         """
         t0, t1 = check_span(t_span)
         theta0, v0 = _state(y0)
+        _check_budget(self, t0, t1, v0)
         return self._solve(t0, t1, theta0, v0, t_eval, wrap)
 
     def _solve(self, t0, t1, theta0, v0, t_eval, wrap):
@@ -529,7 +534,15 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
     else:
         ig = Integrator(model, rtol=rtol, atol=atol, approximant=approximant, tau=tau,
                         max_step=max_step, max_windows=max_windows)
+    _check_budget(ig, t0, t1, v0)
     return ig._solve(t0, t1, theta0, v0, t_eval, wrap)  # span and state checked above
+
+
+def _check_budget(ig, t0, t1, v0):
+    # check_window_budget for a run of ig (a run far past max_windows is refused).
+    m = ig.model
+    check_window_budget(m.beta, m.gamma, m.omega, m.drive_amplitude, t0, t1, v0, ig._tau, ig.max_step,
+                        ig._max_windows, ig.approximant.exact)
 
 
 @functools.lru_cache(maxsize=INTEGRATOR_CACHE)
@@ -750,6 +763,22 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
     max_windows = check_max_windows(max_windows)
     if wrap is not False and wrap is not True:
         raise ValueError(f"wrap must be True or False, got {wrap!r}")
+    tau_checked = None if tau is None else check_positive("tau", tau)
+    # check_window_budget on the scenes its cheap test does not clear (vectorized here)
+    span = t1 - t0
+    longest = min(np.inf if tau_checked is None else tau_checked, max_step)
+    limit = WINDOW_MARGIN * max_windows
+    maybe = (np.abs(gamma) > omega**2) & (
+        (np.abs(y0[:, 1]) + (np.abs(gamma) + omega**2) * abs(span)) * abs(span) >= limit * ANGLE_PER_WINDOW
+    ) | (abs(span) >= limit * longest)
+    if amp is not None:
+        maybe &= amp == 0.0
+    for i in np.flatnonzero(maybe) if span > 0.0 else ():
+        try:
+            check_window_budget(float(beta[i]), float(gamma[i]), float(omega[i]), 0.0, t0, t1, float(y0[i, 1]),
+                                tau_checked, max_step, max_windows)
+        except ValueError as exc:
+            raise ValueError(f"scene {i}: {exc}") from None
 
     p = np.zeros(n, dtype=loop.RUN)
     p["beta"], p["gamma"], p["omega"] = beta, gamma, omega

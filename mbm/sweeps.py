@@ -180,7 +180,7 @@ def _check_approximant(approximant, tau, t_span, rtol, atol, max_windows, models
         ap = get_approximant(approximant)
         if drive is not None and np.any(np.atleast_1d(drive[0]) != 0.0):
             amp = np.atleast_1d(drive[0])
-            ap.check_drive(Pendulum(1.0, 0.0, 1.0, float(amp[np.flatnonzero(amp != 0.0)[0]])))
+            ap.check_drive(Pendulum(1.0, 0.0, 1.0, float(amp[np.flatnonzero(amp != 0.0)[0]]), 1.0))
         if type(ap).check_model is not Approximant.check_model:
             for bb in np.unique(np.atleast_1d(models[0])):
                 for gg in np.unique(np.atleast_1d(models[1])):

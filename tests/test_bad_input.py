@@ -469,3 +469,51 @@ def test_iv_curve_same_wording(kw, exc, message):
     with pytest.raises(exc) as e:
         mbm.iv_curve(args.pop("beta"), args.pop("gamma"), **args)
     assert str(e.value) == message
+
+
+# ---------------------------------------------------------------------------
+# a run far past max_windows is refused before it runs, naming the cause
+# ---------------------------------------------------------------------------
+
+HUGE = mbm.Pendulum(beta=0.1, gamma=1e12)
+
+
+def test_huge_torque_refused_before_running():
+    pattern = r"^gamma=1000000000000\.0 .*would take more than .* windows, .* times max_windows=10000000"
+    with pytest.raises(ValueError, match=pattern):
+        mbm.solve(HUGE, (0.0, 10.0), [0.0, 0.0])
+    with pytest.raises(ValueError, match=pattern):
+        mbm.Integrator(HUGE).solve((0.0, 10.0), [0.0, 0.0])
+    with pytest.raises(ValueError, match=pattern):
+        solve_ivp(HUGE, (0.0, 10.0), [0.0, 0.0], method=mbm.MBM)
+    with pytest.raises(ValueError, match=r"^scene 1: gamma=1000000000000\.0 "):
+        mbm.solve_batch([0.1, 0.1], [0.3, 1e12], 1.0, [0.0, 0.0], (0.0, 10.0), [10.0])
+    with pytest.raises(ValueError, match=r"gamma=1000000000000\.0 "):
+        mbm.sweep(beta=0.1, gamma=[0.3, 1e12], t_span=(0.0, 10.0), reduce="final_state")
+
+
+def test_tiny_fixed_window_refused_naming_tau():
+    with pytest.raises(ValueError, match=r"^tau=1e-09 over t_span \(0\.0, 1000\.0\) .* would take more than"):
+        mbm.solve(mbm.Pendulum(0.1, 3.0), (0.0, 1000.0), [0.0, 0.0], tau=1e-9, approximant="taylor")
+
+
+@pytest.mark.parametrize("params, span, kw", [
+    ((0.1, 1e6), 10.0, {}),          # 2.9e6 windows: runs (a runaway, but within max_windows)
+    ((1.0, 1e4), 1000.0, {}),        # 1.3e6 windows
+    ((0.0, 1e8), 100.0, {}),         # would stop at max_windows (2500 times over): not predicted, runs
+    ((0.1, 0.3), 1e3, dict(tau=1e-9)),  # locked: the regime takes over, not predicted
+    ((0.1, 1e12), 10.0, dict(max_windows=10**12)),  # the margin is over max_windows
+    ((0.1, 1e12), (10.0, 0.0), {}),  # backward runs are not predicted
+    ((0.5, 1e12, 1.0, 1.0, 1.0), 10.0, {}),  # nor driven ones
+])
+def test_budget_does_not_refuse_what_it_cannot_bound(params, span, kw):
+    from mbm._validate import DEFAULT_MAX_WINDOWS, check_window_budget
+    m = mbm.Pendulum(*params)
+    t0, t1 = (0.0, span) if np.ndim(span) == 0 else span
+    check_window_budget(m.beta, m.gamma, m.omega, m.drive_amplitude, t0, t1, 0.0, kw.get("tau"), math.inf,
+                        kw.get("max_windows", DEFAULT_MAX_WINDOWS))
+
+
+def test_budget_allows_an_ordinary_runaway():
+    r = mbm.solve(mbm.Pendulum(0.0, 1e4), (0.0, 10.0), [0.0, 0.0], t_eval=[10.0])
+    assert r.success and r.n_windows > 10**4
