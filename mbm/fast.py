@@ -490,7 +490,10 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
         Longest window.
     max_windows : int, optional
         Windows the run may take (default 10⁷, seconds of compute); past it the run
-        stops with status 4 and the outputs it reached.
+        stops with status 4 and the outputs it reached.  A run that would certainly
+        take more than 100 times as many (a runaway torque |γ| ≫ ω² over the span, or a
+        tiny ``tau``: :func:`mbm._validate.check_window_budget`) is refused before it
+        runs, with a ValueError naming the cause.
     wrap : bool, optional
         Report θ wrapped to (−π, π] (``y[0]``) with its winding count ``winding``
         (θ = 2π·winding + y[0]; needs ``t_eval``).  The Taylor and splitting runs
@@ -519,8 +522,9 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
     Raises
     ------
     ValueError, TypeError
-        For invalid arguments (naming the argument) or an approximant without a
-        compiled kernel.
+        For invalid arguments (naming the argument: TypeError for what is not a real
+        number), an approximant without a compiled kernel, or a run that would exceed
+        ``max_windows`` a hundred times over (naming the parameter that causes it).
     """
     if not isinstance(model, Pendulum):
         raise TypeError(f"model must be an mbm.Pendulum, got {type(model).__name__}")
@@ -722,7 +726,11 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
     ------
     ValueError
         For invalid arguments (naming the argument and, for parameter arrays, the
-        first bad scene), or an approximant outside the domain of some scene's model.
+        first bad scene), an approximant outside the domain of some scene's model, or
+        a scene that would exceed ``max_windows`` a hundred times over (as
+        :func:`solve`, naming the scene).
+    TypeError
+        For an argument that is not real numbers (a str, bool, complex).
     KeyboardInterrupt
         Honoured while the batch runs: every scene stops at its next window.
     """

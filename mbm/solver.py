@@ -242,7 +242,9 @@ class MBM(_MBMBase):
         warning, as scipy does.
     max_windows : int, optional
         Windows the whole run may take (default 10⁷); past it the solver fails with
-        a message.
+        a message.  A run that would certainly take more than 100 times as many is
+        refused at construction with a ValueError naming the cause
+        (:func:`mbm._validate.check_window_budget`).
     vectorized : bool, optional
         Accepted for the interface; MBM does not call ``fun`` after probing.
     **extraneous
