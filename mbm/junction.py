@@ -66,7 +66,7 @@ import numpy as np
 
 from ._validate import check_drive, check_positive, check_real, check_real_array, check_rule, check_rule_array, check_state
 from .problem import Pendulum
-from .regimes import REGIME_NAMES, REGIME_PHASE_LOCKED
+from .regimes import REGIME_NAMES, REGIME_PHASE_LOCKED, STROBE_MAX_PERIODS
 
 __all__ = ["iv_curve", "IVCurve", "mean_velocity", "driven_mean_velocity", "integrate_mbm", "LOCKED",
            "RUNNING"]
@@ -122,6 +122,11 @@ DRIVE_VELOCITY_TOL = 1e-9
 # Blocks measured before the weighted average over all of them is reported unconverged
 # (between steps: quasi-periodic or chaotic motion).
 DRIVE_MAX_BLOCKS = 4
+# A converged block whose stroboscopic increments repeat with period q ≤
+# STROBE_MAX_PERIODS to this (radians) over its second half is on a Shapiro step p/q,
+# as the phase-locked regime would have found (a quasi-periodic motion's increments
+# never repeat; a locked orbit's do to the run's round-off once the transient decayed).
+DRIVE_REPEAT_TOL = 1e-7
 
 
 @dataclasses.dataclass(frozen=True)
@@ -135,9 +140,13 @@ class IVCurve:
     mean_velocity : ndarray
         ⟨θ'⟩ at each point (the dc voltage): 0 when locked, ±2π/T_c when running.
     regime : ndarray of str
-        ``"locked"`` or ``"running"`` at each point.
+        ``"locked"`` or ``"running"`` at each point, or (driven) ``"phase-locked"`` on
+        a Shapiro step p/q ≠ 0 (``mean_velocity`` = (p/q)Ω): the label of
+        :func:`mbm.solve`.  A Shapiro step is on the running side of the switching and
+        retrapping currents.
     period : ndarray
-        T_c of the running cycle (NaN where locked).
+        T_c of the running cycle, q·2π/Ω on a Shapiro step (NaN where locked and at
+        driven points off the steps).
     start_state : ndarray, shape (n, 2)
         The state each point started from (the previous point's settled state).
     switching_current : float
@@ -157,7 +166,7 @@ class IVCurve:
     drive_amplitude, drive_frequency, drive_phase : float
         The AC drive A sin(Ωt + φ) added to each bias point (A = 0: none).  With a
         drive, ``mean_velocity`` is measured over whole drive periods (module
-        docstring) and ``period`` is NaN.
+        docstring).
     """
 
     gamma: np.ndarray
@@ -255,8 +264,8 @@ def integrate_mbm(model, y, span):
     """The runs behind :func:`iv_curve`: ``solve_ivp(method=mbm.MBM)`` over (0, span)
     from ``y`` with dense output (the windows' formulas), all windows in one step.
 
-    The result also carries ``regime`` and ``mean_velocity``, the solver's (the
-    long-horizon regime the run reached, :mod:`mbm.regimes`)."""
+    The result also carries ``regime``, ``mean_velocity`` and ``period``, the
+    solver's (the long-horizon regime the run reached, :mod:`mbm.regimes`)."""
     from scipy.integrate import solve_ivp
 
     from .solver import MBM
@@ -275,6 +284,7 @@ def integrate_mbm(model, y, span):
         raise RuntimeError(f"gamma={model.gamma!r}: {sol.message}")
     # The long-horizon regime reached (mbm.regimes), as mbm.MBM records it.
     sol.regime, sol.mean_velocity = solvers[0].regime, solvers[0].mean_velocity
+    sol.period = solvers[0].period
     return sol
 
 
@@ -409,13 +419,15 @@ def driven_mean_velocity(model, y0, integrate=integrate_mbm):
     Returns
     -------
     regime : str
-        ``"locked"`` when θ gains less than π over the last block (the zero-voltage
-        step), else ``"running"``.
+        ``"phase-locked"`` where a run reached the phase-locked regime with p ≠ 0 (a
+        Shapiro step, as :func:`mbm.solve` labels it); else ``"locked"`` when θ gains
+        less than π over the last block (the zero-voltage step), else ``"running"``.
     mean_velocity : float
         ⟨θ'⟩: (p/q)Ω where a run reached the phase-locked regime, else the last block's
         when converged, else over all blocks measured.
     period : float
-        NaN (the drive sets the time scale; no cycle is timed).
+        The locked orbit's period q·2π/Ω on a Shapiro step; NaN elsewhere (no cycle
+        is timed).
     y : ndarray, shape (2,)
         The state at the end, after a whole number of drive periods (θ reduced to
         (−π, π]).
@@ -444,6 +456,9 @@ def driven_mean_velocity(model, y0, integrate=integrate_mbm):
             return _phase_locked(sol, y)
         if len(means) >= 2 and abs(means[-1] - means[-2]) <= DRIVE_VELOCITY_TOL * model.omega:
             v = means[-1]
+            step = _repeating(d)
+            if step is not None and step[0] != 0:
+                return PHASE_LOCKED, v, step[1] * period_d, y
             break
     else:
         d = np.concatenate(steps)
@@ -452,11 +467,29 @@ def driven_mean_velocity(model, y0, integrate=integrate_mbm):
     return regime, v, math.nan, y
 
 
+def _repeating(d):
+    # (p, q) when the increments' second half repeats with period q (smallest first).
+    tail = d[d.size // 2:]
+    for q in range(1, STROBE_MAX_PERIODS + 1):
+        if np.max(np.abs(tail[q:] - tail[:-q])) <= DRIVE_REPEAT_TOL:
+            return round(float(np.sum(tail[:q])) / (2.0 * math.pi)), q
+    return None
+
+
 def _phase_locked(sol, y):
-    # A run that reached the phase-locked regime: ⟨θ'⟩ = (p/q)Ω exactly; locked on the
-    # zero-voltage step p = 0 (as "θ gains less than π" over a block), else running.
+    # A run that reached the phase-locked regime: ⟨θ'⟩ = (p/q)Ω exactly and the orbit's
+    # period q·2π/Ω (the solver's, as mbm.solve reports them); "phase-locked" as
+    # mbm.solve labels it, but "locked" on the zero-voltage step p = 0 (as "θ gains
+    # less than π" over a block: the locked side of the switching current).
     v = float(sol.mean_velocity)
-    return (LOCKED if v == 0.0 else RUNNING), v, math.nan, y
+    if v == 0.0:
+        return LOCKED, v, math.nan, y
+    return PHASE_LOCKED, v, float(getattr(sol, "period", math.nan)), y
+
+
+def _voltage_state(regime):
+    # The side of a transition a regime is on: a Shapiro step carries a voltage.
+    return RUNNING if regime == PHASE_LOCKED else regime
 
 
 def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0=0.0,
@@ -517,7 +550,7 @@ def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0
     none = (math.nan, math.nan)
     switching = retrapping = none
     for i in range(1, g.size):
-        a, b = regimes[i - 1], regimes[i]
+        a, b = _voltage_state(regimes[i - 1]), _voltage_state(regimes[i])
         if a == b:
             continue
         if a == LOCKED and switching is none:
@@ -552,7 +585,7 @@ def _bisect(beta, omega, g_a, g_b, y_a, regime_a, tol, integrate, drive=(0.0, 0.
     while abs(g_b - g_a) > tol:
         mid = 0.5 * (g_a + g_b)
         regime, _, _, y = mean_velocity(Pendulum(beta, mid, omega, *drive), y_a, integrate)
-        if regime == regime_a:
+        if _voltage_state(regime) == regime_a:
             g_a, y_a = mid, y
         else:
             g_b = mid

@@ -218,7 +218,13 @@ _DRIVEN = {}
 @pytest.mark.parametrize("beta,amp,freq,n,gammas", SHAPIRO_STEPS)
 def test_shapiro_step_plateau(beta, amp, freq, n, gammas):
     c = junction.iv_curve(beta, gammas, drive_amplitude=amp, drive_frequency=freq)
-    assert np.all(c.regime == "running") and np.all(np.isnan(c.period))
+    # labelled as mbm.solve labels them, with the locked orbit's period q·2π/Ω (q = 1)
+    assert np.all(c.regime == "phase-locked")
+    np.testing.assert_allclose(c.period, 2 * np.pi / freq, rtol=1e-12)
+    mid = float(gammas[len(gammas) // 2])
+    r = mbm.solve(mbm.Pendulum(beta, mid, 1.0, amp, freq), (0.0, 2000.0), [0.0, 0.0], t_eval=[2000.0],
+                  rtol=junction.RUN_RTOL, atol=junction.RUN_ATOL)
+    assert r.regime == "phase-locked" and r.period == pytest.approx(2 * np.pi / freq, rel=1e-12)
     assert np.max(np.abs(c.mean_velocity - n * freq)) <= STEP_TOL, c.mean_velocity - n * freq
     assert (c.drive_amplitude, c.drive_frequency, c.drive_phase) == (amp, freq, 0.0)
 
@@ -287,3 +293,13 @@ def test_no_transition_no_bracket():
     c = junction.iv_curve(0.5, [0.1, 0.2])
     assert math.isnan(c.switching_current) and all(math.isnan(x) for x in c.switching_bracket)
     assert math.isnan(c.retrapping_current) and all(math.isnan(x) for x in c.retrapping_bracket)
+
+
+def test_repeating_increments_are_a_step():
+    # A converged block on a step whose run did not reach the phase-locked regime is
+    # labelled by its increments: period q with 2πp per q drive periods.
+    d = np.tile([2.0, 2 * np.pi - 2.0], 60)
+    assert junction._repeating(d) == (1, 2)
+    assert junction._repeating(np.full(120, 2 * np.pi)) == (1, 1)
+    quasi = 2 * np.pi * 0.61803398875 + 0.3 * np.sin(2 * np.pi * 0.61803398875 * np.arange(120))
+    assert junction._repeating(quasi) is None
