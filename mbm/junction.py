@@ -51,8 +51,10 @@ blocks of 240 periods: successive blocks agree to 1e-8 weighted, 2e-3 plain), bu
 a slowly attracting motion between steps may not have settled within the blocks
 (β = 2, Ω = A = 1, γ = 1.9: 1e-6 off a 4000-period reference; 6e-11 at γ = 2.45); on
 chaotic motion neither average converges, and the value is an average over the blocks
-measured.  A driven point is "locked" when its phase gains less than π over the last
-block (the zero-voltage step), else "running".
+measured.  A driven point is "phase-locked" on a Shapiro step p/q ≠ 0 (where a run
+reached the phase-locked regime, or a converged block's increments repeat with period
+q, :data:`DRIVE_REPEAT_TOL`; ``period`` q·2π/Ω), "locked" when its phase gains less
+than π over the last block (the zero-voltage step), else "running".
 
 What is not modelled: thermal noise (no premature switching), non-sinusoidal
 current–phase relations, arrays of junctions, a capacitance that depends on the
