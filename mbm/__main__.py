@@ -148,7 +148,7 @@ def _finite(text):
     try:
         x = float(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+        raise argparse.ArgumentTypeError(f"must be a real number, got {text!r}") from None
     if not math.isfinite(x):
         raise argparse.ArgumentTypeError(f"must be finite, got {text!r}")
     return x
@@ -369,8 +369,9 @@ def iv_command(beta, gamma_max, points, omega=1.0, current_tol=1e-4, csv=None, p
     print(f"beta = {beta:g}, omega = {omega:g}, {2 * points} bias points", file=out)
     if drive_amplitude != 0.0:
         print(f"AC drive A = {drive_amplitude:g}, Omega = {drive_frequency:g}, phi = {drive_phase:g}", file=out)
-    print(f"switching current  {curve.switching_current:.6g}", file=out)
-    print(f"retrapping current {curve.retrapping_current:.6g}", file=out)
+    for name, value, (lo, hi) in (("switching current ", curve.switching_current, curve.switching_bracket),
+                                  ("retrapping current", curve.retrapping_current, curve.retrapping_bracket)):
+        print(f"{name} {value:.6g}" + (f"  in [{lo:.8g}, {hi:.8g}]" if math.isfinite(value) else ""), file=out)
     if csv:
         curve.to_csv(csv)
     if plot:
@@ -448,10 +449,10 @@ def _build_parser():
     r.add_argument("--omega", type=_positive, default=1.0, help="omega (default 1)")
     r.add_argument("--current-tol", type=_positive, default=1e-4,
                    help="bisection width of the currents (default 1e-4)")
-    r.add_argument("--drive-amplitude", type=float, default=0.0,
+    r.add_argument("--drive-amplitude", type=_finite, default=0.0,
                    help="AC drive amplitude A: bias gamma + A sin(Omega t + phi) (default 0: none)")
-    r.add_argument("--drive-frequency", type=float, default=0.0, help="AC drive angular frequency Omega > 0")
-    r.add_argument("--drive-phase", type=float, default=0.0, help="AC drive phase phi (default 0)")
+    r.add_argument("--drive-frequency", type=_finite, default=0.0, help="AC drive angular frequency Omega > 0")
+    r.add_argument("--drive-phase", type=_finite, default=0.0, help="AC drive phase phi (default 0)")
     r.add_argument("--csv", default=None, help="write gamma, mean velocity, regime, period")
     r.add_argument("--plot", default=None, metavar="PNG", help="save the I-V plot")
 

@@ -18,12 +18,18 @@ from ._validate import (
     RTOL_FLOOR,
     _FLOAT64,
     as_t_eval,
+    check_drive,
     check_max_windows,
     check_positive,
+    check_real_array,
+    check_rule_array,
     check_span,
     check_state,
     check_t_eval,
     check_tolerances,
+    check_window_budget,
+    ANGLE_PER_WINDOW,
+    WINDOW_MARGIN,
     t_eval_error,
     t_eval_problem,
 )
@@ -136,14 +142,21 @@ def _reason(model, rtol, atol, approximant):
     return "chosen by the caller"
 
 
+# The types of a state's entries taken without check_state's conversion (bool, str,
+# complex and the rest go through it).
+_REAL_TYPES = (float, int, np.float64)
+
+
 def _state(y0):
     """(θ₀, θ̇₀) as floats: a fast path for a list, tuple or array of two finite reals."""
-    if (type(y0) in (list, tuple) and len(y0) == 2) or (type(y0) is np.ndarray and y0.shape == (2,)):
-        try:
-            theta0, v0 = float(y0[0]), float(y0[1])
-        except (TypeError, ValueError):
-            pass
-        else:
+    if type(y0) is np.ndarray and y0.shape == (2,) and y0.dtype is _FLOAT64:
+        theta0, v0 = float(y0[0]), float(y0[1])
+        if math.isfinite(theta0) and math.isfinite(v0):
+            return theta0, v0
+    elif type(y0) in (list, tuple) and len(y0) == 2:
+        theta0, v0 = y0
+        if type(theta0) in _REAL_TYPES and type(v0) in _REAL_TYPES:
+            theta0, v0 = float(theta0), float(v0)
             if math.isfinite(theta0) and math.isfinite(v0):
                 return theta0, v0
     y = check_state("y0", y0)  # raises, naming what is wrong
@@ -314,11 +327,12 @@ class Integrator:
         self._plan = _plan(ap, self._tau, self.max_step, 0.0, 0.0)
         self._span_plan = self._tau is None and ap.exact and not math.isfinite(self.max_step)
         controller, h_abs, error_order = self._plan
+        self._max_windows = check_max_windows(max_windows)
         beta, gamma, omega = model.params
         amp, freq, phase = model.drive
         template = loop.new_run(beta, gamma, omega, 0.0, 0.0, 0.0, 0.0, kind, karg, controller,
                                 h_abs, self.max_step, self.rtol, self.atol, error_order,
-                                check_max_windows(max_windows), CALL_WINDOWS, drive_amplitude=amp,
+                                self._max_windows, CALL_WINDOWS, drive_amplitude=amp,
                                 drive_frequency=freq, drive_phase=phase)
         # The record's words as float64: each call's compiled entry copies them into
         # words of its own.
@@ -361,6 +375,7 @@ class Integrator:
         """
         t0, t1 = check_span(t_span)
         theta0, v0 = _state(y0)
+        _check_budget(self, t0, t1, v0)
         return self._solve(t0, t1, theta0, v0, t_eval, wrap)
 
     def _solve(self, t0, t1, theta0, v0, t_eval, wrap):
@@ -475,7 +490,10 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
         Longest window.
     max_windows : int, optional
         Windows the run may take (default 10⁷, seconds of compute); past it the run
-        stops with status 4 and the outputs it reached.
+        stops with status 4 and the outputs it reached.  A run that would certainly
+        take more than 100 times as many (a runaway torque |γ| ≫ ω² over the span, or a
+        tiny ``tau``: :func:`mbm._validate.check_window_budget`) is refused before it
+        runs, with a ValueError naming the cause.
     wrap : bool, optional
         Report θ wrapped to (−π, π] (``y[0]``) with its winding count ``winding``
         (θ = 2π·winding + y[0]; needs ``t_eval``).  The Taylor and splitting runs
@@ -504,8 +522,9 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
     Raises
     ------
     ValueError, TypeError
-        For invalid arguments (naming the argument) or an approximant without a
-        compiled kernel.
+        For invalid arguments (naming the argument: TypeError for what is not a real
+        number), an approximant without a compiled kernel, or a run that would exceed
+        ``max_windows`` a hundred times over (naming the parameter that causes it).
     """
     if not isinstance(model, Pendulum):
         raise TypeError(f"model must be an mbm.Pendulum, got {type(model).__name__}")
@@ -519,7 +538,15 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
     else:
         ig = Integrator(model, rtol=rtol, atol=atol, approximant=approximant, tau=tau,
                         max_step=max_step, max_windows=max_windows)
+    _check_budget(ig, t0, t1, v0)
     return ig._solve(t0, t1, theta0, v0, t_eval, wrap)  # span and state checked above
+
+
+def _check_budget(ig, t0, t1, v0):
+    # check_window_budget for a run of ig (a run far past max_windows is refused).
+    m = ig.model
+    check_window_budget(m.beta, m.gamma, m.omega, m.drive_amplitude, t0, t1, v0, ig._tau, ig.max_step,
+                        ig._max_windows, ig.approximant.exact)
 
 
 @functools.lru_cache(maxsize=INTEGRATOR_CACHE)
@@ -618,24 +645,13 @@ def _balanced_order(n):
 
 
 def _check_params(beta, gamma, omega, amp=None, freq=None, phase=None):
-    # The rules of Pendulum, over arrays; the first bad scene is named.
-    drive = () if amp is None else (
-        ("drive_amplitude", amp, np.isfinite, "finite"),
-        ("drive_frequency", freq, np.isfinite, "finite"),
-        ("drive_phase", phase, np.isfinite, "finite"),
-        ("drive_frequency", freq, lambda a: a >= 0.0, ">= 0 (an angular frequency Omega)"),
-    )
-    for name, arr, ok, rule in (
-        ("beta", beta, np.isfinite, "finite"),
-        ("gamma", gamma, np.isfinite, "finite"),
-        ("omega", omega, np.isfinite, "finite"),
-        ("beta", beta, lambda a: a >= 0.0, ">= 0 (damping)"),
-        ("omega", omega, lambda a: a > 0.0, "> 0"),
-    ) + drive:
-        bad = np.flatnonzero(~ok(arr))
-        if bad.size:
-            i = int(bad[0])
-            raise ValueError(f"{name} must be {rule}, got {name}[{i}] = {float(arr[i])!r}")
+    # The rules of Pendulum, over arrays (mbm._validate); the first bad scene is named.
+    names = ("beta", "gamma", "omega") + (() if amp is None else ("drive_amplitude", "drive_frequency",
+                                                                  "drive_phase"))
+    for name, arr in zip(names, (beta, gamma, omega, amp, freq, phase)):
+        check_rule_array(name, arr)
+    if amp is not None:
+        check_drive(amp, freq)
 
 
 def _run_batch_interruptibly(p, te, out, order):
@@ -706,7 +722,11 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
     ------
     ValueError
         For invalid arguments (naming the argument and, for parameter arrays, the
-        first bad scene), or an approximant outside the domain of some scene's model.
+        first bad scene), an approximant outside the domain of some scene's model, or
+        a scene that would exceed ``max_windows`` a hundred times over (as
+        :func:`solve`, naming the scene).
+    TypeError
+        For an argument that is not real numbers (a str, bool, complex).
     KeyboardInterrupt
         Honoured while the batch runs: every scene stops at its next window.
     """
@@ -714,7 +734,8 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
     params = (beta, gamma, omega) + ((drive_amplitude, drive_frequency, drive_phase) if driven_call else ())
     which = "beta, gamma, omega" + (", drive_amplitude, drive_frequency, drive_phase" if driven_call else "")
     try:
-        arrays = np.broadcast_arrays(*(np.atleast_1d(np.asarray(a, dtype=float)) for a in params))
+        arrays = np.broadcast_arrays(*(np.atleast_1d(check_real_array(name, a))
+                                       for name, a in zip(which.split(", "), params)))
     except ValueError:
         raise ValueError(
             f"{which} must broadcast to one shape (N,), got shapes "
@@ -730,7 +751,7 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
     if driven_call:
         amp, freq, phase = arrays[3:]
     _check_params(beta, gamma, omega, amp, freq, phase)
-    y0 = np.asarray(y0, dtype=float)
+    y0 = check_real_array("y0", y0)
     if y0.shape == (2,):
         y0 = np.broadcast_to(y0, (n, 2))
     if y0.shape != (n, 2):
@@ -746,6 +767,22 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
     max_windows = check_max_windows(max_windows)
     if wrap is not False and wrap is not True:
         raise ValueError(f"wrap must be True or False, got {wrap!r}")
+    tau_checked = None if tau is None else check_positive("tau", tau)
+    # check_window_budget on the scenes its cheap test does not clear (vectorized here)
+    span = t1 - t0
+    longest = min(np.inf if tau_checked is None else tau_checked, max_step)
+    limit = WINDOW_MARGIN * max_windows
+    maybe = (np.abs(gamma) > omega**2) & (
+        (np.abs(y0[:, 1]) + (np.abs(gamma) + omega**2) * abs(span)) * abs(span) >= limit * ANGLE_PER_WINDOW
+    ) | (abs(span) >= limit * longest)
+    if amp is not None:
+        maybe &= amp == 0.0
+    for i in np.flatnonzero(maybe) if span > 0.0 else ():
+        try:
+            check_window_budget(float(beta[i]), float(gamma[i]), float(omega[i]), 0.0, t0, t1, float(y0[i, 1]),
+                                tau_checked, max_step, max_windows)
+        except ValueError as exc:
+            raise ValueError(f"scene {i}: {exc}") from None
 
     undamped = (beta == 0.0) & (gamma == 0.0)
     drive = np.zeros((3, n))

@@ -51,8 +51,10 @@ blocks of 240 periods: successive blocks agree to 1e-8 weighted, 2e-3 plain), bu
 a slowly attracting motion between steps may not have settled within the blocks
 (β = 2, Ω = A = 1, γ = 1.9: 1e-6 off a 4000-period reference; 6e-11 at γ = 2.45); on
 chaotic motion neither average converges, and the value is an average over the blocks
-measured.  A driven point is "locked" when its phase gains less than π over the last
-block (the zero-voltage step), else "running".
+measured.  A driven point is "phase-locked" on a Shapiro step p/q ≠ 0 (where a run
+reached the phase-locked regime, or a converged block's increments repeat with period
+q, :data:`DRIVE_REPEAT_TOL`; ``period`` q·2π/Ω), "locked" when its phase gains less
+than π over the last block (the zero-voltage step), else "running".
 
 What is not modelled: thermal noise (no premature switching), non-sinusoidal
 current–phase relations, arrays of junctions, a capacitance that depends on the
@@ -64,9 +66,9 @@ import math
 
 import numpy as np
 
-from ._validate import check_positive, check_real, check_state
+from ._validate import check_drive, check_positive, check_real, check_real_array, check_rule, check_rule_array, check_state
 from .problem import Pendulum
-from .regimes import REGIME_NAMES, REGIME_PHASE_LOCKED
+from .regimes import REGIME_NAMES, REGIME_PHASE_LOCKED, STROBE_MAX_PERIODS
 
 __all__ = ["iv_curve", "IVCurve", "mean_velocity", "driven_mean_velocity", "integrate_mbm", "LOCKED",
            "RUNNING"]
@@ -122,6 +124,11 @@ DRIVE_VELOCITY_TOL = 1e-9
 # Blocks measured before the weighted average over all of them is reported unconverged
 # (between steps: quasi-periodic or chaotic motion).
 DRIVE_MAX_BLOCKS = 4
+# A converged block whose stroboscopic increments repeat with period q ≤
+# STROBE_MAX_PERIODS to this (radians) over its second half is on a Shapiro step p/q,
+# as the phase-locked regime would have found (a quasi-periodic motion's increments
+# never repeat; a locked orbit's do to the run's round-off once the transient decayed).
+DRIVE_REPEAT_TOL = 1e-7
 
 
 @dataclasses.dataclass(frozen=True)
@@ -137,21 +144,33 @@ class IVCurve:
     mean_velocity : ndarray
         ⟨θ'⟩ at each point (the dc voltage): 0 when locked, ±2π/T_c when running.
     regime : ndarray of str
-        ``"locked"`` or ``"running"`` at each point.
+        ``"locked"`` or ``"running"`` at each point, or (driven) ``"phase-locked"`` on
+        a Shapiro step p/q ≠ 0 (``mean_velocity`` = (p/q)Ω): the label of
+        :func:`mbm.solve`.  A Shapiro step is on the running side of the switching and
+        retrapping currents.
     period : ndarray
-        T_c of the running cycle (NaN where locked).
+        T_c of the running cycle, q·2π/Ω on a Shapiro step (NaN where locked and at
+        driven points off the steps).
     start_state : ndarray, shape (n, 2)
         The state each point started from (the previous point's settled state).
     switching_current : float
-        The first locked → running transition located by bisection (NaN if none).
+        The first locked → running transition located by bisection (NaN if none): the
+        midpoint of ``switching_bracket``.
     retrapping_current : float
-        The first running → locked transition located by bisection (NaN if none).
+        The first running → locked transition located by bisection (NaN if none): the
+        midpoint of ``retrapping_bracket``.
+    switching_bracket, retrapping_bracket : tuple of float
+        ``(lo, hi)``, lo ≤ current ≤ hi, hi − lo ≤ ``current_tol``: the bias points
+        bisection found on either side of the transition ((nan, nan) if none).  The
+        switching bracket lies within [−ω², ω²]: a zero-voltage state needs
+        |γ| = ω²|⟨sin θ⟩| ≤ ω² (with or without a drive, whose mean is 0), so the
+        switching current never exceeds ω².
     beta, omega, current_tol : float
         The junction and the bisection tolerance.
     drive_amplitude, drive_frequency, drive_phase : float
         The AC drive A sin(Ωt + φ) added to each bias point (A = 0: none).  With a
         drive, ``mean_velocity`` is measured over whole drive periods (module
-        docstring) and ``period`` is NaN.
+        docstring).
     """
 
     gamma: np.ndarray
@@ -167,6 +186,8 @@ class IVCurve:
     drive_amplitude: float = 0.0
     drive_frequency: float = 0.0
     drive_phase: float = 0.0
+    switching_bracket: tuple = (math.nan, math.nan)
+    retrapping_bracket: tuple = (math.nan, math.nan)
 
     def branches(self):
         """Index arrays of the up (γ increasing) and down (γ decreasing) parts of the sweep."""
@@ -186,7 +207,9 @@ class IVCurve:
             drive = (f", drive_amplitude={self.drive_amplitude!r}, drive_frequency={self.drive_frequency!r}, "
                      f"drive_phase={self.drive_phase!r}" if self.drive_amplitude != 0.0 else "")
             f.write(f"# beta={self.beta!r}, omega={self.omega!r}, switching_current={self.switching_current!r}, "
-                    f"retrapping_current={self.retrapping_current!r}, current_tol={self.current_tol!r}{drive}\n")
+                    f"retrapping_current={self.retrapping_current!r}, current_tol={self.current_tol!r}{drive}, "
+                    f"switching_bracket={tuple(map(float, self.switching_bracket))!r}, "
+                    f"retrapping_bracket={tuple(map(float, self.retrapping_bracket))!r}\n")
             f.write("gamma,mean_velocity,regime,period\n")
             for g, v, r, p in zip(self.gamma, self.mean_velocity, self.regime, self.period):
                 f.write(f"{float(g)!r},{float(v)!r},{r},{float(p)!r}\n")
@@ -268,7 +291,7 @@ def integrate_mbm(model, y, span):
     Returns
     -------
     scipy.integrate OdeResult
-        solve_ivp's result; it also carries ``regime`` and ``mean_velocity``, the
+        solve_ivp's result; it also carries ``regime``, ``mean_velocity`` and ``period``, the
         solver's (the long-horizon regime the run reached, :mod:`mbm.regimes`).
 
     Raises
@@ -294,6 +317,7 @@ def integrate_mbm(model, y, span):
         raise RuntimeError(f"gamma={model.gamma!r}: {sol.message}")
     # The long-horizon regime reached (mbm.regimes), as mbm.MBM records it.
     sol.regime, sol.mean_velocity = solvers[0].regime, solvers[0].mean_velocity
+    sol.period = solvers[0].period
     return sol
 
 
@@ -438,13 +462,15 @@ def driven_mean_velocity(model, y0, integrate=integrate_mbm):
     Returns
     -------
     regime : str
-        ``"locked"`` when θ gains less than π over the last block (the zero-voltage
-        step), else ``"running"``.
+        ``"phase-locked"`` where a run reached the phase-locked regime with p ≠ 0 (a
+        Shapiro step, as :func:`mbm.solve` labels it); else ``"locked"`` when θ gains
+        less than π over the last block (the zero-voltage step), else ``"running"``.
     mean_velocity : float
         ⟨θ'⟩: (p/q)Ω where a run reached the phase-locked regime, else the last block's
         when converged, else over all blocks measured.
     period : float
-        NaN (the drive sets the time scale; no cycle is timed).
+        The locked orbit's period q·2π/Ω on a Shapiro step; NaN elsewhere (no cycle
+        is timed).
     y : ndarray, shape (2,)
         The state at the end, after a whole number of drive periods (θ reduced to
         (−π, π]).
@@ -473,6 +499,9 @@ def driven_mean_velocity(model, y0, integrate=integrate_mbm):
             return _phase_locked(sol, y)
         if len(means) >= 2 and abs(means[-1] - means[-2]) <= DRIVE_VELOCITY_TOL * model.omega:
             v = means[-1]
+            step = _repeating(d)
+            if step is not None and step[0] != 0:
+                return PHASE_LOCKED, v, step[1] * period_d, y
             break
     else:
         d = np.concatenate(steps)
@@ -481,11 +510,29 @@ def driven_mean_velocity(model, y0, integrate=integrate_mbm):
     return regime, v, math.nan, y
 
 
+def _repeating(d):
+    # (p, q) when the increments' second half repeats with period q (smallest first).
+    tail = d[d.size // 2:]
+    for q in range(1, STROBE_MAX_PERIODS + 1):
+        if np.max(np.abs(tail[q:] - tail[:-q])) <= DRIVE_REPEAT_TOL:
+            return round(float(np.sum(tail[:q])) / (2.0 * math.pi)), q
+    return None
+
+
 def _phase_locked(sol, y):
-    # A run that reached the phase-locked regime: ⟨θ'⟩ = (p/q)Ω exactly; locked on the
-    # zero-voltage step p = 0 (as "θ gains less than π" over a block), else running.
+    # A run that reached the phase-locked regime: ⟨θ'⟩ = (p/q)Ω exactly and the orbit's
+    # period q·2π/Ω (the solver's, as mbm.solve reports them); "phase-locked" as
+    # mbm.solve labels it, but "locked" on the zero-voltage step p = 0 (as "θ gains
+    # less than π" over a block: the locked side of the switching current).
     v = float(sol.mean_velocity)
-    return (LOCKED if v == 0.0 else RUNNING), v, math.nan, y
+    if v == 0.0:
+        return LOCKED, v, math.nan, y
+    return PHASE_LOCKED, v, float(getattr(sol, "period", math.nan)), y
+
+
+def _voltage_state(regime):
+    # The side of a transition a regime is on: a Shapiro step carries a voltage.
+    return RUNNING if regime == PHASE_LOCKED else regime
 
 
 def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0=0.0,
@@ -522,21 +569,18 @@ def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0
         For β ≤ 0 (no dissipation: no limit cycle to settle on), an empty or
         non-finite ``gamma``, ω ≤ 0, ``current_tol`` ≤ 0, a non-finite drive, or a
         drive (A ≠ 0) with Ω ≤ 0.
+    TypeError
+        For an argument that is not a real number (or, ``gamma``, real numbers).
     """
     beta = check_positive("beta", beta)
-    omega = check_positive("omega", omega)
+    omega = check_rule("omega", omega)
     current_tol = check_positive("current_tol", current_tol)
-    drive = (check_real("drive_amplitude", drive_amplitude), check_real("drive_frequency", drive_frequency),
-             check_real("drive_phase", drive_phase))
-    if drive[0] != 0.0 and not drive[1] > 0.0:
-        raise ValueError(f"drive_frequency must be > 0 with a drive (drive_amplitude != 0: ⟨θ'⟩ is averaged over its periods), "
-                         f"got {drive_frequency!r}")
-    Pendulum(beta, 0.0, omega, *drive)  # the model's own checks of the drive
-    g = np.asarray(gamma, dtype=float).reshape(-1)
+    drive = tuple(check_rule(name, value) for name, value in (
+        ("drive_amplitude", drive_amplitude), ("drive_frequency", drive_frequency), ("drive_phase", drive_phase)))
+    check_drive(drive[0], drive[1])
+    g = check_rule_array("gamma", check_real_array("gamma", gamma)).reshape(-1)
     if g.size == 0:
         raise ValueError("gamma must hold at least one bias point")
-    if not np.all(np.isfinite(g)):
-        raise ValueError("gamma must be finite")
     y = check_state("(theta0, theta_dot0)", [check_real("theta0", theta0), check_real("theta_dot0", theta_dot0)])
     regimes, velocities, periods, states, starts = [], [], [], [], []
     for gi in g:
@@ -546,34 +590,46 @@ def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0
         velocities.append(v)
         periods.append(period)
         states.append(y.copy())
-    switching = retrapping = math.nan
+    none = (math.nan, math.nan)
+    switching = retrapping = none
     for i in range(1, g.size):
-        a, b = regimes[i - 1], regimes[i]
+        a, b = _voltage_state(regimes[i - 1]), _voltage_state(regimes[i])
         if a == b:
             continue
-        if a == LOCKED and math.isnan(switching):
-            switching = _bisect(beta, omega, g[i - 1], g[i], states[i - 1], LOCKED, current_tol, integrate,
-                                drive)
-        elif a == RUNNING and math.isnan(retrapping):
-            retrapping = _bisect(beta, omega, g[i - 1], g[i], states[i - 1], RUNNING, current_tol, integrate,
-                                 drive)
+        if a == LOCKED and switching is none:
+            lo, hi = sorted(_bisect(beta, omega, g[i - 1], g[i], states[i - 1], LOCKED, current_tol, integrate,
+                                    drive))
+            # No zero-voltage state beyond |γ| = ω² (IVCurve): the bracket within it.
+            w2 = omega * omega
+            switching = (max(lo, -w2), min(hi, w2))
+        elif a == RUNNING and retrapping is none:
+            retrapping = tuple(sorted(_bisect(beta, omega, g[i - 1], g[i], states[i - 1], RUNNING, current_tol,
+                                              integrate, drive)))
     return IVCurve(gamma=g, mean_velocity=np.array(velocities), regime=np.array(regimes),
                    period=np.array(periods), start_state=np.array(starts),
-                   switching_current=float(switching), retrapping_current=float(retrapping),
+                   switching_current=_midpoint(switching), retrapping_current=_midpoint(retrapping),
                    beta=beta, omega=omega, current_tol=current_tol, drive_amplitude=drive[0],
-                   drive_frequency=drive[1], drive_phase=drive[2])
+                   drive_frequency=drive[1], drive_phase=drive[2], switching_bracket=tuple(map(float, switching)),
+                   retrapping_bracket=tuple(map(float, retrapping)))
+
+
+def _midpoint(bracket):
+    # The reported current: the bracket's midpoint, inside it (nan without a bracket).
+    lo, hi = bracket
+    return float(min(max(0.5 * (lo + hi), lo), hi))
 
 
 def _bisect(beta, omega, g_a, g_b, y_a, regime_a, tol, integrate, drive=(0.0, 0.0, 0.0)):
-    # [g_a, g_b]: regime_a at g_a (settled state y_a), the other regime at g_b.  A probe
+    # [g_a, g_b]: regime_a at g_a (settled state y_a), the other regime at g_b; returns
+    # the final (g_a, g_b), |g_b − g_a| ≤ tol.  A probe
     # that keeps regime_a becomes the new g_a with its settled state: the bias steps
     # shrink as the interval does, an adiabatic sweep in the limit (a finite step from
     # a locked state can kick it over the saddle below the switching current ω²).
     while abs(g_b - g_a) > tol:
         mid = 0.5 * (g_a + g_b)
         regime, _, _, y = mean_velocity(Pendulum(beta, mid, omega, *drive), y_a, integrate)
-        if regime == regime_a:
+        if _voltage_state(regime) == regime_a:
             g_a, y_a = mid, y
         else:
             g_b = mid
-    return 0.5 * (g_a + g_b)
+    return g_a, g_b

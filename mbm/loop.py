@@ -124,10 +124,12 @@ from .core.lanes import (  # noqa: F401
     _lane_hand_off,
     _lane_start,
     ALL_FLAGS,
-    LANES_ENTRIES,
+    ROWS_ENTRIES,
+    _run_lanes,
     batch_flags,
+    eligible_rows,
     lane_eligible,
-    lanes_entry,
+    rows_entry,
     run_batch,
 )
 from .core.stored import (  # noqa: F401

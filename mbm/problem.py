@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 
-from ._validate import check_real
+from ._validate import check_drive, check_rule
 
 __all__ = ["Pendulum", "identify_model"]
 
@@ -59,17 +59,19 @@ class Pendulum:
         Amplitude A of the AC drive A sin(Ωt + φ) added to the torque, any finite real
         (default 0: no drive, the autonomous equation).
     drive_frequency : float, optional
-        Its angular frequency Ω ≥ 0 (default 0).
+        Its angular frequency Ω ≥ 0, Ω > 0 when A ≠ 0 (default 0).
     drive_phase : float, optional
         Its phase φ, any finite real (default 0).
 
     Raises
     ------
     ValueError
-        If a parameter is not finite, ``beta < 0``, ``omega <= 0`` or
-        ``drive_frequency < 0``.
+        If a parameter is not finite, ``beta < 0``, ``omega <= 0``,
+        ``drive_frequency < 0``, or ``drive_frequency <= 0`` with
+        ``drive_amplitude != 0`` (a drive needs its frequency).
     TypeError
-        If a parameter is not a real number.
+        If a parameter is not a real number (a str, bool, complex or a sequence;
+        Python and numpy integers and floats are accepted).
 
     Notes
     -----
@@ -92,18 +94,13 @@ class Pendulum:
 
     def __init__(self, beta=0.0, gamma=0.0, omega=1.0, drive_amplitude=0.0, drive_frequency=0.0,
                  drive_phase=0.0):
-        beta = check_real("beta", beta)
-        gamma = check_real("gamma", gamma)
-        omega = check_real("omega", omega)
-        amp = check_real("drive_amplitude", drive_amplitude)
-        freq = check_real("drive_frequency", drive_frequency)
-        phase = check_real("drive_phase", drive_phase)
-        if beta < 0.0:
-            raise ValueError(f"beta must be >= 0 (damping), got {beta!r}")
-        if omega <= 0.0:
-            raise ValueError(f"omega must be > 0, got {omega!r}")
-        if freq < 0.0:
-            raise ValueError(f"drive_frequency must be >= 0 (an angular frequency Omega), got {freq!r}")
+        beta = check_rule("beta", beta)
+        gamma = check_rule("gamma", gamma)
+        omega = check_rule("omega", omega)
+        amp = check_rule("drive_amplitude", drive_amplitude)
+        freq = check_rule("drive_frequency", drive_frequency)
+        phase = check_rule("drive_phase", drive_phase)
+        check_drive(amp, freq)
         self._beta, self._gamma, self._omega = beta, gamma, omega
         self._drive = (amp, freq, phase)
         # Hashed once (the parameters never change): mbm.solve's cache of Integrators

@@ -24,6 +24,7 @@ from . import loop
 from ._validate import (
     DEFAULT_MAX_WINDOWS,
     check_max_windows,
+    check_window_budget,
     check_positive,
     check_tolerances,
     warn_extraneous,
@@ -242,7 +243,9 @@ class MBM(_MBMBase):
         warning, as scipy does.
     max_windows : int, optional
         Windows the whole run may take (default 10⁷); past it the solver fails with
-        a message.
+        a message.  A run that would certainly take more than 100 times as many is
+        refused at construction with a ValueError naming the cause
+        (:func:`mbm._validate.check_window_budget`).
     vectorized : bool, optional
         Accepted for the interface; MBM does not call ``fun`` after probing.
     **extraneous
@@ -315,6 +318,9 @@ class MBM(_MBMBase):
             run_max_step = min(self.max_step, EVENTS_WINDOW_PERIODS * 2 * math.pi / self.model.omega)
             if tau is not None:
                 tau = min(tau, run_max_step)
+        check_window_budget(self.model.beta, self.model.gamma, self.model.omega, self.model.drive_amplitude,
+                            float(t0), float(t_bound), float(self.y[1]), tau, run_max_step,
+                            check_max_windows(max_windows), self.approximant.exact)
         plan = loop.plan_windows(self.approximant, tau, run_max_step, abs(t_bound - t0))
         if plan is None:
             if tol_given:

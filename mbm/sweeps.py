@@ -28,8 +28,11 @@ from . import loop
 from . import status as _status
 from ._validate import (
     DEFAULT_MAX_WINDOWS,
+    check_drive,
     check_max_windows,
     check_positive,
+    check_real_array,
+    check_rule_array,
     check_span,
     check_t_eval,
     check_tolerances,
@@ -111,32 +114,14 @@ status_message = _status.status_message
 
 
 def _check_parameter(name, value):
-    """A parameter as a float scalar or a non-empty finite 1-D float array."""
-    arr = np.asarray(value)
-    if arr.dtype == bool:
-        raise ValueError(f"{name} must be real numbers, got booleans {value!r}")
-    try:
-        arr = arr.astype(float)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a real number or a 1-D array of real numbers, got {value!r}") from None
+    """A parameter as a float scalar or a non-empty finite 1-D float array (the rules of
+    :class:`mbm.Pendulum`, mbm._validate: TypeError for what is not real numbers)."""
+    arr = check_real_array(name, value)
     if arr.ndim > 1:
         raise ValueError(f"{name} must be a scalar or a 1-D array (one dimension of the grid), got shape {arr.shape}")
     if arr.ndim == 1 and arr.size == 0:
         raise ValueError(f"{name} must not be an empty array")
-    flat = arr.reshape(-1)
-    bad = np.flatnonzero(~np.isfinite(flat))
-    rule = None
-    if bad.size:
-        rule = "finite"
-    elif name == "beta" and np.any(flat < 0.0):
-        rule, bad = ">= 0 (damping)", np.flatnonzero(flat < 0.0)
-    elif name == "omega" and np.any(flat <= 0.0):
-        rule, bad = "> 0", np.flatnonzero(flat <= 0.0)
-    elif name == "drive_frequency" and np.any(flat < 0.0):
-        rule, bad = ">= 0 (an angular frequency Omega)", np.flatnonzero(flat < 0.0)
-    if rule is not None:
-        where = f"{name}[{int(bad[0])}]" if arr.ndim else name
-        raise ValueError(f"{name} must be {rule}, got {where} = {float(flat[bad[0]])!r}")
+    check_rule_array(name, arr)
     return float(arr) if arr.ndim == 0 else np.ascontiguousarray(arr)
 
 
@@ -195,7 +180,7 @@ def _check_approximant(approximant, tau, t_span, rtol, atol, max_windows, models
         ap = get_approximant(approximant)
         if drive is not None and np.any(np.atleast_1d(drive[0]) != 0.0):
             amp = np.atleast_1d(drive[0])
-            ap.check_drive(Pendulum(1.0, 0.0, 1.0, float(amp[np.flatnonzero(amp != 0.0)[0]])))
+            ap.check_drive(Pendulum(1.0, 0.0, 1.0, float(amp[np.flatnonzero(amp != 0.0)[0]]), 1.0))
         if type(ap).check_model is not Approximant.check_model:
             for bb in np.unique(np.atleast_1d(models[0])):
                 for gg in np.unique(np.atleast_1d(models[1])):
@@ -459,7 +444,8 @@ def sweep(*, beta, gamma, omega=1.0, theta0=0.0, theta_dot0=0.0, t_span, t_eval=
     beta, gamma, omega, theta0, theta_dot0 : float or array_like, shape (k,)
         The parameters (θ₀ = ``theta0``, θ'₀ = ``theta_dot0``).  Each 1-D array is a
         dimension of the grid, with the values as its coordinate, in this argument
-        order; each scalar is an attribute of the Dataset.  Finite; β ≥ 0; ω > 0.
+        order; each scalar is an attribute of the Dataset.  Real numbers (not strings
+        or booleans), finite; β ≥ 0; ω > 0.
     t_span : (float, float)
         ``(t0, t1)`` with t1 > t0, common to every scene.
     t_eval : array_like, shape (m,), optional
@@ -507,7 +493,8 @@ def sweep(*, beta, gamma, omega=1.0, theta0=0.0, theta_dot0=0.0, t_span, t_eval=
     drive_amplitude, drive_frequency, drive_phase : float or array_like, shape (k,), optional
         The AC drive A sin(Ωt + φ) (:class:`mbm.Pendulum`; Ω ≥ 0), as the parameters
         above (dimensions after theirs, scalars as attributes) where any is not 0;
-        all three 0 (the default): no drive, and neither dimensions nor attributes.
+        all three 0 (the default): no drive, and neither dimensions nor attributes;
+        Ω > 0 wherever A ≠ 0.
         A driven scene's only regime is the phase-locked one (a Shapiro step,
         :mod:`mbm.regimes` S1–S7), where its ``"mean_velocity"`` is (p/q)Ω exactly;
         elsewhere it is the two samples' estimate, not a whole-drive-period average
@@ -533,8 +520,11 @@ def sweep(*, beta, gamma, omega=1.0, theta0=0.0, theta_dot0=0.0, t_span, t_eval=
     ------
     ValueError
         For an invalid argument, naming it (empty, 2-D or non-finite parameter
-        arrays, β < 0, ω ≤ 0, an unknown reduction, a bad span, ``t_eval`` or option),
-        or an approximant outside the domain of some scene's model.
+        arrays, β < 0, ω ≤ 0, a drive A ≠ 0 with Ω ≤ 0, an unknown reduction, a bad
+        span, ``t_eval`` or option), or an approximant outside the domain of some
+        scene's model.
+    TypeError
+        For a parameter or option that is not real numbers (a str, bool, complex).
     KeyboardInterrupt
         Without ``chunks``: Ctrl-C stops the running batch at every scene's next
         window (:func:`mbm.solve_batch`) and the sweep at once, within a second.
@@ -556,6 +546,10 @@ def sweep(*, beta, gamma, omega=1.0, theta0=0.0, theta_dot0=0.0, t_span, t_eval=
             v = _check_parameter(name, value)
             (fixed if isinstance(v, float) else values)[name] = v
         drive = [values.get(k, fixed.get(k)) for k in DRIVE_PARAMETERS]
+        # The grid is an outer product: every amplitude meets every frequency.
+        amp, freq = (np.atleast_1d(d) for d in drive[:2])
+        if np.any(amp != 0.0):
+            check_drive(1.0, freq if freq.size > 1 else freq[0])
     dims = tuple(d for d in PARAMETERS + DRIVE_PARAMETERS if d in values)
     t0, t1 = check_span(t_span)
     if not t1 > t0:
@@ -571,11 +565,8 @@ def sweep(*, beta, gamma, omega=1.0, theta0=0.0, theta_dot0=0.0, t_span, t_eval=
         t_eval = check_t_eval(t_eval, t0, t1)
     elif not t0 < t0 + 0.5 * (t1 - t0) < t1:
         raise ValueError(f"t_span is too short to split in halves, got {t_span!r}")
-    try:
-        rtol, atol = check_tolerances(rtol, atol)  # the floor (and its warning) once, here
-        tau = None if tau is None else check_positive("tau", tau)
-    except TypeError as exc:  # a non-number: a ValueError here, as for every argument
-        raise ValueError(str(exc)) from None
+    rtol, atol = check_tolerances(rtol, atol)  # the floor (and its warning) once, here
+    tau = None if tau is None else check_positive("tau", tau)
     max_windows = check_max_windows(max_windows)
     if progress not in (True, False):
         raise ValueError(f"progress must be True or False, got {progress!r}")

@@ -103,9 +103,17 @@ def test_bad_shape_y0_batch():
         mbm.solve_batch([0.1, 0.2], 0.0, 1.0, np.zeros((3, 2)), (0.0, 1.0), np.array([1.0]))
 
 
-def test_non_numeric_y0_reference():
-    with pytest.raises(ValueError, match=r"y0 must be array_like of 2 real numbers"):
-        mbm.reference(MODEL, (0.0, 1.0), ["a", 0.0])
+@pytest.mark.parametrize("y0", [["a", 0.0], ["0.1", "0"], [0.1, 1j], [True, False], ["0.1", 0.0]])
+def test_non_numeric_y0(y0):
+    # A string, a complex or booleans is not a state: a TypeError naming y0 on every path.
+    with pytest.raises(TypeError, match=r"y0 must be array_like of 2 real numbers"):
+        mbm.reference(MODEL, (0.0, 1.0), y0)
+    with pytest.raises(TypeError, match=r"y0 must be array_like of 2 real numbers"):
+        mbm.solve(MODEL, (0.0, 1.0), y0)
+    with pytest.raises(TypeError, match=r"y0 must be array_like of 2 real numbers"):
+        mbm.Integrator(MODEL).solve((0.0, 1.0), y0)
+    with pytest.raises(TypeError, match=r"y0 must be a real number or an array of real numbers"):
+        mbm.solve_batch(0.1, 0.3, 1.0, y0, (0.0, 1.0), [1.0])
 
 
 # ---------------------------------------------------------------------------
@@ -221,27 +229,34 @@ def test_model_not_a_pendulum_anchor(model):
 # ---------------------------------------------------------------------------
 
 
-@pytest.mark.parametrize("tau", [0.0, -1.0, -1e-300, NAN, INF])
-def test_bad_tau_solve_ivp(tau):
-    with pytest.raises(ValueError, match=r"tau must be a positive finite number"):
+# One wording per check on every entry point: "> 0" for a value not positive,
+# "finite" for nan and inf.
+BAD_TAU = [(0.0, r"tau must be > 0, got 0\.0"), (-1.0, r"tau must be > 0, got -1\.0"),
+           (-1e-300, r"tau must be > 0, got -1e-300"), (NAN, r"tau must be finite, got nan"),
+           (INF, r"tau must be finite, got inf")]
+
+
+@pytest.mark.parametrize("tau, pattern", BAD_TAU)
+def test_bad_tau_solve_ivp(tau, pattern):
+    with pytest.raises(ValueError, match=pattern):
         _ivp(tau=tau, approximant="taylor")
 
 
-@pytest.mark.parametrize("tau", [0.0, -1.0, -1e-300, NAN, INF])
-def test_bad_tau_solve(tau):
-    with pytest.raises(ValueError, match=r"tau must be a positive finite number"):
+@pytest.mark.parametrize("tau, pattern", BAD_TAU)
+def test_bad_tau_solve(tau, pattern):
+    with pytest.raises(ValueError, match=pattern):
         mbm.solve(MODEL, (0.0, 1.0), [0.1, 0.0], tau=tau)
 
 
 @pytest.mark.parametrize("tau", [0.0, -1.0])
 def test_bad_tau_solve_batch(tau):
-    with pytest.raises(ValueError, match=r"tau must be a positive"):
+    with pytest.raises(ValueError, match=r"tau must be > 0"):
         mbm.solve_batch([0.1], [0.0], [1.0], np.array([[0.1, 0.0]]), (0.0, 1.0), np.array([1.0]), tau=tau)
 
 
 @pytest.mark.parametrize("tau", ["x", object()])
 def test_non_numeric_tau_solve_ivp(tau):
-    with pytest.raises(TypeError, match=r"tau must be a positive real number"):
+    with pytest.raises(TypeError, match=r"tau must be a real number"):
         _ivp(tau=tau, approximant="taylor")
 
 
@@ -250,7 +265,7 @@ def test_non_numeric_tau_solve_ivp(tau):
 def test_bad_tolerances_solve_ivp(opt, value):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        with pytest.raises(ValueError, match=rf"{opt} must be a positive"):
+        with pytest.raises(ValueError, match=rf"{opt} must be {'finite' if math.isnan(value) else '> 0'}, got"):
             _ivp(**{opt: value})
 
 
@@ -359,3 +374,146 @@ def test_state_outside_domain_solve():
     assert not res.success
     assert "cannot be anchored" in res.message
 
+
+
+# ---------------------------------------------------------------------------
+# one input policy: real numbers only, one wording per check on every entry point
+# ---------------------------------------------------------------------------
+
+NOT_REAL = ["0.1", b"1", True, np.bool_(False), 1 + 0j, np.complex128(0.5), None, [0.1]]
+
+
+@pytest.mark.parametrize("value", NOT_REAL)
+@pytest.mark.parametrize("name", ["beta", "gamma", "omega", "drive_amplitude", "drive_frequency", "drive_phase"])
+def test_pendulum_refuses_what_is_not_a_real_number(name, value):
+    with pytest.raises(TypeError, match=rf"^{name} must be a real number, got "):
+        mbm.Pendulum(**{name: value})
+
+
+@pytest.mark.parametrize("value", [np.float32(0.25), np.float64(0.25), np.int64(2), 2, np.array(0.25)])
+def test_pendulum_takes_numpy_real_scalars(value):
+    assert mbm.Pendulum(beta=value).beta == float(value)
+
+
+@pytest.mark.parametrize("value", ["0.1", True, 1j])
+def test_options_refuse_what_is_not_a_real_number(value):
+    for opt in ("rtol", "atol", "tau", "max_step"):
+        with pytest.raises(TypeError, match=rf"^{opt} must be a real number, got "):
+            mbm.solve(MODEL, (0.0, 1.0), [0.1, 0.0], **{opt: value})
+    with pytest.raises(TypeError, match=r"t_span must be a pair of real numbers"):
+        mbm.solve(MODEL, (0.0, value), [0.1, 0.0])
+    with pytest.raises(TypeError, match=r"t_eval must be a real number or an array of real numbers"):
+        mbm.solve(MODEL, (0.0, 1.0), [0.1, 0.0], t_eval=[value])
+
+
+@pytest.mark.parametrize("value", ["0.1", [True], [1j], ["0.1", 0.2]])
+def test_solve_batch_refuses_what_is_not_real_numbers(value):
+    for name in ("beta", "gamma", "omega"):
+        args = dict(beta=0.1, gamma=0.3, omega=1.0)
+        args[name] = value
+        with pytest.raises(TypeError, match=rf"^{name} must be a real number or an array of real numbers"):
+            mbm.solve_batch(args["beta"], args["gamma"], args["omega"], [0.1, 0.0], (0.0, 1.0), [1.0])
+
+
+# The same check, worded once: (arguments of Pendulum, the message), and each array entry
+# point names the scene.
+ONE_WORDING = [
+    ("omega", -1.0, "omega must be > 0, got -1.0"),
+    ("omega", 0.0, "omega must be > 0, got 0.0"),
+    ("beta", -0.5, "beta must be >= 0 (damping), got -0.5"),
+    ("gamma", INF, "gamma must be finite, got inf"),
+    ("drive_frequency", -1.0, "drive_frequency must be >= 0 (an angular frequency Omega), got -1.0"),
+]
+
+
+@pytest.mark.parametrize("name, value, message", ONE_WORDING)
+def test_one_wording_per_check(name, value, message):
+    with pytest.raises(ValueError) as e:
+        mbm.Pendulum(**{name: value})
+    assert str(e.value) == message
+    args = dict(beta=0.1, gamma=0.3, omega=1.0)
+    if name in args:
+        args[name] = [0.2, value]
+        with pytest.raises(ValueError) as e:
+            mbm.solve_batch(args["beta"], args["gamma"], args["omega"], [0.1, 0.0], (0.0, 1.0), [1.0])
+        prefix, got = message.split(", got ")
+        assert str(e.value) == f"{prefix}, got {name}[1] = {got}"
+
+
+def test_a_drive_needs_a_positive_frequency():
+    message = "drive_frequency must be > 0 with a drive (drive_amplitude != 0), got 0.0"
+    with pytest.raises(ValueError) as e:
+        mbm.Pendulum(beta=0.5, drive_amplitude=1.0, drive_frequency=0.0)
+    assert str(e.value) == message
+    with pytest.raises(ValueError) as e:
+        mbm.iv_curve(0.5, [0.1], drive_amplitude=1.0, drive_frequency=0.0)
+    assert str(e.value) == message
+    with pytest.raises(ValueError) as e:
+        mbm.solve_batch(0.5, 0.1, 1.0, [0.0, 0.0], (0.0, 1.0), [1.0], drive_amplitude=[0.0, 1.0],
+                        drive_frequency=0.0)
+    assert str(e.value) == "drive_frequency must be > 0 with a drive (drive_amplitude != 0), got drive_frequency[1] = 0.0"
+    # no drive: the frequency is free (A = 0 is the autonomous equation)
+    assert not mbm.Pendulum(beta=0.5, drive_amplitude=0.0, drive_frequency=0.0).driven
+
+
+@pytest.mark.parametrize("kw, exc, message", [
+    (dict(beta="0.1"), TypeError, "beta must be a real number, got '0.1'"),
+    (dict(omega=-1.0), ValueError, "omega must be > 0, got -1.0"),
+    (dict(gamma=["0.1"]), TypeError, "gamma must be a real number or an array of real numbers, got ['0.1']"),
+    (dict(gamma=[0.1, math.nan]), ValueError, "gamma must be finite, got gamma[1] = nan"),
+    (dict(beta=0.0), ValueError, "beta must be > 0, got 0.0"),
+])
+def test_iv_curve_same_wording(kw, exc, message):
+    args = dict(beta=0.5, gamma=[0.1])
+    args.update(kw)
+    with pytest.raises(exc) as e:
+        mbm.iv_curve(args.pop("beta"), args.pop("gamma"), **args)
+    assert str(e.value) == message
+
+
+# ---------------------------------------------------------------------------
+# a run far past max_windows is refused before it runs, naming the cause
+# ---------------------------------------------------------------------------
+
+HUGE = mbm.Pendulum(beta=0.1, gamma=1e12)
+
+
+def test_huge_torque_refused_before_running():
+    pattern = r"^gamma=1000000000000\.0 .*would take more than .* windows, .* times max_windows=10000000"
+    with pytest.raises(ValueError, match=pattern):
+        mbm.solve(HUGE, (0.0, 10.0), [0.0, 0.0])
+    with pytest.raises(ValueError, match=pattern):
+        mbm.Integrator(HUGE).solve((0.0, 10.0), [0.0, 0.0])
+    with pytest.raises(ValueError, match=pattern):
+        solve_ivp(HUGE, (0.0, 10.0), [0.0, 0.0], method=mbm.MBM)
+    with pytest.raises(ValueError, match=r"^scene 1: gamma=1000000000000\.0 "):
+        mbm.solve_batch([0.1, 0.1], [0.3, 1e12], 1.0, [0.0, 0.0], (0.0, 10.0), [10.0])
+    with pytest.raises(ValueError, match=r"gamma=1000000000000\.0 "):
+        mbm.sweep(beta=0.1, gamma=[0.3, 1e12], t_span=(0.0, 10.0), reduce="final_state")
+
+
+def test_tiny_fixed_window_refused_naming_tau():
+    with pytest.raises(ValueError, match=r"^tau=1e-09 over t_span \(0\.0, 1000\.0\) .* would take more than"):
+        mbm.solve(mbm.Pendulum(0.1, 3.0), (0.0, 1000.0), [0.0, 0.0], tau=1e-9, approximant="taylor")
+
+
+@pytest.mark.parametrize("params, span, kw", [
+    ((0.1, 1e6), 10.0, {}),          # 2.9e6 windows: runs (a runaway, but within max_windows)
+    ((1.0, 1e4), 1000.0, {}),        # 1.3e6 windows
+    ((0.0, 1e8), 100.0, {}),         # would stop at max_windows (2500 times over): not predicted, runs
+    ((0.1, 0.3), 1e3, dict(tau=1e-9)),  # locked: the regime takes over, not predicted
+    ((0.1, 1e12), 10.0, dict(max_windows=10**12)),  # the margin is over max_windows
+    ((0.1, 1e12), (10.0, 0.0), {}),  # backward runs are not predicted
+    ((0.5, 1e12, 1.0, 1.0, 1.0), 10.0, {}),  # nor driven ones
+])
+def test_budget_does_not_refuse_what_it_cannot_bound(params, span, kw):
+    from mbm._validate import DEFAULT_MAX_WINDOWS, check_window_budget
+    m = mbm.Pendulum(*params)
+    t0, t1 = (0.0, span) if np.ndim(span) == 0 else span
+    check_window_budget(m.beta, m.gamma, m.omega, m.drive_amplitude, t0, t1, 0.0, kw.get("tau"), math.inf,
+                        kw.get("max_windows", DEFAULT_MAX_WINDOWS))
+
+
+def test_budget_allows_an_ordinary_runaway():
+    r = mbm.solve(mbm.Pendulum(0.0, 1e4), (0.0, 10.0), [0.0, 0.0], t_eval=[10.0])
+    assert r.success and r.n_windows > 10**4

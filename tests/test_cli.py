@@ -238,3 +238,15 @@ def test_solve_reports_phase_slips_and_mean_velocity(tmp_path, capsys):
     assert main(["solve", "--beta", "0.1", "--gamma", "0.3", "--t-end", "100", "--out",
                  str(tmp_path / "lock.csv")]) == 0
     assert "phase slips (net 2*pi turns): 0\n" in capsys.readouterr().err
+
+
+def test_cli_wording_is_the_library_wording(capsys):
+    # argparse names the option; the rule is worded as every entry point words it.
+    from mbm.__main__ import main
+
+    for argv, words in ((["solve", "--omega", "-1"], "must be > 0, got '-1'"),
+                        (["solve", "--beta", "x"], "must be a real number, got 'x'"),
+                        (["iv", "--beta", "1", "--drive-amplitude", "nan"], "must be finite, got 'nan'")):
+        with pytest.raises(SystemExit):
+            main(argv)
+        assert words in capsys.readouterr().err

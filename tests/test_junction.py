@@ -158,7 +158,7 @@ def test_results_csv_and_plot(curves, tmp_path):
         (dict(current_tol=0.0), "current_tol"),
         (dict(theta0=math.inf), "theta0"),
         (dict(drive_amplitude=1.0), "drive_frequency must be > 0 with a drive"),
-        (dict(drive_amplitude=1.0, drive_frequency=-1.0), "drive_frequency must be > 0 with a drive"),
+        (dict(drive_amplitude=1.0, drive_frequency=-1.0), "drive_frequency must be >= 0"),
         (dict(drive_amplitude=math.nan, drive_frequency=1.0), "drive_amplitude must be finite"),
         (dict(drive_amplitude=1.0, drive_frequency=1.0, drive_phase=math.inf), "drive_phase must be finite"),
     ],
@@ -218,7 +218,13 @@ _DRIVEN = {}
 @pytest.mark.parametrize("beta,amp,freq,n,gammas", SHAPIRO_STEPS)
 def test_shapiro_step_plateau(beta, amp, freq, n, gammas):
     c = junction.iv_curve(beta, gammas, drive_amplitude=amp, drive_frequency=freq)
-    assert np.all(c.regime == "running") and np.all(np.isnan(c.period))
+    # labelled as mbm.solve labels them, with the locked orbit's period q·2π/Ω (q = 1)
+    assert np.all(c.regime == "phase-locked")
+    np.testing.assert_allclose(c.period, 2 * np.pi / freq, rtol=1e-12)
+    mid = float(gammas[len(gammas) // 2])
+    r = mbm.solve(mbm.Pendulum(beta, mid, 1.0, amp, freq), (0.0, 2000.0), [0.0, 0.0], t_eval=[2000.0],
+                  rtol=junction.RUN_RTOL, atol=junction.RUN_ATOL)
+    assert r.regime == "phase-locked" and r.period == pytest.approx(2 * np.pi / freq, rel=1e-12)
     assert np.max(np.abs(c.mean_velocity - n * freq)) <= STEP_TOL, c.mean_velocity - n * freq
     assert (c.drive_amplitude, c.drive_frequency, c.drive_phase) == (amp, freq, 0.0)
 
@@ -260,3 +266,40 @@ def test_driven_zero_step_is_locked_and_switches():
     above = junction.driven_mean_velocity(mbm.Pendulum(2.0, c.switching_current + 2 * c.current_tol, 1.0, 1.0, 1.0),
                                           [0.0, 0.0])
     assert below[0] == "locked" and above[0] == "running"
+
+
+@pytest.mark.parametrize("beta, omega", [(0.5, 1.0), (0.5, 1.5)])
+def test_currents_carry_their_brackets(beta, omega, tmp_path):
+    # The switching current is never beyond ω² (no zero-voltage state there): at β = 0.5
+    # a bisection midpoint above it, 1.0000390625, was once reported.
+    w2 = omega**2
+    up = np.linspace(0.0, 1.5 * w2, 7)
+    c = junction.iv_curve(beta, np.r_[up, up[::-1]], omega=omega)
+    for value, (lo, hi) in ((c.switching_current, c.switching_bracket),
+                            (c.retrapping_current, c.retrapping_bracket)):
+        assert lo <= value <= hi
+        assert 0.0 <= hi - lo <= c.current_tol
+    assert c.switching_bracket[1] <= w2 and c.switching_current <= w2
+    assert w2 - c.switching_current <= c.current_tol
+    # the bracket is what bisection found: locked at its low end, running at its high end
+    lo, hi = c.retrapping_bracket
+    assert junction.mean_velocity(mbm.Pendulum(beta, lo, omega), [0.0, 0.0])[0] == junction.LOCKED
+    path = tmp_path / "iv.csv"
+    c.to_csv(path)
+    assert f"switching_bracket={tuple(map(float, c.switching_bracket))!r}" in path.read_text().splitlines()[0]
+
+
+def test_no_transition_no_bracket():
+    c = junction.iv_curve(0.5, [0.1, 0.2])
+    assert math.isnan(c.switching_current) and all(math.isnan(x) for x in c.switching_bracket)
+    assert math.isnan(c.retrapping_current) and all(math.isnan(x) for x in c.retrapping_bracket)
+
+
+def test_repeating_increments_are_a_step():
+    # A converged block on a step whose run did not reach the phase-locked regime is
+    # labelled by its increments: period q with 2πp per q drive periods.
+    d = np.tile([2.0, 2 * np.pi - 2.0], 60)
+    assert junction._repeating(d) == (1, 2)
+    assert junction._repeating(np.full(120, 2 * np.pi)) == (1, 1)
+    quasi = 2 * np.pi * 0.61803398875 + 0.3 * np.sin(2 * np.pi * 0.61803398875 * np.arange(120))
+    assert junction._repeating(quasi) is None

@@ -131,22 +131,26 @@ def test_lane_eligibility():
     def eligible(p):
         return [loop.lane_eligible(p[i]) for i in range(p.size)]
 
-    assert eligible(p) == [True, False, False, False]
+    assert eligible(p) == [True, False, False, False] == list(loop.eligible_rows(p))
 
 
 def test_batch_compiles_only_the_kinds_and_sets_its_scenes_reach():
-    # an undriven damped auto batch: Taylor in RS_DAMPED (and RS_CYCLE it may reach),
-    # the exact flow for β = γ = 0 in RS_PLAIN; nothing driven, conservative or split
+    # an undriven damped auto batch: Taylor in RS_DAMPED (and RS_CYCLE it may reach) by
+    # the lanes, the exact flow for β = γ = 0 in RS_PLAIN by the loop; nothing driven,
+    # conservative or split is compiled for it
     b = mbm.solve_batch([0.1, 0.0], [0.3, 0.0], 1.0, [0.5, 0.0], (0.0, 5.0), [5.0])
     assert list(b.status) == [0, 0]
     p = np.zeros(2, dtype=loop.RUN)
     f = loop.flat(p)
     f["kind"] = [loop.KIND_TAYLOR, loop.KIND_EXACT]
+    f["karg"] = [SIMD_ORDER, 0]
     f["controller"] = [loop.CONTROLLER_ADAPTIVE, loop.CONTROLLER_FIXED]
-    f["beta"], f["regimes"] = [0.1, 0.0], 1
+    f["beta"], f["regimes"], f["max_dtheta"] = [0.1, 0.0], 1, np.inf
     taylor, exact, salas, split = 1, 1, 0, 0
     plain, damped, conservative, driven, cycle, strobe = 1, 1, 0, 0, 1, 0
     assert loop.batch_flags(p) == (taylor, exact, salas, split, plain, damped, conservative, driven, cycle, strobe)
-    assert loop.batch_flags(p) in loop.LANES_ENTRIES
+    assert list(loop.eligible_rows(p)) == [True, False]
+    # the loop's entry for the exact row: that kind and set only
+    assert loop.batch_flags(p[1:]) == (0, 1, 0, 0, 1, 0, 0, 0, 0, 0) and loop.batch_flags(p[1:]) in loop.ROWS_ENTRIES
     f["drive_amp"][0] = 0.5  # driven: its strobe set too, the damped one no longer
     assert loop.batch_flags(p)[4:] == (1, 0, 0, 1, 0, 1)

@@ -7,6 +7,7 @@ worker processes), also when a worker is killed mid-compute.
 
 import math
 import os
+import re
 import signal
 import threading
 import time
@@ -200,8 +201,6 @@ def test_failed_scene_time_series_keeps_what_it_reached():
         (dict(omega=0.0), "omega must be > 0"),
         (dict(omega=[1.0, -1.0]), "omega must be > 0"),
         (dict(theta0=np.inf), "theta0 must be finite"),
-        (dict(theta_dot0="fast"), "theta_dot0 must be a real number"),
-        (dict(theta0=[True, False]), "theta0 must be real numbers"),
         (dict(reduce="nope"), "reduce must name"),
         (dict(reduce=[]), "reduce must name at least one"),
         (dict(reduce=["mean_velocity", 3]), "reduce must name"),
@@ -214,9 +213,10 @@ def test_failed_scene_time_series_keeps_what_it_reached():
         (dict(t_span=(10.0, 0.0)), "t_span must be increasing"),
         (dict(t_span=(0.0, np.nan)), "t_span must be finite"),
         (dict(t_span=(0.0,)), "t_span must be a pair"),
-        (dict(rtol=-1.0), "rtol must be a positive"),
-        (dict(atol="x"), "atol must be a positive"),
-        (dict(tau=0.0), "tau must be a positive"),
+        (dict(rtol=-1.0), r"rtol must be > 0, got -1\.0"),
+        (dict(tau=0.0), r"tau must be > 0, got 0\.0"),
+        (dict(drive_amplitude=[0.0, 1.0], drive_frequency=0.0),
+         r"drive_frequency must be > 0 with a drive \(drive_amplitude != 0\), got 0\.0"),
         (dict(max_windows=0), "max_windows must be an integer"),
         (dict(approximant="nope"), "approximant must be one of"),
         (dict(approximant="johannessen"), "no compiled kernel"),
@@ -232,6 +232,23 @@ def test_bad_input_names_the_argument(change, match):
     kw = dict(beta=[0.1, 0.2], gamma=0.3, t_span=(0.0, 10.0), reduce="mean_velocity")
     kw.update(change)
     with pytest.raises(ValueError, match=match):
+        sweep(**kw)
+
+
+@pytest.mark.parametrize(
+    "change, match",
+    [
+        (dict(theta_dot0="fast"), "theta_dot0 must be a real number or an array of real numbers, got 'fast'"),
+        (dict(beta="0.1"), "beta must be a real number or an array of real numbers, got '0.1'"),
+        (dict(gamma=1j), "gamma must be a real number or an array of real numbers"),
+        (dict(theta0=[True, False]), "theta0 must be a real number or an array of real numbers"),
+        (dict(atol="x"), "atol must be a real number, got 'x'"),
+    ],
+)
+def test_what_is_not_a_real_number_is_a_type_error(change, match):
+    kw = dict(beta=[0.1, 0.2], gamma=0.3, t_span=(0.0, 10.0), reduce="mean_velocity")
+    kw.update(change)
+    with pytest.raises(TypeError, match=re.escape(match)):
         sweep(**kw)
 
 
@@ -405,10 +422,11 @@ def test_distributed_identical_and_kernels_loaded_from_cache(cluster, reference)
     ds = sweep(**SWEEP, chunks={"beta": 1, "gamma": 4})
     out = ds.compute()  # the Client is the default scheduler
     _assert_identical_bits(out, reference)
-    # Each worker loaded the batch's lanes from numba's cache: hits, no compilation.
+    # Each worker loaded the batch's kernels from numba's cache: hits, no compilation.
     # (Lambdas: cloudpickle ships them by value; a function of this module would be
     # looked up by name on the worker, which cannot import the tests.)
-    stats = cluster.run(lambda: [e.stats for e in __import__("mbm.loop").loop.LANES_ENTRIES.values()])
+    stats = cluster.run(lambda: [e.stats for e in (__import__("mbm.loop").loop._run_lanes,
+                                                    *__import__("mbm.loop").loop.ROWS_ENTRIES.values())])
     assert len(stats) == 2
     assert sum(sum(s.cache_hits.values()) for ss in stats.values() for s in ss) >= 1
     assert all(sum(s.cache_misses.values()) == 0 for ss in stats.values() for s in ss)

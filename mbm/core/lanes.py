@@ -39,7 +39,7 @@ from .window import (
 )
 from ..regimes.common import REGIME_NONE
 from ..regimes.cycle_windows import _TWO_PI, _watch_cycle
-from ..status import STATUS_OK
+from ..status import STATUS_ANCHOR, STATUS_OK
 
 # Small per-window pieces are inlined into their callers, where the kind is a constant
 # (numba prunes the other kinds' branches before compiling); large ones are compiled
@@ -208,8 +208,8 @@ def _lane_window(p, ln, coef, h, th, v, t_eval, out, wrapped, win_t, win_y, win_
         _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel)
 
 
-@numba.njit(**_INLINE)
-def _lanes(k0, k1, k2, k3, s0, s1, s2, s3, s4, s5, p, ids, t_eval, out, cancel):
+@numba.njit(cache=True, nogil=True)
+def _run_lanes(p, ids, t_eval, out, cancel):
     """Run the scenes ``ids`` of ``p`` (output rows ``out[ids]``), LANES at a time in lockstep.
 
     Each lockstep round takes one window of every lane: the loop's window for an
@@ -219,9 +219,10 @@ def _lanes(k0, k1, k2, k3, s0, s1, s2, s3, s4, s5, p, ids, t_eval, out, cancel):
     coefficients the bits of the one-scene kernel) and the first tries' ends in one
     lane-wise Horner.  A lane whose next window is anything else hands its state to the
     loop as a paused run's, which finishes the scene, and the lane takes the next scene.
-    So every scene's windows, outputs and record are those of the loop alone.  Scenes
-    that are not :func:`lane_eligible` run by :func:`mbm.core.loop._run_any_of` (the
-    kinds and sets flagged).
+    So every scene's windows, outputs and record are those of the loop alone.  Only
+    scenes that are :func:`lane_eligible` are run (run_batch sends the others to
+    :func:`_rows_for`'s entry); another is STATUS_ANCHOR.  Compiled once: it takes the
+    loop's entries of Taylor's RS_DAMPED and RS_CYCLE only.
     """
     win_t, win_y, win_coef = np.empty(0), np.empty((0, 2)), np.empty((0, 0))
     lanes = np.zeros(LANES, dtype=LANE)
@@ -248,8 +249,8 @@ def _lanes(k0, k1, k2, k3, s0, s1, s2, s3, s4, s5, p, ids, t_eval, out, cancel):
                 if lane_eligible(p[i]):
                     _lane_start(p[i], i, ln, coefs, q)
                 else:
-                    _run_any_of(k0, k1, k2, k3, s0, s1, s2, s3, s4, s5, p[i:i + 1], t_eval, out[i], win_t, win_y,
-                                win_coef, cancel)
+                    # (run_batch sends the lanes only scenes that are lane_eligible)
+                    p[i].progress.status = STATUS_ANCHOR
             ln.ready = 1 if ln.scene >= 0 and _lane_before(p, ln, q, ins, t_eval, out, win_t, win_y, win_coef,
                                                            cancel) else 0
             live += ln.ready
@@ -271,42 +272,48 @@ def _lanes(k0, k1, k2, k3, s0, s1, s2, s3, s4, s5, p, ids, t_eval, out, cancel):
     return 0
 
 
-def _lanes_for(flags):
-    """The compiled lanes of a batch whose scenes' kinds and regime sets are ``flags``
-    (:func:`batch_flags`): constants of the closure, so only those kinds' and sets'
-    entries are compiled (and each closure is cached apart); the lockstep lanes only
-    where undriven damped Taylor scenes may be."""
+def _rows_for(flags):
+    """The compiled run of the scenes that do not take the lanes, for a batch whose
+    scenes' kinds and regime sets are ``flags`` (:func:`batch_flags`): constants of the
+    closure, so only those kinds' and sets' entries are compiled (each closure cached
+    apart)."""
     k0, k1, k2, k3, s0, s1, s2, s3, s4, s5 = flags
 
     @numba.njit(cache=True, nogil=True)
-    def run_lanes(p, ids, t_eval, out, cancel):
-        """Run the scenes ``ids`` of ``p`` (output rows ``out[ids]``): :func:`_lanes`."""
-        if k0 == 1:
-            if s1 == 1:
-                return _lanes(k0, k1, k2, k3, s0, s1, s2, s3, s4, s5, p, ids, t_eval, out, cancel)
+    def run_rows(p, ids, t_eval, out, cancel):
+        """Run the scenes ``ids`` of ``p`` (output rows ``out[ids]``) one by one by the loop."""
         win_t, win_y, win_coef = np.empty(0), np.empty((0, 2)), np.empty((0, 0))
         for i in ids:
             _run_any_of(k0, k1, k2, k3, s0, s1, s2, s3, s4, s5, p[i:i + 1], t_eval, out[i], win_t, win_y,
                         win_coef, cancel)
         return 0
 
-    return run_lanes
+    return run_rows
 
 
 #: Every kind and regime set flagged: a batch of any records.
 ALL_FLAGS = (1,) * 10
 
 
-#: The compiled lanes of each flags met so far (:func:`_lanes_for`).
-LANES_ENTRIES = {}
+#: The compiled runs of the scenes outside the lanes, per flags met so far (:func:`_rows_for`).
+ROWS_ENTRIES = {}
 
 
-def lanes_entry(flags):
-    """The compiled lanes for ``flags`` (made at its first use)."""
-    entry = LANES_ENTRIES.get(flags)
+def rows_entry(flags):
+    """The compiled run of scenes outside the lanes for ``flags`` (made at its first use)."""
+    entry = ROWS_ENTRIES.get(flags)
     if entry is None:
-        entry = LANES_ENTRIES[flags] = _lanes_for(flags)
+        entry = ROWS_ENTRIES[flags] = _rows_for(flags)
     return entry
+
+
+def eligible_rows(p):
+    """:func:`lane_eligible` of every record of ``p``, as a boolean array (numpy)."""
+    c, g, w, m = p["control"], p["progress"], p["switch"], p["model"]
+    return ((c["kind"] == KIND_TAYLOR) & (c["karg"] == SIMD_ORDER) & (c["controller"] == CONTROLLER_ADAPTIVE)
+            & (m["drive_amp"] == 0.0) & (m["beta"] > 0.0) & (w["regimes"] != 0) & (g["call_windows"] == 0)
+            & (c["max_dtheta"] == math.inf) & (g["n_windows"] == 0) & (w["regime"] == REGIME_NONE)
+            & (g["status"] == STATUS_OK))
 
 
 def batch_flags(p):
@@ -330,21 +337,27 @@ def run_batch(p, t_eval, out, order, cancel, flags=None):
     """:func:`mbm.loop.run` for every row of ``p``, in the order ``order``, on
     ``numba.get_num_threads()`` threads.
 
-    ``order`` is cut into groups of LANE_GROUP scenes; each thread takes the next group
-    and runs it by the compiled lanes of the batch's ``flags`` (default
-    :func:`batch_flags` of ``p``; LANES scenes in lockstep, every scene's result that of
-    the loop alone).  The lanes run without the GIL, so a caller may run this in a
+    The scenes that are :func:`lane_eligible` run in groups of LANE_GROUP by the lanes
+    (:func:`_run_lanes`, LANES scenes in lockstep, every scene's result that of the loop
+    alone), the others in groups by the loop (:func:`_rows_for` of their kinds and
+    regime sets, ``flags``, default :func:`batch_flags` of those rows); each thread
+    takes the next group.  Both run without the GIL, so a caller may run this in a
     thread and set ``cancel[0]`` to stop every scene at its next window.  ``out`` has
     shape (N, 2, m), or (N, 3, m) for θ wrapped with its winding count.
     """
-    entry = lanes_entry(batch_flags(p) if flags is None else tuple(flags))
-    groups = [order[g:g + LANE_GROUP] for g in range(0, order.size, LANE_GROUP)]
-    n_threads = min(numba.get_num_threads(), len(groups))
+    order = np.asarray(order, dtype=np.int64)
+    lanes = eligible_rows(p)[order]
+    others = order[~lanes]
+    tasks = [(_run_lanes, ids) for ids in _groups(order[lanes])]
+    if others.size:
+        entry = rows_entry(batch_flags(p[others]) if flags is None else tuple(flags))
+        tasks += [(entry, ids) for ids in _groups(others)]
+    n_threads = min(numba.get_num_threads(), len(tasks))
     if n_threads <= 1:
-        for ids in groups:
+        for entry, ids in tasks:
             entry(p, ids, t_eval, out, cancel)
         return
-    todo = iter(groups)
+    todo = iter(tasks)
     lock = threading.Lock()
     failure = []
 
@@ -352,18 +365,23 @@ def run_batch(p, t_eval, out, order, cancel, flags=None):
         try:
             while True:
                 with lock:
-                    ids = next(todo, None)
-                if ids is None:
+                    task = next(todo, None)
+                if task is None:
                     return
-                entry(p, ids, t_eval, out, cancel)
+                task[0](p, task[1], t_eval, out, cancel)
         except BaseException as exc:  # pragma: no cover - re-raised below
             failure.append(exc)
             cancel[0] = 1
 
-    threads = [threading.Thread(target=work, name=f"mbm-lanes-{i}", daemon=True) for i in range(n_threads)]
+    threads = [threading.Thread(target=work, name=f"mbm-batch-{i}", daemon=True) for i in range(n_threads)]
     for th in threads:
         th.start()
     for th in threads:
         th.join()
     if failure:
         raise failure[0]
+
+
+def _groups(ids):
+    # Contiguous groups of LANE_GROUP scenes.
+    return [ids[g:g + LANE_GROUP] for g in range(0, ids.size, LANE_GROUP)]

@@ -120,6 +120,44 @@ def _turning_point(w2, gamma, d, h0, edge):
 
 
 @numba.njit(cache=True)
+def _period_quadrature(w2h, w2l, cdh, cdl, eh, el, gamma, hh, hl, mh, ml, rh, rl):
+    """(C2): the period as the midpoint rule over ψ of x = m + r sin ψ, M doubled until two
+    successive sums agree: ``(t_hi, t_lo, their change)``, nan where the energy H' − U
+    is not positive at a node or no M ≤ LIBRATION_NODES_MAX converged.  The potential's
+    constants, H' and the turning points' midpoint m and half-width r in double-double
+    (:func:`libration_period`)."""
+    nan = math.nan
+    prev_h, prev_l = nan, 0.0
+    m_nodes = LIBRATION_NODES_MIN
+    while m_nodes <= LIBRATION_NODES_MAX:
+        sh_, sl_ = 0.0, 0.0
+        for j in range(m_nodes):
+            # ψ_j = −π/2 + (j + ½)π/M ((j + ½)/M is exact: M is a power of 2).
+            qh, ql = dd_mul_d(PI_HI, PI_LO, (j + 0.5) / m_nodes)
+            qh, ql = dd_add(qh, ql, -PIO2_HI, -PIO2_LO)
+            snh, snl, csh, csl = dd_sincos(qh, ql)
+            xh_, xl_ = dd_mul(rh, rl, snh, snl)
+            xh_, xl_ = dd_add(mh, ml, xh_, xl_)
+            uh, ul2 = _dd_potential(w2h, w2l, cdh, cdl, eh, el, gamma, xh_, xl_)
+            fh, fl = dd_add(hh, hl, -uh, -ul2)
+            if not (fh > 0.0):
+                return nan, nan, nan
+            qh, ql = dd_sqrt(2.0 * fh, 2.0 * fl)
+            gh, gl = dd_mul(rh, rl, csh, csl)
+            gh, gl = dd_div(gh, gl, qh, ql)
+            sh_, sl_ = dd_add(sh_, sl_, gh, gl)
+        # T_M = (2π/M) Σ g.
+        th, tl = dd_mul_d(TWO_PI_HI, TWO_PI_LO, 1.0 / m_nodes)
+        th, tl = dd_mul(th, tl, sh_, sl_)
+        diff = abs((th - prev_h) + (tl - prev_l))
+        if diff <= LIBRATION_QUAD_RTOL * th:
+            return th, tl, diff
+        prev_h, prev_l = th, tl
+        m_nodes *= 2
+    return nan, nan, nan
+
+
+@numba.njit(cache=True)
 def libration_period(gamma, omega, theta, v):
     """The period of the conservative libration through (θ, θ') (items C1, C2).
 
@@ -195,35 +233,10 @@ def libration_period(gamma, omega, theta, v):
     rh, rl = 0.5 * rh, 0.5 * rl
     if not (rh >= LIBRATION_MIN_AMPLITUDE):
         return nan, nan, nan, nan, nan
-    # (C2): the midpoint rule, M doubled until two successive sums agree.
-    prev_h, prev_l = nan, 0.0
-    m_nodes = LIBRATION_NODES_MIN
-    while m_nodes <= LIBRATION_NODES_MAX:
-        sh_, sl_ = 0.0, 0.0
-        for j in range(m_nodes):
-            # ψ_j = −π/2 + (j + ½)π/M ((j + ½)/M is exact: M is a power of 2).
-            qh, ql = dd_mul_d(PI_HI, PI_LO, (j + 0.5) / m_nodes)
-            qh, ql = dd_add(qh, ql, -PIO2_HI, -PIO2_LO)
-            snh, snl, csh, csl = dd_sincos(qh, ql)
-            xh_, xl_ = dd_mul(rh, rl, snh, snl)
-            xh_, xl_ = dd_add(mh, ml, xh_, xl_)
-            uh, ul2 = _dd_potential(w2h, w2l, cdh, cdl, eh, el, gamma, xh_, xl_)
-            fh, fl = dd_add(hh, hl, -uh, -ul2)
-            if not (fh > 0.0):
-                return nan, nan, nan, nan, nan
-            qh, ql = dd_sqrt(2.0 * fh, 2.0 * fl)
-            gh, gl = dd_mul(rh, rl, csh, csl)
-            gh, gl = dd_div(gh, gl, qh, ql)
-            sh_, sl_ = dd_add(sh_, sl_, gh, gl)
-        # T_M = (2π/M) Σ g.
-        th, tl = dd_mul_d(TWO_PI_HI, TWO_PI_LO, 1.0 / m_nodes)
-        th, tl = dd_mul(th, tl, sh_, sl_)
-        diff = abs((th - prev_h) + (tl - prev_l))
-        if diff <= LIBRATION_QUAD_RTOL * th:
-            return th, tl, diff + LIBRATION_DD_FLOOR * th, math.sqrt(2.0 * hh), 2.0 * rh
-        prev_h, prev_l = th, tl
-        m_nodes *= 2
-    return nan, nan, nan, nan, nan
+    th, tl, diff = _period_quadrature(w2h, w2l, cdh, cdl, eh, el, gamma, hh, hl, mh, ml, rh, rl)
+    if th != th:
+        return nan, nan, nan, nan, nan
+    return th, tl, diff + LIBRATION_DD_FLOOR * th, math.sqrt(2.0 * hh), 2.0 * rh
 
 
 @numba.njit(cache=True)
