@@ -491,7 +491,7 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
     max_windows : int, optional
         Windows the run may take (default 10⁷, seconds of compute); past it the run
         stops with status 4 and the outputs it reached.  A run that would certainly
-        take more than 100 times as many (a runaway torque |γ| ≫ ω² over the span, or a
+        take more than 100 times as many (a runaway torque abs(γ) ≫ ω² over the span, or a
         tiny ``tau``: :func:`mbm._validate.check_window_budget`) is refused before it
         runs, with a ValueError naming the cause.
     wrap : bool, optional

@@ -159,18 +159,18 @@ class IVCurve:
     retrapping_current : float
         The first running → locked transition located by bisection (NaN if none): the
         midpoint of ``retrapping_bracket``.
-    switching_bracket, retrapping_bracket : tuple of float
-        ``(lo, hi)``, lo ≤ current ≤ hi, hi − lo ≤ ``current_tol``: the bias points
-        bisection found on either side of the transition ((nan, nan) if none).  The
-        switching bracket lies within [−ω², ω²]: a zero-voltage state needs
-        |γ| = ω²|⟨sin θ⟩| ≤ ω² (with or without a drive, whose mean is 0), so the
-        switching current never exceeds ω².
     beta, omega, current_tol : float
         The junction and the bisection tolerance.
     drive_amplitude, drive_frequency, drive_phase : float
         The AC drive A sin(Ωt + φ) added to each bias point (A = 0: none).  With a
         drive, ``mean_velocity`` is measured over whole drive periods (module
         docstring).
+    switching_bracket, retrapping_bracket : tuple of float
+        ``(lo, hi)``, lo ≤ current ≤ hi, hi − lo ≤ ``current_tol``: the bias points
+        bisection found on either side of the transition ((nan, nan) if none).  The
+        switching bracket lies within [−ω², ω²]: a zero-voltage state needs
+        abs(γ) = ω² abs(⟨sin θ⟩) ≤ ω² (with or without a drive, whose mean is 0), so the
+        switching current never exceeds ω².
     """
 
     gamma: np.ndarray

@@ -431,9 +431,12 @@ def test_period_validation():
         period(Pendulum(gamma=0.1), [0.1, 0.0])
     with pytest.raises(TypeError, match="Pendulum"):
         period(lambda t, y: y, [0.1, 0.0])
-    for bad in ([0.1], [0.1, 0.2, 0.3], [[0.1, 0.0]], [np.nan, 0.0], [0.0, np.inf], ["a", "b"]):
+    for bad in ([0.1], [0.1, 0.2, 0.3], [[0.1, 0.0]], [np.nan, 0.0], [0.0, np.inf]):
         with pytest.raises(ValueError, match="y0"):
             period(Pendulum(), bad)
+    # what is not a real number is a TypeError (mbm._validate's one policy)
+    with pytest.raises(TypeError, match="y0 must be array_like of 2 real numbers"):
+        period(Pendulum(), ["a", "b"])
 
 
 # --------------------------------------------------------------------------- approximants

@@ -368,7 +368,9 @@ def test_strobe_split_at_period_boundaries():
 def test_iv_curve_is_exact_on_the_step():
     beta, _, omega, amp, freq, _ = STEP
     c = mbm.iv_curve(beta, [0.2, 0.3, 0.1], omega=omega, drive_amplitude=amp, drive_frequency=freq)
-    assert list(c.mean_velocity) == [freq, freq, freq] and list(c.regime) == ["running"] * 3
+    # on the step: labelled as mbm.solve labels it, with the locked orbit's period 2π/Ω
+    assert list(c.mean_velocity) == [freq, freq, freq] and list(c.regime) == ["phase-locked"] * 3
+    np.testing.assert_array_equal(c.period, np.full(3, 2 * np.pi / freq))
     # Off the steps (chaotic), the Birkhoff average: not a multiple of Ω.
     off = mbm.iv_curve(beta, [0.2], omega=omega, drive_amplitude=1.0, drive_frequency=freq)
     assert 0.1 < off.mean_velocity[0] < 0.9 and off.regime[0] == "running"

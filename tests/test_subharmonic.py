@@ -238,7 +238,9 @@ def test_iv_curve_is_exact_on_fractional_steps():
     for (params, q, p) in (HALF_OVERDAMPED, PERIOD_FOUR, TWO_THIRDS, ((0.5, 0.16, 1.0, 1.0, 0.7, 0.0), 2, 1)):
         beta, gamma, omega, amp, freq, _ = params
         c = mbm.iv_curve(beta, [gamma], omega=omega, drive_amplitude=amp, drive_frequency=freq)
-        assert c.mean_velocity[0] == p * freq / q and c.regime[0] == "running"
+        # labelled as mbm.solve labels it, with the locked orbit's period q·2π/Ω
+        assert c.mean_velocity[0] == p * freq / q and c.regime[0] == "phase-locked"
+        assert c.period[0] == q * 2 * np.pi / freq
 
 
 # ---------------------------------------------------------------------------
