@@ -340,7 +340,7 @@ def split_error_kernel(coef, h):
     done = 0.0
     sgn = 1.0 if h > 0.0 else -1.0
     for _ in range(SPLIT_ERROR_MAX_SUBSTEPS):
-        tc = taylor_coefficients(beta, gamma, omega, tth, tv, SPLIT_ERROR_TAYLOR_DEGREE)
+        tc = taylor_coefficients(beta, gamma, omega, tth, tv, np.int64(SPLIT_ERROR_TAYLOR_DEGREE))  # int64: no literal recompile
         step = min(abs(h) - done, SPLIT_ERROR_RADIUS_FRACTION * taylor_radius_kernel(tc))
         tth, tv = taylor_eval_kernel(tc, sgn * step)
         done += step

@@ -700,35 +700,37 @@ def taylor_window_log(coef, theta0, v0, rtol, atol, log_eps):
 
 
 # One anchor kernel per registered degree: the kernel signature has no room for
-# N, and numba caches a function of module-level constants, not a closure.
+# N, and numba caches a function of module-level constants, not a closure.  The degree
+# is passed as np.int64(N), not a literal: a literal argument compiles taylor_coefficients
+# and its callees again for that value instead of sharing the loop's int64 compilation.
 @njit(cache=True)
 def taylor8_anchor_kernel(beta, gamma, omega, theta0, v0):
-    return taylor_coefficients(beta, gamma, omega, theta0, v0, 8)
+    return taylor_coefficients(beta, gamma, omega, theta0, v0, np.int64(8))
 
 
 @njit(cache=True)
 def taylor12_anchor_kernel(beta, gamma, omega, theta0, v0):
-    return taylor_coefficients(beta, gamma, omega, theta0, v0, 12)
+    return taylor_coefficients(beta, gamma, omega, theta0, v0, np.int64(12))
 
 
 @njit(cache=True)
 def taylor16_anchor_kernel(beta, gamma, omega, theta0, v0):
-    return taylor_coefficients(beta, gamma, omega, theta0, v0, 16)
+    return taylor_coefficients(beta, gamma, omega, theta0, v0, np.int64(16))
 
 
 @njit(cache=True)
 def taylor20_anchor_kernel(beta, gamma, omega, theta0, v0):
-    return taylor_coefficients(beta, gamma, omega, theta0, v0, 20)
+    return taylor_coefficients(beta, gamma, omega, theta0, v0, np.int64(20))
 
 
 @njit(cache=True)
 def taylor24_anchor_kernel(beta, gamma, omega, theta0, v0):
-    return taylor_coefficients(beta, gamma, omega, theta0, v0, 24)
+    return taylor_coefficients(beta, gamma, omega, theta0, v0, np.int64(24))
 
 
 @njit(cache=True)
 def taylor30_anchor_kernel(beta, gamma, omega, theta0, v0):
-    return taylor_coefficients(beta, gamma, omega, theta0, v0, 30)
+    return taylor_coefficients(beta, gamma, omega, theta0, v0, np.int64(30))
 
 
 _ANCHOR_KERNELS = {

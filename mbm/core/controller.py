@@ -82,7 +82,7 @@ def plan_windows(approximant, tau, max_step, span):
     return None
 
 
-@numba.njit(**_INLINE)
+@numba.njit(cache=True)
 def _window_end(t, direction, t_bound, h_abs):
     t_new = t + direction * h_abs
     if direction * (t_new - t_bound) > 0.0:
@@ -90,7 +90,7 @@ def _window_end(t, direction, t_bound, h_abs):
     return t_new
 
 
-@numba.njit(**_INLINE)
+@numba.njit(cache=True)
 def _error_norm(et, ev, y0, y1, theta, v, rtol, atol):
     # scipy's RMS norm of the estimate scaled by atol + rtol·max(|y_start|, |y_end|).
     st = atol + rtol * max(abs(y0), abs(theta))
@@ -141,7 +141,7 @@ def first_window_for(kind):
     return first_window
 
 
-@numba.njit(**_INLINE)
+@numba.njit(cache=True)
 def _accepted_factor(err, theta, v, prior, inv, rejected):
     """:func:`adaptive_window`'s test of a try: the factor of the next proposal when the
     try is accepted (scaled estimate ≤ 1, finite), else 0."""
@@ -238,7 +238,7 @@ def first_try(kind, coef, t, y0, y1, off, direction, t_bound, h_abs, max_step, r
     return False, h, prior, t
 
 
-@numba.njit(**_INLINE)
+@numba.njit(cache=True)
 def accept_try(et, ev, y0, y1, off, theta, v, rtol, atol, prior, error_order, h):
     """The test of the first try of length ``h`` (estimate ``et``, ``ev``; the state from
     φ = ``y0``, θ' = ``y1`` to ``theta``, ``v``): ``(accepted, h_next)``, as

@@ -137,7 +137,7 @@ def _store_window(win_t, win_y, win_coef, n, coef, t_new, theta, v):
     win_y[n + 1, 1] = v
 
 
-@numba.njit(**_INLINE)
+@numba.njit(cache=True)
 def damped_setup(r, may, width):
     """The damped regimes' constants of an RS_DAMPED run (record ``r``): whether the
     locked regime may apply (L5, where |γ| < ω² and its formula fits the window store),
@@ -155,7 +155,7 @@ def damped_setup(r, may, width):
     return can_lock, lk, can_cycle, sec_off, sec_acc
 
 
-@numba.njit(**_INLINE)
+@numba.njit(cache=True)
 def locked_test(r, y0, y1, off, lk):
     """``(order, t_s)`` of the locked closed form from φ = ``y0``, θ' = ``y1`` (L5-L7; order
     0: not locked), ``lk`` the constants of :func:`damped_setup`; once locked the quick
@@ -326,7 +326,7 @@ def _watch(kind, rset, p, coef, t, t_new, y0, th, v, k, off, can_cycle, sec_off,
     return sp_next
 
 
-@numba.njit(**_INLINE)
+@numba.njit(cache=True)
 def _finish(r, status, t, y0, y1, k, h_abs, n_total, j, t_eval, out_theta, out_v, out_w, wrapped):
     """The outputs of a span of zero length (the initial state), and the state reached,
     the next window length, the counts and the status written back to the record."""

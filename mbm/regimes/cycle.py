@@ -77,7 +77,7 @@ def section_offset(gamma, omega):
     return math.pi - math.asin(min(1.0, max(-1.0, gamma / (omega * omega))))
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True)
 def cycle_switch(dv, dv_prev, dT, v, theta, vmax, amax, n_rest, rtol, atol):
     """Whether the return map has converged enough to switch to the cycle (item R2).
 

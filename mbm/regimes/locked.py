@@ -142,7 +142,7 @@ def _nearest_k(theta, d):
     return math.floor((theta - d) / (2.0 * math.pi) + 0.5)
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True)
 def locked_quick_reject(theta, v, d, sd, wl2, g0, omega, rtol, atol, q2):
     """True when the locked test surely fails (cheap; run before every window).
 
@@ -431,7 +431,7 @@ def locked_coef(beta, wl2, theta_star, theta, v, gamma=0.0, order=1):
     return c
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True)
 def locked_eval(coef, t):
     """The linearized motion of a locked window (item L2; with L6's x₂ at order 2).
 

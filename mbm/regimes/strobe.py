@@ -187,7 +187,7 @@ def strobe_split(t, t_a, p_hi, p_lo):
     return n, min(max(sh + sl, 0.0), p_hi)
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True)
 def _spectral_radius(tau, det):
     # (S4): max |μ| of μ² − τμ + D = 0.
     disc = tau * tau - 4.0 * det
