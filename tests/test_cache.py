@@ -12,6 +12,7 @@ import shutil
 import subprocess
 import sys
 
+import numba
 import pytest
 
 import mbm
@@ -148,6 +149,8 @@ def test_keep_cache_env_skips_the_check(tmp_path, monkeypatch):
     (root / "a.py").write_text("x = 1\n")
     stale = root / "__pycache__" / "a.f-3.py311.nbi"
     stale.write_text("")
+    # The package's own __pycache__ is the cache (not a NUMBA_CACHE_DIR the run was given).
+    monkeypatch.setattr(numba.core.config, "CACHE_DIR", "")
     monkeypatch.setenv("MBM_KEEP_CACHE", "1")
     assert _cache.check_sources(str(root)) is False and stale.exists()
     monkeypatch.setenv("MBM_KEEP_CACHE", "0")
