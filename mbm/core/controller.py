@@ -22,9 +22,10 @@ from .window import (
 )
 from ..status import STATUS_NONFINITE, STATUS_OK, STATUS_TOO_SMALL
 
-# Small per-window pieces are inlined into their callers, where the kind is a constant
-# (numba prunes the other kinds' branches before compiling); large ones are compiled
-# once per kind and called.
+# Inlined only where a caller's constant kind or regime set must prune branches (numba
+# prunes an inlined constant, not a called function's literal argument) or where a call
+# measured slower; numba re-types an inlined body at every site (~0.1 s of a first
+# call each), while LLVM inlines a plain call anyway (docs/contributing.md).
 _INLINE = dict(cache=True, inline="always")
 
 

@@ -97,9 +97,10 @@ from ..status import (
     STATUS_PAUSED,
 )
 
-# Small per-window pieces are inlined into their callers, where the kind is a constant
-# (numba prunes the other kinds' branches before compiling); large ones are compiled
-# once per kind and called.
+# Inlined only where a caller's constant kind or regime set must prune branches (numba
+# prunes an inlined constant, not a called function's literal argument) or where a call
+# measured slower; numba re-types an inlined body at every site (~0.1 s of a first
+# call each), while LLVM inlines a plain call anyway (docs/contributing.md).
 _INLINE = dict(cache=True, inline="always")
 
 
@@ -155,7 +156,7 @@ def damped_setup(r, may, width):
     return can_lock, lk, can_cycle, sec_off, sec_acc
 
 
-# Inlined: called, it added ~5 us to a short locked run (P1, 8 windows: 12 -> 17 us).
+# Inlined: as a call it costs ~5 us of a ~13 us short locked run (P1, 8 windows).
 @numba.njit(**_INLINE)
 def locked_test(r, y0, y1, off, lk):
     """``(order, t_s)`` of the locked closed form from φ = ``y0``, θ' = ``y1`` (L5-L7; order
