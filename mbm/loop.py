@@ -103,8 +103,6 @@ from .core.loop import (  # noqa: F401
     _record_set,
     _regime_set,
     REACHES,
-    _run_any_of,
-    _run_chain,
     _run_sets,
     _runner,
     _store_window,

@@ -29,7 +29,7 @@ from .controller import (
     accept_try,
     first_try,
 )
-from .loop import REACHES, _regime_set, _run_any_of, _run_sets, damped_setup, emit_taylor, locked_test
+from .loop import REACHES, _regime_set, _run_sets, damped_setup, emit_taylor, locked_test
 from .window import (
     KIND_TAYLOR,
     _reduce_phi,
@@ -41,9 +41,10 @@ from ..regimes.common import REGIME_NONE
 from ..regimes.cycle_windows import _TWO_PI, _watch_cycle
 from ..status import STATUS_ANCHOR, STATUS_OK
 
-# Small per-window pieces are inlined into their callers, where the kind is a constant
-# (numba prunes the other kinds' branches before compiling); large ones are compiled
-# once per kind and called.
+# The lane's pieces are called, not inlined: each names its kind (KIND_TAYLOR) itself,
+# so the kernels it inlines are pruned there, and numba copies an inlined body's whole
+# variable scope once per block at each site (copy_ir), so inlining a composite piece
+# costs seconds where a call costs nothing measurable (LLVM inlines it if it pays).
 _INLINE = dict(cache=True, inline="always")
 
 
@@ -83,7 +84,7 @@ def lane_eligible(r):
             and g.status == STATUS_OK)
 
 
-@numba.njit(**_INLINE)
+@numba.njit(cache=True)
 def _lane_start(r, i, ln, coefs, lane):
     # The loop's set-up for a fresh run (the undriven Taylor branches).
     ln.scene = i
@@ -106,7 +107,7 @@ def _lane_start(r, i, ln, coefs, lane):
     coefs[lane, 4] = omega
 
 
-@numba.njit(**_INLINE)
+@numba.njit(cache=True)
 def _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel):
     # The lane's state written back as a paused run's, and the run finished by the loop
     # (a lane's scene is in RS_DAMPED, or reached RS_CYCLE).
@@ -118,10 +119,10 @@ def _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel):
     r.progress.j = ln.j
     ln.scene = -1
     ln.ready = 0
-    _run_sets(KIND_TAYLOR, 0, 1, 0, 0, 1, 0, p[i:i + 1], t_eval, out[i], win_t, win_y, win_coef, cancel)
+    _run_sets(KIND_TAYLOR, 1, 0, 0, 0, 0, 1, 0, 0, 1, 0, p[i:i + 1], t_eval, out[i], win_t, win_y, win_coef, cancel)
 
 
-@numba.njit(**_INLINE)
+@numba.njit(cache=True)
 def _lane_before(p, ln, q, ins, t_eval, out, win_t, win_y, win_coef, cancel):
     """The loop's tests before the lane's next window, in its order: a lane whose window
     is not an ordinary Taylor one (the run's end, ``max_windows``, the interrupt flag, a
@@ -150,7 +151,7 @@ def _lane_before(p, ln, q, ins, t_eval, out, win_t, win_y, win_coef, cancel):
     return True
 
 
-@numba.njit(**_INLINE)
+@numba.njit(cache=True)
 def _lane_try(r, ln, coef):
     """The controller's first try of the lane's window (the loop's :func:`first_try`, and
     the first window's search for a fresh run): the length whose end θ, θ' the lane-wise
@@ -169,7 +170,7 @@ def _lane_try(r, ln, coef):
     return ln.t_end - t if first else 0.0
 
 
-@numba.njit(**_INLINE)
+@numba.njit(cache=True)
 def _lane_window(p, ln, coef, h, th, v, t_eval, out, wrapped, win_t, win_y, win_coef, cancel):
     """The lane's window after the lane-wise Horner (``th``, ``v`` at the try's end, ``h``
     after the start): the loop's test of the first try (:func:`accept_try`), on a
@@ -284,8 +285,8 @@ def _rows_for(flags):
         """Run the scenes ``ids`` of ``p`` (output rows ``out[ids]``) one by one by the loop."""
         win_t, win_y, win_coef = np.empty(0), np.empty((0, 2)), np.empty((0, 0))
         for i in ids:
-            _run_any_of(k0, k1, k2, k3, s0, s1, s2, s3, s4, s5, p[i:i + 1], t_eval, out[i], win_t, win_y,
-                        win_coef, cancel)
+            _run_sets(p[i].control.kind, k0, k1, k2, k3, s0, s1, s2, s3, s4, s5, p[i:i + 1], t_eval, out[i], win_t,
+                      win_y, win_coef, cancel)
         return 0
 
     return run_rows

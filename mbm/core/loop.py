@@ -15,7 +15,7 @@ per (kind, regime set) of :data:`RUN_TABLE` (:data:`RUNNERS`), both constants of
 entry's closure, so numba prunes the other kinds' and sets' branches and a scene
 compiles only the kernels and regimes it can reach.  A run whose regime set changes
 (a switch to a stored period) pauses, and its caller resumes it through the new set's
-entry (:func:`run`, :func:`_run_chain`).
+entry (:func:`run`, :func:`_run_sets`).
 
 Long horizons (:mod:`mbm.regimes`), each compiled only into the entries of its set:
 with ``regimes`` set, before each window the state is tested for the locked regime
@@ -483,7 +483,7 @@ RUNNERS = {key: _runner(*key) for key in RUN_TABLE}
 
 
 # numba calls a compiled function through a global: the table's entries as globals of
-# this module for _dispatch.
+# this module for _dispatch and _dispatch_flagged.
 (_R_T0, _R_T1, _R_T2, _R_T3, _R_T4, _R_T5, _R_S0, _R_S1, _R_S2, _R_S3, _R_S4,
  _R_E0, _R_E3, _R_Q0, _R_Q3) = (RUNNERS[key] for key in RUN_TABLE)
 
@@ -536,56 +536,88 @@ def _record_set(kind, r):
 
 
 @numba.njit(**_INLINE)
-def _run_sets(kind, s0, s1, s2, s3, s4, s5, p, t_eval, out, win_t, win_y, win_coef, cancel):
-    """A run of kind ``kind`` through its regime sets' entries in turn, of the sets
-    flagged (``s<i> == 1`` for set i, constants where the caller is compiled: the others
-    are pruned, not compiled): a pause at a regime switch is resumed through the new
-    set's entry (every other stop returns); a set not flagged is STATUS_ANCHOR."""
+def _dispatch_flagged(kind, rset, k0, k1, k2, k3, s0, s1, s2, s3, s4, s5, p, t_eval, out, win_t, win_y, win_coef,
+                      cancel):
+    """The entry of (``kind``, ``rset``) called where that kind and set are flagged
+    (``k<i>``: taylor, exact, salas-torque, split; ``s<i>``: RS index; 0/1 constants
+    where the caller is compiled); any other pair is STATUS_ANCHOR.
+
+    One call site, its flags constants: numba prunes the unflagged calls after inlining
+    it, so only the flagged entries are typed and compiled.  (A site per set, each with
+    the kind's branches, made the inlined body ~6x larger, and numba's inlining copies
+    a body's whole variable scope once per block: quadratic in its size.)
+    """
+    if kind == KIND_TAYLOR:
+        if k0 == 1:
+            if rset == RS_PLAIN:
+                if s0 == 1:
+                    return _R_T0(p, t_eval, out, win_t, win_y, win_coef, cancel)
+            elif rset == RS_DAMPED:
+                if s1 == 1:
+                    return _R_T1(p, t_eval, out, win_t, win_y, win_coef, cancel)
+            elif rset == RS_CONSERVATIVE:
+                if s2 == 1:
+                    return _R_T2(p, t_eval, out, win_t, win_y, win_coef, cancel)
+            elif rset == RS_DRIVEN:
+                if s3 == 1:
+                    return _R_T3(p, t_eval, out, win_t, win_y, win_coef, cancel)
+            elif rset == RS_CYCLE:
+                if s4 == 1:
+                    return _R_T4(p, t_eval, out, win_t, win_y, win_coef, cancel)
+            elif rset == RS_STROBE:
+                if s5 == 1:
+                    return _R_T5(p, t_eval, out, win_t, win_y, win_coef, cancel)
+    elif kind == KIND_SPLIT:
+        if k3 == 1:
+            if rset == RS_PLAIN:
+                if s0 == 1:
+                    return _R_S0(p, t_eval, out, win_t, win_y, win_coef, cancel)
+            elif rset == RS_DAMPED:
+                if s1 == 1:
+                    return _R_S1(p, t_eval, out, win_t, win_y, win_coef, cancel)
+            elif rset == RS_CONSERVATIVE:
+                if s2 == 1:
+                    return _R_S2(p, t_eval, out, win_t, win_y, win_coef, cancel)
+            elif rset == RS_DRIVEN:
+                if s3 == 1:
+                    return _R_S3(p, t_eval, out, win_t, win_y, win_coef, cancel)
+            elif rset == RS_CYCLE:
+                if s4 == 1:
+                    return _R_S4(p, t_eval, out, win_t, win_y, win_coef, cancel)
+    elif kind == KIND_EXACT:
+        if k1 == 1:
+            if rset == RS_PLAIN:
+                if s0 == 1:
+                    return _R_E0(p, t_eval, out, win_t, win_y, win_coef, cancel)
+            elif rset == RS_DRIVEN:
+                if s3 == 1:
+                    return _R_E3(p, t_eval, out, win_t, win_y, win_coef, cancel)
+    elif kind == KIND_SALAS_TORQUE:
+        if k2 == 1:
+            if rset == RS_PLAIN:
+                if s0 == 1:
+                    return _R_Q0(p, t_eval, out, win_t, win_y, win_coef, cancel)
+            elif rset == RS_DRIVEN:
+                if s3 == 1:
+                    return _R_Q3(p, t_eval, out, win_t, win_y, win_coef, cancel)
+    p[0].progress.status = STATUS_ANCHOR
+    return 0
+
+
+@numba.njit(**_INLINE)
+def _run_sets(kind, k0, k1, k2, k3, s0, s1, s2, s3, s4, s5, p, t_eval, out, win_t, win_y, win_coef, cancel):
+    """A run through its regime sets' entries in turn, of the kinds and sets flagged
+    (:func:`_dispatch_flagged`): a pause at a regime switch is resumed through the new
+    set's entry (every other stop returns); a kind or set not flagged is STATUS_ANCHOR.
+    ``kind`` is the record's kind (a constant where the caller knows it)."""
     r = p[0]
     n = 0
     while True:
         rset = _record_set(kind, r)
-        ok = True
-        if rset == RS_PLAIN:
-            if s0 == 1:
-                n += _dispatch(kind, RS_PLAIN, p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
-            else:
-                ok = False
-        elif rset == RS_DAMPED:
-            if s1 == 1:
-                n += _dispatch(kind, RS_DAMPED, p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
-            else:
-                ok = False
-        elif rset == RS_CONSERVATIVE:
-            if s2 == 1:
-                n += _dispatch(kind, RS_CONSERVATIVE, p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
-            else:
-                ok = False
-        elif rset == RS_DRIVEN:
-            if s3 == 1:
-                n += _dispatch(kind, RS_DRIVEN, p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
-            else:
-                ok = False
-        elif rset == RS_CYCLE:
-            if s4 == 1:
-                n += _dispatch(kind, RS_CYCLE, p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
-            else:
-                ok = False
-        elif s5 == 1:
-            n += _dispatch(kind, RS_STROBE, p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
-        else:
-            ok = False
-        if not ok:
-            r.progress.status = STATUS_ANCHOR
-            return n
+        n += _dispatch_flagged(kind, rset, k0, k1, k2, k3, s0, s1, s2, s3, s4, s5, p, t_eval, out, win_t[n:],
+                               win_y[n:], win_coef[n:], cancel)
         if r.progress.status != STATUS_PAUSED or _record_set(kind, r) == rset:
             return n
-
-
-@numba.njit(**_INLINE)
-def _run_chain(kind, p, t_eval, out, win_t, win_y, win_coef, cancel):
-    """:func:`_run_sets` through every set of the kind."""
-    return _run_sets(kind, 1, 1, 1, 1, 1, 1, p, t_eval, out, win_t, win_y, win_coef, cancel)
 
 
 #: The sets a run starting in a set may reach (a switch to a stored period).
@@ -597,26 +629,26 @@ REACHES = {RS_PLAIN: (), RS_DAMPED: (RS_CYCLE,), RS_CONSERVATIVE: (RS_CYCLE,), R
 # (solve_njit, the batch).
 @numba.njit(cache=True)
 def run_taylor(p, t_eval, out, win_t, win_y, win_coef, cancel):
-    """:func:`_run_chain` for kind ``"taylor"``; returns the windows taken."""
-    return _run_chain(KIND_TAYLOR, p, t_eval, out, win_t, win_y, win_coef, cancel)
+    """:func:`_run_sets` through every set of kind ``"taylor"``; returns the windows taken."""
+    return _run_sets(KIND_TAYLOR, 1, 0, 0, 0, 1, 1, 1, 1, 1, 1, p, t_eval, out, win_t, win_y, win_coef, cancel)
 
 
 @numba.njit(cache=True)
 def run_exact(p, t_eval, out, win_t, win_y, win_coef, cancel):
-    """:func:`_run_chain` for kind ``"exact"``; returns the windows taken."""
-    return _run_chain(KIND_EXACT, p, t_eval, out, win_t, win_y, win_coef, cancel)
+    """:func:`_run_sets` through every set of kind ``"exact"``; returns the windows taken."""
+    return _run_sets(KIND_EXACT, 0, 1, 0, 0, 1, 1, 1, 1, 1, 1, p, t_eval, out, win_t, win_y, win_coef, cancel)
 
 
 @numba.njit(cache=True)
 def run_salas_torque(p, t_eval, out, win_t, win_y, win_coef, cancel):
-    """:func:`_run_chain` for kind ``"salas-torque"``; returns the windows taken."""
-    return _run_chain(KIND_SALAS_TORQUE, p, t_eval, out, win_t, win_y, win_coef, cancel)
+    """:func:`_run_sets` through every set of kind ``"salas-torque"``; returns the windows taken."""
+    return _run_sets(KIND_SALAS_TORQUE, 0, 0, 1, 0, 1, 1, 1, 1, 1, 1, p, t_eval, out, win_t, win_y, win_coef, cancel)
 
 
 @numba.njit(cache=True)
 def run_split(p, t_eval, out, win_t, win_y, win_coef, cancel):
-    """:func:`_run_chain` for kind ``"split"``; returns the windows taken."""
-    return _run_chain(KIND_SPLIT, p, t_eval, out, win_t, win_y, win_coef, cancel)
+    """:func:`_run_sets` through every set of kind ``"split"``; returns the windows taken."""
+    return _run_sets(KIND_SPLIT, 0, 0, 0, 1, 1, 1, 1, 1, 1, 1, p, t_eval, out, win_t, win_y, win_coef, cancel)
 
 
 #: The whole-run entry of each kind id (compiled callers).
@@ -655,28 +687,3 @@ def run(p, t_eval, out, win_t, win_y, win_coef, cancel):
         n += entry(p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
         if progress["status"][0] != STATUS_PAUSED or set_of(p[0]) == rset:
             return n
-
-
-@numba.njit(**_INLINE)
-def _run_any_of(k0, k1, k2, k3, s0, s1, s2, s3, s4, s5, p, t_eval, out, win_t, win_y, win_coef, cancel):
-    """The run of the record's kind through :func:`_run_sets`, for a batch of mixed kinds:
-    ``k0``-``k3`` (taylor, exact, salas-torque, split) and ``s0``-``s5`` (by RS index)
-    flag, as 0/1 constants of the caller's closure (numba prunes a branch on a constant
-    argument, not on a tuple's item), the kinds and sets compiled; any other kind is
-    STATUS_ANCHOR."""
-    kind = p[0].control.kind
-    if kind == KIND_TAYLOR:
-        if k0 == 1:
-            return _run_sets(KIND_TAYLOR, s0, s1, s2, s3, s4, s5, p, t_eval, out, win_t, win_y, win_coef, cancel)
-    elif kind == KIND_EXACT:
-        if k1 == 1:
-            return _run_sets(KIND_EXACT, s0, s1, s2, s3, s4, s5, p, t_eval, out, win_t, win_y, win_coef, cancel)
-    elif kind == KIND_SALAS_TORQUE:
-        if k2 == 1:
-            return _run_sets(KIND_SALAS_TORQUE, s0, s1, s2, s3, s4, s5, p, t_eval, out, win_t, win_y, win_coef,
-                             cancel)
-    elif kind == KIND_SPLIT:
-        if k3 == 1:
-            return _run_sets(KIND_SPLIT, s0, s1, s2, s3, s4, s5, p, t_eval, out, win_t, win_y, win_coef, cancel)
-    p[0].progress.status = STATUS_ANCHOR
-    return 0
