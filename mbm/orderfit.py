@@ -1,0 +1,185 @@
+r"""Convergence orders that cannot be read off a reference's own error.
+
+A step-size study measures errors e_i = max |θ_h − θ_ref| at window lengths h_i and
+fits the order p of e ≈ C h^p.  Two things bend such a fit without saying so:
+
+* **the reference's floor**: once e_i is of the size of the reference's own error,
+  the study measures the reference, not the method.  A point whose error is within
+  :data:`FLOOR_FACTOR` times the reference's (measured) error is *at the reference's
+  floor* (:func:`at_floor`) and is never fitted;
+* **pre-asymptotic points**: at large h the error has not yet reached its C h^p
+  regime (near a Taylor series' radius of convergence it grows far faster than h^p).
+  The fit keeps the asymptotic range only: the longest run of consecutive points
+  (in h) whose local slopes log(e_{i+1}/e_i) / log(h_{i+1}/h_i) agree within
+  :func:`slope_tolerance`; among equally long runs, the one at the smallest h.
+
+The order is the least-squares slope of log e against log h over that range, with
+its standard error (:func:`fit_order`).  Used by ``mbm study``
+(:mod:`mbm.cli_study`), ``examples/step_size_study.py`` and
+``examples/convergence_study.py``.
+"""
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["FLOOR_FACTOR", "ERR_CEIL", "SLOPE_TOL_ABS", "SLOPE_TOL_REL", "OrderFit",
+           "at_floor", "slope_tolerance", "asymptotic_range", "fit_order"]
+
+# A point whose error is within this factor of the reference's error may be mostly
+# the reference's error (the issue's rule: 10×); it is shown as at the floor, not fitted.
+FLOOR_FACTOR = 10.0
+# Errors at or above this are not small corrections (the run has left the solution's
+# neighbourhood, e.g. a wrong number of turns), so no C h^p law describes them.
+ERR_CEIL = 1e-1
+# Local slopes of one asymptotic run differ only through the next term of the error
+# expansion: a few per cent of p on the scenes of docs/convergent.md (taylor8: 6.97-7.09
+# over τ = 1 .. 1/8 on ex1), while a pre-asymptotic point shifts its slope by whole
+# orders (4.7 against 6.0 for taylor8 on the running scene at τ = 1/4, 1/8, 1/16).  Two
+# slopes agree when they differ by at most max(SLOPE_TOL_ABS, SLOPE_TOL_REL · |p|).
+SLOPE_TOL_ABS = 0.5
+SLOPE_TOL_REL = 0.1
+
+
+@dataclass(frozen=True)
+class OrderFit:
+    """A fitted order p of e ≈ C h^p and what it rests on.
+
+    Attributes
+    ----------
+    order : float
+        Least-squares slope of log e against log h over the fitted range; NaN with
+        fewer than two usable points.
+    stderr : float
+        Standard error of that slope (residual scatter over n − 2 degrees of freedom);
+        NaN with fewer than three points (two points fix the slope, they do not test it).
+    n : int
+        Points in the fit.
+    h_range : (float, float)
+        Smallest and largest h fitted (NaN, NaN without a fit).
+    used : ndarray of bool
+        Which of the input points were fitted.
+    floor : ndarray of bool
+        Which were at the reference's floor (:func:`at_floor`).
+    """
+
+    order: float
+    stderr: float
+    n: int
+    h_range: tuple
+    used: np.ndarray
+    floor: np.ndarray
+
+    def describe(self):
+        """``"7.02 ± 0.03 over 4 points, h in [0.0156, 0.125]"`` (or why there is no fit)."""
+        if not math.isfinite(self.order):
+            return "n/a (fewer than two points in the asymptotic range)"
+        unc = f" ± {self.stderr:.2g}" if math.isfinite(self.stderr) else " (2 points: no uncertainty)"
+        return (f"{self.order:.2f}{unc} over {self.n} points, "
+                f"h in [{self.h_range[0]:.3g}, {self.h_range[1]:.3g}]")
+
+
+def at_floor(err, ref_error, factor=FLOOR_FACTOR):
+    """Whether each error is within ``factor`` times the reference's own error.
+
+    Parameters
+    ----------
+    err : array_like
+        Errors against the reference (NaN for failed points: never at the floor).
+    ref_error : float
+        The reference's error, measured (e.g. against a second, independent reference).
+    factor : float, optional
+
+    Returns
+    -------
+    ndarray of bool
+    """
+    err = np.asarray(err, dtype=float)
+    return np.isfinite(err) & (err <= factor * float(ref_error))
+
+
+def slope_tolerance(p):
+    """How far two local slopes of one asymptotic run may differ, around order ``p``."""
+    return max(SLOPE_TOL_ABS, SLOPE_TOL_REL * abs(p))
+
+
+def _local_slopes(lh, le):
+    return np.diff(le) / np.diff(lh)
+
+
+def asymptotic_range(h, err):
+    """Indices (into the inputs) of the asymptotic range of a sweep.
+
+    Parameters
+    ----------
+    h, err : array_like
+        Window lengths and errors of the usable points (finite, positive, distinct h).
+
+    Returns
+    -------
+    ndarray of int
+        The longest run of points consecutive in h whose local slopes span at most
+        :func:`slope_tolerance` of their median (max − min), ordered by h; among
+        equally long runs the one at the smallest h (the most asymptotic).  All points
+        when there are fewer than three.
+    """
+    h = np.asarray(h, dtype=float)
+    err = np.asarray(err, dtype=float)
+    order = np.argsort(h)
+    if order.size < 3:
+        return order
+    s = _local_slopes(np.log(h[order]), np.log(err[order]))
+    best = (0, 1)  # [i, j]: points order[i..j], slopes s[i..j-1]
+    for i in range(s.size):
+        j = i + 1
+        while j < s.size + 1:
+            run = s[i:j]
+            if np.ptp(run) > slope_tolerance(np.median(run)):
+                break
+            j += 1
+        j -= 1  # s[i:j] is the longest agreeing run from i: points i..j
+        if j - i > best[1] - best[0]:
+            best = (i, j)
+    return order[best[0]:best[1] + 1]
+
+
+def fit_order(h, err, ref_error=0.0, ceil=ERR_CEIL):
+    """Order p of e ≈ C h^p over the asymptotic range, off the reference's floor.
+
+    Parameters
+    ----------
+    h, err : array_like
+        Mean window lengths and errors of one sweep (any order; NaN for failures).
+    ref_error : float, optional
+        The reference's own error: points with err ≤ :data:`FLOOR_FACTOR` · ref_error
+        are at its floor and left out (default 0: none).
+    ceil : float, optional
+        Errors at or above it are left out (:data:`ERR_CEIL`).
+
+    Returns
+    -------
+    OrderFit
+    """
+    h = np.asarray(h, dtype=float)
+    err = np.asarray(err, dtype=float)
+    floor = at_floor(err, ref_error)
+    ok = np.isfinite(h) & (h > 0) & np.isfinite(err) & (err > 0) & (err < ceil) & ~floor
+    idx = np.flatnonzero(ok)
+    # One point per h (a repeated h carries no slope information).
+    _, first = np.unique(h[idx], return_index=True)
+    idx = idx[np.sort(first)]
+    used = np.zeros(h.size, dtype=bool)
+    if idx.size < 2:
+        return OrderFit(math.nan, math.nan, int(idx.size), (math.nan, math.nan), used, floor)
+    fit = idx[asymptotic_range(h[idx], err[idx])]
+    used[fit] = True
+    x, y = np.log(h[fit]), np.log(err[fit])
+    xc = x - x.mean()
+    p = float(np.dot(xc, y - y.mean()) / np.dot(xc, xc))
+    if fit.size > 2:
+        resid = y - y.mean() - p * xc
+        se = float(math.sqrt(np.dot(resid, resid) / (fit.size - 2) / np.dot(xc, xc)))
+    else:
+        se = math.nan
+    return OrderFit(p, se, int(fit.size), (float(h[fit].min()), float(h[fit].max())), used, floor)
