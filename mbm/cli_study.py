@@ -18,7 +18,7 @@ import numpy as np
 
 from . import orderfit, scenes
 
-__all__ = ["SCENES", "integrate", "study_reference", "run_study", "fit_order", "format_table",
+__all__ = ["SCENES", "integrate", "heyoka_ld_available", "heyoka_ld_states", "study_reference", "run_study", "fit_order", "format_table",
            "write_csv", "plot_study"]
 
 # name -> (beta, gamma, omega, theta0 [rad], v0, t_end): scenes of mbm.scenes under the
@@ -118,7 +118,7 @@ def integrate(model, t_span, y0, t_eval, approximant="auto", tau=None, rtol=1e-6
     return np.asarray(sol.y), int(n_windows)
 
 
-def _heyoka_ld_available():
+def heyoka_ld_available():
     """Whether heyoka imports and ``numpy.longdouble`` is wider than a double."""
     try:
         import heyoka  # noqa: F401
@@ -127,8 +127,29 @@ def _heyoka_ld_available():
     return np.finfo(np.longdouble).eps < 1e-18
 
 
-def _heyoka_ld(model, y0, t):
-    """θ at ``t`` (long double) by heyoka's Taylor integrator at :data:`HEYOKA_LD_TOL`."""
+def heyoka_ld_states(model, y0, t):
+    """θ, θ' at ``t`` from t = 0 by heyoka's Taylor integrator in long double.
+
+    Parameters
+    ----------
+    model : Pendulum
+        Its AC drive included.
+    y0 : array_like, shape (2,)
+        θ, θ' at t = 0.
+    t : array_like
+        Output times, increasing, from 0.
+
+    Returns
+    -------
+    ndarray of numpy.longdouble, shape (len(t), 2)
+
+    Raises
+    ------
+    ImportError
+        Without heyoka.
+    RuntimeError
+        If heyoka stops before ``t[-1]``.
+    """
     import heyoka as hy
 
     ld = np.longdouble
@@ -142,7 +163,7 @@ def _heyoka_ld(model, y0, t):
     res = ta.propagate_grid(np.asarray(t, dtype=ld))
     if res[0] != hy.taylor_outcome.time_limit:
         raise RuntimeError(f"heyoka stopped early: {res[0]}")
-    return np.asarray(res[-1][:, 0])
+    return np.asarray(res[-1])
 
 
 def study_reference(model, y0, t):
@@ -158,7 +179,9 @@ def study_reference(model, y0, t):
     Parameters
     ----------
     model : Pendulum
+        The scene's equation.
     y0 : array_like, shape (2,)
+        θ, θ' at t = 0.
     t : ndarray
         Output times, from 0.
 
@@ -172,8 +195,8 @@ def study_reference(model, y0, t):
     from .references import reference
 
     t = np.asarray(t, dtype=float)
-    if _heyoka_ld_available():
-        theta = _heyoka_ld(model, y0, t)
+    if heyoka_ld_available():
+        theta = heyoka_ld_states(model, y0, t)[:, 0]
         name = f"heyoka long double, tol {HEYOKA_LD_TOL:g}"
     else:
         theta = reference(model, (0.0, t[-1]), y0, t_eval=t, rtol=TIGHT_TOL, atol=TIGHT_TOL,

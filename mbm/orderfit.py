@@ -90,6 +90,7 @@ def at_floor(err, ref_error, factor=FLOOR_FACTOR):
     ref_error : float
         The reference's error, measured (e.g. against a second, independent reference).
     factor : float, optional
+        How close counts as at the floor (:data:`FLOOR_FACTOR`).
 
     Returns
     -------
@@ -100,7 +101,18 @@ def at_floor(err, ref_error, factor=FLOOR_FACTOR):
 
 
 def slope_tolerance(p):
-    """How far two local slopes of one asymptotic run may differ, around order ``p``."""
+    """How far two local slopes of one asymptotic run may differ, around order ``p``.
+
+    Parameters
+    ----------
+    p : float
+        The run's typical slope (its median local slope).
+
+    Returns
+    -------
+    float
+        max(:data:`SLOPE_TOL_ABS`, :data:`SLOPE_TOL_REL` · |p|).
+    """
     return max(SLOPE_TOL_ABS, SLOPE_TOL_REL * abs(p))
 
 
@@ -108,43 +120,48 @@ def _local_slopes(lh, le):
     return np.diff(le) / np.diff(lh)
 
 
-def asymptotic_range(h, err):
+def asymptotic_range(h, err, min_slope=-math.inf):
     """Indices (into the inputs) of the asymptotic range of a sweep.
 
     Parameters
     ----------
     h, err : array_like
         Window lengths and errors of the usable points (finite, positive, distinct h).
+    min_slope : float, optional
+        A local slope below it ends a run (e.g. 1: the error must grow at least
+        linearly in h, which a round-off plateau does not); default: none.
 
     Returns
     -------
     ndarray of int
         The longest run of points consecutive in h whose local slopes span at most
         :func:`slope_tolerance` of their median (max − min), ordered by h; among
-        equally long runs the one at the smallest h (the most asymptotic).  All points
-        when there are fewer than three.
+        equally long runs the one at the smallest h (the most asymptotic).  Empty when
+        no local slope reaches ``min_slope``; the one point itself when only one is given.
     """
     h = np.asarray(h, dtype=float)
     err = np.asarray(err, dtype=float)
     order = np.argsort(h)
-    if order.size < 3:
+    if order.size < 2:
         return order
     s = _local_slopes(np.log(h[order]), np.log(err[order]))
-    best = (0, 1)  # [i, j]: points order[i..j], slopes s[i..j-1]
+    best = (0, 0)  # [i, j]: points order[i..j], slopes s[i..j-1]
     for i in range(s.size):
+        if s[i] < min_slope:
+            continue
         j = i + 1
         while j < s.size + 1:
             run = s[i:j]
-            if np.ptp(run) > slope_tolerance(np.median(run)):
+            if run[-1] < min_slope or np.ptp(run) > slope_tolerance(np.median(run)):
                 break
             j += 1
         j -= 1  # s[i:j] is the longest agreeing run from i: points i..j
         if j - i > best[1] - best[0]:
             best = (i, j)
-    return order[best[0]:best[1] + 1]
+    return order[best[0]:best[1] + 1] if best[1] > best[0] else order[:0]
 
 
-def fit_order(h, err, ref_error=0.0, ceil=ERR_CEIL):
+def fit_order(h, err, ref_error=0.0, ceil=ERR_CEIL, err_min=0.0, min_slope=-math.inf):
     """Order p of e ≈ C h^p over the asymptotic range, off the reference's floor.
 
     Parameters
@@ -156,6 +173,12 @@ def fit_order(h, err, ref_error=0.0, ceil=ERR_CEIL):
         are at its floor and left out (default 0: none).
     ceil : float, optional
         Errors at or above it are left out (:data:`ERR_CEIL`).
+    err_min : float, optional
+        Errors at or below it are left out too (default 0), for a floor that is not the
+        reference's: the method's own round-off, when the reference is far more accurate
+        (a run of round-off points has agreeing slopes near 0 and would win the range).
+    min_slope : float, optional
+        Passed to :func:`asymptotic_range`.
 
     Returns
     -------
@@ -164,7 +187,7 @@ def fit_order(h, err, ref_error=0.0, ceil=ERR_CEIL):
     h = np.asarray(h, dtype=float)
     err = np.asarray(err, dtype=float)
     floor = at_floor(err, ref_error)
-    ok = np.isfinite(h) & (h > 0) & np.isfinite(err) & (err > 0) & (err < ceil) & ~floor
+    ok = np.isfinite(h) & (h > 0) & np.isfinite(err) & (err > max(float(err_min), 0.0)) & (err < ceil) & ~floor
     idx = np.flatnonzero(ok)
     # One point per h (a repeated h carries no slope information).
     _, first = np.unique(h[idx], return_index=True)
@@ -172,7 +195,9 @@ def fit_order(h, err, ref_error=0.0, ceil=ERR_CEIL):
     used = np.zeros(h.size, dtype=bool)
     if idx.size < 2:
         return OrderFit(math.nan, math.nan, int(idx.size), (math.nan, math.nan), used, floor)
-    fit = idx[asymptotic_range(h[idx], err[idx])]
+    fit = idx[asymptotic_range(h[idx], err[idx], min_slope)]
+    if fit.size < 2:
+        return OrderFit(math.nan, math.nan, int(fit.size), (math.nan, math.nan), used, floor)
     used[fit] = True
     x, y = np.log(h[fit]), np.log(err[fit])
     xc = x - x.mean()

@@ -58,6 +58,17 @@ def test_asymptotic_range_is_the_longest_agreeing_run():
     assert sorted(orderfit.asymptotic_range(H[:7], err)) == [3, 4, 5, 6]
 
 
+def test_a_plateau_is_not_a_range_under_min_slope():
+    # Slopes 7, 7 then a round-off plateau (slopes ~0) of four points.
+    s = np.array([7.0, 7.0, 0.1, -0.1, 0.05])
+    err = np.exp(np.concatenate(([0.0], -np.cumsum(s * np.log(2.0))))) * 1e-3
+    assert sorted(orderfit.asymptotic_range(H[:6], err)) == [2, 3, 4, 5]  # the plateau wins
+    assert sorted(orderfit.asymptotic_range(H[:6], err, min_slope=1.0)) == [0, 1, 2]
+    fit = orderfit.fit_order(H[:6], err, min_slope=1.0)
+    assert fit.order == pytest.approx(7.0) and fit.n == 3
+    assert math.isnan(orderfit.fit_order(H[3:6], err[3:6], min_slope=1.0).order)
+
+
 def test_slope_tolerance():
     assert orderfit.slope_tolerance(2.0) == orderfit.SLOPE_TOL_ABS
     assert orderfit.slope_tolerance(-24.0) == pytest.approx(orderfit.SLOPE_TOL_REL * 24.0)
@@ -100,7 +111,7 @@ def test_running_scene_study_fits_off_the_floor():
     study = cli_study.run_study(scene, ["taylor8"], taus=taus, n_out=51, show_progress=False)
     ref_err = study["ref_error"]
     # heyoka against mbm at its tightest: 5.5e-13 (θ ~ 2400); DOP853 without heyoka: 1.3e-11.
-    assert 0.0 < ref_err < (1e-11 if cli_study._heyoka_ld_available() else 1e-10)
+    assert 0.0 < ref_err < (1e-11 if cli_study.heyoka_ld_available() else 1e-10)
     rows = study["rows"]
     assert not any(r["floor"] and r["fitted"] for r in rows)
     fit = study["fits"]["taylor8"]
@@ -112,3 +123,30 @@ def test_running_scene_study_fits_off_the_floor():
     assert all(r["floor"] and not r["fitted"] for r in hi["rows"])
     assert "at the reference's floor" in cli_study.format_table(hi)
     assert math.isnan(hi["orders"]["taylor"])
+
+
+def test_reference_states_its_error_with_and_without_heyoka(monkeypatch):
+    import mbm
+
+    model = mbm.Pendulum(beta=0.1, gamma=1.2)
+    t = np.linspace(0.0, 20.0, 21)
+    ref = cli_study.study_reference(model, [0.0, 0.0], t)
+    cvode = mbm.reference(model, (0.0, 20.0), [0.0, 0.0], t_eval=t, rtol=1e-12, atol=1e-12).y[0]
+    assert np.max(np.abs(ref["theta"].astype(float) - cvode)) < 1e-8
+    assert 0.0 < ref["error"] < 1e-12 and "mbm taylor" in ref["check_name"]
+    monkeypatch.setattr(cli_study, "heyoka_ld_available", lambda: False)
+    dop = cli_study.study_reference(model, [0.0, 0.0], t)
+    assert "DOP853" in dop["name"] and dop["theta"].dtype == np.float64
+    # DOP853 is the less accurate reference: its stated error is the larger.
+    assert dop["error"] > ref["error"] and dop["error"] < 1e-10
+
+
+def test_heyoka_reference_follows_the_drive():
+    import mbm
+
+    # heyoka is a test dependency (pyproject's [test] extra).
+    model = mbm.Pendulum(beta=0.5, gamma=0.2, drive_amplitude=0.8, drive_frequency=0.7, drive_phase=0.3)
+    t = np.linspace(0.0, 30.0, 31)
+    ld = cli_study.heyoka_ld_states(model, [0.1, 0.0], t)
+    cvode = mbm.reference(model, (0.0, 30.0), [0.1, 0.0], t_eval=t, rtol=1e-12, atol=1e-12).y
+    assert ld.shape == (31, 2) and np.max(np.abs(ld.astype(float).T - cvode)) < 1e-9
