@@ -354,15 +354,17 @@ def format_table(study):
                          f"{'failed':>10s}   {r['note']}")
             continue
         mark = ("   * at the reference's floor" if r.get("floor")
-                else "   fitted" if r.get("fitted") else "")
+                else "   fitted" if r.get("fitted")
+                else f"   not fitted (error >= {orderfit.ERR_CEIL:g})" if r["error"] >= orderfit.ERR_CEIL
+                else "   not fitted (outside the asymptotic range)")
         lines.append(f"{r['approximant']:<20s} {r['value']:9.3g} {r['windows']:8d} {r['h']:9.3g} "
                      f"{r['error']:10.2e} {r['time_s'] * 1e3:9.2f}{mark}")
     lines.append("")
+    lines.append("fitted order p of error ~ C h^p (h = mean window; least squares ± its standard error)")
     lines.append(
-        f"fitted order p of error ~ C h^p (h = mean window; least squares ± its standard error): "
-        f"errors <= {orderfit.FLOOR_FACTOR:g} x the reference's ({floor:.2g}) and >= "
-        f"{orderfit.ERR_CEIL:g} left out, then the longest run of consecutive h whose local "
-        f"slopes agree within max({orderfit.SLOPE_TOL_ABS:g}, {orderfit.SLOPE_TOL_REL:g} p):")
+        f"  over the asymptotic range: errors <= {orderfit.FLOOR_FACTOR:g} x the reference's ({floor:.2g}) "
+        f"and >= {orderfit.ERR_CEIL:g} left out, then the longest run of consecutive h whose")
+    lines.append(f"  local slopes agree within max({orderfit.SLOPE_TOL_ABS:g}, {orderfit.SLOPE_TOL_REL:g} p):")
     for name, fit in study["fits"].items():
         lines.append(f"  order {name:<20s} {fit.describe()}")
     return "\n".join(lines)

@@ -108,7 +108,7 @@ def test_running_scene_study_fits_off_the_floor():
     # taylor24 at two windows where it sits on the reference's floor.
     scene = cli_study.SCENES["running"]
     taus = cli_study.SCENE_TAUS["running"]
-    study = cli_study.run_study(scene, ["taylor8"], taus=taus, n_out=51, show_progress=False)
+    study = cli_study.run_study(scene, ["taylor8"], taus=(0.25,) + taus, n_out=51, show_progress=False)
     ref_err = study["ref_error"]
     # heyoka against mbm at its tightest: 5.5e-13 (θ ~ 2400); DOP853 without heyoka: 1.3e-11.
     assert 0.0 < ref_err < (1e-11 if cli_study.heyoka_ld_available() else 1e-10)
@@ -118,7 +118,11 @@ def test_running_scene_study_fits_off_the_floor():
     assert fit.n >= 5 and math.isfinite(fit.stderr) and fit.stderr < 0.1
     expected = 8 - 1  # the velocity polynomial's degree (mbm.approximants.taylor, "Order")
     assert abs(fit.order - expected) <= 2 * fit.stderr
-    assert "fitted" in cli_study.format_table(study)
+    table = cli_study.format_table(study)
+    assert table.count("   fitted") == fit.n and "its error" in table
+    # τ = 1/4 is pre-asymptotic (R ~ 0.53): shown, not fitted, not at the floor.
+    assert not rows[0]["fitted"] and not rows[0]["floor"] and rows[0]["value"] == 0.25
+    assert "not fitted (outside the asymptotic range)" in table
     hi = cli_study.run_study(scene, ["taylor"], taus=taus[:2], n_out=51, show_progress=False)
     assert all(r["floor"] and not r["fitted"] for r in hi["rows"])
     assert "at the reference's floor" in cli_study.format_table(hi)
