@@ -41,6 +41,8 @@ ERR_CEIL = 1e-1
 SLOPE_TOL_ABS = 0.5
 SLOPE_TOL_REL = 0.1
 
+_NAN2 = (math.nan, math.nan)
+
 
 @dataclass(frozen=True)
 class OrderFit:
@@ -58,6 +60,10 @@ class OrderFit:
         Points in the fit.
     h_range : (float, float)
         Smallest and largest h fitted (NaN, NaN without a fit).
+    slope_range : (float, float)
+        Smallest and largest local slope between consecutive fitted points: how far the
+        range is from a straight line, which the standard error (scatter about the
+        line) does not show when the slopes drift steadily toward p.
     used : ndarray of bool
         Which of the input points were fitted.
     floor : ndarray of bool
@@ -68,16 +74,20 @@ class OrderFit:
     stderr: float
     n: int
     h_range: tuple
+    slope_range: tuple
     used: np.ndarray
     floor: np.ndarray
 
     def describe(self):
-        """``"7.02 ± 0.03 over 4 points, h in [0.0156, 0.125]"`` (or why there is no fit)."""
+        """``"7.02 ± 0.03 over 4 points (local slopes 6.98 to 7.05), h in [0.0156, 0.125]"``
+        (or why there is no fit)."""
         if not math.isfinite(self.order):
             return "n/a (fewer than two points in the asymptotic range)"
-        unc = f" ± {self.stderr:.2g}" if math.isfinite(self.stderr) else " (2 points: no uncertainty)"
-        return (f"{self.order:.2f}{unc} over {self.n} points, "
-                f"h in [{self.h_range[0]:.3g}, {self.h_range[1]:.3g}]")
+        h = f"h in [{self.h_range[0]:.3g}, {self.h_range[1]:.3g}]"
+        if not math.isfinite(self.stderr):
+            return f"{self.order:.2f} from 2 points only (no uncertainty), {h}"
+        return (f"{self.order:.2f} ± {self.stderr:.2g} over {self.n} points (local slopes "
+                f"{self.slope_range[0]:.2f} to {self.slope_range[1]:.2f}), {h}")
 
 
 def at_floor(err, ref_error, factor=FLOOR_FACTOR):
@@ -194,10 +204,10 @@ def fit_order(h, err, ref_error=0.0, ceil=ERR_CEIL, err_min=0.0, min_slope=-math
     idx = idx[np.sort(first)]
     used = np.zeros(h.size, dtype=bool)
     if idx.size < 2:
-        return OrderFit(math.nan, math.nan, int(idx.size), (math.nan, math.nan), used, floor)
+        return OrderFit(math.nan, math.nan, int(idx.size), _NAN2, _NAN2, used, floor)
     fit = idx[asymptotic_range(h[idx], err[idx], min_slope)]
     if fit.size < 2:
-        return OrderFit(math.nan, math.nan, int(fit.size), (math.nan, math.nan), used, floor)
+        return OrderFit(math.nan, math.nan, int(fit.size), _NAN2, _NAN2, used, floor)
     used[fit] = True
     x, y = np.log(h[fit]), np.log(err[fit])
     xc = x - x.mean()
@@ -207,4 +217,7 @@ def fit_order(h, err, ref_error=0.0, ceil=ERR_CEIL, err_min=0.0, min_slope=-math
         se = float(math.sqrt(np.dot(resid, resid) / (fit.size - 2) / np.dot(xc, xc)))
     else:
         se = math.nan
-    return OrderFit(p, se, int(fit.size), (float(h[fit].min()), float(h[fit].max())), used, floor)
+    srt = np.argsort(h[fit])
+    s = _local_slopes(x[srt], y[srt])
+    return OrderFit(p, se, int(fit.size), (float(h[fit].min()), float(h[fit].max())),
+                    (float(s.min()), float(s.max())), used, floor)

@@ -41,6 +41,8 @@ def test_pre_asymptotic_points_are_dropped():
     assert not fit.used[:2].any() and fit.used[2:].all()
     assert fit.order == pytest.approx(7.0, abs=1e-9)
     assert fit.h_range == (H[-1], H[2])
+    assert fit.slope_range == pytest.approx((7.0, 7.0))
+    assert "local slopes 7.00 to 7.00" in fit.describe()
 
 
 def test_asymptotic_range_is_the_longest_agreeing_run():
@@ -90,7 +92,7 @@ def test_uncertainty_is_the_slopes_standard_error():
     # Exact power law: no scatter; two points: no uncertainty at all.
     assert orderfit.fit_order(H, 1e-2 * H ** 4).stderr < 1e-12
     two = orderfit.fit_order(H[:2], 1e-2 * H[:2] ** 4)
-    assert two.n == 2 and math.isnan(two.stderr) and "no uncertainty" in two.describe()
+    assert two.n == 2 and math.isnan(two.stderr) and "2 points only (no uncertainty)" in two.describe()
     none = orderfit.fit_order(H[:1], [1e-3])
     assert math.isnan(none.order) and "n/a" in none.describe()
 
