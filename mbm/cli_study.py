@@ -18,8 +18,8 @@ import numpy as np
 
 from . import orderfit, scenes
 
-__all__ = ["SCENES", "integrate", "heyoka_ld_available", "heyoka_ld_states", "study_reference", "run_study", "fit_order", "format_table",
-           "write_csv", "plot_study"]
+__all__ = ["SCENES", "SCENE_TAUS", "integrate", "heyoka_ld_available", "heyoka_ld_states",
+           "study_reference", "run_study", "fit_order", "format_table", "write_csv", "plot_study"]
 
 # name -> (beta, gamma, omega, theta0 [rad], v0, t_end): scenes of mbm.scenes under the
 # names `mbm study --scene` takes, with the horizons of docs/convergent.md, so that the
