@@ -7,6 +7,11 @@ paper's own ℘ approximant, prints the table and saves error-vs-τ and error-vs
 plots.  The ℘ approximant levels off at the model error of the Chebyshev cubic (2.3)
 (~3e-3): re-anchoring does not remove a model error.
 
+The table states the reference's own error (heyoka in long double, or DOP853 without
+heyoka, checked against mbm at its tightest tolerance), marks the points within 10× of
+it as at the reference's floor and fits the order over the asymptotic range only, with
+its standard error (:mod:`mbm.orderfit`).
+
 Usage::
 
     python examples/step_size_study.py [OUT_DIR]      # or set MBM_EXAMPLES_OUT
@@ -36,7 +41,8 @@ def compute(taus=TAUS, approximants=APPROXIMANTS, n_out=201):
     Returns
     -------
     dict
-        As :func:`mbm.cli_study.run_study` (``rows``, ``orders``, ``curves``, ``t``, ``ref``).
+        As :func:`mbm.cli_study.run_study` (``rows``, ``fits``, ``orders``, ``curves``, ``t``,
+        ``ref``, ``ref_error``).
     """
     return cli_study.run_study(SCENE, list(approximants), taus=list(taus), n_out=n_out,
                                show_progress=False)

@@ -434,7 +434,8 @@ def _build_parser():
                    help="comma-separated approximants (default taylor8,split4,salas-torque)")
     g = q.add_mutually_exclusive_group()
     g.add_argument("--taus", type=_positive_list, default=None,
-                   help="comma-separated window lengths (default " + ",".join(f"{x:g}" for x in DEFAULT_TAUS) + ")")
+                   help="comma-separated window lengths (default " + ",".join(f"{x:g}" for x in DEFAULT_TAUS)
+                   + "; running: 1/16 to 1/128, as the Taylor radius there is ~0.53)")
     g.add_argument("--rtols", type=_positive_list, default=None,
                    help="comma-separated rtol = atol values: adaptive windows instead of a tau sweep")
     q.add_argument("--n-out", type=_count, default=201, help="output times where the error is measured")
@@ -503,9 +504,10 @@ def main(argv=None):
     elif args.command == "study":
         if args.plot is not None:
             _require_matplotlib(parser, "--plot")
-        from mbm.cli_study import SCENES
+        from mbm.cli_study import SCENE_TAUS, SCENES
 
-        study_command(SCENES[args.scene], args.approximants, taus=args.taus, rtols=args.rtols,
+        taus = args.taus if args.taus is not None or args.rtols is not None else SCENE_TAUS.get(args.scene)
+        study_command(SCENES[args.scene], args.approximants, taus=taus, rtols=args.rtols,
                       n_out=args.n_out, csv=args.csv, plot=args.plot)
     elif args.command == "iv":
         if args.plot is not None:

@@ -1,9 +1,14 @@
 """Step-size and accuracy studies behind ``mbm study`` (and ``examples/step_size_study.py``).
 
 A study runs the moving boundary method on one scene for several approximants over a
-sweep of the window length τ (or of rtol), measures ``max |θ − θ_ref|`` against CVODE
-at the output times, and fits the order p of ``error ≈ C h^p`` with h the mean
-window length.
+sweep of the window length τ (or of rtol), measures ``max |θ − θ_ref|`` at the output
+times, and fits the order p of ``error ≈ C h^p`` with h the mean window length.
+
+The reference states its own error (:func:`study_reference`): it is checked against a
+second, independent integrator, and their largest difference is reported as the
+reference's error.  Points within 10× of it are at the reference's floor: marked in
+the table and never fitted; the order is fitted over the asymptotic range only, with
+its standard error and range (:func:`mbm.orderfit.fit_order`).
 """
 
 import math
@@ -11,9 +16,10 @@ import time
 
 import numpy as np
 
-from . import scenes
+from . import orderfit, scenes
 
-__all__ = ["SCENES", "integrate", "run_study", "fit_order", "format_table", "write_csv", "plot_study"]
+__all__ = ["SCENES", "SCENE_TAUS", "integrate", "heyoka_ld_available", "heyoka_ld_states",
+           "study_reference", "run_study", "fit_order", "format_table", "write_csv", "plot_study"]
 
 # name -> (beta, gamma, omega, theta0 [rad], v0, t_end): scenes of mbm.scenes under the
 # names `mbm study --scene` takes, with the horizons of docs/convergent.md, so that the
@@ -26,18 +32,25 @@ SCENES = {
     "free": scenes.get("free").params(),                   # third paper, large amplitude
 }
 # Default τ sweep: halvings from 1 to 1/16 show orders up to ~10 before the
-# reference's accuracy (~1e-12) is reached.
+# reference's accuracy is reached.
 DEFAULT_TAUS = (1.0, 0.5, 0.25, 0.125, 0.0625)
+# Scenes whose default sweep differs.  Running: the Taylor series' radius is ~0.53
+# there (mbm.approximants.taylor), so τ ≥ 1/8 is pre-asymptotic for taylor8 (local
+# slopes 4.7, 6.0 at τ = 1/4 .. 1/16); ratios 1.5 and 4/3 from 1/16 to 1/128 give
+# taylor8 seven points between that and the reference's floor.
+SCENE_TAUS = {"running": (1 / 16, 1 / 24, 1 / 32, 1 / 48, 1 / 64, 1 / 96, 1 / 128)}
 # Default rtol sweep (rtol = atol): three decades per point pair.
 DEFAULT_RTOLS = (1e-3, 1e-5, 1e-7, 1e-9)
-# Errors below this are at the reference's own accuracy (CVODE at 1e-13 is good to
-# ~1e-12 on these scenes) and would flatten the fitted slope.
-ERR_FLOOR = 1e-11
-# Errors above this are pre-asymptotic (the formula is not yet in its convergent regime).
-ERR_CEIL = 1e-1
-# CVODE tolerances of the reference: as tight as it goes without stalling.
-REF_TOL = 1e-13
-
+# heyoka's tolerance in 80-bit long double (eps 1.08e-19): the tightest it takes, ~1e-17
+# absolute on θ ~ 2400 after the running scene's 200 time units.
+HEYOKA_LD_TOL = 1e-19
+# The tightest tolerance of DOP853 and of mbm (scipy's floor, 100 eps): the reference
+# without heyoka, and the check of either reference.  CVODE is not used: at 1e-13 it is
+# itself off by 4.2e-9 on the running scene (rtol·|θ| with |θ| ~ 2400).
+TIGHT_TOL = 100 * float(np.finfo(float).eps)
+# Approximant of the check (mbm's own, adaptive): the most accurate double-precision
+# integrator here (2.3e-13 from heyoka on the running scene, DOP853 1.3e-11).
+CHECK_APPROXIMANT = "taylor"
 
 def _compiled(name):
     """Whether ``mbm.solve`` (the compiled path) runs approximant ``name``."""
@@ -105,27 +118,114 @@ def integrate(model, t_span, y0, t_eval, approximant="auto", tau=None, rtol=1e-6
     return np.asarray(sol.y), int(n_windows)
 
 
-def fit_order(h, err):
-    """Least-squares slope of log(err) against log(h), over the asymptotic points.
+def heyoka_ld_available():
+    """Whether heyoka imports and ``numpy.longdouble`` is wider than a double."""
+    try:
+        import heyoka  # noqa: F401
+    except ImportError:
+        return False
+    return np.finfo(np.longdouble).eps < 1e-18
+
+
+def heyoka_ld_states(model, y0, t):
+    """θ, θ' at ``t`` from t = 0 by heyoka's Taylor integrator in long double.
+
+    Parameters
+    ----------
+    model : Pendulum
+        Its AC drive included.
+    y0 : array_like, shape (2,)
+        θ, θ' at t = 0.
+    t : array_like
+        Output times, increasing, from 0.
+
+    Returns
+    -------
+    ndarray of numpy.longdouble, shape (len(t), 2)
+
+    Raises
+    ------
+    ImportError
+        Without heyoka.
+    RuntimeError
+        If heyoka stops before ``t[-1]``.
+    """
+    import heyoka as hy
+
+    ld = np.longdouble
+    th, v = hy.make_vars("th", "v")
+    acc = model.gamma - model.beta * v - model.omega ** 2 * hy.sin(th)
+    amp, freq, phase = model.drive
+    if amp != 0.0:
+        acc = acc + amp * hy.sin(freq * hy.time + phase)
+    ta = hy.taylor_adaptive([(th, v), (v, acc)], np.asarray(y0, dtype=ld), fp_type=ld,
+                            tol=ld(HEYOKA_LD_TOL), compact_mode=True)
+    res = ta.propagate_grid(np.asarray(t, dtype=ld))
+    if res[0] != hy.taylor_outcome.time_limit:
+        raise RuntimeError(f"heyoka stopped early: {res[0]}")
+    return np.asarray(res[-1])
+
+
+def study_reference(model, y0, t):
+    """θ_ref at ``t`` from t = 0, and its own error, measured against an independent check.
+
+    The reference is heyoka in long double (:data:`HEYOKA_LD_TOL`) when heyoka is
+    installed, else DOP853 at :data:`TIGHT_TOL`; the check is mbm's adaptive
+    :data:`CHECK_APPROXIMANT` at :data:`TIGHT_TOL` (different code and arithmetic).
+    ``max |reference − check|`` bounds the error of the less accurate of the two, so it
+    is a conservative statement of the reference's error (the two would have to err
+    alike to hide one).
+
+    Parameters
+    ----------
+    model : Pendulum
+        The scene's equation.
+    y0 : array_like, shape (2,)
+        θ, θ' at t = 0.
+    t : ndarray
+        Output times, from 0.
+
+    Returns
+    -------
+    dict
+        ``theta`` (θ_ref at t; long double from heyoka), ``error`` (max |reference −
+        check|), ``name`` and ``check_name``.
+    """
+    from . import fast
+    from .references import reference
+
+    t = np.asarray(t, dtype=float)
+    if heyoka_ld_available():
+        theta = heyoka_ld_states(model, y0, t)[:, 0]
+        name = f"heyoka long double, tol {HEYOKA_LD_TOL:g}"
+    else:
+        theta = reference(model, (0.0, t[-1]), y0, t_eval=t, rtol=TIGHT_TOL, atol=TIGHT_TOL,
+                          solver="dop853").y[0]
+        name = f"DOP853, rtol=atol={TIGHT_TOL:.3g} (heyoka not installed)"
+    chk = fast.solve(model, (0.0, t[-1]), y0, rtol=TIGHT_TOL, atol=TIGHT_TOL,
+                     approximant=CHECK_APPROXIMANT, t_eval=t)
+    if not chk.success:
+        raise RuntimeError(f"the reference's check failed: {chk.message}")
+    error = float(np.max(np.abs(np.asarray(chk.y[0], dtype=theta.dtype) - theta)))
+    check_name = f"mbm {CHECK_APPROXIMANT}, rtol=atol={TIGHT_TOL:.3g}"
+    return dict(theta=theta, error=error, name=name, check_name=check_name)
+
+
+def fit_order(h, err, ref_error=0.0):
+    """Fitted order of one sweep: :func:`mbm.orderfit.fit_order` (floor, asymptotic range).
 
     Parameters
     ----------
     h, err : array_like
-        Mean window lengths and errors; points with err outside
-        (:data:`ERR_FLOOR`, :data:`ERR_CEIL`) or non-finite are left out.
+        Mean window lengths and errors.
+    ref_error : float, optional
+        The reference's own error (points within 10× of it are not fitted).
 
     Returns
     -------
-    float
-        The fitted order p of err ≈ C h^p, NaN with fewer than two usable points
-        or a single distinct h.
+    mbm.orderfit.OrderFit
     """
-    h = np.asarray(h, dtype=float)
-    err = np.asarray(err, dtype=float)
-    ok = np.isfinite(h) & np.isfinite(err) & (err > ERR_FLOOR) & (err < ERR_CEIL) & (h > 0)
-    if ok.sum() < 2 or np.unique(h[ok]).size < 2:
-        return float("nan")
-    return float(np.polyfit(np.log(h[ok]), np.log(err[ok]), 1)[0])
+    return orderfit.fit_order(h, err, ref_error)
 
 
 def run_study(scene, approximants, taus=None, rtols=None, n_out=201, show_progress=True):
@@ -150,15 +250,17 @@ def run_study(scene, approximants, taus=None, rtols=None, n_out=201, show_progre
     Returns
     -------
     dict
-        ``knob`` ("tau" or "rtol"), ``values``, ``t``, ``ref`` (θ_ref at t),
-        ``rows`` (list of dicts: approximant, value, windows, h, error, time_s, note),
-        ``orders`` ({approximant: fitted order}), ``n_fit`` ({approximant: points in
-        the fit}), ``scene`` and ``curves``
-        ({approximant: (value, |θ − θ_ref| at t)} at the middle knob value).
+        ``knob`` ("tau" or "rtol"), ``values``, ``t``, ``ref`` (θ_ref at t, float64),
+        ``ref_error``, ``ref_name``, ``check_name`` (:func:`study_reference`),
+        ``rows`` (list of dicts: approximant, value, windows, h, error, time_s, note,
+        floor (at the reference's floor), fitted (in the order fit)),
+        ``fits`` ({approximant: :class:`mbm.orderfit.OrderFit`}), ``orders``
+        ({approximant: fitted order}), ``n_fit`` ({approximant: points in the fit}),
+        ``scene`` and ``curves`` ({approximant: (value, |θ − θ_ref| at t)} at the
+        middle knob value).
     """
     from .cli_progress import Progress
     from .problem import Pendulum
-    from .references import reference
 
     if taus is not None and rtols is not None:
         raise ValueError("give taus or rtols, not both")
@@ -171,47 +273,57 @@ def run_study(scene, approximants, taus=None, rtols=None, n_out=201, show_progre
     beta, gamma, omega, th0, v0, t_end = (float(x) for x in scene)
     model = Pendulum(beta=beta, gamma=gamma, omega=omega)
     t = np.linspace(0.0, t_end, int(n_out))
-    ref = reference(model, (0.0, t_end), [th0, v0], t_eval=t, rtol=REF_TOL, atol=REF_TOL).y[0]
+    refd = study_reference(model, [th0, v0], t)
+    ref = refd["theta"]
     rows, curves = [], {}
     mid = values[len(values) // 2]
     bar = Progress(len(values) * len(approximants), "study", enabled=None if show_progress else False)
     with bar:
         for name in approximants:
             for v in values:
-                kw = {"tau": v} if knob == "tau" else {"rtol": v, "atol": v}
-                row = dict(approximant=name, value=v, windows=0, h=float("nan"),
-                           error=float("nan"), time_s=float("nan"), note="")
-                try:
-                    if v == values[0]:
-                        # Untimed first run: numba compilation or cache loading is not
-                        # the cost of a window and would swamp the first row's time.
-                        integrate(model, (0.0, t_end), [th0, v0], t, approximant=name, **kw)
-                    c = time.perf_counter()
-                    y, n_w = integrate(model, (0.0, t_end), [th0, v0], t, approximant=name, **kw)
-                    row["time_s"] = time.perf_counter() - c
-                    e = np.abs(y[0] - ref)
-                    row.update(windows=n_w, h=t_end / max(n_w, 1), error=float(np.max(e)))
-                    if v == mid:
-                        curves[name] = (v, e)
-                except (ValueError, RuntimeError, ArithmeticError) as exc:
-                    # A domain error or an option the approximant rejects is a result of
-                    # the study (e.g. no error estimate for an rtol sweep), not a crash.
-                    row["note"] = str(exc).split("\n")[0][:120]
-                rows.append(row)
+                rows.append(_study_point(model, (th0, v0), t, ref, name, knob, v, first=v == values[0]))
+                if v == mid and "curve" in rows[-1]:
+                    curves[name] = (v, rows[-1].pop("curve"))
+                rows[-1].pop("curve", None)
                 bar.update()
-    orders = {
-        name: fit_order([r["h"] for r in rows if r["approximant"] == name],
-                        [r["error"] for r in rows if r["approximant"] == name])
-        for name in approximants
-    }
-    # How many points each fit used: a slope from two points deserves less trust.
-    n_fit = {
-        name: int(sum(1 for r in rows if r["approximant"] == name and np.isfinite(r["error"])
-                      and ERR_FLOOR < r["error"] < ERR_CEIL))
-        for name in approximants
-    }
-    return dict(knob=knob, values=values, t=t, ref=ref, rows=rows, orders=orders, n_fit=n_fit, curves=curves,
-                scene=(beta, gamma, omega, th0, v0, t_end))
+    fits = {}
+    for name in approximants:
+        rs = [r for r in rows if r["approximant"] == name]
+        fits[name] = fit_order([r["h"] for r in rs], [r["error"] for r in rs], refd["error"])
+        for r, fl, used in zip(rs, fits[name].floor, fits[name].used):
+            r.update(floor=bool(fl), fitted=bool(used))
+    return dict(knob=knob, values=values, t=t, ref=np.asarray(ref, dtype=float), ref_error=refd["error"],
+                ref_name=refd["name"], check_name=refd["check_name"], rows=rows, fits=fits,
+                orders={k: f.order for k, f in fits.items()}, n_fit={k: f.n for k, f in fits.items()},
+                curves=curves, scene=(beta, gamma, omega, th0, v0, t_end))
+
+
+def _study_point(model, y0, t, ref, name, knob, v, first):
+    """One row of a study: run ``name`` at knob value ``v``, time it, measure its error.
+
+    ``first``: run once untimed before (numba compilation or cache loading is not the
+    cost of a window and would swamp the first row's time).  The row carries the error
+    curve under ``"curve"`` (|θ − θ_ref| at t) when the run succeeded.
+    """
+    t_end = float(t[-1])
+    kw = {"tau": v} if knob == "tau" else {"rtol": v, "atol": v}
+    row = dict(approximant=name, value=v, windows=0, h=float("nan"),
+               error=float("nan"), time_s=float("nan"), note="")
+    try:
+        if first:
+            integrate(model, (0.0, t_end), list(y0), t, approximant=name, **kw)
+        c = time.perf_counter()
+        y, n_w = integrate(model, (0.0, t_end), list(y0), t, approximant=name, **kw)
+        row["time_s"] = time.perf_counter() - c
+        # In the reference's precision (long double from heyoka): θ ~ 2400 on the
+        # running scene, where rounding θ_ref to a double would add 2.3e-13.
+        e = np.abs(np.asarray(y[0], dtype=ref.dtype) - ref).astype(float)
+        row.update(windows=n_w, h=t_end / max(n_w, 1), error=float(np.max(e)), curve=e)
+    except (ValueError, RuntimeError, ArithmeticError) as exc:
+        # A domain error or an option the approximant rejects is a result of
+        # the study (e.g. no error estimate for an rtol sweep), not a crash.
+        row["note"] = str(exc).split("\n")[0][:120]
+    return row
 
 
 def format_table(study):
@@ -228,31 +340,40 @@ def format_table(study):
     """
     beta, gamma, omega, th0, v0, t_end = study["scene"]
     knob = study["knob"]
+    floor = orderfit.FLOOR_FACTOR * study["ref_error"]
     lines = [
         f"scene: beta={beta:g} gamma={gamma:g} omega={omega:g} theta0={th0:.6g} rad "
-        f"v0={v0:g} 0<=t<={t_end:g}; error = max|theta - theta_ref| over {study['t'].size} times "
-        f"(CVODE {REF_TOL:g})",
+        f"v0={v0:g} 0<=t<={t_end:g}; error = max|theta - theta_ref| over {study['t'].size} times",
+        f"reference: {study['ref_name']}; its error, max|reference - check| with the check "
+        f"{study['check_name']}: {study['ref_error']:.2g}",
         f"{'approximant':<20s} {knob:>9s} {'windows':>8s} {'mean h':>9s} {'error':>10s} {'time ms':>9s}",
     ]
     for r in study["rows"]:
         if r["note"]:
             lines.append(f"{r['approximant']:<20s} {r['value']:9.3g} {'-':>8s} {'-':>9s} "
                          f"{'failed':>10s}   {r['note']}")
-        else:
-            lines.append(f"{r['approximant']:<20s} {r['value']:9.3g} {r['windows']:8d} {r['h']:9.3g} "
-                         f"{r['error']:10.2e} {r['time_s'] * 1e3:9.2f}")
+            continue
+        mark = ("   * at the reference's floor" if r.get("floor")
+                else "   fitted" if r.get("fitted")
+                else f"   not fitted (error >= {orderfit.ERR_CEIL:g})" if r["error"] >= orderfit.ERR_CEIL
+                else "   not fitted (outside the asymptotic range)")
+        lines.append(f"{r['approximant']:<20s} {r['value']:9.3g} {r['windows']:8d} {r['h']:9.3g} "
+                     f"{r['error']:10.2e} {r['time_s'] * 1e3:9.2f}{mark}")
     lines.append("")
-    lines.append(f"fitted order p of error ~ C h^p (h = mean window; errors in ({ERR_FLOOR:g}, {ERR_CEIL:g})):")
-    for name, p in study["orders"].items():
-        n = study.get("n_fit", {}).get(name)
-        txt = (f"{p:.2f}" + (f"  (fit over {n} points)" if n is not None else "")
-               if math.isfinite(p) else "n/a (fewer than two points in range)")
-        lines.append(f"  order {name:<20s} {txt}")
+    lines.append("fitted order p of error ~ C h^p (h = mean window; least squares ± its standard error)")
+    lines.append(
+        f"  over the asymptotic range: errors <= {orderfit.FLOOR_FACTOR:g} x the reference's ({floor:.2g}) "
+        f"and >= {orderfit.ERR_CEIL:g} left out, then the longest run of consecutive h whose")
+    lines.append(f"  local slopes agree within max({orderfit.SLOPE_TOL_ABS:g}, {orderfit.SLOPE_TOL_REL:g} p):")
+    for name, fit in study["fits"].items():
+        lines.append(f"  order {name:<20s} {fit.describe()}")
     return "\n".join(lines)
 
 
 def write_csv(study, path):
-    """Write the study's rows as CSV (approximant, knob value, windows, h, error, time, order).
+    """Write the study's rows as CSV (approximant, knob value, windows, h, error, time, whether
+    at the reference's floor and in the fit, the fitted order and its standard error, the
+    reference's error).
 
     Parameters
     ----------
@@ -264,14 +385,18 @@ def write_csv(study, path):
 
     with open(path, "w", newline="") as f:
         w = csv.writer(f)
-        w.writerow(["approximant", study["knob"], "windows", "mean_h", "error", "time_s", "fitted_order", "note"])
+        w.writerow(["approximant", study["knob"], "windows", "mean_h", "error", "time_s", "at_floor",
+                    "in_fit", "fitted_order", "order_stderr", "reference_error", "note"])
         for r in study["rows"]:
+            fit = study["fits"][r["approximant"]]
             w.writerow([r["approximant"], repr(r["value"]), r["windows"], repr(r["h"]), repr(r["error"]),
-                        repr(r["time_s"]), repr(study["orders"][r["approximant"]]), r["note"]])
+                        repr(r["time_s"]), int(r.get("floor", False)), int(r.get("fitted", False)),
+                        repr(fit.order), repr(fit.stderr), repr(study["ref_error"]), r["note"]])
 
 
 def plot_study(study, path):
-    """Save error against h (log-log) and error against time (at the middle knob value).
+    """Save error against h (log-log; points at the reference's floor hollow, the floor
+    dotted) and error against time (at the middle knob value).
 
     Parameters
     ----------
@@ -291,13 +416,18 @@ def plot_study(study, path):
     import matplotlib.pyplot as plt
 
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.2))
-    for name, p in study["orders"].items():
+    for name, fit in study["fits"].items():
         rs = [r for r in study["rows"] if r["approximant"] == name and not r["note"]]
         if not rs:
             continue
-        lab = f"{name} (p={p:.2f})" if math.isfinite(p) else name
-        ax1.loglog([r["h"] for r in rs], [max(r["error"], 1e-17) for r in rs], "o-", label=lab)
-    ax1.axhline(ERR_FLOOR, color="0.6", ls=":", lw=1)
+        lab = f"{name} (p={fit.order:.2f})" if math.isfinite(fit.order) else name
+        line, = ax1.loglog([r["h"] for r in rs], [max(r["error"], 1e-17) for r in rs], "o-", label=lab)
+        fl = [r for r in rs if r.get("floor")]
+        if fl:  # floor points hollow: not fitted
+            ax1.loglog([r["h"] for r in fl], [max(r["error"], 1e-17) for r in fl], "o", mfc="white",
+                       color=line.get_color())
+    ax1.axhline(orderfit.FLOOR_FACTOR * study["ref_error"], color="0.6", ls=":", lw=1,
+                label=f"{orderfit.FLOOR_FACTOR:g}x the reference's error")
     ax1.set_xlabel("mean window h" + (" (= tau)" if study["knob"] == "tau" else ""))
     ax1.set_ylabel(r"max $|\theta-\theta_{ref}|$")
     ax1.set_title(f"error against window length ({study['knob']} sweep)")

@@ -99,6 +99,9 @@ def test_step_size_study(tmp_path):
     assert png.exists()
     assert study["orders"]["split4"] == pytest.approx(4.0, abs=0.3)
     assert abs(study["orders"]["salas-torque"]) < 0.5  # the cubic's model error: no convergence
+    # The reference states its error; the fit never uses a point at its floor.
+    assert 0.0 < study["ref_error"] < 1e-10
+    assert study["fits"]["split4"].n >= 2 and not any(r["floor"] and r["fitted"] for r in study["rows"])
     # Spot-check one row against an independent reference on a different grid.
     row = next(r for r in study["rows"] if r["approximant"] == "split4" and r["value"] == 0.25)
     model = mbm.Pendulum(beta=0.1, gamma=0.3)
