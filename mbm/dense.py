@@ -99,37 +99,37 @@ def _winding(kind, c, start_theta_i):
 
 
 @numba.njit(**_INLINE)
-def _evaluate_run(kind, dset, c, t0, start_theta_i, t, lo, hi, out_theta, out_v):
-    """Window ``c`` (start ``t0``) at ``t[lo:hi]``, as :func:`mbm.loop._evaluate_windows` per time.
+def _strobe_run(kind, c, t, lo, hi, out_theta, out_v):
+    # A phase-locked window: the stored period (q drive periods) from its anchor, at the
+    # absolute time (mbm.regimes S6, S7).
+    for q in range(lo, hi):
+        a, b, kc = _strobe_value(kind, c, t[q])
+        out_theta[q] = theta_of(kc, a)
+        out_v[q] = b
 
-    ``dset``: which stored periods the entry evaluates (RS_CYCLE, RS_STROBE; RS_PLAIN:
-    ordinary and locked windows only), so that a run that never reached them compiles
-    neither; a window of a set the entry lacks is NaN, never another formula.
-    """
-    if kind == KIND_TAYLOR and c.size >= STROBE_WIDTH and c[0] == STROBE_TAG:
-        # A phase-locked window: the stored period (q drive periods) from its anchor,
-        # at the absolute time (mbm.regimes S6, S7).
-        for q in range(lo, hi):
-            a, b, kc = math.nan, math.nan, 0.0
-            if dset == RS_STROBE:
-                a, b, kc = _strobe_value(kind, c, t[q])
-            out_theta[q] = theta_of(kc, a)
-            out_v[q] = b
-        return
-    if (kind == KIND_TAYLOR or kind == KIND_SPLIT) and c.size >= CYCLE_WIDTH and c[0] == CYCLE_TAG:
-        # A cycle window: the stored period (re-taken once for these times), shifted
-        # (its own winding count).
-        if dset == RS_CYCLE:
-            p_starts, p_ends, p_coefs, p_n = _period_store(kind, c)
-            for q in range(lo, hi):
-                a, b, kc = _period_value(kind, c, p_starts, p_ends, p_coefs, p_n, t[q] - t0)
-                out_theta[q] = theta_of(kc, a)
-                out_v[q] = b
-        else:
-            for q in range(lo, hi):
-                out_theta[q] = math.nan
-                out_v[q] = math.nan
-        return
+
+@numba.njit(**_INLINE)
+def _cycle_run(kind, c, t0, t, lo, hi, out_theta, out_v):
+    # A cycle window: the stored period (re-taken once for these times), shifted (its
+    # own winding count).
+    p_starts, p_ends, p_coefs, p_n = _period_store(kind, c)
+    for q in range(lo, hi):
+        a, b, kc = _period_value(kind, c, p_starts, p_ends, p_coefs, p_n, t[q] - t0)
+        out_theta[q] = theta_of(kc, a)
+        out_v[q] = b
+
+
+@numba.njit(cache=True)
+def _nan_run(lo, hi, out_theta, out_v):
+    # A stored period of a set the entry lacks: NaN, never another formula.
+    for q in range(lo, hi):
+        out_theta[q] = theta_of(0.0, math.nan)
+        out_v[q] = math.nan
+
+
+@numba.njit(**_INLINE)
+def _plain_run(kind, c, t0, start_theta_i, t, lo, hi, out_theta, out_v):
+    # An ordinary or locked window.
     ki = _winding(kind, c, start_theta_i)
     if c.size >= LOCKED_WIDTH and c[0] == LOCKED_TAG:
         for q in range(lo, hi):
@@ -148,47 +148,68 @@ def _evaluate_run(kind, dset, c, t0, start_theta_i, t, lo, hi, out_theta, out_v)
             out_v[q] = b
 
 
-@numba.njit(**_INLINE)
-def _evaluate_windows(kind, dset, starts, start_theta, coefs, n, direction, t, out):
-    """``n`` stored windows at times ``t`` into ``out`` (rows θ, θ'), in runs of times per window."""
-    out_theta = out[0]
-    out_v = out[1]
-    m = t.size
-    i = 0
-    j = 0
-    while j < m:
-        i = _find(starts, n, direction, i, t[j])
-        j2 = j + 1
-        while j2 < m and _holds(starts, n, direction, i, t[j2]):
-            j2 += 1
-        _evaluate_run(kind, dset, coefs[i], starts[i], start_theta[i], t, j, j2, out_theta, out_v)
-        j = j2
-
-
-@numba.njit(**_INLINE)
-def _evaluate_at(kind, dset, starts, start_theta, coefs, n, direction, tj):
-    # One time: a new array [θ, θ'].
-    i = _find(starts, n, direction, 0, tj)
-    t = np.empty(1)
-    t[0] = tj
-    out = np.empty((2, 1))
-    _evaluate_run(kind, dset, coefs[i], starts[i], start_theta[i], t, 0, 1, out[0], out[1])
-    y = np.empty(2)
-    y[0] = out[0, 0]
-    y[1] = out[1, 0]
-    return y
-
-
 def _entries(kind, dset):
-    # One pair of entries per (kind, stored-period set), both constants of the closures
-    # (numba prunes the other kinds' and sets' branches), as mbm.loop's runners.
+    """``(into, at)`` for windows of kind ``kind`` with the stored periods of ``dset``.
+
+    Both are constants of the closures, and the closures' own bodies branch on them:
+    numba prunes those branches before it inlines the calls in them, so an entry
+    inlines only the window forms its set holds (a stored period's form is large; a
+    branch inside an inlined helper would be pruned only after its calls were inlined).
+    A window is evaluated as :func:`mbm.loop._evaluate_windows` evaluates it per time; a
+    window of a stored period the entry lacks is NaN, never another formula.
+    """
+
     @numba.njit(cache=True)
     def into(starts, start_theta, coefs, n, direction, t, out):
-        _evaluate_windows(kind, dset, starts, start_theta, coefs, n, direction, t, out)
+        out_theta, out_v = out[0], out[1]
+        m = t.size
+        i = 0
+        j = 0
+        while j < m:
+            # A run of times per window.
+            i = _find(starts, n, direction, i, t[j])
+            j2 = j + 1
+            while j2 < m and _holds(starts, n, direction, i, t[j2]):
+                j2 += 1
+            c = coefs[i]
+            if kind == KIND_TAYLOR and c.size >= STROBE_WIDTH and c[0] == STROBE_TAG:
+                if dset == RS_STROBE:
+                    _strobe_run(kind, c, t, j, j2, out_theta, out_v)
+                else:
+                    _nan_run(j, j2, out_theta, out_v)
+            elif (kind == KIND_TAYLOR or kind == KIND_SPLIT) and c.size >= CYCLE_WIDTH and c[0] == CYCLE_TAG:
+                if dset == RS_CYCLE:
+                    _cycle_run(kind, c, starts[i], t, j, j2, out_theta, out_v)
+                else:
+                    _nan_run(j, j2, out_theta, out_v)
+            else:
+                _plain_run(kind, c, starts[i], start_theta[i], t, j, j2, out_theta, out_v)
+            j = j2
 
     @numba.njit(cache=True)
     def at(starts, start_theta, coefs, n, direction, tj):
-        return _evaluate_at(kind, dset, starts, start_theta, coefs, n, direction, tj)
+        # One time: a new array [θ, θ'] (into's branches, for t = [tj]).
+        i = _find(starts, n, direction, 0, tj)
+        t = np.empty(1)
+        t[0] = tj
+        out = np.empty((2, 1))
+        c = coefs[i]
+        if kind == KIND_TAYLOR and c.size >= STROBE_WIDTH and c[0] == STROBE_TAG:
+            if dset == RS_STROBE:
+                _strobe_run(kind, c, t, 0, 1, out[0], out[1])
+            else:
+                _nan_run(0, 1, out[0], out[1])
+        elif (kind == KIND_TAYLOR or kind == KIND_SPLIT) and c.size >= CYCLE_WIDTH and c[0] == CYCLE_TAG:
+            if dset == RS_CYCLE:
+                _cycle_run(kind, c, starts[i], t, 0, 1, out[0], out[1])
+            else:
+                _nan_run(0, 1, out[0], out[1])
+        else:
+            _plain_run(kind, c, starts[i], start_theta[i], t, 0, 1, out[0], out[1])
+        y = np.empty(2)
+        y[0] = out[0, 0]
+        y[1] = out[1, 0]
+        return y
 
     return into, at
 

@@ -220,33 +220,50 @@ def _stop_before(kind, rset, r, n, n_total, store, cap, seen, cancel):
     return STATUS_OK, seen
 
 
+# The window sources, one per kind of window: run_entry branches on its constant set
+# itself (numba prunes a branch on a closure constant before it inlines the calls in
+# it; inside an inlined callee, only after that callee's own calls are inlined), so
+# an entry inlines the one source it takes.
+
+@numba.njit(**_INLINE)
+def _source_cycle(kind, r, t, direction, max_step, h_abs, per):
+    """The running cycle's window (RS_CYCLE: the stored period shifted, R3), as
+    :func:`_source` returns it (``per``: the period's windows, built at the call's
+    first cycle window)."""
+    m, c, y = r.model, r.control, r.cycle
+    t_new = _window_end(t, direction, r.state.t_bound, max_step)
+    coef = cycle_coef(y.cyc_theta, y.cyc_v, y.cyc_T, t - y.cyc_t, m.beta, m.gamma, m.omega, c.rtol, c.atol,
+                      y.cyc_sign, c.karg, c.error_order, y.cyc_wind, y.cyc_Tlo)
+    if per[3] == -2:
+        per = _period_store(kind, coef)
+    th, v, k_new = _period_value(kind, coef, per[0], per[1], per[2], per[3], t_new - t)
+    st = STATUS_OK if math.isfinite(th) and math.isfinite(v) else STATUS_NONFINITE
+    return st, coef, t_new, th, v, k_new, h_abs, h_abs, False, per
+
+
+@numba.njit(**_INLINE)
+def _source_strobe(kind, r, t, direction, max_step, h_abs, per):
+    """The phase-locked window (RS_STROBE: the stored drive period, S6, S7), as
+    :func:`_source` returns it."""
+    m, c, s = r.model, r.control, r.strobe
+    t_new = _window_end(t, direction, r.state.t_bound, max_step)
+    coef = strobe_coef(s.str_phi, s.str_v, s.str_k, s.str_ta, s.str_q, s.str_p, s.str_psi, m.beta, m.gamma,
+                       m.omega, m.drive_amp, m.drive_freq, c.rtol, c.atol, c.karg, c.error_order)
+    th, v, k_new = _strobe_value(kind, coef, t_new)
+    st = STATUS_OK if math.isfinite(th) and math.isfinite(v) else STATUS_NONFINITE
+    return st, coef, t_new, th, v, k_new, h_abs, h_abs, False, per
+
+
 @numba.njit(**_INLINE)
 def _source(kind, rset, r, t, y0, y1, k, off, direction, max_step, h_abs, log_eps, can_lock, lk, ws, per):
-    """The window from (t, φ = ``y0``, θ' = ``y1``, winding ``k``): a regime's stored
-    formula (RS_CYCLE: R3; RS_STROBE: S6, S7), the locked closed form (L2, L5), or the
-    approximant anchored at the state under its controller.  Returns ``(status, coef,
-    t_new, θ, θ', k_new, h_abs, h_next, is_locked, per)`` (``per``: the stored period's
-    windows, built at the first cycle window of the call)."""
+    """The window from (t, φ = ``y0``, θ' = ``y1``, winding ``k``) outside the stored
+    periods: the locked closed form (L2, L5), or the approximant anchored at the state
+    under its controller.  Returns ``(status, coef, t_new, θ, θ', k_new, h_abs, h_next,
+    is_locked, per)`` (``per`` passed through)."""
     m, c = r.model, r.control
     beta, gamma, omega = m.beta, m.gamma, m.omega
     rtol, atol, karg, error_order = c.rtol, c.atol, c.karg, c.error_order
     t_bound = r.state.t_bound
-    if rset == RS_CYCLE or rset == RS_STROBE:
-        t_new = _window_end(t, direction, t_bound, max_step)
-        if rset == RS_CYCLE:
-            y = r.cycle
-            coef = cycle_coef(y.cyc_theta, y.cyc_v, y.cyc_T, t - y.cyc_t, beta, gamma, omega, rtol, atol,
-                              y.cyc_sign, karg, error_order, y.cyc_wind, y.cyc_Tlo)
-            if per[3] == -2:
-                per = _period_store(kind, coef)
-            th, v, k_new = _period_value(kind, coef, per[0], per[1], per[2], per[3], t_new - t)
-        else:
-            s = r.strobe
-            coef = strobe_coef(s.str_phi, s.str_v, s.str_k, s.str_ta, s.str_q, s.str_p, s.str_psi, beta,
-                               gamma, omega, m.drive_amp, m.drive_freq, rtol, atol, karg, error_order)
-            th, v, k_new = _strobe_value(kind, coef, t_new)
-        st = STATUS_OK if math.isfinite(th) and math.isfinite(v) else STATUS_NONFINITE
-        return st, coef, t_new, th, v, k_new, h_abs, h_abs, False, per
     lk_order, lk_ts = 0, 0.0
     if rset == RS_DAMPED and can_lock:
         lk_order, lk_ts = locked_test(r, y0, y1, off, lk)
@@ -408,8 +425,15 @@ def _runner(kind, rset):
                 if r.switch.regime != REGIME_NONE:
                     status = STATUS_PAUSED  # the rest of the run is the stored period: RS_CYCLE's entry
                     break
-            st, coef, t_new, th, v, k_new, h_abs, h_next, is_locked, per = _source(
-                kind, rset, r, t, y0, y1, k, off, direction, max_step, h_abs, log_eps, can_lock, lk, ws, per)
+            if rset == RS_CYCLE:
+                st, coef, t_new, th, v, k_new, h_abs, h_next, is_locked, per = _source_cycle(
+                    kind, r, t, direction, max_step, h_abs, per)
+            elif rset == RS_STROBE:
+                st, coef, t_new, th, v, k_new, h_abs, h_next, is_locked, per = _source_strobe(
+                    kind, r, t, direction, max_step, h_abs, per)
+            else:
+                st, coef, t_new, th, v, k_new, h_abs, h_next, is_locked, per = _source(
+                    kind, rset, r, t, y0, y1, k, off, direction, max_step, h_abs, log_eps, can_lock, lk, ws, per)
             if st != STATUS_OK:
                 status = st
                 break
