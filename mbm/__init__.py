@@ -35,6 +35,7 @@ from .special.pendulum_flow import pendulum_flow, period
 from .fast import Integrator, solve, solve_batch, solve_njit
 from .junction import IVCurve, iv_curve
 from .problem import Pendulum, identify_model
+from .shapiro import ShapiroStep, ShapiroSteps, shapiro_steps
 from .references import reference
 
 __version__ = "0.1.0"
@@ -48,6 +49,8 @@ __all__ = [
     "IVCurve",
     "Integrator",
     "Pendulum",
+    "ShapiroStep",
+    "ShapiroSteps",
     "approximant_names",
     "get_approximant",
     "identify_model",
@@ -55,6 +58,7 @@ __all__ = [
     "pendulum_flow",
     "period",
     "reference",
+    "shapiro_steps",
     "solve",
     "solve_batch",
     "solve_njit",

@@ -3,7 +3,7 @@
 Subcommands: ``demo`` (the second paper's Example 1, error and time), ``solve`` (one
 scene to CSV/NPZ, optional PNG), ``study`` (a step-size / accuracy study with fitted
 orders), ``iv`` (a Josephson-junction I–V sweep with its switching and retrapping
-currents).  ``bench`` only says where the work-precision benchmark went: it runs from a
+currents; with a drive, ``--steps`` prints the Shapiro steps' table).  ``bench`` only says where the work-precision benchmark went: it runs from a
 checkout, ``python -m benchmarks``.
 """
 
@@ -14,7 +14,7 @@ import time
 
 import numpy as np
 
-__all__ = ["main", "demo", "solve_command", "study_command", "iv_command", "parse_angle"]
+__all__ = ["main", "demo", "solve_command", "study_command", "iv_command", "steps_command", "parse_angle"]
 
 # Repetitions of each timed solve in the demo: the median of a few runs keeps one
 # slow run (page faults, another process) out of the figure.
@@ -387,6 +387,40 @@ def iv_command(beta, gamma_max, points, omega=1.0, current_tol=1e-4, csv=None, p
     return curve
 
 
+def steps_command(beta, gamma_max, points, omega=1.0, current_tol=1e-4, csv=None, plot=None, out=None,
+                  drive_amplitude=0.0, drive_frequency=0.0, drive_phase=0.0):
+    """``mbm iv --steps``: the Shapiro steps over [0, gamma_max] (:func:`mbm.shapiro_steps`,
+    ``points`` grid points), their edges bisected to ``current_tol``; print the step
+    table, write CSV/PNG.
+
+    Returns
+    -------
+    mbm.shapiro.ShapiroSteps
+    """
+    import mbm
+
+    out = sys.stdout if out is None else out
+    steps = mbm.shapiro_steps(beta, (0.0, gamma_max), amplitude=drive_amplitude, frequency=drive_frequency,
+                              omega=omega, phase=drive_phase, current_tol=current_tol, points=points)
+    print(f"beta = {beta:g}, omega = {omega:g}, AC drive A = {drive_amplitude:g}, Omega = {drive_frequency:g}, "
+          f"phi = {drive_phase:g}; Shapiro steps over gamma in [0, {gamma_max:g}] ({points} grid points, "
+          f"edges to {current_tol:g})", file=out)
+    print(steps.table(), file=out)
+    if csv:
+        steps.to_csv(csv)
+    if plot:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        ax = steps.plot()
+        ax.figure.tight_layout()
+        ax.figure.savefig(plot, dpi=110)
+        plt.close(ax.figure)
+    return steps
+
+
 def _bench(argv):
     """``mbm bench ARGS``: say where the benchmark went; exit status 2."""
     print(BENCH_MOVED, file=sys.stderr)
@@ -454,7 +488,11 @@ def _build_parser():
                    help="AC drive amplitude A: bias gamma + A sin(Omega t + phi) (default 0: none)")
     r.add_argument("--drive-frequency", type=_finite, default=0.0, help="AC drive angular frequency Omega > 0")
     r.add_argument("--drive-phase", type=_finite, default=0.0, help="AC drive phase phi (default 0)")
-    r.add_argument("--csv", default=None, help="write gamma, mean velocity, regime, period")
+    r.add_argument("--steps", action="store_true",
+                   help="with a drive: the Shapiro steps over [0, gamma-max] instead of the sweep, each edge "
+                        "bisected to --current-tol on a grid of --points (mbm.shapiro_steps); prints the table")
+    r.add_argument("--csv", default=None, help="write gamma, mean velocity, regime, period, converged "
+                                               "(--steps: one row per step)")
     r.add_argument("--plot", default=None, metavar="PNG", help="save the I-V plot")
 
     sub.add_parser("bench", help="moved: run `python -m benchmarks` from a checkout",
@@ -512,11 +550,13 @@ def main(argv=None):
     elif args.command == "iv":
         if args.plot is not None:
             _require_matplotlib(parser, "--plot")
+        if args.steps and args.drive_amplitude == 0.0:
+            parser.error("--steps needs a drive: --drive-amplitude A != 0 and --drive-frequency Omega > 0")
         try:
-            iv_command(args.beta, args.gamma_max, args.points, omega=args.omega,
-                       current_tol=args.current_tol, csv=args.csv, plot=args.plot,
-                       drive_amplitude=args.drive_amplitude, drive_frequency=args.drive_frequency,
-                       drive_phase=args.drive_phase)
+            (steps_command if args.steps else iv_command)(
+                args.beta, args.gamma_max, args.points, omega=args.omega, current_tol=args.current_tol,
+                csv=args.csv, plot=args.plot, drive_amplitude=args.drive_amplitude,
+                drive_frequency=args.drive_frequency, drive_phase=args.drive_phase)
         except ValueError as exc:
             parser.error(str(exc))
     elif args.command == "bench":  # reached only via an unusual argv order

@@ -51,7 +51,8 @@ blocks of 240 periods: successive blocks agree to 1e-8 weighted, 2e-3 plain), bu
 a slowly attracting motion between steps may not have settled within the blocks
 (β = 2, Ω = A = 1, γ = 1.9: 1e-6 off a 4000-period reference; 6e-11 at γ = 2.45); on
 chaotic motion neither average converges, and the value is an average over the blocks
-measured.  A driven point is "phase-locked" on a Shapiro step p/q ≠ 0 (where a run
+measured: such a point is not settled (``IVCurve.converged`` False, and
+:func:`iv_curve` warns, naming its γ).  A driven point is "phase-locked" on a Shapiro step p/q ≠ 0 (where a run
 reached the phase-locked regime, or a converged block's increments repeat with period
 q, :data:`DRIVE_REPEAT_TOL`; ``period`` q·2π/Ω), "locked" when its phase gains less
 than π over the last block (the zero-voltage step), else "running".
@@ -63,6 +64,7 @@ voltage.
 
 import dataclasses
 import math
+import warnings
 
 import numpy as np
 
@@ -171,6 +173,16 @@ class IVCurve:
         switching bracket lies within [−ω², ω²]: a zero-voltage state needs
         abs(γ) = ω² abs(⟨sin θ⟩) ≤ ω² (with or without a drive, whose mean is 0), so the
         switching current never exceeds ω².
+    converged : ndarray of bool
+        Whether each point settled: True at every undriven point (one that does not
+        settle raises) and at a driven point that reached the phase-locked regime or
+        whose last two blocks agreed to ``velocity_tol``; False where the blocks never
+        agreed within :data:`DRIVE_MAX_BLOCKS` (a long transient, quasi-periodic or
+        chaotic motion: ``mean_velocity`` is then the average over the blocks measured,
+        not settled to ``velocity_tol``).  None on a curve built without it.
+    velocity_tol : float
+        The agreement of two successive blocks asked of a driven point (absolute, in
+        units of ω).
     """
 
     gamma: np.ndarray
@@ -188,6 +200,8 @@ class IVCurve:
     drive_phase: float = 0.0
     switching_bracket: tuple = (math.nan, math.nan)
     retrapping_bracket: tuple = (math.nan, math.nan)
+    converged: np.ndarray = None
+    velocity_tol: float = DRIVE_VELOCITY_TOL
 
     def branches(self):
         """Index arrays of the up (γ increasing) and down (γ decreasing) parts of the sweep."""
@@ -196,7 +210,7 @@ class IVCurve:
         return np.flatnonzero(step >= 0.0), np.flatnonzero(step < 0.0)
 
     def to_csv(self, path):
-        """Write gamma, mean_velocity, regime, period as CSV (the currents in a header comment).
+        """Write gamma, mean_velocity, regime, period, converged as CSV (the currents in a header comment).
 
         Parameters
         ----------
@@ -210,9 +224,10 @@ class IVCurve:
                     f"retrapping_current={self.retrapping_current!r}, current_tol={self.current_tol!r}{drive}, "
                     f"switching_bracket={tuple(map(float, self.switching_bracket))!r}, "
                     f"retrapping_bracket={tuple(map(float, self.retrapping_bracket))!r}\n")
-            f.write("gamma,mean_velocity,regime,period\n")
-            for g, v, r, p in zip(self.gamma, self.mean_velocity, self.regime, self.period):
-                f.write(f"{float(g)!r},{float(v)!r},{r},{float(p)!r}\n")
+            f.write("gamma,mean_velocity,regime,period,converged\n")
+            settled = [""] * self.gamma.size if self.converged is None else [str(bool(c)) for c in self.converged]
+            for g, v, r, p, c in zip(self.gamma, self.mean_velocity, self.regime, self.period, settled):
+                f.write(f"{float(g)!r},{float(v)!r},{r},{float(p)!r},{c}\n")
 
     def plot(self, ax=None):
         """Draw the curve (voltage ⟨θ'⟩ across, bias γ up), up and down branches marked.
@@ -376,10 +391,21 @@ def mean_velocity(model, y0, integrate=integrate_mbm):
     Notes
     -----
     A driven model (``model.driven``): ⟨θ'⟩ over whole drive periods, see
-    :func:`driven_mean_velocity` (``period`` NaN).
+    :func:`driven_mean_velocity` (``period`` q·2π/Ω on a Shapiro step p/q, else NaN).
     """
+    return _measure(model, y0, integrate)[:4]
+
+
+def _measure(model, y0, integrate=integrate_mbm, velocity_tol=DRIVE_VELOCITY_TOL):
+    # mean_velocity's (regime, ⟨θ'⟩, period, y) and whether the point settled (an
+    # undriven point that does not raises).
     if model.driven:
-        return driven_mean_velocity(model, y0, integrate)
+        return _driven_measure(model, y0, integrate, velocity_tol)
+    return _settle(model, y0, integrate) + (True,)
+
+
+def _settle(model, y0, integrate):
+    # mean_velocity of an undriven model.
     y = np.array(y0, dtype=float)
     span = _settle_time(model.beta, model.gamma, model.omega)
     for _ in range(MAX_CHUNKS):
@@ -435,14 +461,14 @@ def _birkhoff_weights(m):
     return w / w.sum()
 
 
-def driven_mean_velocity(model, y0, integrate=integrate_mbm):
+def driven_mean_velocity(model, y0, integrate=integrate_mbm, velocity_tol=DRIVE_VELOCITY_TOL):
     """⟨θ'⟩ of a driven model (β > 0, Ω > 0) over whole drive periods, from ``y0`` at t = 0.
 
     Settles over whole drive periods (:data:`DRIVE_SETTLE_DECAYS` decay times), then
     measures blocks of :data:`DRIVE_AVERAGE_PERIODS` drive periods T_d = 2π/Ω, each by
     the weighted average of its stroboscopic increments θ((k+1)T_d) − θ(kT_d) (module
     docstring; the samples from the run's dense output), until two successive blocks
-    agree to :data:`DRIVE_VELOCITY_TOL` (at most :data:`DRIVE_MAX_BLOCKS` blocks; then
+    agree to ``velocity_tol`` (at most :data:`DRIVE_MAX_BLOCKS` blocks; then
     the weighted average over all of them).  Every run of ``integrate`` spans whole
     drive periods from t = 0, so the drive's phase at each run's start is φ, as in one
     continued run.  Where a run reports the phase-locked regime (its result's
@@ -458,6 +484,9 @@ def driven_mean_velocity(model, y0, integrate=integrate_mbm):
     integrate : callable, optional
         ``integrate(model, y, span)`` returning a dense ``solve_ivp`` result over
         (0, span), as in :func:`mean_velocity`; default :func:`integrate_mbm`.
+    velocity_tol : float, optional
+        Two successive blocks agreeing to this (absolute, in units of ω) have converged
+        (default :data:`DRIVE_VELOCITY_TOL`).
 
     Returns
     -------
@@ -474,14 +503,24 @@ def driven_mean_velocity(model, y0, integrate=integrate_mbm):
     y : ndarray, shape (2,)
         The state at the end, after a whole number of drive periods (θ reduced to
         (−π, π]).
+
+    Notes
+    -----
+    Whether the average converged (:attr:`IVCurve.converged`) is recorded by
+    :func:`iv_curve`.
     """
+    return _driven_measure(model, y0, integrate, velocity_tol)[:4]
+
+
+def _driven_measure(model, y0, integrate, velocity_tol):
+    # driven_mean_velocity's (regime, ⟨θ'⟩, period, y) and whether it converged.
     period_d = 2.0 * math.pi / model.drive_frequency
     y = np.array(y0, dtype=float)
     sol = integrate(model, y, _drive_settle_periods(model) * period_d)
     y = sol.y[:, -1].copy()
     y[0] = math.remainder(y[0], 2.0 * math.pi)
     if getattr(sol, "regime", None) == PHASE_LOCKED:
-        return _phase_locked(sol, y)
+        return _phase_locked(sol, y) + (True,)
     m = DRIVE_AVERAGE_PERIODS
     weights = _birkhoff_weights(m)
     samples = np.arange(m + 1) * period_d
@@ -496,18 +535,18 @@ def driven_mean_velocity(model, y0, integrate=integrate_mbm):
         y = sol.y[:, -1].copy()
         y[0] = math.remainder(y[0], 2.0 * math.pi)
         if getattr(sol, "regime", None) == PHASE_LOCKED:
-            return _phase_locked(sol, y)
-        if len(means) >= 2 and abs(means[-1] - means[-2]) <= DRIVE_VELOCITY_TOL * model.omega:
-            v = means[-1]
+            return _phase_locked(sol, y) + (True,)
+        if len(means) >= 2 and abs(means[-1] - means[-2]) <= velocity_tol * model.omega:
+            v, converged = means[-1], True
             step = _repeating(d)
             if step is not None and step[0] != 0:
-                return PHASE_LOCKED, v, step[1] * period_d, y
+                return PHASE_LOCKED, v, step[1] * period_d, y, True
             break
     else:
         d = np.concatenate(steps)
-        v = float(np.dot(_birkhoff_weights(d.size), d)) / period_d
+        v, converged = float(np.dot(_birkhoff_weights(d.size), d)) / period_d, False
     regime = LOCKED if abs(float(np.sum(steps[-1]))) < math.pi else RUNNING
-    return regime, v, math.nan, y
+    return regime, v, math.nan, y, converged
 
 
 def _repeating(d):
@@ -536,7 +575,8 @@ def _voltage_state(regime):
 
 
 def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0=0.0,
-             integrate=integrate_mbm, drive_amplitude=0.0, drive_frequency=0.0, drive_phase=0.0):
+             integrate=integrate_mbm, drive_amplitude=0.0, drive_frequency=0.0, drive_phase=0.0,
+             velocity_tol=DRIVE_VELOCITY_TOL):
     """The I–V curve of the RCSJ junction over the bias points ``gamma``, in the order given.
 
     Parameters
@@ -558,10 +598,20 @@ def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0
         An AC drive A sin(Ωt + φ) added to every bias point (default A = 0: none; a
         drive needs Ω > 0).  ⟨θ'⟩ is then measured over whole drive periods
         (:func:`driven_mean_velocity`): the Shapiro steps ⟨θ'⟩ = nΩ.
+    velocity_tol : float, optional
+        With a drive: two successive blocks of a point agreeing to this (absolute, in
+        units of ω) have settled (default :data:`DRIVE_VELOCITY_TOL`).
 
     Returns
     -------
     IVCurve
+        ``converged`` says which points settled.
+
+    Warns
+    -----
+    RuntimeWarning
+        Once, when some driven points did not settle to ``velocity_tol``, naming how
+        many and their γ (``IVCurve.converged`` False there).
 
     Raises
     ------
@@ -575,6 +625,7 @@ def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0
     beta = check_positive("beta", beta)
     omega = check_rule("omega", omega)
     current_tol = check_positive("current_tol", current_tol)
+    velocity_tol = check_positive("velocity_tol", velocity_tol)
     drive = tuple(check_rule(name, value) for name, value in (
         ("drive_amplitude", drive_amplitude), ("drive_frequency", drive_frequency), ("drive_phase", drive_phase)))
     check_drive(drive[0], drive[1])
@@ -582,14 +633,17 @@ def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0
     if g.size == 0:
         raise ValueError("gamma must hold at least one bias point")
     y = check_state("(theta0, theta_dot0)", [check_real("theta0", theta0), check_real("theta_dot0", theta_dot0)])
-    regimes, velocities, periods, states, starts = [], [], [], [], []
+    regimes, velocities, periods, states, starts, converged = [], [], [], [], [], []
     for gi in g:
         starts.append(y.copy())
-        regime, v, period, y = mean_velocity(Pendulum(beta, gi, omega, *drive), y, integrate)
+        regime, v, period, y, ok = _measure(Pendulum(beta, gi, omega, *drive), y, integrate, velocity_tol)
         regimes.append(regime)
         velocities.append(v)
         periods.append(period)
         states.append(y.copy())
+        converged.append(ok)
+    converged = np.array(converged, dtype=bool)
+    _warn_unsettled(g, converged, velocity_tol)
     none = (math.nan, math.nan)
     switching = retrapping = none
     for i in range(1, g.size):
@@ -610,7 +664,19 @@ def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0
                    switching_current=_midpoint(switching), retrapping_current=_midpoint(retrapping),
                    beta=beta, omega=omega, current_tol=current_tol, drive_amplitude=drive[0],
                    drive_frequency=drive[1], drive_phase=drive[2], switching_bracket=tuple(map(float, switching)),
-                   retrapping_bracket=tuple(map(float, retrapping)))
+                   retrapping_bracket=tuple(map(float, retrapping)), converged=converged,
+                   velocity_tol=velocity_tol)
+
+
+def _warn_unsettled(g, converged, velocity_tol):
+    # The one RuntimeWarning of iv_curve: how many driven points did not settle, and where.
+    bad = np.flatnonzero(~converged)
+    if bad.size:
+        where = ", ".join(f"{float(x):.10g}" for x in g[bad])
+        warnings.warn(f"iv_curve: {bad.size} of {g.size} driven points did not settle (the averages of "
+                      f"successive blocks did not agree to velocity_tol = {velocity_tol:g} within "
+                      f"{DRIVE_MAX_BLOCKS} blocks of {DRIVE_AVERAGE_PERIODS} drive periods), gamma = "
+                      f"[{where}]; IVCurve.converged is False there", RuntimeWarning, stacklevel=3)
 
 
 def _midpoint(bracket):

@@ -205,7 +205,7 @@ def test_iv_command(tmp_path, capsys):
     assert main(["iv", "--beta", "2", "--points", "6", "--csv", str(csv), "--plot", str(png)]) == 0
     out = capsys.readouterr().out
     assert "switching current" in out and "retrapping current" in out
-    assert png.exists() and csv.read_text().splitlines()[1] == "gamma,mean_velocity,regime,period"
+    assert png.exists() and csv.read_text().splitlines()[1] == "gamma,mean_velocity,regime,period,converged"
 
 
 def test_iv_command_with_a_drive(tmp_path, capsys):

@@ -132,9 +132,14 @@ def test_shapiro_steps(tmp_path):
     ex = _load("shapiro_steps")
     d, png = ex.main(tmp_path, n_gamma=41, n_amp=4)
     assert png.exists() and png.stat().st_size > 10_000
-    # Undriven, the zero-voltage step is |γ| ≤ ω² = 1 (twice the switching current).
-    assert d["amplitudes"][0] == 0.0 and d["widths"][0, 0] == pytest.approx(2.0, abs=0.03)
-    assert d["widths"][1, 0] == d["widths"][2, 0] == 0.0 and np.all(d["widths"][1, 1:] > 0.0)
+    # The first lobe (A/Ω ≤ 4 at β = 2): the zero step shrinks from its undriven 2ω² as
+    # the drive grows, the n = 1 step opens; the zero step is symmetric about γ = 0 (the
+    # equation is, under γ → −γ, θ → −θ, t → t + π/Ω), its lower edge followed below 0.
+    assert d["amplitudes"][0] == 0.0 and list(d["widths"][:, 0]) == [2.0, 0.0, 0.0]
+    assert np.all(np.diff(d["widths"][0]) < 0.0) and np.all(d["widths"][1, 1:] > 0.0)
+    for a, s in d["steps"].items():
+        zero = s.step(0)
+        assert abs(zero.lower + zero.upper) <= s.current_tol == ex.CURRENT_TOL
     # A plateau point of the A = 1 curve against CVODE: from the point's start state, the
     # phase gains 2π per drive period once settled (⟨θ'⟩ = Ω).
     c = d["iv"][1.0]

@@ -141,8 +141,10 @@ def test_results_csv_and_plot(curves, tmp_path):
     path = tmp_path / "iv.csv"
     c.to_csv(path)
     rows = path.read_text().splitlines()
-    assert rows[0].startswith("# beta=0.2") and rows[1] == "gamma,mean_velocity,regime,period"
+    assert rows[0].startswith("# beta=0.2") and rows[1] == "gamma,mean_velocity,regime,period,converged"
     assert len(rows) == 2 + c.gamma.size and float(rows[2 + 20].split(",")[1]) == c.mean_velocity[20]
+    # an undriven point settles or raises: every row says so
+    assert c.converged.all() and all(r.endswith(",True") for r in rows[2:])
     ax = c.plot()
     assert len(ax.lines) >= 2
 
@@ -227,6 +229,7 @@ def test_shapiro_step_plateau(beta, amp, freq, n, gammas):
     assert r.regime == "phase-locked" and r.period == pytest.approx(2 * np.pi / freq, rel=1e-12)
     assert np.max(np.abs(c.mean_velocity - n * freq)) <= STEP_TOL, c.mean_velocity - n * freq
     assert (c.drive_amplitude, c.drive_frequency, c.drive_phase) == (amp, freq, 0.0)
+    assert c.converged.all()
 
 
 def test_shapiro_steps_against_heyoka(heyoka_ld):
@@ -235,7 +238,13 @@ def test_shapiro_steps_against_heyoka(heyoka_ld):
     # 1000 averaged) against iv_curve's own, shorter, measurement.
     beta, amp, freq = 2.0, 1.0, 1.0
     gammas = [2.1, 1.15, 1.9, 2.45]
-    c = junction.iv_curve(beta, gammas, drive_amplitude=amp, drive_frequency=freq)
+    # between the steps the blocks do not agree to velocity_tol: flagged, and one warning
+    with pytest.warns(RuntimeWarning, match=r"2 of 4 driven points did not settle.*gamma = \[1\.9, 2\.45\]"):
+        c = junction.iv_curve(beta, gammas, drive_amplitude=amp, drive_frequency=freq)
+    assert list(c.converged) == [True, True, False, False]
+    # the steps' labels and periods: n = 1 (q = 1) and the 1/3 step (q = 3)
+    assert list(c.regime[:2]) == ["phase-locked"] * 2
+    np.testing.assert_allclose(c.period[:2], [2 * np.pi, 3 * 2 * np.pi], rtol=1e-12)
     for g, v, y0 in zip(gammas, c.mean_velocity, c.start_state):
         ref = _ref_driven_mean_velocity(heyoka_ld, beta, g, amp, freq, y0, 2000, 1000)
         on_step = g in (2.1, 1.15)
@@ -257,8 +266,11 @@ DRIVEN_OFF_STEP_TOL = 1e-5
 def test_driven_zero_step_is_locked_and_switches():
     # Below the zero-voltage step's edge the driven junction is locked (no phase slip
     # over a block); the switching current is the edge, bisected (≈ 0.95 at β = 2).
-    c = junction.iv_curve(2.0, np.linspace(0.0, 1.2, 7), drive_amplitude=1.0, drive_frequency=1.0)
+    # (the two running points, between the steps, do not settle within the blocks: flagged)
+    with pytest.warns(RuntimeWarning, match=r"2 of 7 driven points did not settle.*gamma = \[1, 1\.2\]"):
+        c = junction.iv_curve(2.0, np.linspace(0.0, 1.2, 7), drive_amplitude=1.0, drive_frequency=1.0)
     assert list(c.regime[:5]) == ["locked"] * 5 and c.regime[-1] == "running"
+    assert list(c.converged) == [True] * 5 + [False] * 2
     assert np.max(np.abs(c.mean_velocity[:5])) < 1e-12
     assert 0.9 < c.switching_current < 1.0
     below = junction.driven_mean_velocity(mbm.Pendulum(2.0, c.switching_current - 2 * c.current_tol, 1.0, 1.0, 1.0),
@@ -293,6 +305,37 @@ def test_no_transition_no_bracket():
     c = junction.iv_curve(0.5, [0.1, 0.2])
     assert math.isnan(c.switching_current) and all(math.isnan(x) for x in c.switching_bracket)
     assert math.isnan(c.retrapping_current) and all(math.isnan(x) for x in c.retrapping_bracket)
+
+
+def test_unsettled_driven_point_is_flagged():
+    # Mid-step at β = 1, A = 0.5, Ω = 0.6, γ = 0.97 the run from rest has a long transient
+    # (DOP853 settles after ~750 drive periods): its blocks have not agreed to
+    # velocity_tol and ⟨θ'⟩ is 2e-7 off 0.6.  It is flagged and iv_curve warns once,
+    # naming the point; a settled point beside it is not flagged.
+    with pytest.warns(RuntimeWarning) as record:
+        c = junction.iv_curve(1.0, [0.97, 1.0], drive_amplitude=0.5, drive_frequency=0.6)
+    messages = [str(w.message) for w in record if issubclass(w.category, RuntimeWarning)]
+    assert len(messages) == 1
+    assert "1 of 2 driven points did not settle" in messages[0] and "gamma = [0.97]" in messages[0]
+    assert "velocity_tol = 1e-09" in messages[0]
+    assert list(c.converged) == [False, True] and c.velocity_tol == junction.DRIVE_VELOCITY_TOL
+    assert abs(c.mean_velocity[0] - 0.6) > 1e-9
+    # the settled point: phase-locked, as mbm.solve labels it, with the orbit's period
+    assert c.regime[1] == "phase-locked" and c.mean_velocity[1] == pytest.approx(0.6, abs=STEP_TOL)
+    assert c.period[1] == pytest.approx(2 * np.pi / 0.6, rel=1e-12)
+
+
+def test_velocity_tol_is_the_settling_test():
+    # A looser velocity_tol accepts the same point (its first two blocks agree to 1e-5), with
+    # no warning; a bad one is refused by name.
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        c = junction.iv_curve(1.0, [0.97], drive_amplitude=0.5, drive_frequency=0.6, velocity_tol=1e-5)
+    assert list(c.converged) == [True]
+    with pytest.raises(ValueError, match="velocity_tol must be > 0"):
+        junction.iv_curve(1.0, [0.97], drive_amplitude=0.5, drive_frequency=0.6, velocity_tol=0.0)
 
 
 def test_repeating_increments_are_a_step():
