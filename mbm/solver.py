@@ -30,6 +30,7 @@ from ._validate import (
     warn_extraneous,
 )
 from .approximants import get_approximant
+from .approximants.taylor import HEADER as _TAYLOR_HEADER, N_EXTRA as _TAYLOR_EXTRA
 from .choice import auto_name, auto_reason
 from .problem import Pendulum, identify_model
 from .regimes import REGIME_NAMES, REGIME_NONE, REGIME_PHASE_LOCKED, cycle_summary, strobe_summary
@@ -494,11 +495,16 @@ _TEMPLATES = {}
 def _coefficient_width(approximant, karg, model, y):
     """Columns of the window store: the size of the approximant's coefficient vector.
 
-    Anchored once per (anchor kernel, kind argument) at the state ``y`` it is first
-    asked for: a compiled kind's coefficient vector has a size set by its degree
-    alone, whatever the model and state (tests/test_steps.py checks every
-    registered one).
+    The Taylor kinds' size is their layout's; the other kinds are anchored once per
+    (anchor kernel, kind argument) at the state ``y`` first asked for: a compiled
+    kind's coefficient vector has a size set by its degree alone, whatever the model
+    and state (tests/test_steps.py checks every registered one).
     """
+    if loop.kind_of(approximant)[0] == loop.KIND_TAYLOR:
+        # The Taylor layout (taylor.py): the header, then a_0 .. a_{N + N_EXTRA}; stated
+        # rather than anchored, so a first solve_ivp does not compile an anchor kernel
+        # only to measure it.
+        return _TAYLOR_HEADER + karg + 1 + _TAYLOR_EXTRA
     kernel = approximant.anchor_kernel
     # Keyed by id (a numba dispatcher hashes slowly); the entry holds the kernel, so
     # its id is not reused while the entry lives.
