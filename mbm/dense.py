@@ -119,7 +119,7 @@ def _cycle_run(kind, c, t0, t, lo, hi, out_theta, out_v):
         out_v[q] = b
 
 
-@numba.njit(cache=True)
+@numba.njit(**_INLINE)
 def _nan_run(lo, hi, out_theta, out_v):
     # A stored period of a set the entry lacks: NaN, never another formula.
     for q in range(lo, hi):

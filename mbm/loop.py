@@ -153,16 +153,13 @@ from .regimes.cycle_windows import (  # noqa: F401
     _period_lookup_taylor,
     _period_store,
     _period_value,
-    _period_windows,
     _period_windows_split,
     _period_windows_taylor,
     _watch_cycle,
 )
 from .regimes.strobe_windows import (  # noqa: F401
     _strobe_dev,
-    _strobe_eval,
     _strobe_eval_taylor,
-    _strobe_samples,
     _strobe_samples_taylor,
     _strobe_setup,
     _strobe_subharmonic,

@@ -283,7 +283,9 @@ def _source(kind, rset, r, t, y0, y1, k, off, direction, max_step, h_abs, log_ep
         coef = anchor(kind, karg, beta, gamma, omega, y0, y1, ws[0], ws[1])
     if coef[0] != 0.0:
         return STATUS_ANCHOR, coef, t, y0, y1, k, h_abs, h_abs, False, per
-    if c.controller != CONTROLLER_ADAPTIVE:
+    # RS_DAMPED and RS_CONSERVATIVE runs are adaptive (regime_set): only the other sets'
+    # entries compile the fixed controller.
+    if rset != RS_DAMPED and rset != RS_CONSERVATIVE and c.controller != CONTROLLER_ADAPTIVE:
         st, t_new, th, v = fixed_window(kind, coef, t, direction, t_bound, min(h_abs, max_step))
         return st, coef, t_new, th, v, k, h_abs, h_abs, False, per
     if h_abs <= 0.0:

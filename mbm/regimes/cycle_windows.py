@@ -3,7 +3,7 @@
 After each ordinary window the loop watches the return map of θ ≡ θ_s (mod 2π)
 (:func:`_cycle_watch_for`, R1, R2 of :mod:`mbm.regimes.cycle`); once it has converged,
 the windows are the stored period shifted (R3): the period's windows are re-taken once
-from the cycle's anchor (:func:`_period_windows`) and every value looked up in them
+from the cycle's anchor (:func:`_period_windows_for`) and every value looked up in them
 (:func:`_period_lookup`).  A libration (:mod:`mbm.regimes.libration`) uses the same
 stored period with a double-double period (C3).
 """
@@ -116,79 +116,87 @@ def _cycle_phase(c, t):
     return n, min(max(s, 0.0), period)
 
 
-@numba.njit(**_INLINE)
-def _period_windows(kind, c):
-    """The windows of a cycle window's stored period, re-taken from its anchor (R3).
+def _period_windows_for(kind):
+    """The stored period's windows (:func:`period_windows`) compiled for kind ``kind``: a
+    constant of the closure, so numba prunes the other kinds' branches before it inlines
+    their kernels (a whole controller and step: as an inlined callee, its every kind
+    would be copied and pruned only afterwards)."""
 
-    The same approximant and controller as the run, span [0, T]: a function of the
-    anchor only, so every path and the dense output evaluate the same windows.
+    @numba.njit(cache=True)
+    def period_windows(c):
+        """The windows of a cycle window's stored period, re-taken from its anchor (R3).
 
-    Returns
-    -------
-    starts : ndarray, shape (n + 1,)
-        Window starts from the anchor (starts[n] = T).
-    ends : ndarray, shape (n + 1, 2)
-        The state at each start (row 0 the anchor; row i + 1 the end of window i).
-    coefs : ndarray, shape (n, width)
-        The windows' coefficient vectors.
-    n : int
-        Windows in the period; −1 where the run failed or took more than
-        CYCLE_MAX_WINDOWS.
-    """
-    theta_c, v_c, period = c[1], c[2], c[3]
-    beta, gamma, omega, rtol, atol = c[5], c[6], c[7], c[8], c[9]
-    karg = int(c[11])
-    error_order = int(c[12])
-    log_eps = window_log_eps(rtol)
-    off = c[13] * _TWO_PI
-    cap = PERIOD_STORE_START
-    starts = np.empty(cap + 1)
-    ends = np.empty((cap + 1, 2))
-    # Allocated at the first window, when its width is known (one anchor call site:
-    # each inlined anchor is the whole recurrence, compiled again).
-    coefs = np.empty((0, 0))
-    ws_coef, ws_scratch = taylor_workspace(karg)
-    starts[0], ends[0, 0], ends[0, 1] = 0.0, theta_c, v_c
-    tt, a0, a1, h = 0.0, theta_c, v_c, -1.0
-    for n in range(CYCLE_MAX_WINDOWS):
-        coef = anchor(kind, karg, beta, gamma, omega, a0, a1, ws_coef, ws_scratch)
-        if coef[0] != 0.0:
-            break
-        if n == 0:
-            coefs = np.empty((cap, coef.size))
-        if h <= 0.0:
-            h = _first(kind, coef, tt, a0, a1, off, 1.0, period, omega, math.inf, rtol, atol,
-                             error_order, log_eps)
-        st, t_new, th, v, h_next = _adaptive(kind, coef, tt, a0, a1, off, 1.0, period, h, math.inf,
-                                                   rtol, atol, error_order, log_eps)
-        if st != STATUS_OK:
-            break
-        # Element loops, not slice assignments: those compile numpy's broadcast-error
-        # machinery (a few seconds of a cold start) for shapes that always agree here.
-        if n == cap:
-            cap *= 2
-            starts2 = np.empty(cap + 1)
-            ends2 = np.empty((cap + 1, 2))
-            coefs2 = np.empty((cap, coef.size))
-            for q in range(n + 1):
-                starts2[q] = starts[q]
-                ends2[q, 0], ends2[q, 1] = ends[q, 0], ends[q, 1]
-            for q in range(n):
-                for w in range(coef.size):
-                    coefs2[q, w] = coefs[q, w]
-            starts, ends, coefs = starts2, ends2, coefs2
-        for w in range(coef.size):
-            coefs[n, w] = coef[w]
-        starts[n + 1], ends[n + 1, 0], ends[n + 1, 1] = t_new, th, v
-        if t_new >= period:
-            return starts, ends, coefs, n + 1
-        tt, a0, a1, h = t_new, th, v, h_next
-    return starts, ends, coefs, -1
+        The same approximant and controller as the run, span [0, T]: a function of the
+        anchor only, so every path and the dense output evaluate the same windows.
+
+        Returns
+        -------
+        starts : ndarray, shape (n + 1,)
+            Window starts from the anchor (starts[n] = T).
+        ends : ndarray, shape (n + 1, 2)
+            The state at each start (row 0 the anchor; row i + 1 the end of window i).
+        coefs : ndarray, shape (n, width)
+            The windows' coefficient vectors.
+        n : int
+            Windows in the period; −1 where the run failed or took more than
+            CYCLE_MAX_WINDOWS.
+        """
+        theta_c, v_c, period = c[1], c[2], c[3]
+        beta, gamma, omega, rtol, atol = c[5], c[6], c[7], c[8], c[9]
+        karg = int(c[11])
+        error_order = int(c[12])
+        log_eps = window_log_eps(rtol)
+        off = c[13] * _TWO_PI
+        cap = PERIOD_STORE_START
+        starts = np.empty(cap + 1)
+        ends = np.empty((cap + 1, 2))
+        # Allocated at the first window, when its width is known (one anchor call site:
+        # each inlined anchor is the whole recurrence, compiled again).
+        coefs = np.empty((0, 0))
+        ws_coef, ws_scratch = taylor_workspace(karg)
+        starts[0], ends[0, 0], ends[0, 1] = 0.0, theta_c, v_c
+        tt, a0, a1, h = 0.0, theta_c, v_c, -1.0
+        for n in range(CYCLE_MAX_WINDOWS):
+            coef = anchor(kind, karg, beta, gamma, omega, a0, a1, ws_coef, ws_scratch)
+            if coef[0] != 0.0:
+                break
+            if n == 0:
+                coefs = np.empty((cap, coef.size))
+            if h <= 0.0:
+                h = _first(kind, coef, tt, a0, a1, off, 1.0, period, omega, math.inf, rtol, atol,
+                                 error_order, log_eps)
+            st, t_new, th, v, h_next = _adaptive(kind, coef, tt, a0, a1, off, 1.0, period, h, math.inf,
+                                                       rtol, atol, error_order, log_eps)
+            if st != STATUS_OK:
+                break
+            # Element loops, not slice assignments: those compile numpy's broadcast-error
+            # machinery (a few seconds of a cold start) for shapes that always agree here.
+            if n == cap:
+                cap *= 2
+                starts2 = np.empty(cap + 1)
+                ends2 = np.empty((cap + 1, 2))
+                coefs2 = np.empty((cap, coef.size))
+                for q in range(n + 1):
+                    starts2[q] = starts[q]
+                    ends2[q, 0], ends2[q, 1] = ends[q, 0], ends[q, 1]
+                for q in range(n):
+                    for w in range(coef.size):
+                        coefs2[q, w] = coefs[q, w]
+                starts, ends, coefs = starts2, ends2, coefs2
+            for w in range(coef.size):
+                coefs[n, w] = coef[w]
+            starts[n + 1], ends[n + 1, 0], ends[n + 1, 1] = t_new, th, v
+            if t_new >= period:
+                return starts, ends, coefs, n + 1
+            tt, a0, a1, h = t_new, th, v, h_next
+        return starts, ends, coefs, -1
+
+    return period_windows
 
 
 @numba.njit(**_INLINE)
 def _period_lookup(kind, c, starts, ends, coefs, n, t):
-    """A cycle window ``c`` at ``t`` from its stored period (:func:`_period_windows`).
+    """A cycle window ``c`` at ``t`` from its stored period (:func:`_period_windows_for`).
 
     Returns ``(φ, θ', k)``: θ = 2πk + φ (:func:`theta_of`), k the anchor's winding
     count plus the periods passed times the winding sign (0 for a libration).  The
@@ -215,19 +223,15 @@ def _period_lookup(kind, c, starts, ends, coefs, n, t):
 # The stored period re-runs a period of windows (a whole controller and step): compiled
 # once per kind that can reach a cycle (the adaptive ones) and called, not inlined at
 # each call site (inlined, it tripled the loop's compile).
-@numba.njit(cache=True)
-def _period_windows_taylor(c):
-    return _period_windows(KIND_TAYLOR, c)
+_period_windows_taylor = _period_windows_for(KIND_TAYLOR)
 
 
-@numba.njit(cache=True)
-def _period_windows_split(c):
-    return _period_windows(KIND_SPLIT, c)
+_period_windows_split = _period_windows_for(KIND_SPLIT)
 
 
 @numba.njit(**_INLINE)
 def _period_store(kind, c):
-    """:func:`_period_windows` of kind ``kind`` through its compiled entry."""
+    """:func:`_period_windows_for` of kind ``kind`` through its compiled entry."""
     if kind == KIND_SPLIT:
         return _period_windows_split(c)
     return _period_windows_taylor(c)

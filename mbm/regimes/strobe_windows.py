@@ -1,10 +1,10 @@
 """Phase-locked to the drive in the loop: the stroboscopic watch and the stored drive period.
 
 After each window of a driven run the loop takes the stroboscopic samples at
-t_s + nT_d (:func:`_strobe_samples`, S1–S7 of :mod:`mbm.regimes.strobe`); once their
+t_s + nT_d (:func:`_strobe_samples_taylor`, S1–S7 of :mod:`mbm.regimes.strobe`); once their
 deviations have converged for good, the windows are the stored drive period (q drive
 periods, S7) from the anchor sample, re-run from it at each evaluation
-(:func:`_strobe_eval`, S6).
+(:func:`_strobe_eval_taylor`, S6).
 """
 
 import math
@@ -44,8 +44,10 @@ from ..status import STATUS_OK
 _INLINE = dict(cache=True, inline="always")
 
 
-@numba.njit(**_INLINE)
-def _strobe_eval(kind, c, t):
+# The drive is Taylor's only: one compiled copy, called (a whole controller re-run; inlined,
+# numba would copy its large body at each site).
+@numba.njit(cache=True)
+def _strobe_eval_taylor(c, t):
     """A phase-locked window (coefficients: regimes.strobe_coef) at time ``t`` (S6).
 
     ``t`` is the absolute time (not from the window's start): t − t_a is formed
@@ -68,40 +70,34 @@ def _strobe_eval(kind, c, t):
         # The tolerance scale of the anchor's period, the same in every period.
         off = (k_a + kk) * _TWO_PI
         # The drive at t_a + tt: phase Ω·tt + ψ_a (S6).
-        coef = anchor_driven(kind, karg, beta, gamma, omega, amp, freq, psi, tt, a0, a1, ws_coef, ws_scratch)
+        coef = anchor_driven(KIND_TAYLOR, karg, beta, gamma, omega, amp, freq, psi, tt, a0, a1, ws_coef, ws_scratch)
         if coef[0] != 0.0:
             break
         if h <= 0.0:
-            h = _first(kind, coef, tt, a0, a1, off, 1.0, p_hi, omega, math.inf, rtol, atol,
+            h = _first(KIND_TAYLOR, coef, tt, a0, a1, off, 1.0, p_hi, omega, math.inf, rtol, atol,
                              error_order, log_eps)
-        st, t_new, th, v, h_next = _adaptive(kind, coef, tt, a0, a1, off, 1.0, p_hi, h, math.inf,
+        st, t_new, th, v, h_next = _adaptive(KIND_TAYLOR, coef, tt, a0, a1, off, 1.0, p_hi, h, math.inf,
                                                    rtol, atol, error_order, log_eps)
         if st != STATUS_OK:
             break
         if t_new >= s:
             if t_new != s:
-                th, v = evaluate(kind, coef, s - tt)
+                th, v = evaluate(KIND_TAYLOR, coef, s - tt)
             return th, v, k_a + kk + turns * n
         tt, a0, a1, h = t_new, th, v, h_next
     return math.nan, math.nan, 0.0
 
 
-# As the cycle's: compiled once (the drive is Taylor's only) and called, not inlined.
-@numba.njit(cache=True)
-def _strobe_eval_taylor(c, t):
-    return _strobe_eval(KIND_TAYLOR, c, t)
-
-
 @numba.njit(**_INLINE)
 def _strobe_value(kind, c, t):
-    """:func:`_strobe_eval` of kind ``kind`` through its compiled entry (Taylor only)."""
+    """:func:`_strobe_eval_taylor` of kind ``kind`` through its compiled entry (Taylor only)."""
     if kind == KIND_TAYLOR:
         return _strobe_eval_taylor(c, t)
     return math.nan, math.nan, 0.0
 
 
-@numba.njit(**_INLINE)
-def _strobe_samples(kind, p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det, n_total):
+@numba.njit(cache=True)
+def _strobe_samples_taylor(p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det, n_total):
     """The stroboscopic samples of the window [t, t_new] (formula ``coef``, winding count
     ``k``, ``off`` = 2πk) and the switch rule at each (mbm.regimes, S1-S7): the run
     record ``p[0]`` keeps the samples' state and, on a switch, the anchor.  ``sp_hi``,
@@ -116,7 +112,7 @@ def _strobe_samples(kind, p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det, n_tot
         tn, rn = strobe_time(sb.str_t0, float(sb.str_n), sp_hi, sp_lo)
         if not (tn <= t_new):
             return tn
-        a, b = evaluate(kind, coef, tn - t)
+        a, b = evaluate(KIND_TAYLOR, coef, tn - t)
         # (S1): carried to the exact time t_s + nT_d, to first order.
         su, _ = drive_phase_sincos(freq, phase, tn)
         acc = (gamma + amp * su) - beta * b - omega * omega * math.sin(a)
@@ -268,14 +264,9 @@ def _strobe_setup(r, t, freq, beta, n_total):
     return sp_hi, sp_lo, sp_det, sp_next
 
 
-@numba.njit(cache=True)
-def _strobe_samples_taylor(p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det, n_total):
-    return _strobe_samples(KIND_TAYLOR, p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det, n_total)
-
-
 @numba.njit(**_INLINE)
 def _watch_strobe(kind, p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det, n_total):
-    """:func:`_strobe_samples` through its compiled entry (Taylor only: the only kind
+    """:func:`_strobe_samples_taylor` through its compiled entry (Taylor only: the only kind
     that integrates a drive; no sample otherwise)."""
     if kind == KIND_TAYLOR:
         return _strobe_samples_taylor(p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det, n_total)
