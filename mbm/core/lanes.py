@@ -41,10 +41,10 @@ from ..regimes.common import REGIME_NONE
 from ..regimes.cycle_windows import _TWO_PI, _watch_cycle
 from ..status import STATUS_ANCHOR, STATUS_OK
 
-# The lane's pieces are called, not inlined: each names its kind (KIND_TAYLOR) itself,
-# so the kernels it inlines are pruned there, and numba copies an inlined body's whole
-# variable scope once per block at each site (copy_ir), so inlining a composite piece
-# costs seconds where a call costs nothing measurable (LLVM inlines it if it pays).
+# The per-window pieces of a lane are inlined (called, they made a 512-scene batch
+# ~16 % slower); the hand-off (once per scene, and the loop's entries behind it) and
+# the start are called: numba copies an inlined body's whole variable scope once per
+# block at each site, so a large piece inlined costs seconds of a first call.
 _INLINE = dict(cache=True, inline="always")
 
 
@@ -122,7 +122,7 @@ def _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel):
     _run_sets(KIND_TAYLOR, 1, 0, 0, 0, 0, 1, 0, 0, 1, 0, p[i:i + 1], t_eval, out[i], win_t, win_y, win_coef, cancel)
 
 
-@numba.njit(cache=True)
+@numba.njit(**_INLINE)
 def _lane_before(p, ln, q, ins, t_eval, out, win_t, win_y, win_coef, cancel):
     """The loop's tests before the lane's next window, in its order: a lane whose window
     is not an ordinary Taylor one (the run's end, ``max_windows``, the interrupt flag, a
@@ -151,7 +151,7 @@ def _lane_before(p, ln, q, ins, t_eval, out, win_t, win_y, win_coef, cancel):
     return True
 
 
-@numba.njit(cache=True)
+@numba.njit(**_INLINE)
 def _lane_try(r, ln, coef):
     """The controller's first try of the lane's window (the loop's :func:`first_try`, and
     the first window's search for a fresh run): the length whose end θ, θ' the lane-wise
@@ -170,7 +170,7 @@ def _lane_try(r, ln, coef):
     return ln.t_end - t if first else 0.0
 
 
-@numba.njit(cache=True)
+@numba.njit(**_INLINE)
 def _lane_window(p, ln, coef, h, th, v, t_eval, out, wrapped, win_t, win_y, win_coef, cancel):
     """The lane's window after the lane-wise Horner (``th``, ``v`` at the try's end, ``h``
     after the start): the loop's test of the first try (:func:`accept_try`), on a
