@@ -365,7 +365,7 @@ def iv_command(beta, gamma_max, points, omega=1.0, current_tol=1e-4, csv=None, p
     up = np.linspace(0.0, gamma_max, points)
     curve = mbm.iv_curve(beta, np.r_[up, up[::-1]], omega=omega, current_tol=current_tol,
                          drive_amplitude=drive_amplitude, drive_frequency=drive_frequency,
-                         drive_phase=drive_phase)
+                         drive_phase=drive_phase, progress=True)
     print(f"beta = {beta:g}, omega = {omega:g}, {2 * points} bias points", file=out)
     if drive_amplitude != 0.0:
         print(f"AC drive A = {drive_amplitude:g}, Omega = {drive_frequency:g}, phi = {drive_phase:g}", file=out)

@@ -69,6 +69,7 @@ import warnings
 import numpy as np
 
 from ._validate import check_drive, check_positive, check_real, check_real_array, check_rule, check_rule_array, check_state
+from .cli_progress import progress as _progress
 from .problem import Pendulum
 from .regimes import REGIME_NAMES, REGIME_PHASE_LOCKED, STROBE_MAX_PERIODS
 
@@ -576,7 +577,7 @@ def _voltage_state(regime):
 
 def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0=0.0,
              integrate=integrate_mbm, drive_amplitude=0.0, drive_frequency=0.0, drive_phase=0.0,
-             velocity_tol=DRIVE_VELOCITY_TOL):
+             velocity_tol=DRIVE_VELOCITY_TOL, progress=False):
     """The I–V curve of the RCSJ junction over the bias points ``gamma``, in the order given.
 
     Parameters
@@ -601,6 +602,9 @@ def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0
     velocity_tol : float, optional
         With a drive: two successive blocks of a point agreeing to this (absolute, in
         units of ω) have settled (default :data:`DRIVE_VELOCITY_TOL`).
+    progress : bool, optional
+        Draw a progress bar over the bias points on stderr (:mod:`mbm.cli_progress`:
+        only when stderr is a terminal; default False).
 
     Returns
     -------
@@ -632,9 +636,11 @@ def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0
     g = check_rule_array("gamma", check_real_array("gamma", gamma)).reshape(-1)
     if g.size == 0:
         raise ValueError("gamma must hold at least one bias point")
+    if progress is not False and progress is not True:
+        raise TypeError(f"progress must be True or False, got {progress!r}")
     y = check_state("(theta0, theta_dot0)", [check_real("theta0", theta0), check_real("theta_dot0", theta_dot0)])
     regimes, velocities, periods, states, starts, converged = [], [], [], [], [], []
-    for gi in g:
+    for gi in (_progress(g, label="I-V points") if progress else g):
         starts.append(y.copy())
         regime, v, period, y, ok = _measure(Pendulum(beta, gi, omega, *drive), y, integrate, velocity_tol)
         regimes.append(regime)

@@ -346,3 +346,23 @@ def test_repeating_increments_are_a_step():
     assert junction._repeating(np.full(120, 2 * np.pi)) == (1, 1)
     quasi = 2 * np.pi * 0.61803398875 + 0.3 * np.sin(2 * np.pi * 0.61803398875 * np.arange(120))
     assert junction._repeating(quasi) is None
+
+
+def test_iv_curve_draws_progress_on_a_terminal_when_asked(monkeypatch):
+    import io
+    import sys
+
+    class Terminal(io.StringIO):
+        def isatty(self):
+            return True
+
+    err = Terminal()
+    monkeypatch.setattr(sys, "stderr", err)
+    mbm.iv_curve(0.5, [0.0, 0.5, 1.2], progress=True)
+    assert "I-V points" in err.getvalue() and "3/3" in err.getvalue()
+    quiet = Terminal()
+    monkeypatch.setattr(sys, "stderr", quiet)
+    mbm.iv_curve(0.5, [0.0, 0.5, 1.2])
+    assert "I-V points" not in quiet.getvalue()
+    with pytest.raises(TypeError, match="progress must be True or False"):
+        mbm.iv_curve(0.5, [0.1], progress="yes")
