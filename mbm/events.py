@@ -271,6 +271,39 @@ def hybrid_event_points(model, t_span, y0, d, kinds=("crossing", "turning"), rto
 # ------------------------------------------------------- analytic: formula roots
 
 
+def _check_search(t_max, direction, omega, coef):
+    """:func:`next_event_analytic`'s search limit, direction, ω and coefficients, checked."""
+    if direction not in (1, -1):
+        raise ValueError(f"direction must be 1 or -1, got {direction!r}")
+    t_max = _real("t_max", t_max)
+    if not direction * t_max > 0.0:
+        raise ValueError(f"t_max must be non-zero with the sign of direction={direction}, got {t_max!r}")
+    omega = _real("omega", omega)
+    if not omega > 0.0:
+        raise ValueError(f"omega must be > 0, got {omega!r}")
+    coef = np.asarray(coef, dtype=np.float64)
+    if coef.ndim != 1 or coef.size == 0 or coef[0] != 0.0:
+        raise ValueError(
+            "coef must be the 1-D output of a successful anchor_kernel call (coef[0] == 0), "
+            f"got {coef!r}"
+        )
+    return t_max, omega, coef
+
+
+def _first_root(g, found, direction):
+    """The first event among the bracketed sign changes ``found`` of g, refined by brentq."""
+    roots = []
+    for code, i, a, b in found:
+        lo, hi = (a, b) if a < b else (b, a)
+        r = brentq(lambda s, i=i: g(s)[i], lo, hi, xtol=ROOT_XTOL, rtol=ROOT_RTOL)
+        roots.append((r, code))
+    roots.sort(key=lambda rc: direction * rc[0])
+    t_ev, kind = roots[0]
+    if len(roots) == 2 and abs(roots[1][0] - t_ev) <= SIMULTANEOUS_RTOL * (1.0 + abs(t_ev)):
+        kind = KIND_BOTH
+    return t_ev, kind
+
+
 def next_event_analytic(eval_kernel, coef, d, kinds, t_max, direction, omega=1.0):
     """First event of an anchored formula after its anchor, from the formula alone.
 
@@ -321,20 +354,7 @@ def next_event_analytic(eval_kernel, coef, d, kinds, t_max, direction, omega=1.0
         ``coef`` whose status ``coef[0]`` is not 0.
     """
     crossing, turning, d = _kinds_and_d(kinds, d)
-    if direction not in (1, -1):
-        raise ValueError(f"direction must be 1 or -1, got {direction!r}")
-    t_max = _real("t_max", t_max)
-    if not direction * t_max > 0.0:
-        raise ValueError(f"t_max must be non-zero with the sign of direction={direction}, got {t_max!r}")
-    omega = _real("omega", omega)
-    if not omega > 0.0:
-        raise ValueError(f"omega must be > 0, got {omega!r}")
-    coef = np.asarray(coef, dtype=np.float64)
-    if coef.ndim != 1 or coef.size == 0 or coef[0] != 0.0:
-        raise ValueError(
-            "coef must be the 1-D output of a successful anchor_kernel call (coef[0] == 0), "
-            f"got {coef!r}"
-        )
+    t_max, omega, coef = _check_search(t_max, direction, omega, coef)
 
     track = []  # (kind code, index into (theta − d, theta'), surface tolerance)
     if crossing:
@@ -372,16 +392,7 @@ def next_event_analytic(eval_kernel, coef, d, kinds, t_max, direction, omega=1.0
             if val != 0.0:
                 last[code] = (t, val)
         if found:
-            roots = []
-            for code, i, a, b in found:
-                lo, hi = (a, b) if a < b else (b, a)
-                r = brentq(lambda s, i=i: g(s)[i], lo, hi, xtol=ROOT_XTOL, rtol=ROOT_RTOL)
-                roots.append((r, code))
-            roots.sort(key=lambda rc: direction * rc[0])
-            t_ev, kind = roots[0]
-            if len(roots) == 2 and abs(roots[1][0] - t_ev) <= SIMULTANEOUS_RTOL * (1.0 + abs(t_ev)):
-                kind = KIND_BOTH
-            return t_ev, kind
+            return _first_root(g, found, direction)
     return math.inf, KIND_NONE
 
 

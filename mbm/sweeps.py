@@ -17,6 +17,30 @@ Every scene is an independent run, so chunked and unchunked sweeps are identical
 for bit.
 
 xarray is needed (``pip install "mbm[dask]"``); Dask only for ``chunks=``.
+
+Reductions
+----------
+``reduce=`` of :func:`sweep` keeps only these per scene, from the batch call's two
+output times t_m = t0 + (t1 − t0)/2 and t1:
+
+``"final_state"``
+    ``theta_final``, ``theta_dot_final``: θ(t1), θ'(t1).
+``"mean_velocity"``
+    ``mean_velocity``: exact where the run reached a regime (``mbm.solve``'s
+    ``regime``): 2π/T_c on the running limit cycle, 0 once locked, (p/q)Ω
+    once phase-locked to a drive.  Elsewhere
+    (θ(t1) − θ(t_m)) / (t1 − t_m); for t0 = 0, (θ(T) − θ(T/2)) / (T/2): two
+    samples, not an average over a cycle, off by at most 2·(swing of
+    θ − ⟨θ'⟩t) / (t1 − t_m), i.e. O(P/T) for a cycle of period P.
+``"winding"``
+    ``winding`` = rint((θ(t1) − θ₀) / 2π): the net number of 2π turns at the end,
+    rounded to the nearest integer (a locked scene: the wells it moved by).
+    Float (integer values), so that failed scenes can be NaN.
+``"regime"``
+    ``regime``: ``"running"`` where ``|θ(t1) − θ(t_m)|`` ≥ :data:`REGIME_TURNS` · 2π
+    (the mean velocity ≥ 2π/(t1 − t_m) in magnitude), else ``"locked"``;
+    ``"failed"`` where the status is not 0.  Misreads a running scene whose
+    period exceeds (t1 − t0)/2 and a scene still slipping wells after t_m.
 """
 
 import math
@@ -434,6 +458,75 @@ def _mbm_version():
 # ------------------------------------------------------------------------------- sweep
 
 
+def _grid_parameters(params, drive_given):
+    """The grid's array parameters (``values``), its scalars (``fixed``) and the drive, checked."""
+    values, fixed = {}, {}
+    for name, value in zip(PARAMETERS, params):
+        v = _check_parameter(name, value)
+        (fixed if isinstance(v, float) else values)[name] = v
+    drive = None
+    if not all(np.ndim(d) == 0 and _check_parameter(n, d) == 0.0 for n, d in zip(DRIVE_PARAMETERS, drive_given)):
+        for name, value in zip(DRIVE_PARAMETERS, drive_given):
+            v = _check_parameter(name, value)
+            (fixed if isinstance(v, float) else values)[name] = v
+        drive = [values.get(k, fixed.get(k)) for k in DRIVE_PARAMETERS]
+        # The grid is an outer product: every amplitude meets every frequency.
+        amp, freq = (np.atleast_1d(d) for d in drive[:2])
+        if np.any(amp != 0.0):
+            check_drive(1.0, freq if freq.size > 1 else freq[0])
+    return values, fixed, drive
+
+
+def _check_outputs(t_span, t_eval, reduce):
+    """The span, and either the output times or the reductions (exactly one of the two)."""
+    t0, t1 = check_span(t_span)
+    if not t1 > t0:
+        raise ValueError(f"t_span must be increasing (t0 < t1), got {t_span!r}")
+    reduce = _check_reduce(reduce)
+    if reduce is None and t_eval is None:
+        raise ValueError("give t_eval (output times of theta, theta_dot) or reduce (per-scene reductions)")
+    if reduce is not None and t_eval is not None:
+        raise ValueError("t_eval and reduce exclude each other (reduce picks its own output times)")
+    if t_eval is not None:
+        if np.ndim(t_eval) != 1 or np.size(t_eval) == 0:
+            raise ValueError(f"t_eval must be a non-empty 1-D array, got shape {np.shape(t_eval)}")
+        t_eval = check_t_eval(t_eval, t0, t1)
+    elif not t0 < t0 + 0.5 * (t1 - t0) < t1:
+        raise ValueError(f"t_span is too short to split in halves, got {t_span!r}")
+    return t0, t1, t_eval, reduce
+
+
+def _check_options(rtol, atol, approximant, tau, max_windows, progress):
+    """The solver options every scene shares, checked (the batch calls' keywords)."""
+    rtol, atol = check_tolerances(rtol, atol)  # the floor (and its warning) once, here
+    tau = None if tau is None else check_positive("tau", tau)
+    max_windows = check_max_windows(max_windows)
+    if progress not in (True, False):
+        raise ValueError(f"progress must be True or False, got {progress!r}")
+    return dict(rtol=rtol, atol=atol, approximant=approximant, tau=tau, max_windows=max_windows)
+
+
+def _dataset(data, values, dims, fixed, t_span, t_eval, reduce, options):
+    """The sweep's Dataset: the variables over the grid, its coordinates and attributes."""
+    coords = {d: (d, values[d]) for d in dims}
+    if reduce is None:
+        coords["time"] = ("time", t_eval, {"long_name": "output time"})
+    attrs = dict(fixed)
+    attrs.update(t_span=np.array(t_span), rtol=options["rtol"], atol=options["atol"],
+                 approximant=options["approximant"], max_windows=options["max_windows"],
+                 mbm_version=_mbm_version())
+    if options["tau"] is not None:
+        attrs["tau"] = options["tau"]
+    if reduce is not None:
+        attrs["reduce"] = ",".join(reduce)
+        if "regime" in reduce:
+            attrs["regime_turns"] = REGIME_TURNS
+    return xr.Dataset(
+        {v: (dv, a, _status_attrs() if v == "status" else _VARIABLE_ATTRS[v]) for v, (dv, a) in data.items()},
+        coords=coords, attrs=attrs,
+    )
+
+
 def sweep(*, beta, gamma, omega=1.0, theta0=0.0, theta_dot0=0.0, t_span, t_eval=None, reduce=None,
           rtol=1e-6, atol=1e-9, approximant="auto", tau=None, chunks=None, progress=False,
           max_windows=DEFAULT_MAX_WINDOWS, drive_amplitude=0.0, drive_frequency=0.0, drive_phase=0.0):
@@ -453,26 +546,9 @@ def sweep(*, beta, gamma, omega=1.0, theta0=0.0, theta_dot0=0.0, t_span, t_eval=
         ``time`` dimension.  Exclusive with ``reduce``; one of the two is required.
     reduce : str or list of str, optional
         Keep only these reductions per scene (no ``time`` dimension; the batch call
-        outputs at most two times, t_m = t0 + (t1 − t0)/2 and t1):
-
-        ``"final_state"``
-            ``theta_final``, ``theta_dot_final``: θ(t1), θ'(t1).
-        ``"mean_velocity"``
-            ``mean_velocity``: exact where the run reached a regime (``mbm.solve``'s
-            ``regime``): 2π/T_c on the running limit cycle, 0 once locked, (p/q)Ω
-            once phase-locked to a drive.  Elsewhere
-            (θ(t1) − θ(t_m)) / (t1 − t_m); for t0 = 0, (θ(T) − θ(T/2)) / (T/2): two
-            samples, not an average over a cycle, off by at most 2·(swing of
-            θ − ⟨θ'⟩t) / (t1 − t_m), i.e. O(P/T) for a cycle of period P.
-        ``"winding"``
-            ``winding`` = rint((θ(t1) − θ₀) / 2π): the net number of 2π turns at the end,
-            rounded to the nearest integer (a locked scene: the wells it moved by).
-            Float (integer values), so that failed scenes can be NaN.
-        ``"regime"``
-            ``regime``: ``"running"`` where ``|θ(t1) − θ(t_m)|`` ≥ :data:`REGIME_TURNS` · 2π
-            (the mean velocity ≥ 2π/(t1 − t_m) in magnitude), else ``"locked"``;
-            ``"failed"`` where the status is not 0.  Misreads a running scene whose
-            period exceeds (t1 − t0)/2 and a scene still slipping wells after t_m.
+        outputs at most two times): ``"final_state"`` (θ(t1), θ'(t1)),
+        ``"mean_velocity"``, ``"winding"``, ``"regime"``, defined under "Reductions"
+        in :mod:`mbm.sweeps`.
     rtol, atol, approximant, tau
         As in :func:`mbm.solve_batch` (one value for every scene; ``"auto"`` chooses
         per scene).  Checked before anything runs.
@@ -535,68 +611,18 @@ def sweep(*, beta, gamma, omega=1.0, theta0=0.0, theta_dot0=0.0, t_span, t_eval=
     on how the grid is split: chunked, unchunked and a single :func:`mbm.solve_batch`
     over all scenes agree bit for bit.
     """
-    values, fixed = {}, {}
-    for name, value in zip(PARAMETERS, (beta, gamma, omega, theta0, theta_dot0)):
-        v = _check_parameter(name, value)
-        (fixed if isinstance(v, float) else values)[name] = v
-    drive = None
-    drive_given = (drive_amplitude, drive_frequency, drive_phase)
-    if not all(np.ndim(d) == 0 and _check_parameter(n, d) == 0.0 for n, d in zip(DRIVE_PARAMETERS, drive_given)):
-        for name, value in zip(DRIVE_PARAMETERS, drive_given):
-            v = _check_parameter(name, value)
-            (fixed if isinstance(v, float) else values)[name] = v
-        drive = [values.get(k, fixed.get(k)) for k in DRIVE_PARAMETERS]
-        # The grid is an outer product: every amplitude meets every frequency.
-        amp, freq = (np.atleast_1d(d) for d in drive[:2])
-        if np.any(amp != 0.0):
-            check_drive(1.0, freq if freq.size > 1 else freq[0])
+    values, fixed, drive = _grid_parameters((beta, gamma, omega, theta0, theta_dot0),
+                                            (drive_amplitude, drive_frequency, drive_phase))
     dims = tuple(d for d in PARAMETERS + DRIVE_PARAMETERS if d in values)
-    t0, t1 = check_span(t_span)
-    if not t1 > t0:
-        raise ValueError(f"t_span must be increasing (t0 < t1), got {t_span!r}")
-    reduce = _check_reduce(reduce)
-    if reduce is None and t_eval is None:
-        raise ValueError("give t_eval (output times of theta, theta_dot) or reduce (per-scene reductions)")
-    if reduce is not None and t_eval is not None:
-        raise ValueError("t_eval and reduce exclude each other (reduce picks its own output times)")
-    if t_eval is not None:
-        if np.ndim(t_eval) != 1 or np.size(t_eval) == 0:
-            raise ValueError(f"t_eval must be a non-empty 1-D array, got shape {np.shape(t_eval)}")
-        t_eval = check_t_eval(t_eval, t0, t1)
-    elif not t0 < t0 + 0.5 * (t1 - t0) < t1:
-        raise ValueError(f"t_span is too short to split in halves, got {t_span!r}")
-    rtol, atol = check_tolerances(rtol, atol)  # the floor (and its warning) once, here
-    tau = None if tau is None else check_positive("tau", tau)
-    max_windows = check_max_windows(max_windows)
-    if progress not in (True, False):
-        raise ValueError(f"progress must be True or False, got {progress!r}")
+    t0, t1, t_eval, reduce = _check_outputs(t_span, t_eval, reduce)
+    options = _check_options(rtol, atol, approximant, tau, max_windows, progress)
     models = [values.get(k, fixed.get(k)) for k in ("beta", "gamma", "omega")]
-    _check_approximant(approximant, tau, (t0, t1), rtol, atol, max_windows, models, drive)
+    _check_approximant(approximant, options["tau"], (t0, t1), options["rtol"], options["atol"],
+                       options["max_windows"], models, drive)
     chunks = _check_chunks(chunks, dims)
 
-    times = _output_times(reduce, (t0, t1), t_eval)
-    kw = dict(
-        names=dims, fixed=fixed, t_span=(t0, t1), times=times, variables=_variables(reduce),
-        options=dict(rtol=rtol, atol=atol, approximant=approximant, tau=tau, max_windows=max_windows),
-    )
+    kw = dict(names=dims, fixed=fixed, t_span=(t0, t1), times=_output_times(reduce, (t0, t1), t_eval),
+              variables=_variables(reduce), options=options)
     data = _local(values, dims, kw, progress) if chunks is None else _chunked(values, dims, kw, chunks)
-
-    coords = {d: (d, values[d]) for d in dims}
-    if reduce is None:
-        coords["time"] = ("time", t_eval, {"long_name": "output time"})
-    attrs = dict(fixed)
-    attrs.update(t_span=np.array([t0, t1]), rtol=rtol, atol=atol, approximant=approximant,
-                 max_windows=max_windows, mbm_version=_mbm_version())
-    if tau is not None:
-        attrs["tau"] = tau
-    if reduce is not None:
-        attrs["reduce"] = ",".join(reduce)
-        if "regime" in reduce:
-            attrs["regime_turns"] = REGIME_TURNS
-    ds = xr.Dataset(
-        {v: (dv, a, _status_attrs() if v == "status" else _VARIABLE_ATTRS[v]) for v, (dv, a) in data.items()},
-        coords=coords, attrs=attrs,
-    )
-    if chunks is not None and progress:
-        ds = _show_dask_progress(ds)
-    return ds
+    ds = _dataset(data, values, dims, fixed, (t0, t1), t_eval, reduce, options)
+    return _show_dask_progress(ds) if chunks is not None and progress else ds

@@ -98,7 +98,7 @@ def test_solve_njit_and_batch_build_records_with_the_initialiser():
     # no path spells the record out field by field: solve_njit and solve_batch call the
     # compiled initialiser (and solve_njit's run equals mbm.solve's, tests/test_fast.py)
     src = (ROOT / "mbm" / "fast.py").read_text()
-    njit_src = src[src.index("def solve_njit("):src.index("def _is_zero(")]
-    batch_src = src[src.index("def solve_batch("):]
+    njit_src = src[src.index("def solve_njit("):]
+    batch_src = (ROOT / "mbm" / "batch.py").read_text()
     assert "loop.init_run(" in njit_src and "loop.init_runs(" in batch_src
     assert "np.zeros(1, dtype=loop.RUN)" not in njit_src and 'p["' not in batch_src

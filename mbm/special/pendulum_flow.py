@@ -130,6 +130,80 @@ def _failed_setup(status):
 
 
 @numba.njit(**NJIT_OPTIONS)
+def _half_rate_dd(v0, omega):
+    """w = θ̇₀/(2ω) in double-double (the division's rounding matters next to the separatrix)."""
+    two_omega = 2.0 * omega
+    w_hi = v0 / two_omega
+    q_p, q_e = two_prod(w_hi, two_omega)
+    w_lo = ((v0 - q_p) - q_e) / two_omega
+    if not math.isfinite(w_lo):  # the exact product overflowed (|ω| > ~1e300)
+        w_lo = 0.0
+    return w_hi, w_lo
+
+
+@numba.njit(**NJIT_OPTIONS)
+def _libration_constants(sh, ch, w_hi, w_lo, k, m, mc, mc_lo, omega):
+    """Libration, sin(θ/2) = k sn(ωt + u0 | m).
+
+    Returns (par, parc, K_hi, K_lo, u0, rate_hi, rate_lo, vscale, per) of
+    :func:`flow_setup_kernel`.
+    """
+    par, parc = m, mc
+    K_hi, K_lo = ellipk_dd_kernel(mc, mc_lo)
+    # k sn(u0) = sin(θ₀/2), k cn(u0) = θ̇₀/(2ω), dn(u0) = cos(θ₀/2).
+    if ch * ch >= math.sqrt(mc):
+        # u0 = F(am u0), am u0 = atan2(sn, cn): no arcsin of a number near 1.
+        # The rounding of am u0 is amplified by dF/dφ = 1/dn(u0) = 1/ch.
+        u0 = ellipf_kernel(math.atan2(sh, w_hi + w_lo), par, parc)
+    else:
+        # Near a turning point close to the separatrix 1/ch is huge (at θ₀ =
+        # fl(π), θ̇₀ = 0 it is 1.6e16: the rounding of am u0 = fl(π/2) alone
+        # would move u0 by ~1).  Use u0 = ±(K − v) with
+        # sn v = cd u0, cn v = √mc sd u0 (A&S 16.8), i.e.
+        # am v = atan2(θ̇₀/2ω, √mc |sin(θ₀/2)|), amplification ch/√mc instead;
+        # the branch point ch² = √mc balances the two.
+        v = ellipf_kernel(math.atan2(w_hi + w_lo, math.sqrt(mc) * abs(sh)), par, parc)
+        u0 = math.copysign((K_hi - v) + K_lo, sh)
+    rate_hi, rate_lo = omega, 0.0
+    vscale = 2.0 * k * omega
+    per = (4.0 * K_hi + 4.0 * K_lo) / omega  # Beléndez et al. (2007), Eq. (26)
+    return par, parc, K_hi, K_lo, u0, rate_hi, rate_lo, vscale, per
+
+
+@numba.njit(**NJIT_OPTIONS)
+def _rotation_constants(sh_hi, sh_lo, ch, h_hi, h_lo, aw_hi, aw_lo, k, m, mc, mc_lo, sign, omega):
+    """Rotation, θ/2 = am(s k ω t + u0 | 1/m).
+
+    Returns (k_lo, par, parc, K_hi, K_lo, u0, rate_hi, rate_lo, vscale, per) of
+    :func:`flow_setup_kernel`.
+    """
+    # k in double-double: the rotation rate k ω sets the phase at long times.
+    a2, a2e = two_prod(sh_hi, sh_hi)
+    a2e += 2.0 * sh_hi * sh_lo
+    b2, b2e = two_prod(aw_hi, aw_hi)
+    k2, k2e = two_prod(k, k)
+    s1, e1 = two_sum(a2, b2)
+    resid = (s1 - k2) + (((e1 + a2e) + b2e - k2e) + 2.0 * aw_hi * aw_lo)
+    k_lo = resid / (2.0 * k)
+    par = 1.0 / m
+    # Complement of the rotation parameter, 1 − 1/m = −mc/m, in double-double
+    # (m = k² from (k, k_lo)): it sets K(1/m), hence the phase at long times.
+    mm_hi, mm_lo = dd_mul(k, k_lo, k, k_lo)
+    pc_hi, pc_lo = dd_div(-mc, -mc_lo, mm_hi, mm_lo)
+    parc = pc_hi + pc_lo
+    # F(θ₀/2 | 1/m), plus the first-order term of the reduction's low part.
+    dn0 = math.sqrt(parc + par * ch * ch)
+    u0 = ellipf_kernel(h_hi, par, parc) + h_lo / dn0
+    K_hi, K_lo = ellipk_dd_kernel(pc_hi, pc_lo)
+    r_hi, r_lo = two_prod(k, omega)
+    r_lo += k_lo * omega
+    rate_hi, rate_lo = fast_two_sum(sign * r_hi, sign * r_lo)
+    vscale = 2.0 * sign * omega * k
+    per = (2.0 * K_hi + 2.0 * K_lo) / ((k + k_lo) * omega)
+    return k_lo, par, parc, K_hi, K_lo, u0, rate_hi, rate_lo, vscale, per
+
+
+@numba.njit(**NJIT_OPTIONS)
 def flow_setup_kernel(theta0, v0, omega):
     """Constants of the exact flow of θ'' + ω² sin θ = 0 through (θ₀, θ̇₀).
 
@@ -175,12 +249,7 @@ def flow_setup_kernel(theta0, v0, omega):
 
     # --- w = θ̇₀/(2ω) in double-double (the division's rounding matters next to
     # the separatrix, where mc is the difference ch − |w|) -----------------------
-    two_omega = 2.0 * omega
-    w_hi = v0 / two_omega
-    q_p, q_e = two_prod(w_hi, two_omega)
-    w_lo = ((v0 - q_p) - q_e) / two_omega
-    if not math.isfinite(w_lo):  # the exact product overflowed (|ω| > ~1e300)
-        w_lo = 0.0
+    w_hi, w_lo = _half_rate_dd(v0, omega)
     s_dir = 1.0 if v0 > 0.0 else (-1.0 if v0 < 0.0 else 0.0)
     aw_hi = abs(w_hi)
     aw_lo = w_lo if w_hi >= 0.0 else -w_lo
@@ -201,52 +270,14 @@ def flow_setup_kernel(theta0, v0, omega):
     if mc > 0.0:
         # ---------------- libration: sin(θ/2) = k sn(ωt + u0 | m) ----------------
         regime = REGIME_LIBRATION
-        par, parc = m, mc
-        K_hi, K_lo = ellipk_dd_kernel(mc, mc_lo)
-        # k sn(u0) = sin(θ₀/2), k cn(u0) = θ̇₀/(2ω), dn(u0) = cos(θ₀/2).
-        if ch * ch >= math.sqrt(mc):
-            # u0 = F(am u0), am u0 = atan2(sn, cn): no arcsin of a number near 1.
-            # The rounding of am u0 is amplified by dF/dφ = 1/dn(u0) = 1/ch.
-            u0 = ellipf_kernel(math.atan2(sh, w_hi + w_lo), par, parc)
-        else:
-            # Near a turning point close to the separatrix 1/ch is huge (at θ₀ =
-            # fl(π), θ̇₀ = 0 it is 1.6e16: the rounding of am u0 = fl(π/2) alone
-            # would move u0 by ~1).  Use u0 = ±(K − v) with
-            # sn v = cd u0, cn v = √mc sd u0 (A&S 16.8), i.e.
-            # am v = atan2(θ̇₀/2ω, √mc |sin(θ₀/2)|), amplification ch/√mc instead;
-            # the branch point ch² = √mc balances the two.
-            v = ellipf_kernel(math.atan2(w_hi + w_lo, math.sqrt(mc) * abs(sh)), par, parc)
-            u0 = math.copysign((K_hi - v) + K_lo, sh)
-        rate_hi, rate_lo = omega, 0.0
-        vscale = 2.0 * k * omega
-        per = (4.0 * K_hi + 4.0 * K_lo) / omega  # Beléndez et al. (2007), Eq. (26)
+        par, parc, K_hi, K_lo, u0, rate_hi, rate_lo, vscale, per = _libration_constants(
+            sh, ch, w_hi, w_lo, k, m, mc, mc_lo, omega)
     elif mc < 0.0:
         # ---------------- rotation: θ/2 = am(s k ω t + u0 | 1/m) ------------------
         regime = REGIME_ROTATION
         sign = s_dir
-        # k in double-double: the rotation rate k ω sets the phase at long times.
-        a2, a2e = two_prod(sh_hi, sh_hi)
-        a2e += 2.0 * sh_hi * sh_lo
-        b2, b2e = two_prod(aw_hi, aw_hi)
-        k2, k2e = two_prod(k, k)
-        s1, e1 = two_sum(a2, b2)
-        resid = (s1 - k2) + (((e1 + a2e) + b2e - k2e) + 2.0 * aw_hi * aw_lo)
-        k_lo = resid / (2.0 * k)
-        par = 1.0 / m
-        # Complement of the rotation parameter, 1 − 1/m = −mc/m, in double-double
-        # (m = k² from (k, k_lo)): it sets K(1/m), hence the phase at long times.
-        mm_hi, mm_lo = dd_mul(k, k_lo, k, k_lo)
-        pc_hi, pc_lo = dd_div(-mc, -mc_lo, mm_hi, mm_lo)
-        parc = pc_hi + pc_lo
-        # F(θ₀/2 | 1/m), plus the first-order term of the reduction's low part.
-        dn0 = math.sqrt(parc + par * ch * ch)
-        u0 = ellipf_kernel(h_hi, par, parc) + h_lo / dn0
-        K_hi, K_lo = ellipk_dd_kernel(pc_hi, pc_lo)
-        r_hi, r_lo = two_prod(k, omega)
-        r_lo += k_lo * omega
-        rate_hi, rate_lo = fast_two_sum(sign * r_hi, sign * r_lo)
-        vscale = 2.0 * sign * omega * k
-        per = (2.0 * K_hi + 2.0 * K_lo) / ((k + k_lo) * omega)
+        k_lo, par, parc, K_hi, K_lo, u0, rate_hi, rate_lo, vscale, per = _rotation_constants(
+            sh_hi, sh_lo, ch, h_hi, h_lo, aw_hi, aw_lo, k, m, mc, mc_lo, sign, omega)
     elif v0 != 0.0:
         # ---------------- separatrix: sin(θ/2) = s tanh(ωt + u0) ------------------
         regime = REGIME_SEPARATRIX

@@ -147,114 +147,91 @@ def _newton_dd(x, g2, g3):
 
 
 @numba.njit(**NJIT_OPTIONS)
-def wp_lattice_kernel(g2, g3):
-    """Lattice data of ℘(·; g2, g3): everything ℘ needs, from the invariants.
+def _lattice_three_real(G2, G3, dh, t, rt):
+    """:func:`wp_lattice_kernel` for Δ ≥ 0 (three real roots), at the scaled invariants.
 
-    ``wp_kernel(z, g2, g3)`` spends roughly half of its time deriving the
-    roots and the period from (g2, g3); a caller evaluating many z for the
-    same invariants can do that once and pass the tuple to ``wp_eval_kernel``.
-    Callers that need the roots' normal form itself (the cn form of
-    :mod:`mbm.approximants.salas2022`) unpack it.
-
-    Returns
-    -------
-    kind, r1, r2, r3, dsign, base, lam2, lamh, laml, m, mc, kch, kcl : float
-        A 13-tuple:
-
-        * ``kind``: 1.0 (Δ ≥ 0), -1.0 (Δ < 0) or 0.0 (g2 = g3 = 0); NaNs for
-          non-finite invariants;
-        * ``r1, r2, r3, dsign``: what ``wp_roots_kernel`` returns;
-        * ``base, lam2``: ℘ = base + lam2 * X with X = cn²/sn² (kind 1) or
-          cn²/(sn² dn²) (kind −1) at v = lam * z;
-        * ``lamh, laml``: lam = sqrt(lam2) as a double-double;
-        * ``m, mc``: the parameter of the Jacobi functions and its complement;
-        * ``kch, kcl``: k' = sqrt(mc) as a double-double (fixes the period).
+    ``G2, G3`` are g2, g3 scaled by t = 4**k, ``dh`` the high part of their Δ,
+    ``rt`` = sqrt(t); returns the 13-tuple of :func:`wp_lattice_kernel`.
     """
-    nan = math.nan
-    if not (abs(g2) < math.inf and abs(g3) < math.inf):
-        return nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan
-    if g2 == 0.0 and g3 == 0.0:
-        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
-    # Scale by t = 4**k (exact) so that the normalised roots are of order 1;
-    # sqrt(t) = 2**k is exact too.
-    size = max(math.sqrt(abs(g2)), math.pow(abs(g3), 1.0 / 3.0))
-    k = int(math.floor(math.log(size) / _LOG4 + 0.5))
-    t = math.ldexp(1.0, 2 * k)
-    rt = math.ldexp(1.0, k)
-    G2 = math.ldexp(g2, -4 * k)
-    G3 = math.ldexp(g3, -6 * k)
-    dh, dl = _delta_dd(G2, G3)
-    if dh >= 0.0:
-        # Trigonometric method: e = 2 r cos(angle), r = sqrt(G2/12),
-        # cos(3 alpha) = c = sqrt(27) G3 / G2^1.5, sin(3 alpha) = s = sqrt(Δ)/G2^1.5.
-        dsign = 1.0 if dh > 0.0 else 0.0
-        g15 = G2 * math.sqrt(G2)
-        c = _SQRT27 * G3 / g15
-        s = math.sqrt(dh) / g15
-        r = math.sqrt(G2 / 12.0)
-        alpha = math.atan2(s, c) / 3.0  # in [0, pi/3]
-        beta = math.atan2(s, -c) / 3.0  # pi/3 - alpha, without cancellation
-        gamma = math.atan2(-c, s) / 3.0  # alpha - pi/6, without cancellation
-        # No Newton step in double here: next to a double root it would
-        # trade the ~eps accuracy of these formulas (they see the exact Δ)
-        # for ~eps/separation.
-        if dsign != 0.0:
-            e1 = 2.0 * r * math.cos(alpha)
-            e2 = 2.0 * r * math.sin(gamma)  # relatively accurate when e2 ~ 0
-            e3 = -2.0 * r * math.cos(beta)
-            w = 2.0 * _SQRT3 * r
-            d13 = w * math.sin(alpha + _PI_3)
-            d23 = w * math.sin(alpha)
-            d12 = w * math.sin(beta)
-        elif G3 > 0.0:
-            # Δ = 0 exactly: the double root is -r (the angles are 0 and pi/3).
-            e1 = 2.0 * r
-            e2 = -r
-            e3 = -r
-            d13 = 3.0 * r
-            d23 = 0.0
-            d12 = d13
-        else:
-            e1 = r
-            e2 = r
-            e3 = -2.0 * r
-            d13 = 3.0 * r
-            d23 = d13
-            d12 = 0.0
-        if d12 >= DD_SEP_MIN and d23 >= DD_SEP_MIN:
-            # Well separated: one Newton step with the cubic in double-double
-            # gives roots, hence differences, to ~1e-30.
-            e1h, e1l = _newton_dd(e1, G2, G3)
-            e2h, e2l = _newton_dd(e2, G2, G3)
-            e3h, e3l = _newton_dd(e3, G2, G3)
-            D13h, D13l = dd_add(e1h, e1l, -e3h, -e3l)
-            D12h, D12l = dd_add(e1h, e1l, -e2h, -e2l)
-            e1 = e1h
-            e2 = e2h
-            e3 = e3h
-        elif d23 < DD_SEP_MIN:
-            # e2 ~ e3: e1 is simple and well separated; e2 + e3 = -e1 gives
-            # D13 = 3 e1/2 + d23/2 and D12 = 3 e1/2 - d23/2 (d23 tiny).
-            e1h, e1l = _newton_dd(e1, G2, G3)
-            fh, fl = dd_mul_d(e1h, e1l, 1.5)
-            D13h, D13l = dd_add(fh, fl, 0.5 * d23, 0.0)
-            D12h, D12l = dd_add(fh, fl, -0.5 * d23, 0.0)
-            e1 = e1h
-        else:
-            # e1 ~ e2: e3 is simple; D13 = -3 e3/2 + d12/2, D12 = d12 (tiny,
-            # it enters K only logarithmically).
-            e3h, e3l = _newton_dd(e3, G2, G3)
-            fh, fl = dd_mul_d(e3h, e3l, -1.5)
-            D13h, D13l = dd_add(fh, fl, 0.5 * d12, 0.0)
-            D12h, D12l = d12, 0.0
-            e3 = e3h
-        mch, mcl = dd_div(D12h, D12l, D13h, D13l)
-        m = d23 / d13
-        mc = mch
-        kch, kcl = dd_sqrt(mch, mcl)
-        lh, ll = dd_sqrt(D13h, D13l)
-        return (1.0, e1 * t, e2 * t, e3 * t, dsign, e1 * t, d13 * t,
-                lh * rt, ll * rt, m, mc, kch, kcl)
+    # Trigonometric method: e = 2 r cos(angle), r = sqrt(G2/12),
+    # cos(3 alpha) = c = sqrt(27) G3 / G2^1.5, sin(3 alpha) = s = sqrt(Δ)/G2^1.5.
+    dsign = 1.0 if dh > 0.0 else 0.0
+    g15 = G2 * math.sqrt(G2)
+    c = _SQRT27 * G3 / g15
+    s = math.sqrt(dh) / g15
+    r = math.sqrt(G2 / 12.0)
+    alpha = math.atan2(s, c) / 3.0  # in [0, pi/3]
+    beta = math.atan2(s, -c) / 3.0  # pi/3 - alpha, without cancellation
+    gamma = math.atan2(-c, s) / 3.0  # alpha - pi/6, without cancellation
+    # No Newton step in double here: next to a double root it would
+    # trade the ~eps accuracy of these formulas (they see the exact Δ)
+    # for ~eps/separation.
+    if dsign != 0.0:
+        e1 = 2.0 * r * math.cos(alpha)
+        e2 = 2.0 * r * math.sin(gamma)  # relatively accurate when e2 ~ 0
+        e3 = -2.0 * r * math.cos(beta)
+        w = 2.0 * _SQRT3 * r
+        d13 = w * math.sin(alpha + _PI_3)
+        d23 = w * math.sin(alpha)
+        d12 = w * math.sin(beta)
+    elif G3 > 0.0:
+        # Δ = 0 exactly: the double root is -r (the angles are 0 and pi/3).
+        e1 = 2.0 * r
+        e2 = -r
+        e3 = -r
+        d13 = 3.0 * r
+        d23 = 0.0
+        d12 = d13
+    else:
+        e1 = r
+        e2 = r
+        e3 = -2.0 * r
+        d13 = 3.0 * r
+        d23 = d13
+        d12 = 0.0
+    if d12 >= DD_SEP_MIN and d23 >= DD_SEP_MIN:
+        # Well separated: one Newton step with the cubic in double-double
+        # gives roots, hence differences, to ~1e-30.
+        e1h, e1l = _newton_dd(e1, G2, G3)
+        e2h, e2l = _newton_dd(e2, G2, G3)
+        e3h, e3l = _newton_dd(e3, G2, G3)
+        D13h, D13l = dd_add(e1h, e1l, -e3h, -e3l)
+        D12h, D12l = dd_add(e1h, e1l, -e2h, -e2l)
+        e1 = e1h
+        e2 = e2h
+        e3 = e3h
+    elif d23 < DD_SEP_MIN:
+        # e2 ~ e3: e1 is simple and well separated; e2 + e3 = -e1 gives
+        # D13 = 3 e1/2 + d23/2 and D12 = 3 e1/2 - d23/2 (d23 tiny).
+        e1h, e1l = _newton_dd(e1, G2, G3)
+        fh, fl = dd_mul_d(e1h, e1l, 1.5)
+        D13h, D13l = dd_add(fh, fl, 0.5 * d23, 0.0)
+        D12h, D12l = dd_add(fh, fl, -0.5 * d23, 0.0)
+        e1 = e1h
+    else:
+        # e1 ~ e2: e3 is simple; D13 = -3 e3/2 + d12/2, D12 = d12 (tiny,
+        # it enters K only logarithmically).
+        e3h, e3l = _newton_dd(e3, G2, G3)
+        fh, fl = dd_mul_d(e3h, e3l, -1.5)
+        D13h, D13l = dd_add(fh, fl, 0.5 * d12, 0.0)
+        D12h, D12l = d12, 0.0
+        e3 = e3h
+    mch, mcl = dd_div(D12h, D12l, D13h, D13l)
+    m = d23 / d13
+    mc = mch
+    kch, kcl = dd_sqrt(mch, mcl)
+    lh, ll = dd_sqrt(D13h, D13l)
+    return (1.0, e1 * t, e2 * t, e3 * t, dsign, e1 * t, d13 * t,
+            lh * rt, ll * rt, m, mc, kch, kcl)
+
+
+@numba.njit(**NJIT_OPTIONS)
+def _lattice_one_real(G2, G3, dh, dl, t, rt):
+    """:func:`wp_lattice_kernel` for Δ < 0 (one real root), at the scaled invariants.
+
+    ``G2, G3`` are g2, g3 scaled by t = 4**k, ``(dh, dl)`` their Δ as a
+    double-double, ``rt`` = sqrt(t); returns the 13-tuple of :func:`wp_lattice_kernel`.
+    """
     # Δ < 0: Cardano for x³ + p x + q, p = −G2/4, q = −G3/4, with the cube
     # root of the larger-magnitude term (no cancellation) ...
     p = -0.25 * G2
@@ -303,6 +280,49 @@ def wp_lattice_kernel(g2, g3):
     b = math.sqrt(b2h)
     return (-1.0, -0.5 * e2 * t, e2 * t, b * t, -1.0, e2 * t, Hh * t,
             lh * rt, ll * rt, m_h, mch, kch, kcl)
+
+
+@numba.njit(**NJIT_OPTIONS)
+def wp_lattice_kernel(g2, g3):
+    """Lattice data of ℘(·; g2, g3): everything ℘ needs, from the invariants.
+
+    ``wp_kernel(z, g2, g3)`` spends roughly half of its time deriving the
+    roots and the period from (g2, g3); a caller evaluating many z for the
+    same invariants can do that once and pass the tuple to ``wp_eval_kernel``.
+    Callers that need the roots' normal form itself (the cn form of
+    :mod:`mbm.approximants.salas2022`) unpack it.
+
+    Returns
+    -------
+    kind, r1, r2, r3, dsign, base, lam2, lamh, laml, m, mc, kch, kcl : float
+        A 13-tuple:
+
+        * ``kind``: 1.0 (Δ ≥ 0), -1.0 (Δ < 0) or 0.0 (g2 = g3 = 0); NaNs for
+          non-finite invariants;
+        * ``r1, r2, r3, dsign``: what ``wp_roots_kernel`` returns;
+        * ``base, lam2``: ℘ = base + lam2 * X with X = cn²/sn² (kind 1) or
+          cn²/(sn² dn²) (kind −1) at v = lam * z;
+        * ``lamh, laml``: lam = sqrt(lam2) as a double-double;
+        * ``m, mc``: the parameter of the Jacobi functions and its complement;
+        * ``kch, kcl``: k' = sqrt(mc) as a double-double (fixes the period).
+    """
+    nan = math.nan
+    if not (abs(g2) < math.inf and abs(g3) < math.inf):
+        return nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan
+    if g2 == 0.0 and g3 == 0.0:
+        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    # Scale by t = 4**k (exact) so that the normalised roots are of order 1;
+    # sqrt(t) = 2**k is exact too.
+    size = max(math.sqrt(abs(g2)), math.pow(abs(g3), 1.0 / 3.0))
+    k = int(math.floor(math.log(size) / _LOG4 + 0.5))
+    t = math.ldexp(1.0, 2 * k)
+    rt = math.ldexp(1.0, k)
+    G2 = math.ldexp(g2, -4 * k)
+    G3 = math.ldexp(g3, -6 * k)
+    dh, dl = _delta_dd(G2, G3)
+    if dh >= 0.0:
+        return _lattice_three_real(G2, G3, dh, t, rt)
+    return _lattice_one_real(G2, G3, dh, dl, t, rt)
 
 
 @numba.njit(**NJIT_OPTIONS)

@@ -1,0 +1,290 @@
+"""The batch front end of the compiled path: many scenes in parallel (``numba.prange``).
+
+:func:`solve_batch` checks and broadcasts the scenes' arrays, plans each scene's
+windows as :func:`mbm.fast.solve` would, runs them in :func:`mbm.loop.run_batch` and
+gathers the per-scene result; each scene's answer equals :func:`mbm.fast.solve` for it.
+"""
+
+import threading
+
+import numba
+import numpy as np
+
+from . import loop
+from ._validate import (
+    DEFAULT_MAX_WINDOWS,
+    ANGLE_PER_WINDOW,
+    WINDOW_MARGIN,
+    check_drive,
+    check_max_windows,
+    check_positive,
+    check_real_array,
+    check_rule_array,
+    check_span,
+    check_t_eval,
+    check_tolerances,
+    check_window_budget,
+)
+from .approximants import Approximant, get_approximant
+from .fast import SolveResult, _plan, _resolve, compiled
+from .problem import Pendulum
+from .regimes import (
+    REGIME_LIBRATION,
+    REGIME_LOCKED,
+    REGIME_NAMES,
+    REGIME_PHASE_LOCKED,
+    REGIME_RUNNING,
+)
+
+__all__ = ["solve_batch"]
+
+# Stride of solve_batch's scene order, as a fraction of the batch: the golden ratio's
+# (Weyl sequence i·φ mod 1), so every contiguous block of the order samples the whole
+# batch evenly.  Sweeps list scenes by parameter and cost varies ~100x along them
+# (settling vs running); numba splits a prange into contiguous blocks, and in sweep
+# order one thread got all the running scenes (2 threads: 1.16x; in this order 1.95x).
+ORDER_STRIDE = 0.6180339887498949
+# How often the thread waiting for a batch wakes to let Ctrl-C in (seconds).
+BATCH_POLL = 0.05
+
+
+def _is_zero(x):
+    # A scalar 0 (the default): solve_batch's undriven call does no drive work at all.
+    return np.ndim(x) == 0 and isinstance(x, (int, float, np.integer, np.floating)) and x == 0
+
+
+def _balanced_order(n):
+    """A permutation of range(n) whose contiguous blocks each sample the whole range."""
+    return np.argsort((np.arange(n) * ORDER_STRIDE) % 1.0, kind="stable")
+
+
+def _check_params(beta, gamma, omega, amp=None, freq=None, phase=None):
+    # The rules of Pendulum, over arrays (mbm._validate); the first bad scene is named.
+    names = ("beta", "gamma", "omega") + (() if amp is None else ("drive_amplitude", "drive_frequency",
+                                                                  "drive_phase"))
+    for name, arr in zip(names, (beta, gamma, omega, amp, freq, phase)):
+        check_rule_array(name, arr)
+    if amp is not None:
+        check_drive(amp, freq)
+
+
+def _run_batch_interruptibly(p, te, out, order):
+    # run_batch holds no GIL: run it in a thread and wait in short joins, so that a
+    # KeyboardInterrupt reaches this (main) thread, which sets the cancel flag; every
+    # scene then stops at its next window.
+    cancel = np.zeros(1, dtype=np.int64)
+    failure = []
+    # numba's thread count is per calling thread (numba.set_num_threads): carry the
+    # caller's into the worker thread.
+    n_threads = numba.get_num_threads()
+
+    def target():
+        try:
+            numba.set_num_threads(n_threads)
+            loop.run_batch(p, te, out, order, cancel)
+        except BaseException as exc:  # pragma: no cover - re-raised below
+            failure.append(exc)
+
+    worker = threading.Thread(target=target, name="mbm-solve-batch", daemon=True)
+    worker.start()
+    try:
+        while worker.is_alive():
+            worker.join(BATCH_POLL)
+    except KeyboardInterrupt:
+        cancel[0] = 1
+        worker.join()
+        raise
+    if failure:
+        raise failure[0]
+
+
+def _scene_arrays(params, driven_call):
+    """The parameter arrays broadcast to (N,), N ≥ 1, and checked by Pendulum's rules."""
+    beta, gamma, omega, drive_amplitude, drive_frequency, drive_phase = params
+    params = (beta, gamma, omega) + ((drive_amplitude, drive_frequency, drive_phase) if driven_call else ())
+    which = "beta, gamma, omega" + (", drive_amplitude, drive_frequency, drive_phase" if driven_call else "")
+    try:
+        arrays = np.broadcast_arrays(*(np.atleast_1d(check_real_array(name, a))
+                                       for name, a in zip(which.split(", "), params)))
+    except ValueError:
+        raise ValueError(
+            f"{which} must broadcast to one shape (N,), got shapes "
+            + ", ".join(str(np.shape(a)) for a in params)
+        ) from None
+    beta, gamma, omega = arrays[:3]
+    if beta.ndim != 1:
+        raise ValueError(f"{which} must broadcast to shape (N,), got shape {beta.shape}")
+    n = beta.size
+    if n == 0:
+        raise ValueError(f"{which} must hold at least one scene (got empty arrays)")
+    amp = freq = phase = None
+    if driven_call:
+        amp, freq, phase = arrays[3:]
+    _check_params(beta, gamma, omega, amp, freq, phase)
+    return beta, gamma, omega, amp, freq, phase
+
+
+def _scene_states(y0, n):
+    """The initial states as an (N, 2) array of finite numbers."""
+    y0 = check_real_array("y0", y0)
+    if y0.shape == (2,):
+        y0 = np.broadcast_to(y0, (n, 2))
+    if y0.shape != (n, 2):
+        raise ValueError(f"y0 must have shape (2,) or ({n}, 2), got {y0.shape}")
+    if not np.all(np.isfinite(y0)):
+        raise ValueError(f"y0 must be finite, got y0[{int(np.flatnonzero(~np.isfinite(y0).all(axis=1))[0])}]")
+    return y0
+
+
+def _check_budgets(beta, gamma, omega, amp, y0, t0, t1, tau_checked, max_step, max_windows):
+    """check_window_budget on the scenes its cheap test does not clear (vectorized here)."""
+    span = t1 - t0
+    longest = min(np.inf if tau_checked is None else tau_checked, max_step)
+    limit = WINDOW_MARGIN * max_windows
+    maybe = (np.abs(gamma) > omega**2) & (
+        (np.abs(y0[:, 1]) + (np.abs(gamma) + omega**2) * abs(span)) * abs(span) >= limit * ANGLE_PER_WINDOW
+    ) | (abs(span) >= limit * longest)
+    if amp is not None:
+        maybe &= amp == 0.0
+    for i in np.flatnonzero(maybe) if span > 0.0 else ():
+        try:
+            check_window_budget(float(beta[i]), float(gamma[i]), float(omega[i]), 0.0, t0, t1, float(y0[i, 1]),
+                                tau_checked, max_step, max_windows)
+        except ValueError as exc:
+            raise ValueError(f"scene {i}: {exc}") from None
+
+
+def _plan_scenes(approximant, beta, gamma, omega, amp, freq, phase, driven_call, tau, max_step, t0, t1):
+    """Per scene: the drive (3, N), the plan (kind, karg, controller, error_order), h_abs, names."""
+    n = beta.size
+    undamped = (beta == 0.0) & (gamma == 0.0)
+    drive = np.zeros((3, n))
+    if driven_call:
+        drive[0], drive[1], drive[2] = amp, freq, phase
+        driven = amp != 0.0
+        undamped &= ~driven
+    # Per scene: kind, karg, controller, error_order (int64) and h_abs.
+    plan = np.zeros((4, n), dtype=np.int64)
+    h = np.zeros(n)
+    names = np.empty(n, dtype=object)
+    # "auto" resolves to at most two approximants (damped or not); a named one to one.
+    for flag in (False, True):
+        rows = np.flatnonzero(undamped == flag)
+        if rows.size == 0:
+            continue
+        ap, kind, karg = _resolve(approximant, flag) if isinstance(approximant, str) else compiled(
+            get_approximant(approximant))
+        if driven_call and not ap.drive_capable and np.any(driven[rows]):
+            i = int(rows[np.flatnonzero(driven[rows])[0]])
+            ap.check_drive(Pendulum(beta[i], gamma[i], omega[i], amp[i], freq[i], phase[i]))
+        if type(ap).check_model is not Approximant.check_model:
+            # The approximant restricts the model: check each distinct model once.
+            for b, g, w in {(beta[i], gamma[i], omega[i]) for i in rows}:
+                ap.check_model(Pendulum(b, g, w))
+        controller, h_abs, error_order = _plan(ap, tau, max_step, t0, t1)
+        plan[0, rows], plan[1, rows], plan[2, rows], plan[3, rows] = kind, karg, controller, error_order
+        h[rows] = h_abs
+        names[rows] = ap.name
+    return drive, plan, h, names
+
+
+def _batch_result(p, te, out, wrap, names):
+    """The SolveResult of a finished batch: outputs, status and regime summaries per scene."""
+    n = names.size
+    f = loop.flat(p)
+    status = f["status"].astype(np.int64)
+    winding = None
+    if wrap:
+        # A failed scene's outputs past its failure stay NaN; its count there is 0.
+        winding = np.where(np.isnan(out[:, 2]), 0.0, out[:, 2]).astype(np.int64)
+        out = np.ascontiguousarray(out[:, :2])
+    # Phase-locked scenes: period q·2π/Ω and pΩ/q, as regimes.strobe_summary (the same
+    # operations, so the same bits).
+    locked_to_drive = f["regime"] == REGIME_PHASE_LOCKED
+    str_q = np.where(locked_to_drive, f["str_q"], 1.0)
+    return SolveResult(
+        t=te, y=out, status=status, success=status == 0, winding=winding,
+        n_windows=f["n_windows"].astype(np.int64), approximant=names.astype(str),
+        regime=np.array([REGIME_NAMES[int(k)] for k in f["regime"]], dtype=object),
+        t_regime=f["t_regime"].astype(np.float64),
+        period=np.where((f["regime"] == REGIME_RUNNING) | (f["regime"] == REGIME_LIBRATION), f["cyc_T"],
+                        np.divide(str_q * 2.0 * np.pi, f["drive_freq"], out=np.full(n, np.nan),
+                                  where=locked_to_drive)),
+        mean_velocity=np.where(
+            (f["regime"] == REGIME_LOCKED) | (f["regime"] == REGIME_LIBRATION), 0.0,
+            np.where(locked_to_drive, f["str_p"] * f["drive_freq"] / str_q,
+                     np.divide(f["cyc_sign"] * 2.0 * np.pi, f["cyc_T"], out=np.full(n, np.nan),
+                               where=f["regime"] == REGIME_RUNNING))),
+    )
+
+def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
+                approximant="auto", tau=None, max_step=np.inf, max_windows=DEFAULT_MAX_WINDOWS,
+                drive_amplitude=0.0, drive_frequency=0.0, drive_phase=0.0, wrap=False):
+    """Solve N scenes at once, in parallel over scenes (numba ``prange``).
+
+    Parameters
+    ----------
+    beta, gamma, omega : array_like
+        Model parameters, broadcast to a common shape (N,), N ≥ 1.
+    y0 : array_like, shape (2,) or (N, 2)
+        Initial states.
+    t_span : (float, float)
+        Common time span.
+    t_eval : array_like, shape (m,)
+        Common output times.
+    rtol, atol, approximant, tau, max_step, max_windows
+        As in :func:`mbm.solve` (one value for all scenes; "auto" chooses per scene).
+    drive_amplitude, drive_frequency, drive_phase : array_like, optional
+        The AC drive A sin(Ωt + φ) of each scene (default 0: none), broadcast with
+        ``beta``, ``gamma``, ``omega`` (see :class:`mbm.Pendulum`).
+    wrap : bool, optional
+        As in :func:`mbm.solve`.
+
+    Returns
+    -------
+    SolveResult
+        ``t`` (m,), ``y`` (N, 2, m), ``status`` (N,) per scene (0 ok), ``success``
+        (N,) bool, ``n_windows`` (N,), ``approximant`` (N,) names, ``regime``,
+        ``t_regime``, ``period``, ``mean_velocity`` (N,) as in :func:`mbm.solve`, ``winding``
+        (N, m) int64 with ``wrap=True`` (else None).  Each scene's
+        answer equals :func:`mbm.solve` for that scene.  A scene that fails at run time
+        (a status other than 0: its approximant's domain, ``max_windows``) keeps the
+        outputs it reached and NaN after them; the other scenes are unaffected.
+
+    Raises
+    ------
+    ValueError
+        For invalid arguments (naming the argument and, for parameter arrays, the
+        first bad scene), an approximant outside the domain of some scene's model, or
+        a scene that would exceed ``max_windows`` a hundred times over (as
+        :func:`mbm.solve`, naming the scene).
+    TypeError
+        For an argument that is not real numbers (a str, bool, complex).
+    KeyboardInterrupt
+        Honoured while the batch runs: every scene stops at its next window.
+    """
+    driven_call = not (_is_zero(drive_amplitude) and _is_zero(drive_frequency) and _is_zero(drive_phase))
+    beta, gamma, omega, amp, freq, phase = _scene_arrays(
+        (beta, gamma, omega, drive_amplitude, drive_frequency, drive_phase), driven_call)
+    n = beta.size
+    y0 = _scene_states(y0, n)
+    if t_eval is None:
+        raise ValueError("t_eval is required for solve_batch (common output times)")
+    t0, t1 = check_span(t_span)
+    te = check_t_eval(t_eval, t0, t1)
+    rtol, atol = check_tolerances(rtol, atol)
+    max_step = check_positive("max_step", max_step, allow_inf=True)
+    max_windows = check_max_windows(max_windows)
+    if wrap is not False and wrap is not True:
+        raise ValueError(f"wrap must be True or False, got {wrap!r}")
+    tau_checked = None if tau is None else check_positive("tau", tau)
+    _check_budgets(beta, gamma, omega, amp, y0, t0, t1, tau_checked, max_step, max_windows)
+    drive, plan, h, names = _plan_scenes(approximant, beta, gamma, omega, amp, freq, phase, driven_call, tau,
+                                         max_step, t0, t1)
+    p = np.empty(n, dtype=loop.RUN)
+    model = np.stack([beta, gamma, omega, drive[0], drive[1], drive[2]]).astype(np.float64)
+    loop.init_runs(p, model, float(t0), np.ascontiguousarray(y0, dtype=np.float64), float(t1), plan, h,
+                   float(max_step), float(rtol), float(atol), int(max_windows))
+    out = np.full((n, 3 if wrap else 2, te.size), np.nan)
+    _run_batch_interruptibly(p, te, out, _balanced_order(n))
+    return _batch_result(p, te, out, wrap, names)
