@@ -194,3 +194,17 @@ def test_tiny_amplitude_turning_point_converges(theta0):
     th, v = a(1.0)
     assert math.isfinite(pr["D"]) and math.isfinite(th) and math.isfinite(v)
     assert abs(th) <= 1.1 * theta0 and a(0.0) == (theta0, 0.0)
+
+
+def test_turning_points_sort_is_np_sort():
+    # _turning_points sorts its (at most three) critical points by hand: np.sort's order
+    # and bits, NaN last, for every arrangement of awkward values.
+    import itertools
+
+    from mbm.approximants.salas2022_kernels import _sorted3
+
+    values = [0.0, -0.0, -1.0, 2.5, np.nan, 1e300, -np.inf]
+    for n in (1, 2, 3):
+        for items in itertools.product(values, repeat=n):
+            a = np.array(list(items) + [9.0] * (3 - n))
+            assert _sorted3(a, n).tobytes() == np.sort(a[:n]).tobytes(), items

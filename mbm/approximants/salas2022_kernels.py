@@ -110,6 +110,22 @@ def _root_between(a, b, y0, f0, p, q, r):
 
 
 @numba.njit(**NJIT_OPTIONS)
+def _sorted3(a, n):
+    """The first ``n`` ≤ 3 items of ``a`` in increasing order, NaN last (np.sort's order),
+    as a new array: np.sort compiles numba's whole quicksort (~2 s of a first call)."""
+    out = a[:n].copy()
+    for i in range(1, n):
+        x = out[i]
+        j = i - 1
+        # x before out[j] when smaller, or when out[j] is NaN and x is not.
+        while j >= 0 and (x < out[j] or (out[j] != out[j] and x == x)):
+            out[j + 1] = out[j]
+            j -= 1
+        out[j + 1] = x
+    return out
+
+
+@numba.njit(**NJIT_OPTIONS)
 def _turning_points(y0, f0, p, q, r):
     """Turning points (lo, hi) of y'² = f(y) around y0; ok=False if the motion is unbounded."""
     # Critical points of f: 0 and the roots of r y² + q y + p = 0 (r < 0).
@@ -127,7 +143,7 @@ def _turning_points(y0, f0, p, q, r):
             n += 1
             cps[n] = p / qq
             n += 1
-    cps = np.sort(cps[:n])
+    cps = _sorted3(cps, n)
     fp0 = _fprime(y0, p, q, r)
     # Upper turning point: the first root of f to the right of y0.
     hi = math.nan
