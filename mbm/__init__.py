@@ -33,6 +33,7 @@ from .approximants import (
 )
 from .special.pendulum_flow import pendulum_flow, period
 from .fast import Integrator, solve, solve_batch, solve_njit
+from .crossings import Event, angle_event, section_event, velocity_event
 from .junction import IVCurve, iv_curve
 from .problem import Pendulum, identify_model
 from .shapiro import ShapiroStep, ShapiroSteps, shapiro_steps
@@ -46,11 +47,13 @@ __all__ = [
     "Anchored",
     "Approximant",
     "ApproximantDomainError",
+    "Event",
     "IVCurve",
     "Integrator",
     "Pendulum",
     "ShapiroStep",
     "ShapiroSteps",
+    "angle_event",
     "approximant_names",
     "get_approximant",
     "identify_model",
@@ -58,12 +61,14 @@ __all__ = [
     "pendulum_flow",
     "period",
     "reference",
+    "section_event",
     "shapiro_steps",
     "solve",
     "solve_batch",
     "solve_njit",
     "successive",
     "sweep",
+    "velocity_event",
 ]
 
 # name -> (module, attribute or None for the module itself)

@@ -30,6 +30,7 @@ from ._validate import (
 )
 from .approximants import get_approximant
 from .choice import auto_name, auto_reason
+from .crossings import solve_events
 from .problem import Pendulum
 from .regimes import (
     REGIME_NAMES,
@@ -337,7 +338,7 @@ class Integrator:
         self._base = dict.fromkeys(_RESULT_KEYS)
         self._base.update(approximant=ap.name, reason=self.reason)
 
-    def solve(self, t_span, y0, t_eval=None, wrap=False):
+    def solve(self, t_span, y0, t_eval=None, wrap=False, events=None):
         """Solve from ``y0`` over ``t_span``: what :func:`solve` returns.
 
         Parameters
@@ -351,6 +352,9 @@ class Integrator:
             window ends.
         wrap : bool, optional
             θ wrapped to (−π, π], with its winding count (see :func:`solve`).
+        events : Event or sequence of Event, optional
+            Built-in events located on the windows (see :func:`solve`); needs a
+            Taylor approximant.
 
         Returns
         -------
@@ -360,6 +364,8 @@ class Integrator:
         t0, t1 = check_span(t_span)
         theta0, v0 = _state(y0)
         _check_budget(self, t0, t1, v0)
+        if events is not None:
+            return solve_events(self, t0, t1, theta0, v0, t_eval, wrap, events)
         return self._solve(t0, t1, theta0, v0, t_eval, wrap)
 
     def _solve(self, t0, t1, theta0, v0, t_eval, wrap):
@@ -445,7 +451,7 @@ class Integrator:
 
 
 def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="auto",
-          t_eval=None, max_step=np.inf, max_windows=DEFAULT_MAX_WINDOWS, wrap=False):
+          t_eval=None, max_step=np.inf, max_windows=DEFAULT_MAX_WINDOWS, wrap=False, events=None):
     """Solve one scene by the moving boundary method, the whole run compiled.
 
     The one-shot form of :class:`Integrator` (for many runs of one model, build an
@@ -484,6 +490,18 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
         hold θ this way inside (a count and an angle in (−π, π]), so the wrapped
         angle keeps its full precision however far the run has wound; unwrapped,
         θ is rounded once per output at its own magnitude.
+    events : Event or sequence of Event, optional
+        Built-in events (:func:`mbm.angle_event`, :func:`mbm.velocity_event`,
+        :func:`mbm.section_event`) located inside the compiled run on each window's
+        own formula (:mod:`mbm.crossings`): every crossing of a Taylor window isolated
+        from its polynomial and refined to round-off, with scipy's ``direction`` and
+        ``terminal`` (the run stops at the event, which is then its last output and
+        state; ``status`` 6); an event exactly at t0 is not reported.  On a running
+        cycle or a libration the stored period's events are shifted per turn; the
+        locked and phase-locked regimes are not taken while events are watched.  With
+        approximant "auto" a scene with β = γ = 0 runs the Taylor series (the exact
+        flow is not a polynomial); another approximant than ``taylor*`` is a
+        ValueError.  Their first call compiles the watch once (a few seconds, cached).
 
     Returns
     -------
@@ -501,6 +519,10 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
         Shapiro step, up to STROBE_MAX_PERIODS on a fractional one); 0 locked; nan
         otherwise),
         ``winding`` (int64, shape (n,), with ``wrap=True``; else None).
+        With ``events``: ``t_events`` and ``y_events`` (a list with one array per
+        event, of shapes (k,) and (k, 2), as scipy's) and ``winding_events`` (int64
+        arrays: m with θ = value + modulo·m of an angle event, the drive turn of a
+        section, θ's winding count round(θ/2π) of a velocity event).
         On a failure ``t``, ``y`` hold the outputs reached before it.
 
     Raises
@@ -514,6 +536,9 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
         raise TypeError(f"model must be an mbm.Pendulum, got {type(model).__name__}")
     t0, t1 = check_span(t_span)
     theta0, v0 = _state(y0)
+    if events is not None and isinstance(approximant, str) and approximant == "auto":
+        # The events are located on Taylor windows: "auto" is the Taylor series.
+        approximant = auto_name(False)
     if (type(approximant) is str and type(rtol) is float and type(atol) is float
             and rtol >= RTOL_FLOOR and (tau is None or type(tau) is float)):
         # The common call: an Integrator per option set, cached (an Integrator is not
@@ -523,6 +548,8 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
         ig = Integrator(model, rtol=rtol, atol=atol, approximant=approximant, tau=tau,
                         max_step=max_step, max_windows=max_windows)
     _check_budget(ig, t0, t1, v0)
+    if events is not None:
+        return solve_events(ig, t0, t1, theta0, v0, t_eval, wrap, events)
     return ig._solve(t0, t1, theta0, v0, t_eval, wrap)  # span and state checked above
 
 

@@ -17,6 +17,7 @@ __all__ = [
     "STATUS_NONFINITE",
     "STATUS_MAX_WINDOWS",
     "STATUS_INTERRUPTED",
+    "STATUS_EVENT",
     "STATUS_PAUSED",
     "STATUS_NAMES",
     "STATUS_FLAGS",
@@ -36,6 +37,7 @@ STATUS_TABLE = (
      "The run took max_windows windows without reaching the end of the interval (raise max_windows for a "
      "longer run)."),
     (5, "INTERRUPTED", "interrupted", "Interrupted (KeyboardInterrupt) before the end of the interval."),
+    (6, "EVENT", "terminal_event", "A termination event occurred."),
 )
 
 STATUS_OK = 0
@@ -44,6 +46,8 @@ STATUS_ANCHOR = 2
 STATUS_NONFINITE = 3
 STATUS_MAX_WINDOWS = 4
 STATUS_INTERRUPTED = 5
+# A terminal event of mbm.crossings stopped the run (a success, as scipy's status 1).
+STATUS_EVENT = 6
 # Not a result: the call stopped at its window budget, a full window store or a regime
 # switch, and the caller resumes the run (the caller's loop is where Ctrl-C is honoured).
 STATUS_PAUSED = -1

@@ -68,6 +68,7 @@ from ..regimes.common import (
     REGIME_NONE,
     REGIME_PHASE_LOCKED,
     REGIME_RUNNING,
+    REGIMES_PERIODIC,
 )
 from ..regimes.cycle import CYCLE_WIDTH, cycle_coef, section_offset
 from ..regimes.cycle_windows import (
@@ -147,7 +148,8 @@ def damped_setup(r, may, width):
     section level's offset θ_s and θ'' = sec_acc − βθ' on it.  Shared by the loop and
     the lanes (:mod:`mbm.core.lanes`)."""
     beta, gamma, omega = r.model.beta, r.model.gamma, r.model.omega
-    can_lock = may and abs(gamma) < omega * omega and (width == 0 or width >= LOCKED_WIDTH)
+    can_lock = (may and r.switch.regimes != REGIMES_PERIODIC and abs(gamma) < omega * omega
+                and (width == 0 or width >= LOCKED_WIDTH))
     lk = _lock_setup(beta, gamma, omega, can_lock, can_lock and (width == 0 or width >= LOCKED2_WIDTH))
     can_cycle = may and (width == 0 or width >= CYCLE_WIDTH)
     sec_off = section_offset(gamma, omega) if can_cycle else 0.0
@@ -194,7 +196,8 @@ def _regime_setup(kind, rset, r, may, width, t, n_total):
     sp = (0.0, 0.0, 0.0, math.inf)  # T_d hi, lo, e^{−βT_d}, the next sample's time
     if rset == RS_DRIVEN:
         m = r.model
-        if (may and m.beta > 0.0 and m.drive_freq > 0.0 and kind == KIND_TAYLOR
+        if (may and r.switch.regimes != REGIMES_PERIODIC and m.beta > 0.0 and m.drive_freq > 0.0
+                and kind == KIND_TAYLOR
                 and r.control.max_dtheta == math.inf and (width == 0 or width >= STROBE_WIDTH)):
             sp = _strobe_setup(r, t, m.drive_freq, m.beta, n_total)
     return can_lock, lk, can_cycle, sec_off, sec_acc, can_librate, sp

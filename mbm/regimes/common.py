@@ -9,6 +9,13 @@ of the tolerance every regime's switch rule allows (L5, R2, C4, S5).
 # at most a tenth of one window's allowed error to the outputs after it.
 SWITCH_SAFETY = 0.1
 
+# The run record's ``regimes`` field: which regimes a run may switch to.
+REGIMES_OFF = 0  # none: every window is the approximant's
+REGIMES_ALL = 1  # every regime its set reaches (the default)
+# Only the stored-period regimes (running cycle, libration): the windows the compiled
+# events (mbm.crossings) locate crossings on, besides the approximant's own.
+REGIMES_PERIODIC = 2
+
 REGIME_NONE = 0
 REGIME_LOCKED = 1
 REGIME_RUNNING = 2

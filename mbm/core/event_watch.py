@@ -1,0 +1,276 @@
+"""The compiled event watch: crossings located on the stored windows' own formulas.
+
+:func:`locate` walks the windows a run stored (``win_t``, ``win_y``, ``win_coef`` of
+:func:`mbm.core.loop.run`) and reports every event of the table ``ev`` (one row per
+event, :data:`EV_WIDTH` columns, built by :mod:`mbm.crossings`) in time order:
+
+* an ordinary Taylor window is a polynomial in the time from its anchor: θ(s) and
+  θ'(s) are Σ a_k s^k and its derivative (:mod:`mbm.approximants.taylor`), so a
+  crossing of a level is a root of a known polynomial, isolated on the window by the
+  Bernstein form and refined to round-off (:mod:`mbm.special.polyroots`); a cheap
+  bound (|p(s) − a₀| ≤ Σ_{k≥1} |a_k| |h|^k) skips the levels a window cannot reach;
+* a cycle window (the running cycle or a libration, R3) is the stored period shifted:
+  the period's events are located once on its own windows and shifted by T_c per turn
+  (the winding count by the turn's sign), so counting over 10⁶ time units costs what a
+  few periods do;
+* a section event Ωt + φ ≡ phase (mod 2π) is at known times; its state is the
+  window's value there.
+
+The state of an event is the dense output's value at its time (the window's formula
+at ``t − start``, as :func:`mbm.core.stored.evaluate_windows` gives it); on a cycle
+window, the period's value at the event's phase, shifted.
+"""
+
+import math
+
+import numba
+import numpy as np
+
+from ..approximants.taylor import HEADER
+from ..regimes.cycle import CYC_PERIOD, CYC_SIGN, CYC_T_OFF, CYC_WIND, CYCLE_TAG
+from ..regimes.cycle_windows import _period_store
+from ..special.polyroots import crossings
+from .window import KIND_TAYLOR, evaluate, theta_of
+
+__all__ = ["locate", "EV_ANGLE", "EV_VELOCITY", "EV_SECTION", "EV_WIDTH"]
+
+# The event table's rows: (type, value, modulo, direction, terminal count).
+EV_ANGLE = 0  # θ ≡ value (mod modulo)
+EV_VELOCITY = 1  # θ' = value
+EV_SECTION = 2  # Ωt + φ ≡ value (mod 2π)
+EV_WIDTH = 5
+_TWO_PI = 2.0 * math.pi
+# Crossings one window may hold per event and level before the window is refused
+# (a window of the controller is far shorter than a turn or a swing: a handful).
+WINDOW_CROSSINGS = 64
+# The refinement's tolerance in units of the spacing of the doubles at the event's time.
+TIME_ULPS = 2.0
+_EPS = 2.0 ** -52
+
+
+@numba.njit(cache=True)
+def _push(evf, evi, count, t, theta, v, m, e):
+    # Appends an event (doubling the buffers when full); returns them and the count.
+    if count == evi.size:
+        evf2 = np.empty((2 * evi.size, 4))
+        evi2 = np.empty(2 * evi.size, np.int64)
+        for q in range(count):
+            for w in range(4):
+                evf2[q, w] = evf[q, w]
+            evi2[q] = evi[q]
+        evf, evi = evf2, evi2
+    evf[count, 0], evf[count, 1], evf[count, 2], evf[count, 3] = t, theta, v, m
+    evi[count] = e
+    return evf, evi, count + 1
+
+
+@numba.njit(cache=True)
+def _level(value, modulo, m, k):
+    # value + modulo·m − 2πk in φ's frame; with modulo = 2π as value + 2π(m − k), exact
+    # in m − k however far the run has wound.
+    if modulo == _TWO_PI:
+        return value + _TWO_PI * (m - k)
+    return (value + modulo * m) - _TWO_PI * k
+
+
+@numba.njit(cache=True)
+def _window_roots(coef, h, t_w, k, ev, drive_freq, drive_phase, direction, alpha, beta_v, work, xs, ds,
+                  out_s, out_m, out_e):
+    """The events of the table ``ev`` in one Taylor window (anchor ``coef``, length ``h``
+    from ``t_w``, winding ``k``: θ = 2πk + the polynomial): their times from the anchor (``out_s``), level counts
+    (``out_m``: θ = value + modulo·m for an angle event, the drive turn for a section)
+    and event indices (``out_e``), unsorted; returns how many (-1: too many)."""
+    nd = int(coef[1])
+    a = coef[HEADER:]
+    hp = 1.0
+    r_theta = 0.0
+    for q in range(nd + 1):
+        alpha[q] = a[q] * hp
+        if q > 0:
+            r_theta += abs(alpha[q])
+        hp *= h
+    r_v = 0.0
+    for q in range(nd):
+        beta_v[q] = (q + 1) * alpha[q + 1] / h if h != 0.0 else 0.0
+        if q > 0:
+            r_v += abs(beta_v[q])
+    tscale = max(abs(t_w), abs(t_w + h))
+    xtol = TIME_ULPS * _EPS * tscale / abs(h) if h != 0.0 else 0.0
+    count = 0
+    for e in range(ev.shape[0]):
+        typ, value, modulo, want = int(ev[e, 0]), ev[e, 1], ev[e, 2], ev[e, 3]
+        if typ == EV_SECTION:
+            # Ωt + φ = value + 2πm at t = (value + 2πm − φ)/Ω, in (t_w, t_w + h].
+            u0 = (drive_freq * t_w + drive_phase - value) / _TWO_PI
+            u1 = (drive_freq * (t_w + h) + drive_phase - value) / _TWO_PI
+            dsec = 1.0 if u1 >= u0 else -1.0
+            if want != 0.0 and want * dsec < 0.0:
+                continue
+            m0, m1 = math.floor(min(u0, u1)), math.floor(max(u0, u1)) + 1
+            for m in range(int(m0), int(m1) + 1):
+                s = (value + _TWO_PI * m - drive_phase) / drive_freq - t_w
+                if direction * s > 0.0 and direction * (s - h) <= 0.0:
+                    if count == out_s.size:
+                        return -1
+                    out_s[count], out_m[count], out_e[count] = s, float(m), e
+                    count += 1
+            continue
+        if typ == EV_ANGLE:
+            poly, deg, radius = alpha, nd, r_theta
+            ml = math.ceil((alpha[0] - radius - _level(value, modulo, 0.0, k)) / modulo) - 1.0
+            mh = math.floor((alpha[0] + radius - _level(value, modulo, 0.0, k)) / modulo) + 1.0
+        else:
+            poly, deg, radius = beta_v, nd - 1, r_v
+            ml = mh = 0.0
+        m = ml
+        while m <= mh:
+            c = _level(value, modulo, m, k) if typ == EV_ANGLE else value
+            m += 1.0
+            if abs(poly[0] - c) > radius * (1.0 + 1e-12) + 1e-300:
+                continue  # the window cannot reach this level
+            for q in range(deg + 1):
+                work[q] = poly[q]
+            work[0] = poly[0] - c
+            nr = crossings(work, deg, xtol, xs, ds)
+            if nr < 0:
+                return -1
+            for q in range(nr):
+                # Direction along the integration: x runs with it.
+                if want != 0.0 and want * ds[q] < 0.0:
+                    continue
+                if count == out_s.size:
+                    return -1
+                out_s[count], out_m[count], out_e[count] = xs[q] * h, m - 1.0, e
+                count += 1
+    return count
+
+
+@numba.njit(cache=True)
+def _sort_window(out_s, out_m, out_e, count, direction):
+    # Insertion sort by time along the integration (a window holds a handful).
+    for i in range(1, count):
+        s, m, e = out_s[i], out_m[i], out_e[i]
+        j = i - 1
+        while j >= 0 and direction * (out_s[j] - s) > 0.0:
+            out_s[j + 1], out_m[j + 1], out_e[j + 1] = out_s[j], out_m[j], out_e[j]
+            j -= 1
+        out_s[j + 1], out_m[j + 1], out_e[j + 1] = s, m, e
+
+
+@numba.njit(cache=True)
+def _period_events(p_starts, p_coefs, p_n, ev, kn, alpha, beta_v, work, xs, ds, out_s, out_m, out_e):
+    """The events of a stored period (its windows ``p_starts``, ``p_coefs``, θ continuous
+    from the anchor) in a turn of winding ``kn``, by phase s in (0, T]: rows ``(s, φ, θ', m,
+    e)`` sorted by s (θ = 2πkn + φ), and False where a window held too many crossings."""
+    buf = np.empty((16, 5))
+    count = 0
+    for q in range(p_n):
+        s0 = p_starts[q]
+        nr = _window_roots(p_coefs[q], p_starts[q + 1] - s0, s0, kn, ev, 0.0, 0.0, 1.0, alpha, beta_v, work, xs,
+                           ds, out_s, out_m, out_e)
+        if nr < 0:
+            return buf[:0], False
+        _sort_window(out_s, out_m, out_e, nr, 1.0)
+        for i in range(nr):
+            a, b = evaluate(KIND_TAYLOR, p_coefs[q], out_s[i])
+            if count == buf.shape[0]:
+                buf2 = np.empty((2 * count, 5))
+                for r in range(count):  # element loops: no broadcast machinery compiled
+                    for w in range(5):
+                        buf2[r, w] = buf[r, w]
+                buf = buf2
+            buf[count, 0], buf[count, 1], buf[count, 2] = s0 + out_s[i], a, b
+            buf[count, 3], buf[count, 4] = out_m[i], float(out_e[i])
+            count += 1
+    return buf[:count], True
+
+
+@numba.njit(cache=True)
+def locate(starts, start_theta, coefs, n, ev, hits, drive_freq, drive_phase, direction, evf, evi, count):
+    """The events of ``n`` stored windows in time order, appended to ``evf`` (rows t, θ,
+    θ', m) and ``evi`` (the event's row of ``ev``) from ``count`` on (grown as needed).
+
+    ``hits`` counts each event's occurrences over the run (a terminal event's row in
+    ``ev[:, 4]`` is the count that stops it, 0 for none).  Returns ``(evf, evi, count,
+    stop, ok)``: ``stop`` the window (index) of a terminal event, the last event its
+    row (-1: none), ``ok`` False where a window held more crossings than
+    :data:`WINDOW_CROSSINGS` or its stored period could not be re-taken.
+    """
+    nd_max = coefs.shape[1]
+    alpha = np.empty(nd_max)
+    beta_v = np.empty(nd_max)
+    work = np.empty(nd_max)
+    xs = np.empty(WINDOW_CROSSINGS)
+    ds = np.empty(WINDOW_CROSSINGS)
+    out_s = np.empty(WINDOW_CROSSINGS)
+    out_m = np.empty(WINDOW_CROSSINGS)
+    out_e = np.empty(WINDOW_CROSSINGS, np.int64)
+    for i in range(n):
+        t_w = starts[i]
+        h = starts[i + 1] - t_w
+        c = coefs[i]
+        if c[0] == CYCLE_TAG:
+            evf, evi, count, stop, ok = _cycle_window(c, t_w, h, ev, hits, alpha, beta_v, work, xs, ds, out_s,
+                                                      out_m, out_e, evf, evi, count)
+            if not ok or stop:
+                return evf, evi, count, i if stop else -1, ok
+            continue
+        # The winding count, recovered as the stored evaluator does (its start's θ).
+        k = float(round((start_theta[i] - c[HEADER]) / _TWO_PI))
+        nr = _window_roots(c, h, t_w, k, ev, drive_freq, drive_phase, direction, alpha, beta_v, work, xs, ds,
+                           out_s, out_m, out_e)
+        if nr < 0:
+            return evf, evi, count, -1, False
+        _sort_window(out_s, out_m, out_e, nr, direction)
+        for q in range(nr):
+            t = t_w + out_s[q]
+            a, b = evaluate(KIND_TAYLOR, c, t - t_w)  # the dense output at t
+            e = out_e[q]
+            evf, evi, count = _push(evf, evi, count, t, theta_of(k, a), b, out_m[q], e)
+            hits[e] += 1
+            if ev[e, 4] > 0.0 and hits[e] >= ev[e, 4]:
+                return evf, evi, count, i, True
+    return evf, evi, count, -1, True
+
+
+@numba.njit(cache=True)
+def _cycle_window(c, t_w, h, ev, hits, alpha, beta_v, work, xs, ds, out_s, out_m, out_e, evf, evi, count):
+    """The events of a cycle window (from ``t_w``, length ``h``): its stored period's,
+    shifted by T_c and its winding per turn.  Returns ``(evf, evi, count, stop, ok)``."""
+    period, t_off, sign, wind = c[CYC_PERIOD], c[CYC_T_OFF], c[CYC_SIGN], c[CYC_WIND]
+    p_starts, p_ends, p_coefs, p_n = _period_store(KIND_TAYLOR, c)
+    if p_n < 1:
+        return evf, evi, count, False, False
+    # Velocity events and angles modulo 2π fall at the same phases in every turn.
+    shiftable = True
+    for e in range(ev.shape[0]):
+        if int(ev[e, 0]) == EV_ANGLE and ev[e, 2] != _TWO_PI:
+            shiftable = False
+    rows, ok = _period_events(p_starts, p_coefs, p_n, ev, 0.0, alpha, beta_v, work, xs, ds, out_s, out_m, out_e)
+    if not ok:
+        return evf, evi, count, False, False
+    tau0, tau1 = t_off, t_off + h
+    turn = float(math.floor(tau0 / period))
+    n1 = float(math.floor(tau1 / period))
+    while turn <= n1:
+        kn = wind + sign * turn
+        if not shiftable:
+            rows, ok = _period_events(p_starts, p_coefs, p_n, ev, kn, alpha, beta_v, work, xs, ds, out_s, out_m,
+                                      out_e)
+            if not ok:
+                return evf, evi, count, False, False
+        base = turn * period - tau0
+        for q in range(rows.shape[0]):
+            dt = base + rows[q, 0]
+            if dt <= 0.0 or dt > h:
+                continue
+            e = int(rows[q, 4])
+            m = rows[q, 3]
+            if int(ev[e, 0]) == EV_ANGLE and shiftable:
+                m += kn  # θ = value + 2π(m' + k_n)
+            evf, evi, count = _push(evf, evi, count, t_w + dt, theta_of(kn, rows[q, 1]), rows[q, 2], m, e)
+            hits[e] += 1
+            if ev[e, 4] > 0.0 and hits[e] >= ev[e, 4]:
+                return evf, evi, count, True, True
+        turn += 1.0
+    return evf, evi, count, False, True

@@ -1,0 +1,337 @@
+"""Events of the compiled runs: phase slips, turning points and drive sections.
+
+The built-in events (:func:`angle_event`, :func:`velocity_event`, :func:`section_event`)
+are located by :func:`mbm.solve` and :meth:`mbm.Integrator.solve` (``events=``) on the
+windows' own formulas, inside compiled code (:mod:`mbm.core.event_watch`): a Taylor
+window is a polynomial, so every crossing in it is isolated from its coefficients (not
+from samples that can miss a pair) and refined to round-off; on a running cycle or a
+libration the stored period's events are shifted by the period per turn.  The result
+carries ``t_events``, ``y_events`` (as scipy's ``OdeResult``: one array per event) and
+``winding_events``.
+
+The run is the approximant's windows and the stored-period regimes (running cycle,
+libration); the locked and phase-locked regimes are not taken while events are watched
+(their closed forms are not polynomials), so a scene that would lock runs its Taylor
+windows to the end.
+"""
+
+import math
+import numbers
+
+import numpy as np
+
+from . import loop
+from ._validate import as_t_eval, check_real, t_eval_error, t_eval_problem
+from .approximants.taylor import HEADER as _HEADER, N_EXTRA as _N_EXTRA
+from .core.event_watch import EV_ANGLE, EV_SECTION, EV_VELOCITY, EV_WIDTH, locate
+from .regimes import REGIME_NAMES, REGIME_NONE, REGIME_PHASE_LOCKED, cycle_summary, strobe_summary
+from .regimes.common import REGIMES_PERIODIC
+from .regimes.cycle import CYCLE_WIDTH
+from .status import STATUS_EVENT, STATUS_MESSAGES, STATUS_OK, STATUS_PAUSED
+
+__all__ = ["Event", "angle_event", "velocity_event", "section_event", "solve_events"]
+
+# Windows stored per compiled call while events are watched: the first call short (a
+# terminal event early in the run wastes few windows past it), doubling to the last.
+FIRST_CHUNK = 64
+LAST_CHUNK = 4096
+# Events reserved before the first call (the buffer doubles as it fills).
+EVENTS_CAPACITY = 64
+_TWO_PI = 2.0 * math.pi
+_W = loop.WORD
+
+
+class Event:
+    """A built-in event of the compiled runs (made by :func:`angle_event`,
+    :func:`velocity_event` or :func:`section_event`).
+
+    Attributes
+    ----------
+    kind : {"angle", "velocity", "section"}
+    value : float
+        The level (an angle, a velocity or a drive phase).
+    modulo : float
+        The angle's period (2π for the section; ``inf`` for a velocity).
+    direction : float
+        scipy's meaning: > 0 only crossings from below, < 0 only from above, 0 both,
+        along the integration.
+    terminal : bool or int
+        scipy's meaning: True stops the run at the first occurrence, an int n at the
+        n-th.
+    """
+
+    __slots__ = ("kind", "value", "modulo", "direction", "terminal")
+
+    def __init__(self, kind, value, modulo, direction, terminal):
+        self.kind, self.value, self.modulo = kind, value, modulo
+        self.direction, self.terminal = direction, terminal
+
+    def __repr__(self):
+        return (f"Event(kind={self.kind!r}, value={self.value!r}, modulo={self.modulo!r}, "
+                f"direction={self.direction!r}, terminal={self.terminal!r})")
+
+    def _row(self):
+        typ = {"angle": EV_ANGLE, "velocity": EV_VELOCITY, "section": EV_SECTION}[self.kind]
+        stops = float(self.terminal) if self.terminal is not False else 0.0
+        return (typ, self.value, self.modulo, float(np.sign(self.direction)), stops)
+
+
+def _direction(direction):
+    d = check_real("direction", direction)
+    return float(np.sign(d))
+
+
+def _terminal(terminal):
+    if terminal is True or terminal is False:
+        return terminal
+    if isinstance(terminal, numbers.Integral) and not isinstance(terminal, (bool, np.bool_)):
+        if terminal < 1:
+            raise ValueError(f"terminal must be True, False or an int >= 1, got {terminal!r}")
+        return int(terminal)
+    raise TypeError(f"terminal must be True, False or an int >= 1, got {terminal!r}")
+
+
+def angle_event(value, *, modulo=_TWO_PI, direction=0.0, terminal=False):
+    """The event θ ≡ ``value`` (mod ``modulo``): a phase slip at each crossing.
+
+    Parameters
+    ----------
+    value : float
+        The angle (e.g. π: θ passes the top, cos(θ/2) = 0 for a junction's phase slip).
+    modulo : float, optional
+        The angle's period (default 2π); ``winding_events`` of the result gives, per
+        crossing, the m with θ = value + modulo·m.
+    direction : float, optional
+        > 0: only θ increasing through the level; < 0: only decreasing; 0 both.
+    terminal : bool or int, optional
+        Stop the run at the first (True) or n-th (n) occurrence.
+
+    Returns
+    -------
+    Event
+
+    Raises
+    ------
+    TypeError, ValueError
+        For a value or modulo that is not a finite real number, modulo ≤ 0, or a bad
+        ``terminal``.
+    """
+    v = check_real("value", value)
+    m = check_real("modulo", modulo)
+    if m <= 0.0:
+        raise ValueError(f"modulo must be > 0, got {modulo!r}")
+    return Event("angle", v, m, _direction(direction), _terminal(terminal))
+
+
+def velocity_event(value, *, direction=0.0, terminal=False):
+    """The event θ' = ``value``: turning points at 0, voltage thresholds of a junction.
+
+    Parameters
+    ----------
+    value : float
+        The velocity.
+    direction : float, optional
+        > 0: only θ' increasing through ``value``; < 0: only decreasing; 0 both.
+    terminal : bool or int, optional
+        Stop the run at the first (True) or n-th (n) occurrence.
+
+    Returns
+    -------
+    Event
+
+    Raises
+    ------
+    TypeError, ValueError
+        For a value that is not a finite real number or a bad ``terminal``.
+    """
+    return Event("velocity", check_real("value", value), math.inf, _direction(direction), _terminal(terminal))
+
+
+def section_event(phase, *, terminal=False):
+    """The stroboscopic section Ωt + φ ≡ ``phase`` (mod 2π) of a driven scene.
+
+    Its times are known (t = (phase + 2πm − φ)/Ω); the state there is the window's.
+    ``winding_events`` gives the drive turn m.
+
+    Parameters
+    ----------
+    phase : float
+        The drive's phase at the section.
+    terminal : bool or int, optional
+        Stop the run at the first (True) or n-th (n) section.
+
+    Returns
+    -------
+    Event
+
+    Raises
+    ------
+    TypeError, ValueError
+        For a phase that is not a finite real number or a bad ``terminal``; a model
+        without a drive is refused when solved.
+    """
+    return Event("section", check_real("phase", phase), _TWO_PI, 0.0, _terminal(terminal))
+
+
+def as_events(events):
+    """A list of :class:`Event` from an event or a sequence of them, or a TypeError."""
+    items = [events] if isinstance(events, Event) else events
+    try:
+        items = list(items)
+    except TypeError:
+        items = None
+    if not items or not all(isinstance(e, Event) for e in items):
+        bad = events if items is None or not items else next(e for e in items if not isinstance(e, Event))
+        if callable(bad):
+            raise TypeError(
+                "events of mbm.solve are built-in events (mbm.angle_event, mbm.velocity_event, "
+                f"mbm.section_event), got the callable {bad!r}; for an event function g(t, y) use "
+                "solve_ivp(method=mbm.MBM, events=g)")
+        raise TypeError(f"events must be an mbm event or a non-empty sequence of them, got {bad!r}")
+    return items
+
+
+def _table(ig, items):
+    # The compiled watch's table, after the checks that depend on the Integrator.
+    if ig._kind != loop.KIND_TAYLOR:
+        raise ValueError(
+            f"events are located on Taylor windows (polynomials); approximant {ig.approximant.name!r} "
+            "has none: use approximant='auto' or 'taylor*' (or solve_ivp(method=mbm.MBM, events=...))")
+    if any(e.kind == "section" for e in items) and not ig.model.driven:
+        raise ValueError("section_event needs a driven model (drive_amplitude != 0 and drive_frequency > 0)")
+    return np.array([e._row() for e in items], dtype=np.float64).reshape(len(items), EV_WIDTH)
+
+
+def _event_words(ig):
+    # The Integrator's record with only the stored-period regimes (built once).
+    words = getattr(ig, "_words_events", None)
+    if words is None:
+        words = ig._words.copy()
+        words.view(loop.RUN)[0]["switch"]["regimes"] = REGIMES_PERIODIC
+        ig._words_events = words
+    return words
+
+
+def solve_events(ig, t0, t1, theta0, v0, t_eval, wrap, events):
+    """:meth:`mbm.Integrator.solve` with ``events`` (span and state checked): the run with
+    its events located on its windows; returns the result with ``t_events``,
+    ``y_events`` and ``winding_events``."""
+    items = as_events(events)
+    ev = _table(ig, items)
+    if wrap is not False and wrap is not True:
+        raise ValueError(f"wrap must be True or False, got {wrap!r}")
+    if t_eval is None:
+        if wrap:
+            raise ValueError("wrap=True needs t_eval (the window ends are reported as θ)")
+        te, out = np.empty(0), np.empty((2, 0))
+    else:
+        te = as_t_eval(t_eval)
+        problem = t_eval_problem(te, t0, t1, False)
+        if problem:
+            raise t_eval_error(problem, t0, t1)
+        out = np.empty((3 if wrap else 2, te.size))
+    words = _event_words(ig).copy()
+    words[_W["t"]], words[_W["theta"]], words[_W["v"]], words[_W["t_bound"]] = t0, theta0, v0, t1
+    h = ig._h
+    if ig._span_plan:
+        h = loop.plan_windows(ig.approximant, None, ig.max_step, abs(t1 - t0))[1]
+    words[_W["h_abs"]] = h
+    p = words.view(loop.RUN)
+    run = _Run(ig, ev, t0, t1, te, out, p)
+    run.go()
+    return run.result(items, wrap)
+
+
+class _Run:
+    """One run with its event watch: the compiled loop in chunks of stored windows, each
+    chunk's events located before the next (a terminal event stops it)."""
+
+    def __init__(self, ig, ev, t0, t1, te, out, p):
+        self.ig, self.ev, self.t0, self.t1, self.te, self.out, self.p = ig, ev, t0, t1, te, out, p
+        self.direction = 1.0 if t1 >= t0 else -1.0
+        self.width = max(_HEADER + int(p[0]["control"]["karg"]) + 1 + _N_EXTRA, CYCLE_WIDTH)
+        self.evf = np.empty((EVENTS_CAPACITY, 4))
+        self.evi = np.empty(EVENTS_CAPACITY, np.int64)
+        self.count = 0
+        self.hits = np.zeros(ev.shape[0], np.int64)
+        self.ends_t, self.ends_y = [], []
+        self.stopped = False
+        self.windows_before = 0
+
+    def go(self):
+        p, r = self.p, self.p[0]
+        model = self.ig.model
+        never = np.zeros(1, np.int64)
+        cap = FIRST_CHUNK
+        while True:
+            win_t, win_y = np.empty(cap + 1), np.empty((cap + 1, 2))
+            win_coef = np.empty((cap, self.width))
+            runner = loop.RUNNERS[(self.ig._kind, int(loop.set_of(r)))]
+            before = int(r["progress"]["n_windows"])
+            n = runner(p, self.te, self.out, win_t, win_y, win_coef, never)
+            start_theta = np.ascontiguousarray(win_y[: n + 1, 0])
+            self.evf, self.evi, self.count, stop, ok = locate(
+                win_t, start_theta, win_coef, n, self.ev, self.hits, model.drive_frequency, model.drive_phase,
+                self.direction, self.evf, self.evi, self.count)
+            if not ok:
+                raise RuntimeError("a window held more crossings of one level than the event watch takes "
+                                   "(WINDOW_CROSSINGS); pass a smaller max_step")
+            first = 0 if not self.ends_t else 1
+            if stop >= 0:
+                self.stopped = True
+                self.windows_before = before + stop + 1
+                self.ends_t.append(win_t[first: stop + 1].copy())
+                self.ends_y.append(win_y[first: stop + 1].copy())
+                return
+            self.ends_t.append(win_t[first: n + 1].copy())
+            self.ends_y.append(win_y[first: n + 1].copy())
+            if int(r["progress"]["status"]) != STATUS_PAUSED:
+                return
+            cap = min(2 * cap, LAST_CHUNK)
+
+    def result(self, items, wrap):
+        from .fast import SolveResult
+
+        ig, r = self.ig, self.p[0]
+        status = int(r["progress"]["status"])
+        n_windows = int(r["progress"]["n_windows"])
+        regime, t_regime = int(r["switch"]["regime"]), float(r["switch"]["t_regime"])
+        evf, evi = self.evf[: self.count], self.evi[: self.count]
+        if self.te.size:
+            j = int(r["progress"]["j"])
+            t, y = self.te[:j], self.out[:, :j]
+        else:
+            t = np.concatenate(self.ends_t)
+            y = np.concatenate(self.ends_y).T
+        if self.stopped:
+            t_stop = evf[-1, 0]
+            status, n_windows = STATUS_EVENT, self.windows_before
+            if self.te.size:
+                keep = int(np.count_nonzero(self.direction * (t - t_stop) <= 0.0))
+                t, y = t[:keep], y[:, :keep]
+            else:
+                t = np.append(t, t_stop)
+                y = np.concatenate((y, evf[-1:, 1:3].T), axis=1)
+            if regime != REGIME_NONE and self.direction * (t_regime - t_stop) > 0.0:
+                regime, t_regime = REGIME_NONE, math.nan  # switched after the event
+        period = mean_velocity = math.nan
+        if regime != REGIME_NONE:
+            w = self.p.view(np.float64)
+            period, mean_velocity = cycle_summary(regime, w[_W["cyc_T"]], w[_W["cyc_sign"]])
+            if regime == REGIME_PHASE_LOCKED:
+                period, mean_velocity = strobe_summary(w[_W["str_p"]], w[_W["str_q"]], w[_W["drive_freq"]])
+        res = SolveResult(ig._base)
+        if wrap:
+            res["winding"] = y[2].astype(np.int64)
+            y = y[:2]
+        res.update(t=t, y=y, success=status in (STATUS_OK, STATUS_EVENT), status=status,
+                   message=STATUS_MESSAGES[status], n_windows=n_windows, regime=REGIME_NAMES[regime],
+                   t_regime=t_regime, period=period, mean_velocity=mean_velocity)
+        res["t_events"], res["y_events"], res["winding_events"] = [], [], []
+        for e, item in enumerate(items):
+            sel = evi == e
+            res["t_events"].append(evf[sel, 0].copy())
+            res["y_events"].append(evf[sel][:, 1:3].copy())
+            m = evf[sel, 3] if item.kind != "velocity" else np.floor((evf[sel, 1] + math.pi) / _TWO_PI)
+            res["winding_events"].append(m.astype(np.int64))
+        return res
