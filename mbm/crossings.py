@@ -43,9 +43,9 @@ _W = loop.WORD
 
 class Event:
     """A built-in event of the compiled runs (made by :func:`angle_event`,
-    :func:`velocity_event` or :func:`section_event`).
+    :func:`velocity_event` or :func:`section_event`, which check their arguments).
 
-    Attributes
+    Parameters
     ----------
     kind : {"angle", "velocity", "section"}
     value : float

@@ -498,10 +498,9 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
         ``terminal`` (the run stops at the event, which is then its last output and
         state; ``status`` 6); an event exactly at t0 is not reported.  On a running
         cycle or a libration the stored period's events are shifted per turn; the
-        locked and phase-locked regimes are not taken while events are watched.  With
-        approximant "auto" a scene with β = γ = 0 runs the Taylor series (the exact
-        flow is not a polynomial); another approximant than ``taylor*`` is a
-        ValueError.  Their first call compiles the watch once (a few seconds, cached).
+        locked and phase-locked regimes are not taken.  "auto" is the Taylor series
+        (also at β = γ = 0); another approximant than ``taylor*`` is a ValueError.
+        The first call compiles the watch once (a few seconds, cached).
 
     Returns
     -------

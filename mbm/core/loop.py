@@ -142,9 +142,10 @@ def _store_window(win_t, win_y, win_coef, n, coef, t_new, theta, v):
 @numba.njit(cache=True)
 def damped_setup(r, may, width):
     """The damped regimes' constants of an RS_DAMPED run (record ``r``): whether the
-    locked regime may apply (L5, where |γ| < ω² and its formula fits the window store),
-    the locked test's constants (:func:`mbm.regimes.locked._lock_setup`, the last whether
-    the second-order form L6-L7 fits), whether the return map is watched (R1-R3), the
+    locked regime may apply (L5, where |γ| < ω², its formula fits the window store and
+    ``regimes`` is not REGIMES_PERIODIC), the locked test's constants
+    (:func:`mbm.regimes.locked._lock_setup`, the last whether the second-order form
+    L6-L7 fits), whether the return map is watched (R1-R3), the
     section level's offset θ_s and θ'' = sec_acc − βθ' on it.  Shared by the loop and
     the lanes (:mod:`mbm.core.lanes`)."""
     beta, gamma, omega = r.model.beta, r.model.gamma, r.model.omega
