@@ -93,10 +93,13 @@ def test_overheads_section():
     # the split of the fixed cost: differences of those calls
     assert any(k.startswith("each further window") for k in ov["derived"])
     assert any(k.startswith("each output") for k in ov["derived"])
-    # kernel costs: one row per degree; an anchor costs more at a higher degree
+    # kernel costs: one row per degree; the generic recurrence's anchor is O(N^2), so
+    # degree 20 costs more than degree 8 (measured ~2x); degree SIMD_ORDER has its own
+    # emitted recurrence and is not compared
     ks = ov["kernels"]
     assert [r["degree"] for r in ks] == list(bx.OVERHEAD_DEGREES)
-    assert ks[-1]["anchor_ns"] > ks[0]["anchor_ns"] > 0 and all(r["output_ns"] > 0 for r in ks)
+    by = {r["degree"]: r["anchor_ns"] for r in ks}
+    assert by[20] > by[8] > 0 and all(r["output_ns"] > 0 for r in ks)
     rows = ov["degrees"]
     assert [(r["scene"], r["degree"]) for r in rows] == [
         (s, d) for s in ("P1", "P2") for d in bx.OVERHEAD_DEGREES]
