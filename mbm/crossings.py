@@ -212,11 +212,23 @@ def _event_words(ig):
     return words
 
 
-def solve_events(ig, t0, t1, theta0, v0, t_eval, wrap, events):
+def check_max_events(max_events):
+    """``max_events`` as an int >= 1, or -1 for None (all), else a TypeError/ValueError."""
+    if max_events is None:
+        return -1
+    if not isinstance(max_events, numbers.Integral) or isinstance(max_events, (bool, np.bool_)):
+        raise TypeError(f"max_events must be an int >= 1 or None, got {max_events!r}")
+    if max_events < 1:
+        raise ValueError(f"max_events must be an int >= 1 or None, got {max_events!r}")
+    return int(max_events)
+
+
+def solve_events(ig, t0, t1, theta0, v0, t_eval, wrap, events, max_events=None):
     """:meth:`mbm.Integrator.solve` with ``events`` (span and state checked): the run with
     its events located on its windows; returns the result with ``t_events``,
-    ``y_events`` and ``winding_events``."""
+    ``y_events``, ``winding_events`` and ``n_events``."""
     items = as_events(events)
+    cap = check_max_events(max_events)
     ev = _table(ig, items)
     if wrap is not False and wrap is not True:
         raise ValueError(f"wrap must be True or False, got {wrap!r}")
@@ -237,7 +249,7 @@ def solve_events(ig, t0, t1, theta0, v0, t_eval, wrap, events):
         h = loop.plan_windows(ig.approximant, None, ig.max_step, abs(t1 - t0))[1]
     words[_W["h_abs"]] = h
     p = words.view(loop.RUN)
-    run = _Run(ig, ev, t0, t1, te, out, p)
+    run = _Run(ig, ev, cap, t0, t1, te, out, p)
     run.go()
     return run.result(items, wrap)
 
@@ -246,7 +258,7 @@ class _Run:
     """One run with its event watch: the compiled loop in chunks of stored windows, each
     chunk's events located before the next (a terminal event stops it)."""
 
-    def __init__(self, ig, ev, t0, t1, te, out, p):
+    def __init__(self, ig, ev, cap, t0, t1, te, out, p):
         self.ig, self.ev, self.t0, self.t1, self.te, self.out, self.p = ig, ev, t0, t1, te, out, p
         self.direction = 1.0 if t1 >= t0 else -1.0
         self.width = max(_HEADER + int(p[0]["control"]["karg"]) + 1 + _N_EXTRA, CYCLE_WIDTH)
@@ -254,6 +266,8 @@ class _Run:
         self.evi = np.empty(EVENTS_CAPACITY, np.int64)
         self.count = 0
         self.hits = np.zeros(ev.shape[0], np.int64)
+        self.stored = np.zeros(ev.shape[0], np.int64)
+        self.cap = np.full(ev.shape[0], cap, np.int64)
         self.ends_t, self.ends_y = [], []
         self.stopped = False
         self.windows_before = 0
@@ -271,8 +285,8 @@ class _Run:
             n = runner(p, self.te, self.out, win_t, win_y, win_coef, never)
             start_theta = np.ascontiguousarray(win_y[: n + 1, 0])
             self.evf, self.evi, self.count, stop, ok = locate(
-                win_t, start_theta, win_coef, n, self.ev, self.hits, model.drive_frequency, model.drive_phase,
-                self.direction, self.evf, self.evi, self.count)
+                win_t, start_theta, win_coef, n, self.ev, self.hits, self.stored, self.cap, model.drive_frequency,
+                model.drive_phase, self.direction, self.evf, self.evi, self.count)
             if not ok:
                 raise RuntimeError("a window held more crossings of one level than the event watch takes "
                                    "(WINDOW_CROSSINGS); pass a smaller max_step")
@@ -328,8 +342,11 @@ class _Run:
                    message=STATUS_MESSAGES[status], n_windows=n_windows, regime=REGIME_NAMES[regime],
                    t_regime=t_regime, period=period, mean_velocity=mean_velocity)
         res["t_events"], res["y_events"], res["winding_events"] = [], [], []
+        res["n_events"] = self.hits.copy()
         for e, item in enumerate(items):
-            sel = evi == e
+            sel = np.flatnonzero(evi == e)
+            if self.cap[e] >= 0:
+                sel = sel[: self.cap[e]]  # a terminal event past the cap is only the stop
             res["t_events"].append(evf[sel, 0].copy())
             res["y_events"].append(evf[sel][:, 1:3].copy())
             m = evf[sel, 3] if item.kind != "velocity" else np.floor((evf[sel, 1] + math.pi) / _TWO_PI)

@@ -338,7 +338,7 @@ class Integrator:
         self._base = dict.fromkeys(_RESULT_KEYS)
         self._base.update(approximant=ap.name, reason=self.reason)
 
-    def solve(self, t_span, y0, t_eval=None, wrap=False, events=None):
+    def solve(self, t_span, y0, t_eval=None, wrap=False, events=None, max_events=None):
         """Solve from ``y0`` over ``t_span``: what :func:`solve` returns.
 
         Parameters
@@ -355,6 +355,8 @@ class Integrator:
         events : Event or sequence of Event, optional
             Built-in events located on the windows (see :func:`solve`); needs a
             Taylor approximant.
+        max_events : int, optional
+            Occurrences of each event stored (see :func:`solve`); default all.
 
         Returns
         -------
@@ -365,7 +367,9 @@ class Integrator:
         theta0, v0 = _state(y0)
         _check_budget(self, t0, t1, v0)
         if events is not None:
-            return solve_events(self, t0, t1, theta0, v0, t_eval, wrap, events)
+            return solve_events(self, t0, t1, theta0, v0, t_eval, wrap, events, max_events)
+        if max_events is not None:
+            raise ValueError("max_events needs events")
         return self._solve(t0, t1, theta0, v0, t_eval, wrap)
 
     def _solve(self, t0, t1, theta0, v0, t_eval, wrap):
@@ -451,7 +455,8 @@ class Integrator:
 
 
 def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="auto",
-          t_eval=None, max_step=np.inf, max_windows=DEFAULT_MAX_WINDOWS, wrap=False, events=None):
+          t_eval=None, max_step=np.inf, max_windows=DEFAULT_MAX_WINDOWS, wrap=False, events=None,
+          max_events=None):
     """Solve one scene by the moving boundary method, the whole run compiled.
 
     The one-shot form of :class:`Integrator` (for many runs of one model, build an
@@ -501,6 +506,12 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
         locked and phase-locked regimes are not taken.  "auto" is the Taylor series
         (also at β = γ = 0); another approximant than ``taylor*`` is a ValueError.
         The first call compiles the watch once (a few seconds, cached).
+    max_events : int, optional
+        Occurrences of each event stored in ``t_events``/``y_events`` (the first
+        ``max_events``); all are counted in ``n_events``.  Default None: all stored.
+        Once every event has stored its share, the turns of a running cycle or a
+        libration are counted whole, not walked, so counting slips over 10⁶ time units
+        costs about what 10³ do.
 
     Returns
     -------
@@ -521,7 +532,8 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
         With ``events``: ``t_events`` and ``y_events`` (a list with one array per
         event, of shapes (k,) and (k, 2), as scipy's) and ``winding_events`` (int64
         arrays: m with θ = value + modulo·m of an angle event, the drive turn of a
-        section, θ's winding count round(θ/2π) of a velocity event).
+        section, θ's winding count round(θ/2π) of a velocity event) and ``n_events``
+        (int64, shape (n_events,): each event's occurrences, stored or not).
         On a failure ``t``, ``y`` hold the outputs reached before it.
 
     Raises
@@ -548,7 +560,9 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
                         max_step=max_step, max_windows=max_windows)
     _check_budget(ig, t0, t1, v0)
     if events is not None:
-        return solve_events(ig, t0, t1, theta0, v0, t_eval, wrap, events)
+        return solve_events(ig, t0, t1, theta0, v0, t_eval, wrap, events, max_events)
+    if max_events is not None:
+        raise ValueError("max_events needs events")
     return ig._solve(t0, t1, theta0, v0, t_eval, wrap)  # span and state checked above
 
 

@@ -180,3 +180,51 @@ def test_undamped_auto_runs_taylor_with_events():
     assert r.approximant.startswith("taylor")
     T = mbm.period(m, [1.0, 0.0])
     np.testing.assert_allclose(r.t_events[0], T / 2 * np.arange(1, r.t_events[0].size + 1), atol=1e-8)
+
+
+@pytest.mark.parametrize("events", [
+    [mbm.angle_event(math.pi), mbm.velocity_event(1.5)],  # running cycle: both shiftable
+    [mbm.angle_event(1.0, modulo=math.pi)],  # modulo != 2π: turns walked, not skipped
+])
+def test_max_events_stores_the_first_and_counts_all(events):
+    # Counting past the cap (whole cycle turns counted, not walked) gives the counts of
+    # the run that stores every event, and the stored ones are its first, bit for bit.
+    m = mbm.Pendulum(0.1, 1.2)
+    full = mbm.solve(m, (0.0, 3000.0), [0.0, 0.0], rtol=1e-9, atol=1e-9, events=events)
+    assert full.regime == "running" and full.t_regime < 1000.0
+    for k in (1, 7, 500):
+        r = mbm.solve(m, (0.0, 3000.0), [0.0, 0.0], rtol=1e-9, atol=1e-9, events=events, max_events=k)
+        assert r.n_events.tolist() == [t.size for t in full.t_events]
+        for e in range(len(events)):
+            np.testing.assert_array_equal(r.t_events[e], full.t_events[e][:k])
+            np.testing.assert_array_equal(r.y_events[e], full.y_events[e][:k])
+            np.testing.assert_array_equal(r.winding_events[e], full.winding_events[e][:k])
+    assert full.n_events.tolist() == [t.size for t in full.t_events]
+
+
+def test_terminal_event_past_the_cap_stops_where_the_full_run_does():
+    # The 4000th slip is deep in the running cycle: counted turns must stop on it.
+    m = mbm.Pendulum(0.1, 1.2)
+    full = mbm.solve(m, (0.0, 3000.0), [0.0, 0.0], rtol=1e-9, atol=1e-9, events=mbm.angle_event(math.pi))
+    assert full.t_events[0].size > 4000
+    stop = mbm.angle_event(math.pi, terminal=4000)
+    r = mbm.solve(m, (0.0, 3000.0), [0.0, 0.0], rtol=1e-9, atol=1e-9, events=stop, max_events=3)
+    assert r.status == 6 and r.n_events.tolist() == [4000]
+    np.testing.assert_array_equal(r.t_events[0], full.t_events[0][:3])
+    assert r.t[-1] == full.t_events[0][3999]
+    np.testing.assert_array_equal(r.y[:, -1], full.y_events[0][3999])
+
+
+def test_bad_max_events_is_refused():
+    m = mbm.Pendulum(0.1, 1.2)
+    ev = mbm.angle_event(0.0)
+    for bad in (0, -3):
+        with pytest.raises(ValueError, match="max_events must be an int >= 1"):
+            mbm.solve(m, (0.0, 1.0), [0.0, 0.0], events=ev, max_events=bad)
+    for bad in (2.0, True, "3"):
+        with pytest.raises(TypeError, match="max_events must be an int >= 1"):
+            mbm.solve(m, (0.0, 1.0), [0.0, 0.0], events=ev, max_events=bad)
+    with pytest.raises(ValueError, match="max_events needs events"):
+        mbm.solve(m, (0.0, 1.0), [0.0, 0.0], max_events=3)
+    with pytest.raises(ValueError, match="max_events needs events"):
+        mbm.Integrator(m).solve((0.0, 1.0), [0.0, 0.0], max_events=3)

@@ -186,15 +186,18 @@ def _period_events(p_starts, p_coefs, p_n, ev, kn, alpha, beta_v, work, xs, ds, 
 
 
 @numba.njit(cache=True)
-def locate(starts, start_theta, coefs, n, ev, hits, drive_freq, drive_phase, direction, evf, evi, count):
+def locate(starts, start_theta, coefs, n, ev, hits, stored, cap, drive_freq, drive_phase, direction, evf, evi,
+           count):
     """The events of ``n`` stored windows in time order, appended to ``evf`` (rows t, θ,
     θ', m) and ``evi`` (the event's row of ``ev``) from ``count`` on (grown as needed).
 
     ``hits`` counts each event's occurrences over the run (a terminal event's row in
-    ``ev[:, 4]`` is the count that stops it, 0 for none).  Returns ``(evf, evi, count,
-    stop, ok)``: ``stop`` the window (index) of a terminal event, the last event its
-    row (-1: none), ``ok`` False where a window held more crossings than
-    :data:`WINDOW_CROSSINGS` or its stored period could not be re-taken.
+    ``ev[:, 4]`` is the count that stops it, 0 for none); ``stored`` how many of them
+    were appended, at most ``cap`` of each (-1: all) besides the terminal one that stops
+    the run.  Returns ``(evf, evi, count, stop, ok)``: ``stop`` the window (index) of a
+    terminal event, the last event its row (-1: none), ``ok`` False where a window held
+    more crossings than :data:`WINDOW_CROSSINGS` or its stored period could not be
+    re-taken.
     """
     nd_max = coefs.shape[1]
     alpha = np.empty(nd_max)
@@ -210,8 +213,8 @@ def locate(starts, start_theta, coefs, n, ev, hits, drive_freq, drive_phase, dir
         h = starts[i + 1] - t_w
         c = coefs[i]
         if c[0] == CYCLE_TAG:
-            evf, evi, count, stop, ok = _cycle_window(c, t_w, h, ev, hits, alpha, beta_v, work, xs, ds, out_s,
-                                                      out_m, out_e, evf, evi, count)
+            evf, evi, count, stop, ok = _cycle_window(c, t_w, h, ev, hits, stored, cap, alpha, beta_v, work, xs,
+                                                      ds, out_s, out_m, out_e, evf, evi, count)
             if not ok or stop:
                 return evf, evi, count, i if stop else -1, ok
             continue
@@ -223,20 +226,49 @@ def locate(starts, start_theta, coefs, n, ev, hits, drive_freq, drive_phase, dir
             return evf, evi, count, -1, False
         _sort_window(out_s, out_m, out_e, nr, direction)
         for q in range(nr):
-            t = t_w + out_s[q]
-            a, b = evaluate(KIND_TAYLOR, c, t - t_w)  # the dense output at t
             e = out_e[q]
-            evf, evi, count = _push(evf, evi, count, t, theta_of(k, a), b, out_m[q], e)
             hits[e] += 1
-            if ev[e, 4] > 0.0 and hits[e] >= ev[e, 4]:
+            fire = ev[e, 4] > 0.0 and hits[e] >= ev[e, 4]
+            if fire or cap[e] < 0 or stored[e] < cap[e]:
+                t = t_w + out_s[q]
+                a, b = evaluate(KIND_TAYLOR, c, t - t_w)  # the dense output at t
+                evf, evi, count = _push(evf, evi, count, t, theta_of(k, a), b, out_m[q], e)
+                stored[e] += 1
+            if fire:
                 return evf, evi, count, i, True
     return evf, evi, count, -1, True
 
 
 @numba.njit(cache=True)
-def _cycle_window(c, t_w, h, ev, hits, alpha, beta_v, work, xs, ds, out_s, out_m, out_e, evf, evi, count):
+def _turns_to_skip(rows, ev, hits, stored, cap, n_turns):
+    """Whole turns of a cycle window that can be counted without being walked: 0 while
+    an event still stores its occurrences, else at most ``n_turns``, fewer where a
+    terminal event would fire in them.  Adds their occurrences to ``hits``."""
+    n_ev = ev.shape[0]
+    for e in range(n_ev):
+        if cap[e] < 0 or stored[e] < cap[e]:
+            return 0
+    if n_turns == 0:
+        return 0
+    per = np.zeros(n_ev, np.int64)
+    for q in range(rows.shape[0]):
+        per[int(rows[q, 4])] += 1
+    skip = n_turns
+    for e in range(n_ev):
+        if ev[e, 4] > 0.0 and per[e] > 0:
+            # hits + per·skip stays below the terminal count: the turn it fires in is walked.
+            skip = min(skip, max(0, (int(ev[e, 4]) - 1 - hits[e]) // per[e]))
+    for e in range(n_ev):
+        hits[e] += per[e] * skip
+    return skip
+
+
+@numba.njit(cache=True)
+def _cycle_window(c, t_w, h, ev, hits, stored, cap, alpha, beta_v, work, xs, ds, out_s, out_m, out_e, evf, evi,
+                  count):
     """The events of a cycle window (from ``t_w``, length ``h``): its stored period's,
-    shifted by T_c and its winding per turn.  Returns ``(evf, evi, count, stop, ok)``."""
+    shifted by T_c and its winding per turn; once no event stores more (``cap``), whole
+    turns are counted, not walked.  Returns ``(evf, evi, count, stop, ok)``."""
     period, t_off, sign, wind = c[CYC_PERIOD], c[CYC_T_OFF], c[CYC_SIGN], c[CYC_WIND]
     p_starts, p_ends, p_coefs, p_n = _period_store(KIND_TAYLOR, c)
     if p_n < 1:
@@ -253,6 +285,10 @@ def _cycle_window(c, t_w, h, ev, hits, alpha, beta_v, work, xs, ds, out_s, out_m
     turn = float(math.floor(tau0 / period))
     n1 = float(math.floor(tau1 / period))
     while turn <= n1:
+        if shiftable and turn * period > tau0:
+            # Turns turn .. n1 - 2 lie inside the window whole (the last two are walked:
+            # their ends meet the window's end in rounding).
+            turn += float(_turns_to_skip(rows, ev, hits, stored, cap, max(0, int(n1 - 1.0 - turn))))
         kn = wind + sign * turn
         if not shiftable:
             rows, ok = _period_events(p_starts, p_coefs, p_n, ev, kn, alpha, beta_v, work, xs, ds, out_s, out_m,
@@ -268,9 +304,12 @@ def _cycle_window(c, t_w, h, ev, hits, alpha, beta_v, work, xs, ds, out_s, out_m
             m = rows[q, 3]
             if int(ev[e, 0]) == EV_ANGLE and shiftable:
                 m += kn  # θ = value + 2π(m' + k_n)
-            evf, evi, count = _push(evf, evi, count, t_w + dt, theta_of(kn, rows[q, 1]), rows[q, 2], m, e)
             hits[e] += 1
-            if ev[e, 4] > 0.0 and hits[e] >= ev[e, 4]:
+            fire = ev[e, 4] > 0.0 and hits[e] >= ev[e, 4]
+            if fire or cap[e] < 0 or stored[e] < cap[e]:
+                evf, evi, count = _push(evf, evi, count, t_w + dt, theta_of(kn, rows[q, 1]), rows[q, 2], m, e)
+                stored[e] += 1
+            if fire:
                 return evf, evi, count, True, True
         turn += 1.0
     return evf, evi, count, False, True
