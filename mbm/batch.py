@@ -10,7 +10,7 @@ import threading
 import numba
 import numpy as np
 
-from . import loop
+from . import crossings, loop
 from ._validate import (
     DEFAULT_MAX_WINDOWS,
     ANGLE_PER_WINDOW,
@@ -26,8 +26,10 @@ from ._validate import (
     check_window_budget,
 )
 from .approximants import Approximant, get_approximant
+from .choice import auto_name
 from .fast import SolveResult, _plan, _resolve, compiled
 from .problem import Pendulum
+from .status import STATUS_EVENT, STATUS_OK
 from .regimes import (
     REGIME_LIBRATION,
     REGIME_LOCKED,
@@ -68,12 +70,12 @@ def _check_params(beta, gamma, omega, amp=None, freq=None, phase=None):
         check_drive(amp, freq)
 
 
-def _run_batch_interruptibly(p, te, out, order):
-    # run_batch holds no GIL: run it in a thread and wait in short joins, so that a
+def _run_interruptibly(job):
+    # job(cancel) holds no GIL: run it in a thread and wait in short joins, so that a
     # KeyboardInterrupt reaches this (main) thread, which sets the cancel flag; every
-    # scene then stops at its next window.
+    # scene then stops at its next window.  Returns job's result.
     cancel = np.zeros(1, dtype=np.int64)
-    failure = []
+    failure, result = [], []
     # numba's thread count is per calling thread (numba.set_num_threads): carry the
     # caller's into the worker thread.
     n_threads = numba.get_num_threads()
@@ -81,7 +83,7 @@ def _run_batch_interruptibly(p, te, out, order):
     def target():
         try:
             numba.set_num_threads(n_threads)
-            loop.run_batch(p, te, out, order, cancel)
+            result.append(job(cancel))
         except BaseException as exc:  # pragma: no cover - re-raised below
             failure.append(exc)
 
@@ -96,6 +98,12 @@ def _run_batch_interruptibly(p, te, out, order):
         raise
     if failure:
         raise failure[0]
+    return result[0]
+
+
+def _run_batch_interruptibly(p, te, out, order):
+    # The batch without events (lanes and loop), interruptible.
+    _run_interruptibly(lambda cancel: loop.run_batch(p, te, out, order, cancel))
 
 
 def _scene_arrays(params, driven_call):
@@ -203,7 +211,7 @@ def _batch_result(p, te, out, wrap, names):
     locked_to_drive = f["regime"] == REGIME_PHASE_LOCKED
     str_q = np.where(locked_to_drive, f["str_q"], 1.0)
     return SolveResult(
-        t=te, y=out, status=status, success=status == 0, winding=winding,
+        t=te, y=out, status=status, success=(status == STATUS_OK) | (status == STATUS_EVENT), winding=winding,
         n_windows=f["n_windows"].astype(np.int64), approximant=names.astype(str),
         regime=np.array([REGIME_NAMES[int(k)] for k in f["regime"]], dtype=object),
         t_regime=f["t_regime"].astype(np.float64),
@@ -219,8 +227,9 @@ def _batch_result(p, te, out, wrap, names):
 
 def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
                 approximant="auto", tau=None, max_step=np.inf, max_windows=DEFAULT_MAX_WINDOWS,
-                drive_amplitude=0.0, drive_frequency=0.0, drive_phase=0.0, wrap=False):
-    """Solve N scenes at once, in parallel over scenes (numba ``prange``).
+                drive_amplitude=0.0, drive_frequency=0.0, drive_phase=0.0, wrap=False, events=None,
+                max_events=None):
+    """Solve N scenes at once, in parallel over scenes (groups of scenes on numba's threads).
 
     Parameters
     ----------
@@ -239,6 +248,15 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
         ``beta``, ``gamma``, ``omega`` (see :class:`mbm.Pendulum`).
     wrap : bool, optional
         As in :func:`mbm.solve`.
+    events : Event or sequence of Event, optional
+        Built-in events (:func:`mbm.angle_event`, :func:`mbm.velocity_event`,
+        :func:`mbm.section_event`) watched in every scene as :func:`mbm.solve` does (the
+        same events, bit for bit); a terminal event stops its scene only.  Every scene
+        must run Taylor windows, and be driven for a section event.  A batch with
+        events runs each scene by the compiled loop (not the lockstep lanes).
+    max_events : int, optional
+        Events of each kind stored per scene, K (default: all, K then the most any
+        scene has); all are still counted in ``n_events``.
 
     Returns
     -------
@@ -250,16 +268,24 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
         answer equals :func:`mbm.solve` for that scene.  A scene that fails at run time
         (a status other than 0: its approximant's domain, ``max_windows``) keeps the
         outputs it reached and NaN after them; the other scenes are unaffected.
+        With ``events``: ``t_events`` (N, n_events, K) and ``y_events``
+        (N, n_events, K, 2), NaN past each scene's stored count, ``winding_events``
+        (N, n_events, K) int64 (0 past it) and ``n_events`` (N, n_events), every
+        occurrence counted; a scene stopped by a terminal event has status 6 (its
+        outputs after the event NaN), one whose window held more crossings than the
+        watch takes status 7.
 
     Raises
     ------
     ValueError
         For invalid arguments (naming the argument and, for parameter arrays, the
-        first bad scene), an approximant outside the domain of some scene's model, or
+        first bad scene), ``max_events`` < 1 or without ``events``, events on a scene
+        without Taylor windows, an approximant outside the domain of some scene's model, or
         a scene that would exceed ``max_windows`` a hundred times over (as
         :func:`mbm.solve`, naming the scene).
     TypeError
-        For an argument that is not real numbers (a str, bool, complex).
+        For an argument that is not real numbers (a str, bool, complex), an event that
+        is not a built-in one, a ``max_events`` that is not an int.
     KeyboardInterrupt
         Honoured while the batch runs: every scene stops at its next window.
     """
@@ -277,14 +303,25 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
     max_windows = check_max_windows(max_windows)
     if wrap is not False and wrap is not True:
         raise ValueError(f"wrap must be True or False, got {wrap!r}")
+    if events is not None and isinstance(approximant, str) and approximant == "auto":
+        # The events are located on Taylor windows: "auto" is the Taylor series (mbm.solve).
+        approximant = auto_name(False)
     tau_checked = None if tau is None else check_positive("tau", tau)
     _check_budgets(beta, gamma, omega, amp, y0, t0, t1, tau_checked, max_step, max_windows)
     drive, plan, h, names = _plan_scenes(approximant, beta, gamma, omega, amp, freq, phase, driven_call, tau,
                                          max_step, t0, t1)
+    ev, cap, items = crossings.batch_table(events, max_events, plan[0], drive[0], drive[1], names)
     p = np.empty(n, dtype=loop.RUN)
     model = np.stack([beta, gamma, omega, drive[0], drive[1], drive[2]]).astype(np.float64)
     loop.init_runs(p, model, float(t0), np.ascontiguousarray(y0, dtype=np.float64), float(t1), plan, h,
                    float(max_step), float(rtol), float(atol), int(max_windows))
     out = np.full((n, 3 if wrap else 2, te.size), np.nan)
-    _run_batch_interruptibly(p, te, out, _balanced_order(n))
-    return _batch_result(p, te, out, wrap, names)
+    order = _balanced_order(n)
+    if ev is None:
+        _run_batch_interruptibly(p, te, out, order)
+        return _batch_result(p, te, out, wrap, names)
+    found = _run_interruptibly(lambda cancel: crossings.run_batch_events(p, te, out, order, ev, cap, cancel))
+    res = _batch_result(p, te, out, wrap, names)
+    res["t_events"], res["y_events"], res["winding_events"], res["n_events"] = crossings.batch_event_arrays(
+        items, cap, *found)
+    return res

@@ -352,3 +352,70 @@ class _Run:
             m = evf[sel, 3] if item.kind != "velocity" else np.floor((evf[sel, 1] + math.pi) / _TWO_PI)
             res["winding_events"].append(m.astype(np.int64))
         return res
+
+
+def batch_table(events, max_events, kinds, amp, freq, names):
+    """The event table and cap of :func:`mbm.solve_batch`'s ``events``, ``max_events``
+    (every scene on Taylor windows, and driven for a section event), or a
+    TypeError/ValueError naming the first scene that cannot take them."""
+    cap = check_max_events(max_events)
+    if events is None:
+        if cap >= 0:
+            raise ValueError("max_events needs events")
+        return None, cap, None
+    items = as_events(events)
+    bad = np.flatnonzero(kinds != loop.KIND_TAYLOR)
+    if bad.size:
+        raise ValueError(
+            f"events are located on Taylor windows (polynomials); scene {bad[0]}'s approximant "
+            f"{names[bad[0]]!r} has none: use approximant='auto' or 'taylor*'")
+    if any(e.kind == "section" for e in items):
+        bad = np.flatnonzero((amp == 0.0) | (freq <= 0.0))
+        if bad.size:
+            raise ValueError(f"section_event needs driven scenes (drive_amplitude != 0 and drive_frequency > 0); "
+                             f"scene {bad[0]} is not")
+    ev = np.array([e._row() for e in items], dtype=np.float64).reshape(len(items), EV_WIDTH)
+    return ev, cap, items
+
+
+def run_batch_events(p, te, out, order, ev, cap, cancel):
+    """The batch's scenes run with the event watch (:mod:`mbm.core.event_batch`), in
+    groups on threads; returns the stored events (rows t, θ, θ', m; event; scene) and
+    the counts (N, n_events)."""
+    from .core import event_batch, lanes
+
+    p["switch"]["regimes"] = REGIMES_PERIODIC
+    width = max(_HEADER + int(p["control"]["karg"].max()) + 1 + _N_EXTRA, CYCLE_WIDTH)
+    hits = np.zeros((p.size, ev.shape[0]), np.int64)
+    entry = event_batch.events_entry(lanes.batch_flags(p))
+    tasks = [lambda ids=ids: entry(p, ids, te, out, cancel, ev, cap, width, hits)
+             for ids in lanes.groups(np.asarray(order, dtype=np.int64))]
+    found = lanes.run_tasks(tasks, cancel)
+    evf = np.concatenate([f[0] for f in found]) if found else np.empty((0, 4))
+    evi = np.concatenate([f[1] for f in found]) if found else np.empty(0, np.int64)
+    evs = np.concatenate([f[2] for f in found]) if found else np.empty(0, np.int64)
+    return evf, evi, evs, hits
+
+
+def batch_event_arrays(items, cap, evf, evi, evs, hits):
+    """``t_events`` (N, n_events, K), ``y_events`` (N, n_events, K, 2) NaN past each
+    stored count, ``winding_events`` (N, n_events, K) int64 (0 past the count) and
+    ``n_events`` (N, n_events): K is ``cap``, or the most events any scene stored."""
+    n, nev = hits.shape
+    order = np.lexsort((np.arange(evi.size), evi, evs))  # by scene, event, then time
+    evf, evi, evs = evf[order], evi[order], evs[order]
+    new = np.ones(evi.size, bool)
+    new[1:] = (evs[1:] != evs[:-1]) | (evi[1:] != evi[:-1])
+    start = np.maximum.accumulate(np.where(new, np.arange(evi.size), 0)) if evi.size else np.empty(0, np.int64)
+    rank = np.arange(evi.size) - start
+    k = cap if cap >= 0 else (int(rank.max()) + 1 if rank.size else 0)
+    keep = rank < k  # a terminal event past the cap is only the stop
+    evf, evi, evs, rank = evf[keep], evi[keep], evs[keep], rank[keep]
+    t_events = np.full((n, nev, k), np.nan)
+    y_events = np.full((n, nev, k, 2), np.nan)
+    winding = np.zeros((n, nev, k), np.int64)
+    t_events[evs, evi, rank] = evf[:, 0]
+    y_events[evs, evi, rank] = evf[:, 1:3]
+    velocity = np.array([e.kind == "velocity" for e in items])[evi]
+    winding[evs, evi, rank] = np.where(velocity, np.floor((evf[:, 1] + math.pi) / _TWO_PI), evf[:, 3])
+    return t_events, y_events, winding, hits

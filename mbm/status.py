@@ -18,6 +18,7 @@ __all__ = [
     "STATUS_MAX_WINDOWS",
     "STATUS_INTERRUPTED",
     "STATUS_EVENT",
+    "STATUS_CROWDED",
     "STATUS_PAUSED",
     "STATUS_NAMES",
     "STATUS_FLAGS",
@@ -38,6 +39,9 @@ STATUS_TABLE = (
      "longer run)."),
     (5, "INTERRUPTED", "interrupted", "Interrupted (KeyboardInterrupt) before the end of the interval."),
     (6, "EVENT", "terminal_event", "A termination event occurred."),
+    (7, "CROWDED", "too_many_crossings",
+     "A window held more crossings of one event level than the event watch takes (WINDOW_CROSSINGS); pass a "
+     "smaller max_step."),
 )
 
 STATUS_OK = 0
@@ -48,6 +52,8 @@ STATUS_MAX_WINDOWS = 4
 STATUS_INTERRUPTED = 5
 # A terminal event of mbm.crossings stopped the run (a success, as scipy's status 1).
 STATUS_EVENT = 6
+# A window of an event watch held more crossings of one level than it takes.
+STATUS_CROWDED = 7
 # Not a result: the call stopped at its window budget, a full window store or a regime
 # switch, and the caller resumes the run (the caller's loop is where Ctrl-C is honoured).
 STATUS_PAUSED = -1

@@ -349,16 +349,25 @@ def run_batch(p, t_eval, out, order, cancel, flags=None):
     order = np.asarray(order, dtype=np.int64)
     lanes = eligible_rows(p)[order]
     others = order[~lanes]
-    tasks = [(_run_lanes, ids) for ids in _groups(order[lanes])]
+    tasks = [(_run_lanes, ids) for ids in groups(order[lanes])]
     if others.size:
         entry = rows_entry(batch_flags(p[others]) if flags is None else tuple(flags))
-        tasks += [(entry, ids) for ids in _groups(others)]
+        tasks += [(entry, ids) for ids in groups(others)]
+    run_tasks([lambda entry=entry, ids=ids: entry(p, ids, t_eval, out, cancel) for entry, ids in tasks], cancel)
+
+
+def run_tasks(tasks, cancel):
+    """Call every task of ``tasks`` (callables of no argument, each a compiled call
+    without the GIL) on ``numba.get_num_threads()`` threads, each thread taking the
+    next task; returns their results in the tasks' order.  A task's exception sets
+    ``cancel[0]`` (the other tasks stop at their next window) and is raised here."""
+    results = [None] * len(tasks)
     n_threads = min(numba.get_num_threads(), len(tasks))
     if n_threads <= 1:
-        for entry, ids in tasks:
-            entry(p, ids, t_eval, out, cancel)
-        return
-    todo = iter(tasks)
+        for q, task in enumerate(tasks):
+            results[q] = task()
+        return results
+    todo = iter(enumerate(tasks))
     lock = threading.Lock()
     failure = []
 
@@ -366,10 +375,10 @@ def run_batch(p, t_eval, out, order, cancel, flags=None):
         try:
             while True:
                 with lock:
-                    task = next(todo, None)
-                if task is None:
+                    item = next(todo, None)
+                if item is None:
                     return
-                task[0](p, task[1], t_eval, out, cancel)
+                results[item[0]] = item[1]()
         except BaseException as exc:  # pragma: no cover - re-raised below
             failure.append(exc)
             cancel[0] = 1
@@ -381,8 +390,9 @@ def run_batch(p, t_eval, out, order, cancel, flags=None):
         th.join()
     if failure:
         raise failure[0]
+    return results
 
 
-def _groups(ids):
-    # Contiguous groups of LANE_GROUP scenes.
+def groups(ids):
+    """Contiguous groups of LANE_GROUP scenes of ``ids``."""
     return [ids[g:g + LANE_GROUP] for g in range(0, ids.size, LANE_GROUP)]

@@ -1,0 +1,122 @@
+"""The event watch of :func:`mbm.solve_batch`: each scene's run in chunks of stored
+windows, each chunk's events located (:func:`mbm.core.event_watch.locate`) before the
+next, as :mod:`mbm.crossings` does for one scene, inside one compiled call per group of
+scenes (no GIL, so the groups run on threads).
+
+A terminal event stops its scene: the record's status is STATUS_EVENT, its state the
+event's, its outputs past the event NaN and a regime taken after the event undone (as
+:func:`mbm.solve` reports it); the other scenes are unaffected.
+"""
+
+import math
+
+import numba
+import numpy as np
+
+from .event_watch import locate
+from .loop import _run_sets
+from .window import KIND_TAYLOR
+from ..regimes.common import REGIME_NONE
+from ..status import STATUS_CROWDED, STATUS_EVENT, STATUS_PAUSED
+
+__all__ = ["events_rows_for", "FIRST_CHUNK", "LAST_CHUNK"]
+
+# Windows stored per call of the loop: a scene's first chunk short (a first slip lies a
+# few dozen windows in, and a terminal event wastes the rest of its chunk), doubling to
+# the last (the store's memory per thread).
+FIRST_CHUNK = 16
+LAST_CHUNK = 4096
+# Events reserved per group before its first scene (the buffers double as they fill).
+EVENTS_CAPACITY = 256
+
+
+@numba.njit(cache=True)
+def _grow(evs, size):
+    # The scene column grown to the event buffers' size (locate doubles those).
+    if evs.size >= size:
+        return evs
+    out = np.empty(size, np.int64)
+    out[: evs.size] = evs
+    return out
+
+
+@numba.njit(cache=True)
+def _stop_at(r, out_i, t_eval, evf, k, n_windows, direction):
+    # The scene stopped by its terminal event (row k of evf): status, state, windows,
+    # no outputs past the event, no regime taken after it.
+    t_stop = evf[k, 0]
+    r.progress.status = STATUS_EVENT
+    r.progress.n_windows = n_windows
+    r.state.t, r.state.theta, r.state.v = t_stop, evf[k, 1], evf[k, 2]
+    for j in range(t_eval.size):
+        if direction * (t_eval[j] - t_stop) > 0.0:
+            for w in range(out_i.shape[0]):
+                out_i[w, j] = math.nan
+    if r.switch.regime != REGIME_NONE and direction * (r.switch.t_regime - t_stop) > 0.0:
+        r.switch.regime = REGIME_NONE
+        r.switch.t_regime = math.nan
+
+
+def events_rows_for(flags):
+    """The compiled run with events of the scenes ``ids`` (Taylor windows), for the
+    regime sets flagged in ``flags`` (:func:`mbm.core.lanes.batch_flags`; constants of
+    the closure, so only those sets' entries are compiled, each closure cached apart)."""
+    _, _, _, _, s0, s1, s2, s3, s4, s5 = flags
+
+    @numba.njit(cache=True, nogil=True)
+    def run_rows_events(p, ids, t_eval, out, cancel, ev, cap, width, hits_all):
+        """Run the scenes ``ids`` of ``p`` watching the events ``ev`` (at most ``cap``
+        of each stored per scene, -1: all); ``hits_all[i]`` gets scene i's counts.
+        Returns the stored events: rows (t, θ, θ', m), event index, scene."""
+        nev = ev.shape[0]
+        evf = np.empty((EVENTS_CAPACITY, 4))
+        evi = np.empty(EVENTS_CAPACITY, np.int64)
+        evs = np.empty(EVENTS_CAPACITY, np.int64)
+        count = 0
+        hits = np.zeros(nev, np.int64)
+        stored = np.zeros(nev, np.int64)
+        caps = np.full(nev, cap, np.int64)
+        win_t = np.empty(LAST_CHUNK + 1)
+        win_y = np.empty((LAST_CHUNK + 1, 2))
+        win_coef = np.empty((LAST_CHUNK, width))
+        for i in ids:
+            r = p[i]
+            hits[:] = 0
+            stored[:] = 0
+            direction = 1.0 if r.state.t_bound >= r.state.t else -1.0
+            chunk = FIRST_CHUNK
+            while True:
+                before = r.progress.n_windows
+                n = _run_sets(KIND_TAYLOR, 1, 0, 0, 0, s0, s1, s2, s3, s4, s5, p[i:i + 1], t_eval, out[i],
+                              win_t[: chunk + 1], win_y[: chunk + 1], win_coef[:chunk], cancel)
+                c0 = count
+                evf, evi, count, stop, ok = locate(win_t, np.ascontiguousarray(win_y[: n + 1, 0]), win_coef, n,
+                                                   ev, hits, stored, caps, r.model.drive_freq, r.model.drive_phase,
+                                                   direction, evf, evi, count)
+                evs = _grow(evs, evi.size)
+                evs[c0:count] = i
+                if not ok:
+                    r.progress.status = STATUS_CROWDED
+                    break
+                if stop >= 0:
+                    _stop_at(r, out[i], t_eval, evf, count - 1, before + stop + 1, direction)
+                    break
+                if r.progress.status != STATUS_PAUSED:
+                    break
+                chunk = min(2 * chunk, LAST_CHUNK)
+            hits_all[i, :] = hits
+        return evf[:count].copy(), evi[:count].copy(), evs[:count].copy()
+
+    return run_rows_events
+
+
+#: The compiled runs with events, per flags met so far (:func:`events_rows_for`).
+EVENTS_ENTRIES = {}
+
+
+def events_entry(flags):
+    """The compiled run with events for ``flags`` (made at its first use)."""
+    entry = EVENTS_ENTRIES.get(flags)
+    if entry is None:
+        entry = EVENTS_ENTRIES[flags] = events_rows_for(flags)
+    return entry
