@@ -1,6 +1,7 @@
-"""Events at compiled speed: phase slips of the running scene, mbm against heyoka.
+"""Events at compiled speed: phase slips of the running scene, mbm against heyoka and DOP853.
 
-``python -m benchmarks.events_bench [--repeat 7] [--out docs/events_bench.md]``
+``python -m benchmarks.events_bench [--repeat 7] [--scenes 10000] [--out docs/events_benchmark.md]``
+(about 2 minutes on 2 cores at the defaults; ``--scenes 1000 --repeat 3`` in seconds).
 
 The scene of issue 29: β = 0.1, γ = 1.2 from rest over T = 1000, the event
 cos(θ/2) = 0 (θ ≡ π mod 2π: 1889 slips).  Reference: heyoka in long double at tol
@@ -8,7 +9,19 @@ cos(θ/2) = 0 (θ ≡ π mod 2π: 1889 slips).  Reference: heyoka in long double
 heyoka: one ``taylor_adaptive`` with the ``nt_event``, built once and reset per run
 (``ta.time``, ``ta.state``).  Medians of ``--repeat`` warm runs in one process (the
 first call's compile and JIT apart); error: the largest event-time difference from
-the reference.
+the reference.  scipy's DOP853 with the same event function (``solve_ivp(events=g)``).
+
+Counting: the same scene over T = 10⁶ with ``max_events=100`` (the count of every
+slip, the first 100 stored), against T = 10³.
+
+First slip over an I–V ensemble (the extras' ensemble: β = 0.1, γ = 0 … 2, ω = 1, from
+rest, T = 1000, ``--scenes`` of them): the time of each scene's first θ ≡ π, a terminal
+event.  mbm: ``solve_batch(..., events=angle_event(π, terminal=True))`` on one thread;
+heyoka: ``taylor_adaptive_batch`` (its SIMD width) with a terminal ``t_event_batch``
+cos(θ/2) = 0, ``propagate_until(T)`` called again until every lane has fired or
+reached T (a batch stops all lanes at any lane's terminal event), one thread.  Error:
+the largest first-slip-time difference from heyoka long double over 20 evenly spaced scenes,
+and the slip counts equal.
 """
 
 import argparse
@@ -23,6 +36,11 @@ import mbm
 BETA, GAMMA, T_END = 0.1, 1.2, 1000.0
 MBM_RTOLS = (1e-9, 1e-12)
 HEYOKA_TOLS = (1e-9, 1e-12, 1e-13, 1e-14, 1e-15)
+DOP853_TOLS = (1e-9, 1e-12)
+# The counting run's horizon and stored slips.
+T_LONG, KEEP = 1e6, 100
+# Scenes of the ensemble checked against heyoka long double (evenly spaced).
+REF_SCENES = 20
 
 
 def _heyoka(tol, fp):
@@ -76,19 +94,159 @@ def rows(repeat):
             return list(found)
         ms, t = _median(run, repeat)
         out.append((f"heyoka {hy.__version__} nt_event", tol, 1e3 * ms, _error(t, ref), len(t)))
+    out += _dop853_rows(ref, repeat)
+    return out
+
+
+def _dop853_rows(ref, repeat):
+    from scipy.integrate import solve_ivp
+
+    def g(t, y):
+        return math.cos(y[0] / 2.0)
+
+    def f(t, y):
+        return [y[1], GAMMA - BETA * y[1] - math.sin(y[0])]
+
+    out = []
+    for tol in DOP853_TOLS:
+        def run(tol=tol):
+            return solve_ivp(f, (0.0, T_END), [0.0, 0.0], method="DOP853", rtol=tol, atol=tol, events=g).t_events[0]
+        ms, t = _median(run, max(1, repeat // 3))
+        out.append(("scipy DOP853 events=", tol, 1e3 * ms, _error(t, ref), len(t)))
+    return out
+
+
+def counting_rows(repeat):
+    """(horizon, median ms, slips counted, slips stored) of mbm with ``max_events``."""
+    model = mbm.Pendulum(BETA, GAMMA)
+    ev = mbm.angle_event(math.pi)
+    out = []
+    for t_end in (T_END, T_LONG):
+        def run(t_end=t_end):
+            return mbm.solve(model, (0.0, t_end), [0.0, 0.0], rtol=1e-9, atol=1e-9, events=ev, max_events=KEEP)
+        run()
+        ms, r = _median(run, repeat)
+        out.append((t_end, 1e3 * ms, int(r.n_events[0]), r.t_events[0].size))
+    return out
+
+
+def _ensemble(n):
+    return np.linspace(0.0, 2.0, n)
+
+
+def _first_slips_heyoka(gamma, tol, fp=float):
+    import heyoka as hy
+
+    b = hy.recommended_simd_size()
+    x, v = hy.make_vars("x", "v")
+    sys_ = [(x, v), (v, hy.par[1] - hy.par[0] * v - hy.par[2] * hy.sin(x))]
+    ev = hy.t_event_batch(hy.cos(x / 2.0))
+    ta = hy.taylor_adaptive_batch(sys_, np.zeros((2, b)), tol=tol, pars=np.zeros((3, b)), t_events=[ev])
+
+    def run():
+        first = np.full(gamma.size, np.nan)
+        for s in range(0, gamma.size, b):
+            idx = np.minimum(np.arange(s, s + b), gamma.size - 1)
+            ta.pars[:] = np.stack([np.full(b, BETA), gamma[idx], np.ones(b)])
+            ta.set_time(np.zeros(b))
+            ta.state[:] = 0.0
+            got = np.full(b, np.nan)
+            while True:
+                ta.propagate_until(T_END)
+                fired = np.array([r[0] == hy.taylor_outcome(-1) for r in ta.propagate_res])
+                new = fired & np.isnan(got)
+                got[new] = ta.time[new]
+                if np.all(~np.isnan(got) | (ta.time >= T_END)):
+                    break
+            k = min(b, gamma.size - s)
+            first[s:s + k] = got[:k]
+        return first
+    return run, b
+
+
+def _first_slips_reference(gamma):
+    import heyoka as hy
+
+    L = np.longdouble
+    x, v = hy.make_vars("x", "v")
+    sys_ = [(x, v), (v, hy.par[1] - hy.par[0] * v - hy.par[2] * hy.sin(x))]
+    ta = hy.taylor_adaptive(sys_, np.zeros(2, dtype=L), pars=np.zeros(3, dtype=L), tol=L(1e-19), fp_type=L,
+                            t_events=[hy.t_event(hy.cos(x / 2.0), fp_type=L)])
+    ref = np.full(gamma.size, np.nan, dtype=L)
+    for i, g in enumerate(gamma):
+        ta.pars[:] = [L(BETA), L(g), L(1)]
+        ta.state[:] = [L(0), L(0)]
+        ta.time = L(0)
+        outcome = ta.propagate_until(L(T_END))[0]
+        if outcome == hy.taylor_outcome(-1):
+            ref[i] = ta.time
+    return ref
+
+
+def first_slip_rows(n, repeat):
+    """(solver, tol, median ms on one thread, max first-slip error, scenes that slip) rows."""
+    import numba
+    import heyoka as hy
+
+    gamma = _ensemble(n)
+    sub = np.arange(0, n, max(1, n // REF_SCENES))
+    ref = _first_slips_reference(gamma[sub])
+
+    def err(first):
+        same = np.array_equal(np.isnan(first[sub]), np.isnan(ref))
+        d = np.abs(first[sub].astype(np.longdouble) - ref)
+        return float(np.nanmax(d)) if same and np.isfinite(d).any() else math.nan
+
+    threads = numba.get_num_threads()
+    numba.set_num_threads(1)
+    out = []
+    try:
+        ev = mbm.angle_event(math.pi, terminal=True)
+        for rtol in MBM_RTOLS:
+            def run(rtol=rtol):
+                r = mbm.solve_batch(BETA, gamma, 1.0, [0.0, 0.0], (0.0, T_END), [], rtol=rtol, atol=rtol, events=ev)
+                return np.where(r.n_events[:, 0] > 0, r.t_events[:, 0, 0], np.nan)
+            run()
+            ms, first = _median(run, repeat)
+            out.append(("mbm solve_batch", rtol, 1e3 * ms, err(first), int(np.count_nonzero(~np.isnan(first)))))
+    finally:
+        numba.set_num_threads(threads)
+    for tol in HEYOKA_TOLS:
+        run, b = _first_slips_heyoka(gamma, tol)
+        ms, first = _median(run, max(1, repeat // 2))
+        out.append((f"heyoka {hy.__version__} batch ({b} lanes)", tol, 1e3 * ms, err(first),
+                    int(np.count_nonzero(~np.isnan(first)))))
     return out
 
 
 def main(argv=None):
+    """``python -m benchmarks.events_bench``: the three tables, printed and optionally written."""
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=7)
+    ap.add_argument("--scenes", type=int, default=10000, help="scenes of the first-slip ensemble")
     ap.add_argument("--out", default=None)
     args = ap.parse_args(argv)
-    lines = [f"Machine: {platform.machine()}, {platform.python_version()}; "
-             f"`python -m benchmarks.events_bench --repeat {args.repeat}`", "",
+    import numba
+
+    lines = ["# Events benchmark", "",
+             f"`python -m benchmarks.events_bench --repeat {args.repeat} --scenes {args.scenes}` — "
+             f"{platform.machine()}, Python {platform.python_version()}, mbm {mbm.__version__}, "
+             f"numba {numba.__version__}, {numba.get_num_threads()} threads available.", "",
+             f"## Phase slips, β = {BETA}, γ = {GAMMA} from rest, T = {T_END:g}", "",
+             "Medians of warm runs; error: largest event-time difference from heyoka long double (tol 1e-19).", "",
              "| solver | tol | median ms | max event-time error | events |", "|---|---|---|---|---|"]
     for name, tol, ms, err, n in rows(args.repeat):
         lines.append(f"| {name} | {tol:g} | {ms:.2f} | {err:.2g} | {n} |")
+    lines += ["", f"## Counting slips over T = {T_LONG:g} (`max_events={KEEP}`, rtol 1e-9)", "",
+              "| T | median ms | slips counted | stored |", "|---|---|---|---|"]
+    for t_end, ms, hits, kept in counting_rows(args.repeat):
+        lines.append(f"| {t_end:g} | {ms:.2f} | {hits} | {kept} |")
+    lines += ["", f"## First slip over a {args.scenes}-scene I–V ensemble (terminal event, one thread)", "",
+              f"Error: largest first-slip-time difference from heyoka long double over {REF_SCENES} evenly "
+              "spaced scenes (NaN where the slipping scenes differ).", "",
+              "| solver | tol | median ms | max first-slip error | scenes that slip |", "|---|---|---|---|---|"]
+    for name, tol, ms, err, n in first_slip_rows(args.scenes, args.repeat):
+        lines.append(f"| {name} | {tol:g} | {ms:.1f} | {err:.2g} | {n} |")
     text = "\n".join(lines) + "\n"
     print(text)
     if args.out:

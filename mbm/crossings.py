@@ -10,8 +10,12 @@ carries ``t_events``, ``y_events`` (as scipy's ``OdeResult``: one array per even
 ``winding_events``.
 
 The run is the approximant's windows and the stored-period regimes (running cycle,
-libration); the locked and phase-locked regimes are not taken while events are watched
-(their closed forms are not polynomials), so a scene that would lock runs its Taylor
+libration).  The locked regime is taken too where every event is an angle event or a
+velocity event at a level other than 0, in an undriven scene (:func:`lock_allowed`):
+its window holds no event when the level lies outside the amplitude bound of the
+exact motion (:func:`mbm.core.event_watch.locked_unreachable`), and where it may not,
+the run is taken again without it.  The phase-locked regime is not taken while events
+are watched (its closed form is not a polynomial), so a driven scene runs its Taylor
 windows to the end.
 """
 
@@ -23,9 +27,9 @@ import numpy as np
 from . import loop
 from ._validate import as_t_eval, check_real, t_eval_error, t_eval_problem
 from .approximants.taylor import HEADER as _HEADER, N_EXTRA as _N_EXTRA
-from .core.event_watch import EV_ANGLE, EV_SECTION, EV_VELOCITY, EV_WIDTH, locate
+from .core.event_watch import EV_ANGLE, EV_SECTION, EV_VELOCITY, EV_WIDTH, WATCH_CROWDED, WATCH_LOCKED, locate
 from .regimes import REGIME_NAMES, REGIME_NONE, REGIME_PHASE_LOCKED, cycle_summary, strobe_summary
-from .regimes.common import REGIMES_PERIODIC
+from .regimes.common import REGIMES_ALL, REGIMES_PERIODIC
 from .regimes.cycle import CYCLE_WIDTH
 from .status import STATUS_EVENT, STATUS_MESSAGES, STATUS_OK, STATUS_PAUSED
 
@@ -202,13 +206,22 @@ def _table(ig, items):
     return np.array([e._row() for e in items], dtype=np.float64).reshape(len(items), EV_WIDTH)
 
 
-def _event_words(ig):
-    # The Integrator's record with only the stored-period regimes (built once).
-    words = getattr(ig, "_words_events", None)
+def lock_allowed(ev):
+    """Whether the locked regime may be taken while the events of table ``ev`` are
+    watched (on an undriven scene): every event an angle event or a velocity event at a
+    level other than 0 (turning points, θ' = 0, occur in every locked swing)."""
+    kind, value = ev[:, 0], ev[:, 1]
+    return bool(np.all((kind == EV_ANGLE) | ((kind == EV_VELOCITY) & (value != 0.0))))
+
+
+def _event_words(ig, regimes):
+    # The Integrator's record with the regimes taken while watching (built once per set).
+    cache = ig.__dict__.setdefault("_words_events", {})
+    words = cache.get(regimes)
     if words is None:
         words = ig._words.copy()
-        words.view(loop.RUN)[0]["switch"]["regimes"] = REGIMES_PERIODIC
-        ig._words_events = words
+        words.view(loop.RUN)[0]["switch"]["regimes"] = regimes
+        cache[regimes] = words
     return words
 
 
@@ -242,16 +255,20 @@ def solve_events(ig, t0, t1, theta0, v0, t_eval, wrap, events, max_events=None):
         if problem:
             raise t_eval_error(problem, t0, t1)
         out = np.empty((3 if wrap else 2, te.size))
-    words = _event_words(ig).copy()
-    words[_W["t"]], words[_W["theta"]], words[_W["v"]], words[_W["t_bound"]] = t0, theta0, v0, t1
     h = ig._h
     if ig._span_plan:
         h = loop.plan_windows(ig.approximant, None, ig.max_step, abs(t1 - t0))[1]
-    words[_W["h_abs"]] = h
-    p = words.view(loop.RUN)
-    run = _Run(ig, ev, cap, t0, t1, te, out, p)
-    run.go()
-    return run.result(items, wrap)
+    regimes = REGIMES_ALL if lock_allowed(ev) and not ig.model.driven else REGIMES_PERIODIC
+    while True:
+        words = _event_words(ig, regimes).copy()
+        words[_W["t"]], words[_W["theta"]], words[_W["v"]], words[_W["t_bound"]] = t0, theta0, v0, t1
+        words[_W["h_abs"]] = h
+        if t_eval is not None:
+            out[:] = np.nan
+        run = _Run(ig, ev, cap, t0, t1, te, out, words.view(loop.RUN))
+        if run.go() or regimes == REGIMES_PERIODIC:
+            return run.result(items, wrap)
+        regimes = REGIMES_PERIODIC  # a locked window may reach a level: without the locked regime
 
 
 class _Run:
@@ -273,8 +290,11 @@ class _Run:
         self.windows_before = 0
 
     def go(self):
+        """Run to the end or the terminal event; False where a locked window may reach
+        an event's level (the run is then to be taken without the locked regime)."""
         p, r = self.p, self.p[0]
         model = self.ig.model
+        lock = np.array([model.gamma, model.omega, self.ig.rtol, self.ig.atol])
         never = np.zeros(1, np.int64)
         cap = FIRST_CHUNK
         while True:
@@ -286,8 +306,10 @@ class _Run:
             start_theta = np.ascontiguousarray(win_y[: n + 1, 0])
             self.evf, self.evi, self.count, stop, ok = locate(
                 win_t, start_theta, win_coef, n, self.ev, self.hits, self.stored, self.cap, model.drive_frequency,
-                model.drive_phase, self.direction, self.evf, self.evi, self.count)
-            if not ok:
+                model.drive_phase, self.direction, self.evf, self.evi, self.count, lock)
+            if ok == WATCH_LOCKED:
+                return False
+            if ok == WATCH_CROWDED:
                 raise RuntimeError("a window held more crossings of one level than the event watch takes "
                                    "(WINDOW_CROSSINGS); pass a smaller max_step")
             first = 0 if not self.ends_t else 1
@@ -296,11 +318,11 @@ class _Run:
                 self.windows_before = before + stop + 1
                 self.ends_t.append(win_t[first: stop + 1].copy())
                 self.ends_y.append(win_y[first: stop + 1].copy())
-                return
+                return True
             self.ends_t.append(win_t[first: n + 1].copy())
             self.ends_y.append(win_y[first: n + 1].copy())
             if int(r["progress"]["status"]) != STATUS_PAUSED:
-                return
+                return True
             cap = min(2 * cap, LAST_CHUNK)
 
     def result(self, items, wrap):
@@ -380,17 +402,30 @@ def batch_table(events, max_events, kinds, amp, freq, names):
 
 def run_batch_events(p, te, out, order, ev, cap, cancel):
     """The batch's scenes run with the event watch (:mod:`mbm.core.event_batch`), in
-    groups on threads; returns the stored events (rows t, θ, θ', m; event; scene) and
-    the counts (N, n_events)."""
+    groups on threads, the locked regime taken where :func:`lock_allowed` (undriven
+    scenes; those whose locked window may reach a level run again without it); returns
+    the stored events (rows t, θ, θ', m; event; scene) and the counts (N, n_events)."""
     from .core import event_batch, lanes
 
-    p["switch"]["regimes"] = REGIMES_PERIODIC
+    fresh = p.copy()
+    undriven = p["model"]["drive_amp"] == 0.0
+    p["switch"]["regimes"] = np.where(undriven & lock_allowed(ev), REGIMES_ALL, REGIMES_PERIODIC)
     width = max(_HEADER + int(p["control"]["karg"].max()) + 1 + _N_EXTRA, CYCLE_WIDTH)
     hits = np.zeros((p.size, ev.shape[0]), np.int64)
-    entry = event_batch.events_entry(lanes.batch_flags(p))
-    tasks = [lambda ids=ids: entry(p, ids, te, out, cancel, ev, cap, width, hits)
-             for ids in lanes.groups(np.asarray(order, dtype=np.int64))]
-    found = lanes.run_tasks(tasks, cancel)
+    again = np.zeros(p.size, np.int64)
+    found = []
+    ids = np.asarray(order, dtype=np.int64)
+    while ids.size:
+        entry = event_batch.events_entry(lanes.batch_flags(p[ids]))
+        tasks = [lambda g=g: entry(p, g, te, out, cancel, ev, cap, width, hits, again) for g in lanes.groups(ids)]
+        found += lanes.run_tasks(tasks, cancel)
+        ids = np.flatnonzero(again)
+        # A scene whose locked window may reach a level: from its start, without it.
+        p[ids] = fresh[ids]
+        p["switch"]["regimes"][ids] = REGIMES_PERIODIC
+        out[ids] = np.nan
+        hits[ids] = 0
+        again[:] = 0
     evf = np.concatenate([f[0] for f in found]) if found else np.empty((0, 4))
     evi = np.concatenate([f[1] for f in found]) if found else np.empty(0, np.int64)
     evs = np.concatenate([f[2] for f in found]) if found else np.empty(0, np.int64)

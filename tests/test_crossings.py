@@ -228,3 +228,39 @@ def test_bad_max_events_is_refused():
         mbm.solve(m, (0.0, 1.0), [0.0, 0.0], max_events=3)
     with pytest.raises(ValueError, match="max_events needs events"):
         mbm.Integrator(m).solve((0.0, 1.0), [0.0, 0.0], max_events=3)
+
+
+def test_locked_regime_is_taken_where_no_level_is_reachable():
+    # β = 0.3, γ = 0.2 from θ = 2 settles on θ* = arcsin 0.2: θ ≡ π is never crossed
+    # after the lock, so the locked closed form ends the run; the events before it are
+    # those of the run without the locked regime (velocity 0 keeps it off), bit for bit.
+    m = mbm.Pendulum(0.3, 0.2)
+    kw = dict(rtol=1e-9, atol=1e-9)
+    both = mbm.solve(m, (0.0, 500.0), [2.0, 2.5], events=[mbm.angle_event(math.pi), mbm.velocity_event(0.0)], **kw)
+    alone = mbm.solve(m, (0.0, 500.0), [2.0, 2.5], events=mbm.angle_event(math.pi), **kw)
+    assert both.regime is None and alone.regime == "locked" and alone.n_windows < both.n_windows
+    assert alone.t_events[0].size >= 1
+    np.testing.assert_array_equal(alone.t_events[0], both.t_events[0])
+    ref = _heyoka_events(0.3, 0.2, (2.0, 2.5), 500.0, lambda x, v: hy.cos(x / 2.0))
+    assert ref.size == alone.t_events[0].size
+    np.testing.assert_allclose(alone.t_events[0], ref.astype(float), atol=1e-7)
+    fast = mbm.solve(m, (0.0, 500.0), [2.0, 2.5], events=mbm.velocity_event(1.0), **kw)
+    assert fast.regime == "locked"
+
+
+def test_a_level_the_locked_form_may_reach_runs_without_it():
+    # A level 1e-4 above the equilibrium is crossed by the settling swings long after a
+    # lock would be allowed: the run is taken again without the locked regime.
+    m = mbm.Pendulum(0.3, 0.2)
+    kw = dict(rtol=1e-9, atol=1e-9)
+    level = math.asin(0.2) + 1e-4
+    near = mbm.solve(m, (0.0, 100.0), [2.0, 0.0], events=mbm.angle_event(level), **kw)
+    off = mbm.solve(m, (0.0, 100.0), [2.0, 0.0], events=[mbm.angle_event(level), mbm.velocity_event(0.0)], **kw)
+    far = mbm.solve(m, (0.0, 100.0), [2.0, 0.0], events=mbm.angle_event(math.pi), **kw)
+    assert far.regime == "locked" and near.regime is None  # the lock was taken, then undone
+    np.testing.assert_array_equal(near.t_events[0], off.t_events[0])
+    ref = _heyoka_events(0.3, 0.2, (2.0, 0.0), 100.0, lambda x, v: hy.sin((x - level) / 2.0))
+    assert ref.size == near.t_events[0].size > 10
+    b = mbm.solve_batch(0.3, [0.2, 0.2], 1.0, [2.0, 0.0], (0.0, 100.0), [], events=mbm.angle_event(level), **kw)
+    np.testing.assert_array_equal(b.t_events[1, 0, : near.n_events[0]], near.t_events[0])
+    assert list(b.regime) == [None, None]

@@ -5,7 +5,9 @@ scenes (no GIL, so the groups run on threads).
 
 A terminal event stops its scene: the record's status is STATUS_EVENT, its state the
 event's, its outputs past the event NaN and a regime taken after the event undone (as
-:func:`mbm.solve` reports it); the other scenes are unaffected.
+:func:`mbm.solve` reports it); the other scenes are unaffected.  A scene whose locked
+window may reach a level (WATCH_LOCKED) is marked in ``again`` with its events
+dropped, for the caller to run again without the locked regime.
 """
 
 import math
@@ -13,7 +15,7 @@ import math
 import numba
 import numpy as np
 
-from .event_watch import locate
+from .event_watch import WATCH_CROWDED, WATCH_LOCKED, locate
 from .loop import _run_sets
 from .window import KIND_TAYLOR
 from ..regimes.common import REGIME_NONE
@@ -21,10 +23,10 @@ from ..status import STATUS_CROWDED, STATUS_EVENT, STATUS_PAUSED
 
 __all__ = ["events_rows_for", "FIRST_CHUNK", "LAST_CHUNK"]
 
-# Windows stored per call of the loop: a scene's first chunk short (a first slip lies a
-# few dozen windows in, and a terminal event wastes the rest of its chunk), doubling to
-# the last (the store's memory per thread).
-FIRST_CHUNK = 16
+# Windows stored per call of the loop: a scene's first chunk short (a first slip of the
+# I-V ensemble lies ~6 windows in, and a terminal event wastes the rest of its chunk;
+# 4 pays more calls than it saves), doubling to the last (the store's memory per thread).
+FIRST_CHUNK = 8
 LAST_CHUNK = 4096
 # Events reserved per group before its first scene (the buffers double as they fill).
 EVENTS_CAPACITY = 256
@@ -64,9 +66,10 @@ def events_rows_for(flags):
     _, _, _, _, s0, s1, s2, s3, s4, s5 = flags
 
     @numba.njit(cache=True, nogil=True)
-    def run_rows_events(p, ids, t_eval, out, cancel, ev, cap, width, hits_all):
+    def run_rows_events(p, ids, t_eval, out, cancel, ev, cap, width, hits_all, again):
         """Run the scenes ``ids`` of ``p`` watching the events ``ev`` (at most ``cap``
-        of each stored per scene, -1: all); ``hits_all[i]`` gets scene i's counts.
+        of each stored per scene, -1: all); ``hits_all[i]`` gets scene i's counts,
+        ``again[i]`` 1 where the scene is to be run without the locked regime.
         Returns the stored events: rows (t, θ, θ', m), event index, scene."""
         nev = ev.shape[0]
         evf = np.empty((EVENTS_CAPACITY, 4))
@@ -79,8 +82,11 @@ def events_rows_for(flags):
         win_t = np.empty(LAST_CHUNK + 1)
         win_y = np.empty((LAST_CHUNK + 1, 2))
         win_coef = np.empty((LAST_CHUNK, width))
+        lock = np.empty(4)
         for i in ids:
             r = p[i]
+            lock[0], lock[1], lock[2], lock[3] = r.model.gamma, r.model.omega, r.control.rtol, r.control.atol
+            first = count
             hits[:] = 0
             stored[:] = 0
             direction = 1.0 if r.state.t_bound >= r.state.t else -1.0
@@ -92,10 +98,14 @@ def events_rows_for(flags):
                 c0 = count
                 evf, evi, count, stop, ok = locate(win_t, np.ascontiguousarray(win_y[: n + 1, 0]), win_coef, n,
                                                    ev, hits, stored, caps, r.model.drive_freq, r.model.drive_phase,
-                                                   direction, evf, evi, count)
+                                                   direction, evf, evi, count, lock)
                 evs = _grow(evs, evi.size)
                 evs[c0:count] = i
-                if not ok:
+                if ok == WATCH_LOCKED:
+                    again[i] = 1
+                    count = first
+                    break
+                if ok == WATCH_CROWDED:
                     r.progress.status = STATUS_CROWDED
                     break
                 if stop >= 0:

@@ -29,10 +29,12 @@ import numpy as np
 from ..approximants.taylor import HEADER
 from ..regimes.cycle import CYC_PERIOD, CYC_SIGN, CYC_T_OFF, CYC_WIND, CYCLE_TAG
 from ..regimes.cycle_windows import _period_store
+from ..regimes.locked import LCK_V0, LCK_X0, LOCKED_TAG, _potential, locked_amplitude
 from ..special.polyroots import crossings
 from .window import KIND_TAYLOR, evaluate, theta_of
 
-__all__ = ["locate", "EV_ANGLE", "EV_VELOCITY", "EV_SECTION", "EV_WIDTH"]
+__all__ = ["locate", "EV_ANGLE", "EV_VELOCITY", "EV_SECTION", "EV_WIDTH", "WATCH_OK", "WATCH_CROWDED",
+           "WATCH_LOCKED"]
 
 # The event table's rows: (type, value, modulo, direction, terminal count).
 EV_ANGLE = 0  # θ ≡ value (mod modulo)
@@ -46,6 +48,15 @@ WINDOW_CROSSINGS = 64
 # The refinement's tolerance in units of the spacing of the doubles at the event's time.
 TIME_ULPS = 2.0
 _EPS = 2.0 ** -52
+# The locked window's margin on its level test, as a multiple of the tolerance scale
+# atol + rtol |θ|: the closed form is within SWITCH_SAFETY (0.1) of it from the exact
+# motion (L5), so 2 leaves a factor 20.
+LOCKED_MARGIN = 2.0
+
+# locate's verdict on the windows it walked.
+WATCH_OK = 1
+WATCH_CROWDED = 0  # a window held more crossings than WINDOW_CROSSINGS (or its period failed)
+WATCH_LOCKED = -1  # a locked window may reach a level: run the scene without the locked regime
 
 
 @numba.njit(cache=True)
@@ -186,18 +197,53 @@ def _period_events(p_starts, p_coefs, p_n, ev, kn, alpha, beta_v, work, xs, ds, 
 
 
 @numba.njit(cache=True)
+def locked_unreachable(theta, c, ev, lock):
+    """Whether no event of ``ev`` can occur in a locked window (coefficients ``c``, its
+    start's angle ``theta``) however long: the exact motion keeps |θ − θ*| ≤ A and
+    |θ'| ≤ sqrt(2H₀) (its energy H decreases, L3) and the closed form is within the
+    tolerance of it (L5), so a level outside those bounds by LOCKED_MARGIN tolerances
+    is never crossed.  ``lock`` is (γ, ω, rtol, atol); a section event (a driven scene,
+    never locked) counts as reachable."""
+    gamma, omega, rtol, atol = lock[0], lock[1], lock[2], lock[3]
+    w2 = omega * omega
+    d = math.asin(gamma / w2)
+    x0, v0 = c[LCK_X0], c[LCK_V0]
+    ts, amp = locked_amplitude(gamma, omega, theta, v0, d)
+    if not (amp < math.inf):
+        return False
+    margin = LOCKED_MARGIN * (atol + rtol * (abs(ts) + amp))
+    lo, hi = ts - amp - margin, ts + amp + margin
+    v_max = math.sqrt(2.0 * max(0.0, 0.5 * v0 * v0 + _potential(w2, gamma, d, x0))) * (1.0 + 1e-8)
+    for e in range(ev.shape[0]):
+        kind, value, modulo = int(ev[e, 0]), ev[e, 1], ev[e, 2]
+        if kind == EV_ANGLE:
+            m = math.ceil((lo - value) / modulo)
+            if value + modulo * m <= hi or value + modulo * (m - 1.0) >= lo:
+                return False
+        elif kind == EV_VELOCITY:
+            if abs(value) <= v_max + LOCKED_MARGIN * (atol + rtol * abs(value)):
+                return False
+        else:
+            return False
+    return True
+
+
+@numba.njit(cache=True)
 def locate(starts, start_theta, coefs, n, ev, hits, stored, cap, drive_freq, drive_phase, direction, evf, evi,
-           count):
+           count, lock):
     """The events of ``n`` stored windows in time order, appended to ``evf`` (rows t, θ,
     θ', m) and ``evi`` (the event's row of ``ev``) from ``count`` on (grown as needed).
 
     ``hits`` counts each event's occurrences over the run (a terminal event's row in
     ``ev[:, 4]`` is the count that stops it, 0 for none); ``stored`` how many of them
     were appended, at most ``cap`` of each (-1: all) besides the terminal one that stops
-    the run.  Returns ``(evf, evi, count, stop, ok)``: ``stop`` the window (index) of a
-    terminal event, the last event its row (-1: none), ``ok`` False where a window held
-    more crossings than :data:`WINDOW_CROSSINGS` or its stored period could not be
-    re-taken.
+    the run.  A locked window (the last) holds no event where
+    :func:`locked_unreachable` (``lock``: γ, ω, rtol, atol) proves it.  Returns
+    ``(evf, evi, count, stop, verdict)``: ``stop`` the window (index) of a terminal
+    event, the last event its row (-1: none); ``verdict`` WATCH_OK, WATCH_CROWDED where
+    a window held more crossings than :data:`WINDOW_CROSSINGS` or its stored period
+    could not be re-taken, WATCH_LOCKED where a locked window may reach a level (the
+    caller runs the scene again without the locked regime).
     """
     nd_max = coefs.shape[1]
     alpha = np.empty(nd_max)
@@ -212,18 +258,22 @@ def locate(starts, start_theta, coefs, n, ev, hits, stored, cap, drive_freq, dri
         t_w = starts[i]
         h = starts[i + 1] - t_w
         c = coefs[i]
+        if c[0] == LOCKED_TAG:
+            if not locked_unreachable(start_theta[i], c, ev, lock):
+                return evf, evi, count, -1, WATCH_LOCKED
+            continue
         if c[0] == CYCLE_TAG:
             evf, evi, count, stop, ok = _cycle_window(c, t_w, h, ev, hits, stored, cap, alpha, beta_v, work, xs,
                                                       ds, out_s, out_m, out_e, evf, evi, count)
             if not ok or stop:
-                return evf, evi, count, i if stop else -1, ok
+                return evf, evi, count, i if stop else -1, WATCH_OK if ok else WATCH_CROWDED
             continue
         # The winding count, recovered as the stored evaluator does (its start's θ).
         k = float(round((start_theta[i] - c[HEADER]) / _TWO_PI))
         nr = _window_roots(c, h, t_w, k, ev, drive_freq, drive_phase, direction, alpha, beta_v, work, xs, ds,
                            out_s, out_m, out_e)
         if nr < 0:
-            return evf, evi, count, -1, False
+            return evf, evi, count, -1, WATCH_CROWDED
         _sort_window(out_s, out_m, out_e, nr, direction)
         for q in range(nr):
             e = out_e[q]
@@ -235,8 +285,8 @@ def locate(starts, start_theta, coefs, n, ev, hits, stored, cap, drive_freq, dri
                 evf, evi, count = _push(evf, evi, count, t, theta_of(k, a), b, out_m[q], e)
                 stored[e] += 1
             if fire:
-                return evf, evi, count, i, True
-    return evf, evi, count, -1, True
+                return evf, evi, count, i, WATCH_OK
+    return evf, evi, count, -1, WATCH_OK
 
 
 @numba.njit(cache=True)
