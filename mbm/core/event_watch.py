@@ -33,7 +33,7 @@ from ..regimes.locked import LCK_V0, LCK_X0, LOCKED_TAG, _potential, locked_ampl
 from ..special.polyroots import crossings
 from .window import KIND_TAYLOR, evaluate, theta_of
 
-__all__ = ["locate", "EV_ANGLE", "EV_VELOCITY", "EV_SECTION", "EV_WIDTH", "WATCH_OK", "WATCH_CROWDED",
+__all__ = ["locate", "taylor_events", "workspace", "EV_ANGLE", "EV_VELOCITY", "EV_SECTION", "EV_WIDTH", "WATCH_OK", "WATCH_CROWDED",
            "WATCH_LOCKED"]
 
 # The event table's rows: (type, value, modulo, direction, terminal count).
@@ -245,15 +245,7 @@ def locate(starts, start_theta, coefs, n, ev, hits, stored, cap, drive_freq, dri
     could not be re-taken, WATCH_LOCKED where a locked window may reach a level (the
     caller runs the scene again without the locked regime).
     """
-    nd_max = coefs.shape[1]
-    alpha = np.empty(nd_max)
-    beta_v = np.empty(nd_max)
-    work = np.empty(nd_max)
-    xs = np.empty(WINDOW_CROSSINGS)
-    ds = np.empty(WINDOW_CROSSINGS)
-    out_s = np.empty(WINDOW_CROSSINGS)
-    out_m = np.empty(WINDOW_CROSSINGS)
-    out_e = np.empty(WINDOW_CROSSINGS, np.int64)
+    alpha, beta_v, work, xs, ds, out_s, out_m, out_e = workspace(coefs.shape[1])
     for i in range(n):
         t_w = starts[i]
         h = starts[i + 1] - t_w
@@ -270,23 +262,48 @@ def locate(starts, start_theta, coefs, n, ev, hits, stored, cap, drive_freq, dri
             continue
         # The winding count, recovered as the stored evaluator does (its start's θ).
         k = float(round((start_theta[i] - c[HEADER]) / _TWO_PI))
-        nr = _window_roots(c, h, t_w, k, ev, drive_freq, drive_phase, direction, alpha, beta_v, work, xs, ds,
-                           out_s, out_m, out_e)
-        if nr < 0:
-            return evf, evi, count, -1, WATCH_CROWDED
-        _sort_window(out_s, out_m, out_e, nr, direction)
-        for q in range(nr):
-            e = out_e[q]
-            hits[e] += 1
-            fire = ev[e, 4] > 0.0 and hits[e] >= ev[e, 4]
-            if fire or cap[e] < 0 or stored[e] < cap[e]:
-                t = t_w + out_s[q]
-                a, b = evaluate(KIND_TAYLOR, c, t - t_w)  # the dense output at t
-                evf, evi, count = _push(evf, evi, count, t, theta_of(k, a), b, out_m[q], e)
-                stored[e] += 1
-            if fire:
-                return evf, evi, count, i, WATCH_OK
+        evf, evi, count, verdict, fired = taylor_events(c, t_w, h, k, ev, hits, stored, cap, drive_freq, drive_phase,
+                                                        direction, alpha, beta_v, work, xs, ds, out_s, out_m, out_e,
+                                                        evf, evi, count)
+        if verdict != WATCH_OK or fired:
+            return evf, evi, count, i if fired else -1, verdict
     return evf, evi, count, -1, WATCH_OK
+
+
+@numba.njit(cache=True)
+def taylor_events(c, t_w, h, k, ev, hits, stored, cap, drive_freq, drive_phase, direction, alpha, beta_v, work, xs,
+                  ds, out_s, out_m, out_e, evf, evi, count):
+    """The events of one Taylor window (coefficients ``c`` from ``t_w``, length ``h``,
+    winding ``k``) in time order, counted in ``hits`` and appended as :func:`locate`
+    does (``alpha`` … ``out_e`` its workspace, :func:`workspace`).  Returns ``(evf, evi,
+    count, verdict, fired)``: ``fired`` whether a terminal event stopped the run (its
+    row the last)."""
+    nr = _window_roots(c, h, t_w, k, ev, drive_freq, drive_phase, direction, alpha, beta_v, work, xs, ds,
+                       out_s, out_m, out_e)
+    if nr < 0:
+        return evf, evi, count, WATCH_CROWDED, False
+    _sort_window(out_s, out_m, out_e, nr, direction)
+    for q in range(nr):
+        e = out_e[q]
+        hits[e] += 1
+        fire = ev[e, 4] > 0.0 and hits[e] >= ev[e, 4]
+        if fire or cap[e] < 0 or stored[e] < cap[e]:
+            t = t_w + out_s[q]
+            a, b = evaluate(KIND_TAYLOR, c, t - t_w)  # the dense output at t
+            evf, evi, count = _push(evf, evi, count, t, theta_of(k, a), b, out_m[q], e)
+            stored[e] += 1
+        if fire:
+            return evf, evi, count, WATCH_OK, True
+    return evf, evi, count, WATCH_OK, False
+
+
+@numba.njit(cache=True)
+def workspace(nd_max):
+    """The scratch arrays of :func:`taylor_events` for windows of up to ``nd_max``
+    coefficients: (alpha, beta_v, work, xs, ds, out_s, out_m, out_e)."""
+    return (np.empty(nd_max), np.empty(nd_max), np.empty(nd_max), np.empty(WINDOW_CROSSINGS),
+            np.empty(WINDOW_CROSSINGS), np.empty(WINDOW_CROSSINGS), np.empty(WINDOW_CROSSINGS),
+            np.empty(WINDOW_CROSSINGS, np.int64))
 
 
 @numba.njit(cache=True)
