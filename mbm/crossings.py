@@ -401,10 +401,13 @@ def batch_table(events, max_events, kinds, amp, freq, names):
 
 
 def run_batch_events(p, te, out, order, ev, cap, cancel):
-    """The batch's scenes run with the event watch (:mod:`mbm.core.event_batch`), in
-    groups on threads, the locked regime taken where :func:`lock_allowed` (undriven
-    scenes; those whose locked window may reach a level run again without it); returns
-    the stored events (rows t, θ, θ', m; event; scene) and the counts (N, n_events)."""
+    """The batch's scenes run with the event watch, in groups on threads: the scenes the
+    lanes take (:func:`mbm.core.lanes.lane_eligible`) by the lanes with events, finished
+    (after a hand-off) and the others by the loop in stored chunks
+    (:mod:`mbm.core.event_batch`).  The locked regime is taken where
+    :func:`lock_allowed` (undriven scenes; those whose locked window may reach a level
+    run again without it).  Returns the stored events (rows t, θ, θ', m; event; scene)
+    and the counts (N, n_events)."""
     from .core import event_batch, lanes
 
     fresh = p.copy()
@@ -412,20 +415,38 @@ def run_batch_events(p, te, out, order, ev, cap, cancel):
     p["switch"]["regimes"] = np.where(undriven & lock_allowed(ev), REGIMES_ALL, REGIMES_PERIODIC)
     width = max(_HEADER + int(p["control"]["karg"].max()) + 1 + _N_EXTRA, CYCLE_WIDTH)
     hits = np.zeros((p.size, ev.shape[0]), np.int64)
+    stored = np.zeros_like(hits)
     again = np.zeros(p.size, np.int64)
+    handed = np.zeros(p.size, np.int64)
     found = []
     ids = np.asarray(order, dtype=np.int64)
-    while ids.size:
+
+    def rows(ids):
         entry = event_batch.events_entry(lanes.batch_flags(p[ids]))
-        tasks = [lambda g=g: entry(p, g, te, out, cancel, ev, cap, width, hits, again) for g in lanes.groups(ids)]
+        return [lambda g=g: entry(p, g, te, out, cancel, ev, cap, width, hits, stored, again)
+                for g in lanes.groups(ids)]
+
+    while ids.size:
+        in_lanes = lanes.eligible_rows(p[ids])
+        tasks = [lambda g=g: lanes.run_lanes_events(p, g, te, out, cancel, ev, cap, hits, stored, handed)
+                 for g in lanes.groups(ids[in_lanes])]
+        if not in_lanes.all():
+            tasks += rows(ids[~in_lanes])
         found += lanes.run_tasks(tasks, cancel)
+        cont = np.flatnonzero(handed)
+        handed[:] = 0
+        if cont.size:
+            found += lanes.run_tasks(rows(cont), cancel)
         ids = np.flatnonzero(again)
-        # A scene whose locked window may reach a level: from its start, without it.
-        p[ids] = fresh[ids]
-        p["switch"]["regimes"][ids] = REGIMES_PERIODIC
-        out[ids] = np.nan
-        hits[ids] = 0
-        again[:] = 0
+        if ids.size:
+            # A scene whose locked window may reach a level: from its start, without it.
+            found = [tuple(a[again[f[2]] == 0] for a in f) for f in found]
+            p[ids] = fresh[ids]
+            p["switch"]["regimes"][ids] = REGIMES_PERIODIC
+            out[ids] = np.nan
+            hits[ids] = 0
+            stored[ids] = 0
+            again[:] = 0
     evf = np.concatenate([f[0] for f in found]) if found else np.empty((0, 4))
     evi = np.concatenate([f[1] for f in found]) if found else np.empty(0, np.int64)
     evs = np.concatenate([f[2] for f in found]) if found else np.empty(0, np.int64)

@@ -15,13 +15,13 @@ import math
 import numba
 import numpy as np
 
-from .event_watch import WATCH_CROWDED, WATCH_LOCKED, locate
+from .event_watch import WATCH_CROWDED, WATCH_LOCKED, WATCH_OK, locate, taylor_events
 from .loop import _run_sets
 from .window import KIND_TAYLOR
 from ..regimes.common import REGIME_NONE
 from ..status import STATUS_CROWDED, STATUS_EVENT, STATUS_PAUSED
 
-__all__ = ["events_rows_for", "FIRST_CHUNK", "LAST_CHUNK"]
+__all__ = ["events_rows_for", "events_entry", "lane_events", "stop_at", "FIRST_CHUNK", "LAST_CHUNK"]
 
 # Windows stored per call of the loop: a scene's first chunk short (a first slip of the
 # I-V ensemble lies ~6 windows in, and a terminal event wastes the rest of its chunk;
@@ -43,7 +43,7 @@ def _grow(evs, size):
 
 
 @numba.njit(cache=True)
-def _stop_at(r, out_i, t_eval, evf, k, n_windows, direction):
+def stop_at(r, out_i, t_eval, evf, k, n_windows, direction):
     # The scene stopped by its terminal event (row k of evf): status, state, windows,
     # no outputs past the event, no regime taken after it.
     t_stop = evf[k, 0]
@@ -59,6 +59,35 @@ def _stop_at(r, out_i, t_eval, evf, k, n_windows, direction):
         r.switch.t_regime = math.nan
 
 
+@numba.njit(cache=True)
+def lane_events(p, ln, i, coef, t_w, t_new, k, direction, t_eval, out, ev, caps, hits_all, stored_all, handed, ws,
+                evf, evi, evs, count):
+    """The events of a lane's window (scene ``i``, coefficients ``coef`` from ``t_w`` to
+    ``t_new``, winding ``k``; :func:`mbm.core.lanes._lanes_for`), appended as
+    :func:`locate` does; a terminal event stops the scene (:func:`stop_at`, the lane
+    freed), a crowded window is STATUS_CROWDED.  Returns the grown buffers and count."""
+    r = p[i]
+    alpha, beta_v, work, xs, ds, out_s, out_m, out_e = ws
+    c0 = count
+    evf, evi, count, verdict, fired = taylor_events(coef, t_w, t_new - t_w, k, ev, hits_all[i], stored_all[i], caps,
+                                                    r.model.drive_freq, r.model.drive_phase, direction, alpha,
+                                                    beta_v, work, xs, ds, out_s, out_m, out_e, evf, evi, count)
+    evs = _grow(evs, evi.size)
+    evs[c0:count] = i
+    if verdict != WATCH_OK or fired:
+        if ln.scene == i:
+            # Still in its lane: the lane's windows written back, the lane freed.
+            r.progress.n_windows = ln.n_windows
+            ln.scene = -1
+            ln.ready = 0
+        handed[i] = 0
+        if fired:
+            stop_at(r, out[i], t_eval, evf, count - 1, r.progress.n_windows, direction)
+        else:
+            r.progress.status = STATUS_CROWDED
+    return evf, evi, evs, count
+
+
 def events_rows_for(flags):
     """The compiled run with events of the scenes ``ids`` (Taylor windows), for the
     regime sets flagged in ``flags`` (:func:`mbm.core.lanes.batch_flags`; constants of
@@ -66,18 +95,17 @@ def events_rows_for(flags):
     _, _, _, _, s0, s1, s2, s3, s4, s5 = flags
 
     @numba.njit(cache=True, nogil=True)
-    def run_rows_events(p, ids, t_eval, out, cancel, ev, cap, width, hits_all, again):
-        """Run the scenes ``ids`` of ``p`` watching the events ``ev`` (at most ``cap``
-        of each stored per scene, -1: all); ``hits_all[i]`` gets scene i's counts,
-        ``again[i]`` 1 where the scene is to be run without the locked regime.
+    def run_rows_events(p, ids, t_eval, out, cancel, ev, cap, width, hits_all, stored_all, again):
+        """Run the scenes ``ids`` of ``p`` (fresh, or paused by the lanes) watching the
+        events ``ev`` (at most ``cap`` of each stored per scene, -1: all); scene i's
+        counts so far and on are ``hits_all[i]``, ``stored_all[i]``; ``again[i]`` is
+        set to 1 where the scene is to be run without the locked regime.
         Returns the stored events: rows (t, θ, θ', m), event index, scene."""
         nev = ev.shape[0]
         evf = np.empty((EVENTS_CAPACITY, 4))
         evi = np.empty(EVENTS_CAPACITY, np.int64)
         evs = np.empty(EVENTS_CAPACITY, np.int64)
         count = 0
-        hits = np.zeros(nev, np.int64)
-        stored = np.zeros(nev, np.int64)
         caps = np.full(nev, cap, np.int64)
         win_t = np.empty(LAST_CHUNK + 1)
         win_y = np.empty((LAST_CHUNK + 1, 2))
@@ -87,8 +115,7 @@ def events_rows_for(flags):
             r = p[i]
             lock[0], lock[1], lock[2], lock[3] = r.model.gamma, r.model.omega, r.control.rtol, r.control.atol
             first = count
-            hits[:] = 0
-            stored[:] = 0
+            hits, stored = hits_all[i], stored_all[i]
             direction = 1.0 if r.state.t_bound >= r.state.t else -1.0
             chunk = FIRST_CHUNK
             while True:
@@ -109,12 +136,11 @@ def events_rows_for(flags):
                     r.progress.status = STATUS_CROWDED
                     break
                 if stop >= 0:
-                    _stop_at(r, out[i], t_eval, evf, count - 1, before + stop + 1, direction)
+                    stop_at(r, out[i], t_eval, evf, count - 1, before + stop + 1, direction)
                     break
                 if r.progress.status != STATUS_PAUSED:
                     break
                 chunk = min(2 * chunk, LAST_CHUNK)
-            hits_all[i, :] = hits
         return evf[:count].copy(), evi[:count].copy(), evs[:count].copy()
 
     return run_rows_events

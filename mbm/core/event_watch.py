@@ -33,7 +33,7 @@ from ..regimes.locked import LCK_V0, LCK_X0, LOCKED_TAG, _potential, locked_ampl
 from ..special.polyroots import crossings
 from .window import KIND_TAYLOR, evaluate, theta_of
 
-__all__ = ["locate", "taylor_events", "workspace", "EV_ANGLE", "EV_VELOCITY", "EV_SECTION", "EV_WIDTH", "WATCH_OK", "WATCH_CROWDED",
+__all__ = ["locate", "taylor_events", "window_may_cross", "workspace", "EV_ANGLE", "EV_VELOCITY", "EV_SECTION", "EV_WIDTH", "WATCH_OK", "WATCH_CROWDED",
            "WATCH_LOCKED"]
 
 # The event table's rows: (type, value, modulo, direction, terminal count).
@@ -101,10 +101,17 @@ def _window_roots(coef, h, t_w, k, ev, drive_freq, drive_phase, direction, alpha
             r_theta += abs(alpha[q])
         hp *= h
     r_v = 0.0
-    for q in range(nd):
-        beta_v[q] = (q + 1) * alpha[q + 1] / h if h != 0.0 else 0.0
-        if q > 0:
-            r_v += abs(beta_v[q])
+    velocity = False
+    for e in range(ev.shape[0]):
+        velocity = velocity or int(ev[e, 0]) == EV_VELOCITY
+    if velocity:
+        # θ' in the window's unit time, only where a velocity event asks for it (the
+        # per-window cost of the lanes' watch).
+        inv_h = 1.0 / h if h != 0.0 else 0.0
+        for q in range(nd):
+            beta_v[q] = (q + 1) * alpha[q + 1] * inv_h
+            if q > 0:
+                r_v += abs(beta_v[q])
     tscale = max(abs(t_w), abs(t_w + h))
     xtol = TIME_ULPS * _EPS * tscale / abs(h) if h != 0.0 else 0.0
     count = 0
@@ -268,6 +275,46 @@ def locate(starts, start_theta, coefs, n, ev, hits, stored, cap, drive_freq, dri
         if verdict != WATCH_OK or fired:
             return evf, evi, count, i if fired else -1, verdict
     return evf, evi, count, -1, WATCH_OK
+
+
+@numba.njit(cache=True, inline="always")
+def window_may_cross(c, h, k, ev):
+    """Whether a Taylor window (coefficients ``c``, length ``h``, winding ``k``) may hold
+    an event of ``ev``: False only where every level lies outside the window's range
+    bound |p(s) − a₀| ≤ Σ_{q≥1} |a_q| |h|^q (and its derivative's), the test
+    :func:`_window_roots` makes per level.  Inlined: the lanes ask it per window
+    before the call that locates (a call with arrays costs their reference counts)."""
+    nd = int(c[1])
+    ah = abs(h)
+    hp = ah
+    r_theta = 0.0
+    r_v = 0.0
+    for q in range(1, nd + 1):
+        r_theta += abs(c[HEADER + q]) * hp
+        if q > 1:
+            r_v += q * abs(c[HEADER + q]) * (hp / ah)
+        hp *= ah
+    a0, v0 = c[HEADER], c[HEADER + 1]
+    # Slack over _window_roots' own test: relative 1e-9 and a few ulps of the anchor
+    # (its radius and θ'(0) are rounded otherwise).
+    r_theta = r_theta * (1.0 + 1e-9) + 4.0 * _EPS * abs(a0) + 1e-300
+    r_v = r_v * (1.0 + 1e-9) + 4.0 * _EPS * abs(v0) + 1e-300
+    for e in range(ev.shape[0]):
+        typ, value, modulo = int(ev[e, 0]), ev[e, 1], ev[e, 2]
+        if typ == EV_ANGLE:
+            m = math.ceil((a0 - r_theta - _level(value, modulo, 0.0, k)) / modulo) - 1.0
+            for _ in range(3):
+                if abs(a0 - _level(value, modulo, m, k)) <= r_theta:
+                    return True
+                m += 1.0
+            if _level(value, modulo, m, k) <= a0 + r_theta:
+                return True  # (a wide window: several levels)
+        elif typ == EV_VELOCITY:
+            if abs(v0 - value) <= r_v:
+                return True
+        else:
+            return True
+    return False
 
 
 @numba.njit(cache=True)

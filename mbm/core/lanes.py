@@ -40,6 +40,8 @@ from .window import (
 from ..regimes.common import REGIME_NONE
 from ..regimes.cycle_windows import _TWO_PI, _watch_cycle
 from ..status import STATUS_ANCHOR, STATUS_OK
+from .event_batch import EVENTS_CAPACITY, lane_events
+from .event_watch import window_may_cross, workspace
 
 # The per-window pieces of a lane are inlined (called, they made a 512-scene batch
 # ~16 % slower); the hand-off (once per scene, and the loop's entries behind it) and
@@ -108,9 +110,10 @@ def _lane_start(r, i, ln, coefs, lane):
 
 
 @numba.njit(cache=True)
-def _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel):
+def _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel, handed):
     # The lane's state written back as a paused run's, and the run finished by the loop
-    # (a lane's scene is in RS_DAMPED, or reached RS_CYCLE).
+    # (a lane's scene is in RS_DAMPED, or reached RS_CYCLE); with events (``handed`` not
+    # empty) marked in ``handed`` instead, for the event watch's loop to finish.
     i = ln.scene
     r = p[i]
     r.state.t, r.state.theta, r.state.v, r.control.h_abs = ln.t, theta_of(ln.wind, ln.phi), ln.v, ln.h_abs
@@ -119,11 +122,14 @@ def _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel):
     r.progress.j = ln.j
     ln.scene = -1
     ln.ready = 0
+    if handed.size:
+        handed[i] = 1
+        return
     _run_sets(KIND_TAYLOR, 1, 0, 0, 0, 0, 1, 0, 0, 1, 0, p[i:i + 1], t_eval, out[i], win_t, win_y, win_coef, cancel)
 
 
 @numba.njit(**_INLINE)
-def _lane_before(p, ln, q, ins, t_eval, out, win_t, win_y, win_coef, cancel):
+def _lane_before(p, ln, q, ins, t_eval, out, win_t, win_y, win_coef, cancel, handed):
     """The loop's tests before the lane's next window, in its order: a lane whose window
     is not an ordinary Taylor one (the run's end, ``max_windows``, the interrupt flag, a
     non-finite state, the locked form) hands off; else the lane's inputs of the
@@ -132,14 +138,14 @@ def _lane_before(p, ln, q, ins, t_eval, out, win_t, win_y, win_coef, cancel):
     t, y0, y1, k = ln.t, ln.phi, ln.v, ln.wind
     if (not (ln.direction * (r.state.t_bound - t) > 0.0) or ln.n_windows >= r.progress.max_windows
             or cancel[0] != 0 or not (math.isfinite(y0) and math.isfinite(y1))):
-        _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel)
+        _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel, handed)
         return False
     k, y0 = _reduce_phi(k, y0)
     ln.wind, ln.phi = k, y0
     if ln.can_lock != 0:
         lk = (ln.lk_d, ln.lk_wl2, ln.lk_g0, ln.lk_g1, ln.lk_sd, ln.lk_q2, ln.can_lock2 != 0)
         if locked_test(r, y0, y1, k * _TWO_PI, lk)[0] > 0:
-            _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel)
+            _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel, handed)
             return False
     ins[0, q] = r.model.beta
     ins[1, q] = r.model.gamma
@@ -171,11 +177,12 @@ def _lane_try(r, ln, coef):
 
 
 @numba.njit(**_INLINE)
-def _lane_window(p, ln, coef, h, th, v, t_eval, out, wrapped, win_t, win_y, win_coef, cancel):
+def _lane_window(p, ln, coef, h, th, v, t_eval, out, wrapped, win_t, win_y, win_coef, cancel, handed):
     """The lane's window after the lane-wise Horner (``th``, ``v`` at the try's end, ``h``
     after the start): the loop's test of the first try (:func:`accept_try`), on a
     rejection the compiled controller, the outputs (:func:`emit_taylor`) and the cycle
-    watch; a failure or a regime switch hands off."""
+    watch; a failure or a regime switch hands off.  Returns the window's end (NaN:
+    no window taken)."""
     i = ln.scene
     r = p[i]
     c = r.control
@@ -191,8 +198,8 @@ def _lane_window(p, ln, coef, h, th, v, t_eval, out, wrapped, win_t, win_y, win_
                                                            ln.h_abs, c.max_step, c.rtol, c.atol, c.error_order,
                                                            ln.log_eps)
         if st != STATUS_OK:
-            _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel)
-            return
+            _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel, handed)
+            return math.nan
     j = ln.j
     if j < t_eval.size and ln.direction * (t_eval[j] - t_new) <= 0.0:
         # (The views of out made only for a window that has outputs.)
@@ -206,71 +213,107 @@ def _lane_window(p, ln, coef, h, th, v, t_eval, out, wrapped, win_t, win_y, win_
     ln.t, ln.phi, ln.v, ln.h_abs = t_new, th, v, h_next
     ln.n_windows += 1
     if r.switch.regime != REGIME_NONE:
-        _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel)
+        _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel, handed)
+    return t_new
 
 
-@numba.njit(cache=True, nogil=True)
-def _run_lanes(p, ids, t_eval, out, cancel):
-    """Run the scenes ``ids`` of ``p`` (output rows ``out[ids]``), LANES at a time in lockstep.
+def _lanes_for(watch):
+    """The lanes' scheduler, without (``watch`` False) or with the event watch (a
+    constant of the closure: the other's branches are pruned, each closure cached apart)."""
 
-    Each lockstep round takes one window of every lane: the loop's window for an
-    ordinary Taylor window (its tests, controller and output steps, in its order: the
-    loop's own functions), with the anchors of all lanes in one call of the
-    across-scene kernel (:func:`mbm.approximants.taylor_simd.taylor24_lanes`, each lane's
-    coefficients the bits of the one-scene kernel) and the first tries' ends in one
-    lane-wise Horner.  A lane whose next window is anything else hands its state to the
-    loop as a paused run's, which finishes the scene, and the lane takes the next scene.
-    So every scene's windows, outputs and record are those of the loop alone.  Only
-    scenes that are :func:`lane_eligible` are run (run_batch sends the others to
-    :func:`_rows_for`'s entry); another is STATUS_ANCHOR.  Compiled once: it takes the
-    loop's entries of Taylor's RS_DAMPED and RS_CYCLE only.
-    """
-    win_t, win_y, win_coef = np.empty(0), np.empty((0, 2)), np.empty((0, 0))
-    lanes = np.zeros(LANES, dtype=LANE)
-    ins = np.zeros((7, LANES))
-    ins[2, :] = 1.0
-    ins[4, :] = 1.0
-    coefs = np.zeros((LANES, SIMD_HEADER + SIMD_ORDER + 3))
-    soa = np.zeros((SIMD_ORDER + 3, LANES))
-    hs = np.zeros(LANES)
-    hv = np.zeros((2, LANES))
-    for q in range(LANES):
-        lanes[q].scene = -1
-    # The lanes' coefficient rows, as views made once.
-    rows = (coefs[0], coefs[1], coefs[2], coefs[3], coefs[4], coefs[5], coefs[6], coefs[7])
-    wrapped = out.shape[1] == 3
-    nxt = 0
-    while True:
-        live = 0
+    @numba.njit(cache=True, nogil=True)
+    def run_lanes(p, ids, t_eval, out, cancel, ev, cap, hits_all, stored_all, handed):
+        """Run the scenes ``ids`` of ``p`` (output rows ``out[ids]``), LANES at a time in lockstep.
+
+        Each lockstep round takes one window of every lane: the loop's window for an
+        ordinary Taylor window (its tests, controller and output steps, in its order: the
+        loop's own functions), with the anchors of all lanes in one call of the
+        across-scene kernel (:func:`mbm.approximants.taylor_simd.taylor24_lanes`, each lane's
+        coefficients the bits of the one-scene kernel) and the first tries' ends in one
+        lane-wise Horner.  A lane whose next window is anything else hands its state to the
+        loop as a paused run's, which finishes the scene, and the lane takes the next scene.
+        So every scene's windows, outputs and record are those of the loop alone.  Only
+        scenes that are :func:`lane_eligible` are run (run_batch sends the others to
+        :func:`_rows_for`'s entry); another is STATUS_ANCHOR.  Compiled once: it takes the
+        loop's entries of Taylor's RS_DAMPED and RS_CYCLE only.
+
+        With the watch, the events ``ev`` (at most ``cap`` of each stored, -1: all) are
+        located on each window's polynomial as :func:`mbm.core.event_watch.locate`
+        does (counts in ``hits_all``, ``stored_all``); a terminal event stops its scene
+        (:func:`mbm.core.event_batch.stop_at`), and a scene handed off is marked in
+        ``handed`` for the event watch's loop to finish.  Returns the stored events
+        (rows t, θ, θ', m; event; scene), empty without the watch.
+        """
+        win_t, win_y, win_coef = np.empty(0), np.empty((0, 2)), np.empty((0, 0))
+        caps = np.full(ev.shape[0], cap, np.int64)
+        n_buf = EVENTS_CAPACITY if watch else 0
+        evf, evi, evs, count = np.empty((n_buf, 4)), np.empty(n_buf, np.int64), np.empty(n_buf, np.int64), 0
+        ws = workspace(SIMD_HEADER + SIMD_ORDER + 3)
+        lanes = np.zeros(LANES, dtype=LANE)
+        ins = np.zeros((7, LANES))
+        ins[2, :] = 1.0
+        ins[4, :] = 1.0
+        coefs = np.zeros((LANES, SIMD_HEADER + SIMD_ORDER + 3))
+        soa = np.zeros((SIMD_ORDER + 3, LANES))
+        hs = np.zeros(LANES)
+        hv = np.zeros((2, LANES))
         for q in range(LANES):
-            ln = lanes[q]
-            while ln.scene < 0 and nxt < ids.size:
-                i = ids[nxt]
-                nxt += 1
-                if lane_eligible(p[i]):
-                    _lane_start(p[i], i, ln, coefs, q)
-                else:
-                    # (run_batch sends the lanes only scenes that are lane_eligible)
-                    p[i].progress.status = STATUS_ANCHOR
-            ln.ready = 1 if ln.scene >= 0 and _lane_before(p, ln, q, ins, t_eval, out, win_t, win_y, win_coef,
-                                                           cancel) else 0
-            live += ln.ready
-        if live == 0:
-            if nxt >= ids.size:
-                break
-            continue
-        taylor24_lanes(ins, coefs, soa)
-        for q in range(LANES):
-            ln = lanes[q]
-            hs[q] = _lane_try(p[ln.scene], ln, rows[q]) if ln.ready != 0 else 0.0
-        horner24_lanes(soa, hs, hv)
-        for q in range(LANES):
-            ln = lanes[q]
-            if ln.ready != 0:
-                ln.ready = 0
-                _lane_window(p, ln, rows[q], hs[q], hv[0, q], hv[1, q], t_eval, out, wrapped, win_t, win_y,
-                             win_coef, cancel)
-    return 0
+            lanes[q].scene = -1
+        # The lanes' coefficient rows, as views made once.
+        rows = (coefs[0], coefs[1], coefs[2], coefs[3], coefs[4], coefs[5], coefs[6], coefs[7])
+        wrapped = out.shape[1] == 3
+        nxt = 0
+        while True:
+            live = 0
+            for q in range(LANES):
+                ln = lanes[q]
+                while ln.scene < 0 and nxt < ids.size:
+                    i = ids[nxt]
+                    nxt += 1
+                    if lane_eligible(p[i]):
+                        _lane_start(p[i], i, ln, coefs, q)
+                    else:
+                        # (run_batch sends the lanes only scenes that are lane_eligible)
+                        p[i].progress.status = STATUS_ANCHOR
+                ln.ready = 1 if ln.scene >= 0 and _lane_before(p, ln, q, ins, t_eval, out, win_t, win_y, win_coef,
+                                                               cancel, handed) else 0
+                live += ln.ready
+            if live == 0:
+                if nxt >= ids.size:
+                    break
+                continue
+            taylor24_lanes(ins, coefs, soa)
+            for q in range(LANES):
+                ln = lanes[q]
+                hs[q] = _lane_try(p[ln.scene], ln, rows[q]) if ln.ready != 0 else 0.0
+            horner24_lanes(soa, hs, hv)
+            for q in range(LANES):
+                ln = lanes[q]
+                if ln.ready != 0:
+                    ln.ready = 0
+                    i, t_w, k, direction = ln.scene, ln.t, ln.wind, ln.direction
+                    t_new = _lane_window(p, ln, rows[q], hs[q], hv[0, q], hv[1, q], t_eval, out, wrapped, win_t,
+                                         win_y, win_coef, cancel, handed)
+                    if watch and t_new == t_new and window_may_cross(rows[q], t_new - t_w, k, ev):
+                        evf, evi, evs, count = lane_events(p, ln, i, rows[q], t_w, t_new, k, direction, t_eval, out,
+                                                           ev, caps, hits_all, stored_all, handed, ws, evf, evi,
+                                                           evs, count)
+        return evf[:count].copy(), evi[:count].copy(), evs[:count].copy()
+
+    return run_lanes
+
+
+#: The lanes without events (run_batch, called with :func:`no_events`) and with the
+#: event watch (mbm.crossings).
+_run_lanes = _lanes_for(False)
+run_lanes_events = _lanes_for(True)
+
+
+def no_events():
+    """The event arguments of :func:`_run_lanes` for a batch without events (an empty
+    ``handed``: a lane hands its scene to the loop)."""
+    counts = np.empty((0, 0), np.int64)
+    return np.empty((0, 5)), -1, counts, counts, np.empty(0, np.int64)
 
 
 def _rows_for(flags):
@@ -349,11 +392,12 @@ def run_batch(p, t_eval, out, order, cancel, flags=None):
     order = np.asarray(order, dtype=np.int64)
     lanes = eligible_rows(p)[order]
     others = order[~lanes]
-    tasks = [(_run_lanes, ids) for ids in groups(order[lanes])]
+    none = no_events()
+    tasks = [lambda ids=ids: _run_lanes(p, ids, t_eval, out, cancel, *none) for ids in groups(order[lanes])]
     if others.size:
         entry = rows_entry(batch_flags(p[others]) if flags is None else tuple(flags))
-        tasks += [(entry, ids) for ids in groups(others)]
-    run_tasks([lambda entry=entry, ids=ids: entry(p, ids, t_eval, out, cancel) for entry, ids in tasks], cancel)
+        tasks += [lambda ids=ids: entry(p, ids, t_eval, out, cancel) for ids in groups(others)]
+    run_tasks(tasks, cancel)
 
 
 def run_tasks(tasks, cancel):
