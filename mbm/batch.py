@@ -311,16 +311,24 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
     drive, plan, h, names = _plan_scenes(approximant, beta, gamma, omega, amp, freq, phase, driven_call, tau,
                                          max_step, t0, t1)
     ev, cap, items = crossings.batch_table(events, max_events, plan[0], drive[0], drive[1], names)
-    p = np.empty(n, dtype=loop.RUN)
     model = np.stack([beta, gamma, omega, drive[0], drive[1], drive[2]]).astype(np.float64)
-    loop.init_runs(p, model, float(t0), np.ascontiguousarray(y0, dtype=np.float64), float(t1), plan, h,
-                   float(max_step), float(rtol), float(atol), int(max_windows))
+    y0 = np.ascontiguousarray(y0, dtype=np.float64)
+
+    def fresh(rows):
+        # The records of the scenes ``rows`` at their start.
+        q = np.empty(rows.size, dtype=loop.RUN)
+        loop.init_runs(q, np.ascontiguousarray(model[:, rows]), float(t0), np.ascontiguousarray(y0[rows]), float(t1),
+                       np.ascontiguousarray(plan[:, rows]), np.ascontiguousarray(h[rows]), float(max_step),
+                       float(rtol), float(atol), int(max_windows))
+        return q
+
+    p = fresh(np.arange(n))
     out = np.full((n, 3 if wrap else 2, te.size), np.nan)
     order = _balanced_order(n)
     if ev is None:
         _run_batch_interruptibly(p, te, out, order)
         return _batch_result(p, te, out, wrap, names)
-    found = _run_interruptibly(lambda cancel: crossings.run_batch_events(p, te, out, order, ev, cap, cancel))
+    found = _run_interruptibly(lambda cancel: crossings.run_batch_events(p, te, out, order, ev, cap, cancel, fresh))
     res = _batch_result(p, te, out, wrap, names)
     res["t_events"], res["y_events"], res["winding_events"], res["n_events"] = crossings.batch_event_arrays(
         items, cap, *found)

@@ -400,17 +400,16 @@ def batch_table(events, max_events, kinds, amp, freq, names):
     return ev, cap, items
 
 
-def run_batch_events(p, te, out, order, ev, cap, cancel):
+def run_batch_events(p, te, out, order, ev, cap, cancel, fresh):
     """The batch's scenes run with the event watch, in groups on threads: the scenes the
     lanes take (:func:`mbm.core.lanes.lane_eligible`) by the lanes with events, finished
     (after a hand-off) and the others by the loop in stored chunks
     (:mod:`mbm.core.event_batch`).  The locked regime is taken where
     :func:`lock_allowed` (undriven scenes; those whose locked window may reach a level
-    run again without it).  Returns the stored events (rows t, θ, θ', m; event; scene)
-    and the counts (N, n_events)."""
+    run again without it, their records from ``fresh(rows)``).  Returns the stored events
+    (rows t, θ, θ', m; event; scene) and the counts (N, n_events)."""
     from .core import event_batch, lanes
 
-    fresh = p.copy()
     undriven = p["model"]["drive_amp"] == 0.0
     p["switch"]["regimes"] = np.where(undriven & lock_allowed(ev), REGIMES_ALL, REGIMES_PERIODIC)
     width = max(_HEADER + int(p["control"]["karg"].max()) + 1 + _N_EXTRA, CYCLE_WIDTH)
@@ -422,12 +421,12 @@ def run_batch_events(p, te, out, order, ev, cap, cancel):
     ids = np.asarray(order, dtype=np.int64)
 
     def rows(ids):
-        entry = event_batch.events_entry(lanes.batch_flags(p[ids]))
+        entry = event_batch.events_entry(lanes.batch_flags(p[ids] if ids.size < p.size else p))
         return [lambda g=g: entry(p, g, te, out, cancel, ev, cap, width, hits, stored, again)
                 for g in lanes.groups(ids)]
 
     while ids.size:
-        in_lanes = lanes.eligible_rows(p[ids])
+        in_lanes = lanes.eligible_rows(p)[ids]
         tasks = [lambda g=g: lanes.run_lanes_events(p, g, te, out, cancel, ev, cap, hits, stored, handed)
                  for g in lanes.groups(ids[in_lanes])]
         if not in_lanes.all():
@@ -441,7 +440,7 @@ def run_batch_events(p, te, out, order, ev, cap, cancel):
         if ids.size:
             # A scene whose locked window may reach a level: from its start, without it.
             found = [tuple(a[again[f[2]] == 0] for a in f) for f in found]
-            p[ids] = fresh[ids]
+            p[ids] = fresh(ids)
             p["switch"]["regimes"][ids] = REGIMES_PERIODIC
             out[ids] = np.nan
             hits[ids] = 0
