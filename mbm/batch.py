@@ -225,6 +225,20 @@ def _batch_result(p, te, out, wrap, names):
                                where=f["regime"] == REGIME_RUNNING))),
     )
 
+def _run_options(t_span, t_eval, rtol, atol, max_step, max_windows, wrap):
+    # solve_batch's options common to every scene, checked.
+    if t_eval is None:
+        raise ValueError("t_eval is required for solve_batch (common output times)")
+    t0, t1 = check_span(t_span)
+    te = check_t_eval(t_eval, t0, t1)
+    rtol, atol = check_tolerances(rtol, atol)
+    max_step = check_positive("max_step", max_step, allow_inf=True)
+    max_windows = check_max_windows(max_windows)
+    if wrap is not False and wrap is not True:
+        raise ValueError(f"wrap must be True or False, got {wrap!r}")
+    return t0, t1, te, rtol, atol, max_step, max_windows
+
+
 def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
                 approximant="auto", tau=None, max_step=np.inf, max_windows=DEFAULT_MAX_WINDOWS,
                 drive_amplitude=0.0, drive_frequency=0.0, drive_phase=0.0, wrap=False, events=None,
@@ -252,11 +266,10 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
         Built-in events (:func:`mbm.angle_event`, :func:`mbm.velocity_event`,
         :func:`mbm.section_event`) watched in every scene as :func:`mbm.solve` does (the
         same events, bit for bit); a terminal event stops its scene only.  Every scene
-        must run Taylor windows, and be driven for a section event.  A batch with
-        events runs each scene by the compiled loop (not the lockstep lanes).
+        must run Taylor windows, and be driven for a section event.  The scenes the
+        lockstep lanes take are watched in the lanes; the others by the compiled loop.
     max_events : int, optional
-        Events of each kind stored per scene, K (default: all, K then the most any
-        scene has); all are still counted in ``n_events``.
+        Events of each kind stored per scene, K (default: the most any scene has).
 
     Returns
     -------
@@ -294,18 +307,10 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
         (beta, gamma, omega, drive_amplitude, drive_frequency, drive_phase), driven_call)
     n = beta.size
     y0 = _scene_states(y0, n)
-    if t_eval is None:
-        raise ValueError("t_eval is required for solve_batch (common output times)")
-    t0, t1 = check_span(t_span)
-    te = check_t_eval(t_eval, t0, t1)
-    rtol, atol = check_tolerances(rtol, atol)
-    max_step = check_positive("max_step", max_step, allow_inf=True)
-    max_windows = check_max_windows(max_windows)
-    if wrap is not False and wrap is not True:
-        raise ValueError(f"wrap must be True or False, got {wrap!r}")
+    t0, t1, te, rtol, atol, max_step, max_windows = _run_options(t_span, t_eval, rtol, atol, max_step,
+                                                                 max_windows, wrap)
     if events is not None and isinstance(approximant, str) and approximant == "auto":
-        # The events are located on Taylor windows: "auto" is the Taylor series (mbm.solve).
-        approximant = auto_name(False)
+        approximant = auto_name(False)  # events are located on Taylor windows (mbm.solve)
     tau_checked = None if tau is None else check_positive("tau", tau)
     _check_budgets(beta, gamma, omega, amp, y0, t0, t1, tau_checked, max_step, max_windows)
     drive, plan, h, names = _plan_scenes(approximant, beta, gamma, omega, amp, freq, phase, driven_call, tau,

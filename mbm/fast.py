@@ -503,15 +503,15 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
         ``terminal`` (the run stops at the event, which is then its last output and
         state; ``status`` 6); an event exactly at t0 is not reported.  On a running
         cycle or a libration the stored period's events are shifted per turn; the
-        locked and phase-locked regimes are not taken.  "auto" is the Taylor series
+        locked regime is taken only where no event's level is within reach of its
+        closed form (else the scene is run without it), the phase-locked regime not at
+        all.  "auto" is the Taylor series
         (also at β = γ = 0); another approximant than ``taylor*`` is a ValueError.
         The first call compiles the watch once (a few seconds, cached).
     max_events : int, optional
-        Occurrences of each event stored in ``t_events``/``y_events`` (the first
-        ``max_events``); all are counted in ``n_events``.  Default None: all stored.
-        Once every event has stored its share, the turns of a running cycle or a
-        libration are counted whole, not walked, so counting slips over 10⁶ time units
-        costs about what 10³ do.
+        Occurrences of each event stored (the first ``max_events``); all are counted
+        in ``n_events``.  Default None: all.  Past it a running cycle's or a libration's
+        turns are counted whole, so counting slips over 10⁶ time units costs what 10³ do.
 
     Returns
     -------
@@ -547,23 +547,27 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
         raise TypeError(f"model must be an mbm.Pendulum, got {type(model).__name__}")
     t0, t1 = check_span(t_span)
     theta0, v0 = _state(y0)
-    if events is not None and isinstance(approximant, str) and approximant == "auto":
-        # The events are located on Taylor windows: "auto" is the Taylor series.
-        approximant = auto_name(False)
-    if (type(approximant) is str and type(rtol) is float and type(atol) is float
-            and rtol >= RTOL_FLOOR and (tau is None or type(tau) is float)):
-        # The common call: an Integrator per option set, cached (an Integrator is not
-        # changed by solving; a warning-raising rtol is never cached, so it warns each time).
-        ig = _integrator(model, rtol, atol, approximant, tau, max_step, max_windows)
-    else:
-        ig = Integrator(model, rtol=rtol, atol=atol, approximant=approximant, tau=tau,
-                        max_step=max_step, max_windows=max_windows)
+    ig = _solver_for(model, rtol, atol, approximant, tau, max_step, max_windows, events is not None)
     _check_budget(ig, t0, t1, v0)
     if events is not None:
         return solve_events(ig, t0, t1, theta0, v0, t_eval, wrap, events, max_events)
     if max_events is not None:
         raise ValueError("max_events needs events")
     return ig._solve(t0, t1, theta0, v0, t_eval, wrap)  # span and state checked above
+
+
+def _solver_for(model, rtol, atol, approximant, tau, max_step, max_windows, watched):
+    # The Integrator of mbm.solve's options.
+    if watched and isinstance(approximant, str) and approximant == "auto":
+        # The events are located on Taylor windows: "auto" is the Taylor series.
+        approximant = auto_name(False)
+    if (type(approximant) is str and type(rtol) is float and type(atol) is float
+            and rtol >= RTOL_FLOOR and (tau is None or type(tau) is float)):
+        # The common call: an Integrator per option set, cached (an Integrator is not
+        # changed by solving; a warning-raising rtol is never cached, so it warns each time).
+        return _integrator(model, rtol, atol, approximant, tau, max_step, max_windows)
+    return Integrator(model, rtol=rtol, atol=atol, approximant=approximant, tau=tau,
+                      max_step=max_step, max_windows=max_windows)
 
 
 def _check_budget(ig, t0, t1, v0):
