@@ -23,7 +23,7 @@ PARAMETER_MISMATCH = {"PR01", "PR02", "PR03"}
 # script behind docs/convergent.md), each with the figures it draws.
 GALLERY_FIGURES = {
     "fig_salas2021": 1, "fig_salas2022": 4, "fig_belendez2007": 6, "josephson_iv": 1,
-    "shapiro_steps": 1, "stability_map": 1, "step_size_study": 1,
+    "shapiro_steps": 1, "stability_map": 1, "step_size_study": 1, "convergence_orders": 1,
 }
 
 

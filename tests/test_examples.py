@@ -111,6 +111,31 @@ def test_step_size_study(tmp_path):
     assert row["error"] == pytest.approx(np.max(np.abs(sol.y[0] - ref)), rel=1e-3)
 
 
+def test_convergence_orders(tmp_path):
+    ex = _load("convergence_orders")
+    data, png = ex.main(tmp_path, methods=("rk4", "split4", "taylor8"))
+    assert png.exists()
+    fits = {m: c["fit"] for m, c in data["curves"].items()}
+    # Classical orders, and the order docs/convergent.md measures for taylor8 (6.7-7.2 on
+    # six scenes: one below the degree, the global error of a local O(tau^9) window).
+    assert fits["rk4"].order == pytest.approx(4.0, abs=0.1)
+    assert fits["split4"].order == pytest.approx(4.0, abs=0.1)
+    assert 6.7 <= fits["taylor8"].order <= 7.3
+    assert all(f.n >= 3 and f.stderr < 0.1 for f in fits.values())
+    # The reference states its error; no fitted point lies at its floor.
+    assert 0.0 < data["ref_error"] < 1e-15
+    assert not any((f.used & f.floor).any() for f in fits.values())
+    # Spot-check one point against an independent reference (CVODE at 1e-12, ~1e-11 off).
+    c = data["curves"]["rk4"]
+    i = c["tau"].index(0.5)
+    model = mbm.Pendulum(beta=0.1, gamma=0.3)
+    t = np.arange(81.0)
+    ref = _ref(model, [math.radians(30), 0.0], t)
+    ex_rk4 = ex.study.run_method("rk4", "ex1", 0.5)
+    err = max(np.max(np.abs(ex_rk4[:, 0] - ref[0])), np.max(np.abs(ex_rk4[:, 1] - ref[1])))
+    assert c["error"][i] == pytest.approx(err, rel=1e-3)
+
+
 def test_josephson_iv(tmp_path):
     ex = _load("josephson_iv")
     curve, png = ex.main(tmp_path, points=21)
