@@ -164,7 +164,7 @@ def _entries(kind, dset):
         out_theta, out_v = out[0], out[1]
         m = t.size
         i = 0
-        j = 0
+        j = np.int64(0)  # not a literal 0: that would compile the window kernels twice
         while j < m:
             # A run of times per window.
             i = _find(starts, n, direction, i, t[j])
@@ -190,22 +190,24 @@ def _entries(kind, dset):
     def at(starts, start_theta, coefs, n, direction, tj):
         # One time: a new array [θ, θ'] (into's branches, for t = [tj]).
         i = _find(starts, n, direction, 0, tj)
+        # Typed int64, as into's (a literal index compiles the kernels a second time).
+        lo, hi = np.int64(0), np.int64(1)
         t = np.empty(1)
         t[0] = tj
         out = np.empty((2, 1))
         c = coefs[i]
         if kind == KIND_TAYLOR and c.size >= STROBE_WIDTH and c[0] == STROBE_TAG:
             if dset == RS_STROBE:
-                _strobe_run(kind, c, t, 0, 1, out[0], out[1])
+                _strobe_run(kind, c, t, lo, hi, out[0], out[1])
             else:
-                _nan_run(0, 1, out[0], out[1])
+                _nan_run(lo, hi, out[0], out[1])
         elif (kind == KIND_TAYLOR or kind == KIND_SPLIT) and c.size >= CYCLE_WIDTH and c[0] == CYCLE_TAG:
             if dset == RS_CYCLE:
-                _cycle_run(kind, c, starts[i], t, 0, 1, out[0], out[1])
+                _cycle_run(kind, c, starts[i], t, lo, hi, out[0], out[1])
             else:
-                _nan_run(0, 1, out[0], out[1])
+                _nan_run(lo, hi, out[0], out[1])
         else:
-            _plain_run(kind, c, starts[i], start_theta[i], t, 0, 1, out[0], out[1])
+            _plain_run(kind, c, starts[i], start_theta[i], t, lo, hi, out[0], out[1])
         y = np.empty(2)
         y[0] = out[0, 0]
         y[1] = out[1, 0]

@@ -10,6 +10,7 @@ a shorter length.  The adaptive pieces are compiled once per kind and called.
 
 import math
 import numba
+import numpy as np
 
 from .window import (
     KIND_EXACT,
@@ -245,7 +246,8 @@ def accept_try(et, ev, y0, y1, off, theta, v, rtol, atol, prior, error_order, h)
     φ = ``y0``, θ' = ``y1`` to ``theta``, ``v``): ``(accepted, h_next)``, as
     :func:`adaptive_window`'s."""
     err = _error_norm(et, ev, off + y0, y1, off + theta, v, rtol, atol)
-    fac = _accepted_factor(err, theta, v, prior, -1.0 / (error_order + 1.0), False)
+    # np.bool_: a literal False would compile _accepted_factor a second time.
+    fac = _accepted_factor(err, theta, v, prior, -1.0 / (error_order + 1.0), np.bool_(False))
     return fac > 0.0, h * fac
 
 

@@ -399,7 +399,8 @@ def _runner(kind, rset):
         store, cap, width = win_t.size > 0, win_t.size - 1, win_coef.shape[1]
         wrapped = out.shape[0] == 3  # θ wrapped to (−π, π] and its winding count in a third row
         out_theta, out_v, out_w = out[0], out[1], out[2] if wrapped else out[0]
-        j, n, n_total, status = r.progress.j, 0, r.progress.n_windows, STATUS_OK
+        # n typed int64 from the start (a literal 0 compiles _store_window a second time).
+        j, n, n_total, status = r.progress.j, np.int64(0), r.progress.n_windows, STATUS_OK
         # θ = 2πk + φ (TWO_PI_A): y0 holds φ, k the winding count; a fresh run starts
         # from θ as given (k = 0), a resumed one where it stopped.
         k = 0.0
