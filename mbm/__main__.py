@@ -369,9 +369,19 @@ def iv_command(beta, gamma_max, points, omega=1.0, current_tol=1e-4, csv=None, p
     print(f"beta = {beta:g}, omega = {omega:g}, {2 * points} bias points", file=out)
     if drive_amplitude != 0.0:
         print(f"AC drive A = {drive_amplitude:g}, Omega = {drive_frequency:g}, phi = {drive_phase:g}", file=out)
-    for name, value, (lo, hi) in (("switching current ", curve.switching_current, curve.switching_bracket),
-                                  ("retrapping current", curve.retrapping_current, curve.retrapping_bracket)):
-        print(f"{name} {value:.6g}" + (f"  in [{lo:.8g}, {hi:.8g}]" if math.isfinite(value) else ""), file=out)
+    for name, value, (lo, hi), settled in (
+            ("switching current ", curve.switching_current, curve.switching_bracket, curve.switching_settled),
+            ("retrapping current", curve.retrapping_current, curve.retrapping_bracket, curve.retrapping_settled)):
+        line = f"{name} {value:.6g}" + (f"  in [{lo:.8g}, {hi:.8g}]" if math.isfinite(value) else "")
+        if not settled:
+            line += "  (probes changed voltage state between blocks: the bracket may be off by more than it says)"
+        print(line, file=out)
+    # iv_curve's warnings go to stderr; the report on stdout says the same, for a saved report.
+    bad = np.flatnonzero(~curve.converged)
+    if bad.size:
+        where = ", ".join(f"{float(x):.6g}" for x in curve.gamma[bad])
+        print(f"not settled: {bad.size} of {curve.gamma.size} points (velocity_tol = {curve.velocity_tol:g}), "
+              f"gamma = [{where}]; converged False in the CSV", file=out)
     if csv:
         curve.to_csv(csv)
     if plot:

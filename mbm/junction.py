@@ -184,6 +184,15 @@ class IVCurve:
     velocity_tol : float
         The agreement of two successive blocks asked of a driven point (absolute, in
         units of ω).
+    switching_settled, retrapping_settled : bool
+        Whether every probe of the bisection behind ``switching_bracket`` (resp.
+        ``retrapping_bracket``) kept one voltage state over the blocks it was measured
+        on: True without a drive and without a bracket.  False where a driven probe
+        slipped in some blocks and not in others (a transient, or the intermittent
+        slips beside a step's edge): the probe counts in the voltage state of its last
+        block, and the bracket may then be off by more than ``current_tol``.  (A probe
+        whose ⟨θ'⟩ did not settle to ``velocity_tol`` but slipped in every block, or in
+        none, is in that state: the bisection needs the state, not the voltage.)
     """
 
     gamma: np.ndarray
@@ -203,6 +212,8 @@ class IVCurve:
     retrapping_bracket: tuple = (math.nan, math.nan)
     converged: np.ndarray = None
     velocity_tol: float = DRIVE_VELOCITY_TOL
+    switching_settled: bool = True
+    retrapping_settled: bool = True
 
     def branches(self):
         """Index arrays of the up (γ increasing) and down (γ decreasing) parts of the sweep."""
@@ -224,7 +235,9 @@ class IVCurve:
             f.write(f"# beta={self.beta!r}, omega={self.omega!r}, switching_current={self.switching_current!r}, "
                     f"retrapping_current={self.retrapping_current!r}, current_tol={self.current_tol!r}{drive}, "
                     f"switching_bracket={tuple(map(float, self.switching_bracket))!r}, "
-                    f"retrapping_bracket={tuple(map(float, self.retrapping_bracket))!r}\n")
+                    f"retrapping_bracket={tuple(map(float, self.retrapping_bracket))!r}, "
+                    f"switching_settled={bool(self.switching_settled)!r}, "
+                    f"retrapping_settled={bool(self.retrapping_settled)!r}\n")
             f.write("gamma,mean_velocity,regime,period,converged\n")
             settled = [""] * self.gamma.size if self.converged is None else [str(bool(c)) for c in self.converged]
             for g, v, r, p, c in zip(self.gamma, self.mean_velocity, self.regime, self.period, settled):
@@ -398,11 +411,12 @@ def mean_velocity(model, y0, integrate=integrate_mbm):
 
 
 def _measure(model, y0, integrate=integrate_mbm, velocity_tol=DRIVE_VELOCITY_TOL):
-    # mean_velocity's (regime, ⟨θ'⟩, period, y) and whether the point settled (an
-    # undriven point that does not raises).
+    # mean_velocity's (regime, ⟨θ'⟩, period, y), whether the point settled and whether
+    # its voltage state was steady (_driven_measure; an undriven point that does not
+    # settle raises).
     if model.driven:
         return _driven_measure(model, y0, integrate, velocity_tol)
-    return _settle(model, y0, integrate) + (True,)
+    return _settle(model, y0, integrate) + (True, True)
 
 
 def _settle(model, y0, integrate):
@@ -514,14 +528,16 @@ def driven_mean_velocity(model, y0, integrate=integrate_mbm, velocity_tol=DRIVE_
 
 
 def _driven_measure(model, y0, integrate, velocity_tol):
-    # driven_mean_velocity's (regime, ⟨θ'⟩, period, y) and whether it converged.
+    # driven_mean_velocity's (regime, ⟨θ'⟩, period, y), whether it converged (two blocks'
+    # averages agreed to velocity_tol) and whether it was steady (every block measured in
+    # the voltage state of the last: no transient or intermittent slips within them).
     period_d = 2.0 * math.pi / model.drive_frequency
     y = np.array(y0, dtype=float)
     sol = integrate(model, y, _drive_settle_periods(model) * period_d)
     y = sol.y[:, -1].copy()
     y[0] = math.remainder(y[0], 2.0 * math.pi)
     if getattr(sol, "regime", None) == PHASE_LOCKED:
-        return _phase_locked(sol, y) + (True,)
+        return _phase_locked(sol, y) + (True, True)
     m = DRIVE_AVERAGE_PERIODS
     weights = _birkhoff_weights(m)
     samples = np.arange(m + 1) * period_d
@@ -536,18 +552,20 @@ def _driven_measure(model, y0, integrate, velocity_tol):
         y = sol.y[:, -1].copy()
         y[0] = math.remainder(y[0], 2.0 * math.pi)
         if getattr(sol, "regime", None) == PHASE_LOCKED:
-            return _phase_locked(sol, y) + (True,)
+            return _phase_locked(sol, y) + (True, True)
         if len(means) >= 2 and abs(means[-1] - means[-2]) <= velocity_tol * model.omega:
             v, converged = means[-1], True
             step = _repeating(d)
             if step is not None and step[0] != 0:
-                return PHASE_LOCKED, v, step[1] * period_d, y, True
+                return PHASE_LOCKED, v, step[1] * period_d, y, True, True
             break
     else:
         d = np.concatenate(steps)
         v, converged = float(np.dot(_birkhoff_weights(d.size), d)) / period_d, False
-    regime = LOCKED if abs(float(np.sum(steps[-1]))) < math.pi else RUNNING
-    return regime, v, math.nan, y, converged
+    # The voltage state of each block: a slip (θ gains π or more) or none; the run's is its last block's.
+    slips = [abs(float(np.sum(b))) >= math.pi for b in steps]
+    regime = RUNNING if slips[-1] else LOCKED
+    return regime, v, math.nan, y, converged, all(x == slips[-1] for x in slips)
 
 
 def _repeating(d):
@@ -615,7 +633,10 @@ def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0
     -----
     RuntimeWarning
         Once, when some driven points did not settle to ``velocity_tol``, naming how
-        many and their γ (``IVCurve.converged`` False there).
+        many and their γ (``IVCurve.converged`` False there); once more for each
+        bisection with probes whose voltage state changed between their blocks,
+        naming the current and the probes' γ (``IVCurve.switching_settled`` or
+        ``retrapping_settled`` False).
 
     Raises
     ------
@@ -642,7 +663,7 @@ def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0
     regimes, velocities, periods, states, starts, converged = [], [], [], [], [], []
     for gi in (_progress(g, label="I-V points") if progress else g):
         starts.append(y.copy())
-        regime, v, period, y, ok = _measure(Pendulum(beta, gi, omega, *drive), y, integrate, velocity_tol)
+        regime, v, period, y, ok, _ = _measure(Pendulum(beta, gi, omega, *drive), y, integrate, velocity_tol)
         regimes.append(regime)
         velocities.append(v)
         periods.append(period)
@@ -650,32 +671,45 @@ def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0
         converged.append(ok)
     converged = np.array(converged, dtype=bool)
     _warn_unsettled(g, converged, velocity_tol)
-    none = (math.nan, math.nan)
-    switching = retrapping = none
-    for i in range(1, g.size):
-        a, b = _voltage_state(regimes[i - 1]), _voltage_state(regimes[i])
-        if a == b:
-            continue
-        if a == LOCKED and switching is none:
-            lo, hi = sorted(_bisect(beta, omega, g[i - 1], g[i], states[i - 1], LOCKED, current_tol, integrate,
-                                    drive))
-            # No zero-voltage state beyond |γ| = ω² (IVCurve): the bracket within it.
-            w2 = omega * omega
-            switching = (max(lo, -w2), min(hi, w2))
-        elif a == RUNNING and retrapping is none:
-            retrapping = tuple(sorted(_bisect(beta, omega, g[i - 1], g[i], states[i - 1], RUNNING, current_tol,
-                                              integrate, drive)))
+    switching, retrapping, unsettled = _currents(beta, omega, g, regimes, states, current_tol, integrate, drive,
+                                                 velocity_tol)
+    _warn_unsettled_probes(unsettled)
     return IVCurve(gamma=g, mean_velocity=np.array(velocities), regime=np.array(regimes),
                    period=np.array(periods), start_state=np.array(starts),
                    switching_current=_midpoint(switching), retrapping_current=_midpoint(retrapping),
                    beta=beta, omega=omega, current_tol=current_tol, drive_amplitude=drive[0],
                    drive_frequency=drive[1], drive_phase=drive[2], switching_bracket=tuple(map(float, switching)),
                    retrapping_bracket=tuple(map(float, retrapping)), converged=converged,
-                   velocity_tol=velocity_tol)
+                   velocity_tol=velocity_tol, switching_settled=not unsettled["switching"],
+                   retrapping_settled=not unsettled["retrapping"])
+
+
+def _currents(beta, omega, g, regimes, states, current_tol, integrate, drive, velocity_tol):
+    # The first locked -> running and running -> locked transitions between visited points,
+    # bisected: their brackets ((nan, nan) if none) and each bisection's unsettled probes.
+    none = (math.nan, math.nan)
+    switching = retrapping = none
+    unsettled = {"switching": [], "retrapping": []}  # probes whose voltage state changed between blocks
+    for i in range(1, g.size):
+        a, b = _voltage_state(regimes[i - 1]), _voltage_state(regimes[i])
+        if a == b:
+            continue
+        if a == LOCKED and switching is none:
+            g_a, g_b, unsettled["switching"] = _bisect(beta, omega, g[i - 1], g[i], states[i - 1], LOCKED,
+                                                       current_tol, integrate, drive, velocity_tol)
+            lo, hi = sorted((g_a, g_b))
+            # No zero-voltage state beyond |γ| = ω² (IVCurve): the bracket within it.
+            w2 = omega * omega
+            switching = (max(lo, -w2), min(hi, w2))
+        elif a == RUNNING and retrapping is none:
+            g_a, g_b, unsettled["retrapping"] = _bisect(beta, omega, g[i - 1], g[i], states[i - 1], RUNNING,
+                                                        current_tol, integrate, drive, velocity_tol)
+            retrapping = tuple(sorted((g_a, g_b)))
+    return switching, retrapping, unsettled
 
 
 def _warn_unsettled(g, converged, velocity_tol):
-    # The one RuntimeWarning of iv_curve: how many driven points did not settle, and where.
+    # iv_curve's warning for the driven points that did not settle: how many, and where.
     bad = np.flatnonzero(~converged)
     if bad.size:
         where = ", ".join(f"{float(x):.10g}" for x in g[bad])
@@ -685,23 +719,39 @@ def _warn_unsettled(g, converged, velocity_tol):
                       f"[{where}]; IVCurve.converged is False there", RuntimeWarning, stacklevel=3)
 
 
+def _warn_unsettled_probes(unsettled):
+    # iv_curve's warning for a bracket that rests on probes whose blocks did not settle.
+    for name, probes in unsettled.items():
+        if probes:
+            where = ", ".join(f"{float(x):.10g}" for x in probes)
+            warnings.warn(f"iv_curve: {len(probes)} probe(s) of the {name} current's bisection changed voltage "
+                          f"state between their blocks of {DRIVE_AVERAGE_PERIODS} drive periods (a transient, or "
+                          f"intermittent slips beside the edge), gamma = [{where}]: the bracket rests on each "
+                          f"one's last block; IVCurve.{name}_settled is False", RuntimeWarning, stacklevel=3)
+
+
 def _midpoint(bracket):
     # The reported current: the bracket's midpoint, inside it (nan without a bracket).
     lo, hi = bracket
     return float(min(max(0.5 * (lo + hi), lo), hi))
 
 
-def _bisect(beta, omega, g_a, g_b, y_a, regime_a, tol, integrate, drive=(0.0, 0.0, 0.0)):
+def _bisect(beta, omega, g_a, g_b, y_a, regime_a, tol, integrate, drive=(0.0, 0.0, 0.0),
+            velocity_tol=DRIVE_VELOCITY_TOL):
     # [g_a, g_b]: regime_a at g_a (settled state y_a), the other regime at g_b; returns
-    # the final (g_a, g_b), |g_b − g_a| ≤ tol.  A probe
+    # the final (g_a, g_b), |g_b − g_a| ≤ tol, and the γ of the probes whose voltage
+    # state was not steady over their blocks (_driven_measure).  A probe
     # that keeps regime_a becomes the new g_a with its settled state: the bias steps
     # shrink as the interval does, an adiabatic sweep in the limit (a finite step from
     # a locked state can kick it over the saddle below the switching current ω²).
+    unsettled = []
     while abs(g_b - g_a) > tol:
         mid = 0.5 * (g_a + g_b)
-        regime, _, _, y = mean_velocity(Pendulum(beta, mid, omega, *drive), y_a, integrate)
+        regime, _, _, y, _, steady = _measure(Pendulum(beta, mid, omega, *drive), y_a, integrate, velocity_tol)
+        if not steady:
+            unsettled.append(mid)
         if _voltage_state(regime) == regime_a:
             g_a, y_a = mid, y
         else:
             g_b = mid
-    return g_a, g_b
+    return g_a, g_b, unsettled

@@ -214,9 +214,14 @@ def test_iv_command_with_a_drive(tmp_path, capsys):
     csv = tmp_path / "iv.csv"
     assert main(["iv", "--beta", "2", "--gamma-max", "2.2", "--points", "3", "--drive-amplitude", "1",
                  "--drive-frequency", "1", "--csv", str(csv)]) == 0
-    assert "AC drive A = 1, Omega = 1, phi = 0" in capsys.readouterr().out
+    report = capsys.readouterr().out
+    assert "AC drive A = 1, Omega = 1, phi = 0" in report
     rows = csv.read_text().splitlines()
     assert "drive_amplitude=1.0, drive_frequency=1.0" in rows[0]
+    # the points that did not settle, as the CSV flags them, named in the report too
+    unsettled = [float(r.split(",")[0]) for r in rows[2:] if r.endswith(",False")]
+    assert unsettled and (f"not settled: {len(unsettled)} of 6 points (velocity_tol = 1e-09), gamma = ["
+                          + ", ".join(f"{g:.6g}" for g in unsettled) + "]") in report
     # γ = 2.2 lies on the n = 1 Shapiro step: ⟨θ'⟩ = Ω
     assert float(rows[4].split(",")[0]) == 2.2 and abs(float(rows[4].split(",")[1]) - 1.0) < 1e-9
     with pytest.raises(SystemExit):
@@ -250,3 +255,25 @@ def test_cli_wording_is_the_library_wording(capsys):
         with pytest.raises(SystemExit):
             main(argv)
         assert words in capsys.readouterr().err
+
+
+def test_iv_report_flags_an_unsettled_bracket(monkeypatch):
+    # The report on stdout says what iv_curve's warnings say (a saved report keeps it): a
+    # bracket resting on probes that changed voltage state, and the points not settled.
+    from mbm.__main__ import iv_command
+
+    g = np.array([0.0, 1.0, 1.0, 0.0])
+    curve = mbm.IVCurve(gamma=g, mean_velocity=np.array([0.0, 1.1, 1.1, 0.0]), regime=np.array(["locked",
+                        "running", "running", "locked"]), period=np.full(4, np.nan), start_state=np.zeros((4, 2)),
+                        switching_current=0.95, retrapping_current=0.5, beta=2.0, omega=1.0, current_tol=1e-4,
+                        drive_amplitude=1.0, drive_frequency=1.0, switching_bracket=(0.94995, 0.95005),
+                        retrapping_bracket=(0.49995, 0.50005), converged=np.array([True, False, False, True]),
+                        switching_settled=False, retrapping_settled=True)
+    monkeypatch.setattr(mbm, "iv_curve", lambda *a, **k: curve)
+    out = io.StringIO()
+    iv_command(2.0, 1.0, 2, drive_amplitude=1.0, drive_frequency=1.0, out=out)
+    lines = out.getvalue().splitlines()
+    switching = next(x for x in lines if x.startswith("switching current"))
+    retrapping = next(x for x in lines if x.startswith("retrapping current"))
+    assert "probes changed voltage state" in switching and "probes changed" not in retrapping
+    assert "not settled: 2 of 4 points (velocity_tol = 1e-09), gamma = [1, 1]; converged False in the CSV" in lines
