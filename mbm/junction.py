@@ -52,10 +52,13 @@ a slowly attracting motion between steps may not have settled within the blocks
 (β = 2, Ω = A = 1, γ = 1.9: 1e-6 off a 4000-period reference; 6e-11 at γ = 2.45); on
 chaotic motion neither average converges, and the value is an average over the blocks
 measured: such a point is not settled (``IVCurve.converged`` False, and
-:func:`iv_curve` warns, naming its γ).  A driven point is "phase-locked" on a Shapiro step p/q ≠ 0 (where a run
-reached the phase-locked regime, or a converged block's increments repeat with period
-q, :data:`DRIVE_REPEAT_TOL`; ``period`` q·2π/Ω), "locked" when its phase gains less
-than π over the last block (the zero-voltage step), else "running".
+:func:`iv_curve` warns, naming its γ).  A driven point is "phase-locked" on a Shapiro step p/q, the
+zero-voltage step p = 0 included (where a run reached the phase-locked regime, or a
+converged block's increments repeat with period q, :data:`DRIVE_REPEAT_TOL`; ``period``
+q·2π/Ω), as :func:`mbm.solve` labels it; else "locked" when its phase gains less than π
+over the last block (a zero-voltage point whose orbit was not identified), else
+"running".  The zero-voltage step (p = 0) is on the locked side of the switching and
+retrapping currents, every other step on the running side.
 
 What is not modelled: thermal noise (no premature switching), non-sinusoidal
 current–phase relations, arrays of junctions, a capacitance that depends on the
@@ -148,9 +151,10 @@ class IVCurve:
         ⟨θ'⟩ at each point (the dc voltage): 0 when locked, ±2π/T_c when running.
     regime : ndarray of str
         ``"locked"`` or ``"running"`` at each point, or (driven) ``"phase-locked"`` on
-        a Shapiro step p/q ≠ 0 (``mean_velocity`` = (p/q)Ω): the label of
-        :func:`mbm.solve`.  A Shapiro step is on the running side of the switching and
-        retrapping currents.
+        a Shapiro step p/q (``mean_velocity`` = (p/q)Ω), the zero-voltage step p = 0
+        included: the label of :func:`mbm.solve`.  The zero-voltage step is on the
+        locked side of the switching and retrapping currents, every other step on the
+        running side.
     period : ndarray
         T_c of the running cycle, q·2π/Ω on a Shapiro step (NaN where locked and at
         driven points off the steps).
@@ -506,9 +510,10 @@ def driven_mean_velocity(model, y0, integrate=integrate_mbm, velocity_tol=DRIVE_
     Returns
     -------
     regime : str
-        ``"phase-locked"`` where a run reached the phase-locked regime with p ≠ 0 (a
-        Shapiro step, as :func:`mbm.solve` labels it); else ``"locked"`` when θ gains
-        less than π over the last block (the zero-voltage step), else ``"running"``.
+        ``"phase-locked"`` on a Shapiro step p/q, p = 0 included (a run reached the
+        phase-locked regime, as :func:`mbm.solve` labels it, or a converged block's
+        increments repeat); else ``"locked"`` when θ gains less than π over the last
+        block, else ``"running"``.
     mean_velocity : float
         ⟨θ'⟩: (p/q)Ω where a run reached the phase-locked regime, else the last block's
         when converged, else over all blocks measured.
@@ -556,7 +561,7 @@ def _driven_measure(model, y0, integrate, velocity_tol):
         if len(means) >= 2 and abs(means[-1] - means[-2]) <= velocity_tol * model.omega:
             v, converged = means[-1], True
             step = _repeating(d)
-            if step is not None and step[0] != 0:
+            if step is not None:
                 return PHASE_LOCKED, v, step[1] * period_d, y, True, True
             break
     else:
@@ -579,18 +584,17 @@ def _repeating(d):
 
 def _phase_locked(sol, y):
     # A run that reached the phase-locked regime: ⟨θ'⟩ = (p/q)Ω exactly and the orbit's
-    # period q·2π/Ω (the solver's, as mbm.solve reports them); "phase-locked" as
-    # mbm.solve labels it, but "locked" on the zero-voltage step p = 0 (as "θ gains
-    # less than π" over a block: the locked side of the switching current).
-    v = float(sol.mean_velocity)
-    if v == 0.0:
-        return LOCKED, v, math.nan, y
-    return PHASE_LOCKED, v, float(getattr(sol, "period", math.nan)), y
+    # period q·2π/Ω (the solver's, as mbm.solve reports them and labels it), the
+    # zero-voltage step p = 0 included.
+    return PHASE_LOCKED, float(sol.mean_velocity), float(getattr(sol, "period", math.nan)), y
 
 
-def _voltage_state(regime):
-    # The side of a transition a regime is on: a Shapiro step carries a voltage.
-    return RUNNING if regime == PHASE_LOCKED else regime
+def _voltage_state(regime, v, drive_frequency):
+    # The side of a transition a regime is on: a Shapiro step p/q ≠ 0 carries a voltage
+    # |v| ≥ Ω/q ≥ Ω/STROBE_MAX_PERIODS, the zero-voltage step (p = 0) none.
+    if regime == PHASE_LOCKED:
+        return LOCKED if abs(v) < 0.5 * drive_frequency / STROBE_MAX_PERIODS else RUNNING
+    return regime
 
 
 def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0=0.0,
@@ -671,8 +675,8 @@ def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0
         converged.append(ok)
     converged = np.array(converged, dtype=bool)
     _warn_unsettled(g, converged, velocity_tol)
-    switching, retrapping, unsettled = _currents(beta, omega, g, regimes, states, current_tol, integrate, drive,
-                                                 velocity_tol)
+    switching, retrapping, unsettled = _currents(beta, omega, g, regimes, velocities, states, current_tol, integrate,
+                                                 drive, velocity_tol)
     _warn_unsettled_probes(unsettled)
     return IVCurve(gamma=g, mean_velocity=np.array(velocities), regime=np.array(regimes),
                    period=np.array(periods), start_state=np.array(starts),
@@ -684,14 +688,15 @@ def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0
                    retrapping_settled=not unsettled["retrapping"])
 
 
-def _currents(beta, omega, g, regimes, states, current_tol, integrate, drive, velocity_tol):
+def _currents(beta, omega, g, regimes, velocities, states, current_tol, integrate, drive, velocity_tol):
     # The first locked -> running and running -> locked transitions between visited points,
     # bisected: their brackets ((nan, nan) if none) and each bisection's unsettled probes.
     none = (math.nan, math.nan)
     switching = retrapping = none
     unsettled = {"switching": [], "retrapping": []}  # probes whose voltage state changed between blocks
     for i in range(1, g.size):
-        a, b = _voltage_state(regimes[i - 1]), _voltage_state(regimes[i])
+        a = _voltage_state(regimes[i - 1], velocities[i - 1], drive[1])
+        b = _voltage_state(regimes[i], velocities[i], drive[1])
         if a == b:
             continue
         if a == LOCKED and switching is none:
@@ -747,10 +752,10 @@ def _bisect(beta, omega, g_a, g_b, y_a, regime_a, tol, integrate, drive=(0.0, 0.
     unsettled = []
     while abs(g_b - g_a) > tol:
         mid = 0.5 * (g_a + g_b)
-        regime, _, _, y, _, steady = _measure(Pendulum(beta, mid, omega, *drive), y_a, integrate, velocity_tol)
+        regime, v, _, y, _, steady = _measure(Pendulum(beta, mid, omega, *drive), y_a, integrate, velocity_tol)
         if not steady:
             unsettled.append(mid)
-        if _voltage_state(regime) == regime_a:
+        if _voltage_state(regime, v, drive[1]) == regime_a:
             g_a, y_a = mid, y
         else:
             g_b = mid

@@ -265,8 +265,8 @@ DRIVEN_OFF_STEP_TOL = 1e-5
 
 
 def test_driven_zero_step_is_locked_and_switches():
-    # Below the zero-voltage step's edge the driven junction is locked (no phase slip
-    # over a block); the switching current is the edge, bisected (≈ 0.95 at β = 2).
+    # Below the zero-voltage step's edge the driven junction is phase-locked with p = 0
+    # (no phase slip); the switching current is the edge, bisected (≈ 0.95 at β = 2).
     # (the two running points, between the steps, do not settle within the blocks: flagged;
     # so is the bisection's probe 8e-6 above the edge, which slips in some of its blocks
     # and not in others: the intermittency beside the edge)
@@ -286,7 +286,11 @@ def test_driven_zero_step_is_locked_and_switches():
     t = np.arange(12) * 120 * period_d
     slips = np.round(np.diff(mbm.solve(m, (0.0, t[-1]), y, rtol=1e-11, atol=1e-11, t_eval=t).y[0]) / (2 * np.pi))
     assert set(slips) == {0.0, 1.0}
-    assert list(c.regime[:5]) == ["locked"] * 5 and c.regime[-1] == "running"
+    # the zero-voltage step (p = 0): phase-locked as mbm.solve labels it, period 2π/Ω
+    assert list(c.regime[:5]) == ["phase-locked"] * 5 and c.regime[-1] == "running"
+    np.testing.assert_allclose(c.period[:5], 2 * np.pi, rtol=1e-12)
+    r = mbm.solve(mbm.Pendulum(2.0, 0.8, 1.0, 1.0, 1.0), (0.0, 2000.0), [0.0, 0.0], t_eval=[2000.0])
+    assert r.regime == "phase-locked" and r.mean_velocity == 0.0
     assert list(c.converged) == [True] * 5 + [False] * 2
     assert np.max(np.abs(c.mean_velocity[:5])) < 1e-12
     assert 0.9 < c.switching_current < 1.0
@@ -294,7 +298,7 @@ def test_driven_zero_step_is_locked_and_switches():
                                           [0.0, 0.0])
     above = junction.driven_mean_velocity(mbm.Pendulum(2.0, c.switching_current + 2 * c.current_tol, 1.0, 1.0, 1.0),
                                           [0.0, 0.0])
-    assert below[0] == "locked" and above[0] == "running"
+    assert below[0] == "phase-locked" and abs(below[1]) < 1e-12 and above[0] == "running"
 
 
 @pytest.mark.parametrize("beta, omega", [(0.5, 1.0), (0.5, 1.5)])

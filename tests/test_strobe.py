@@ -377,9 +377,13 @@ def test_iv_curve_is_exact_on_the_step():
         off = mbm.iv_curve(beta, [0.2], omega=omega, drive_amplitude=1.0, drive_frequency=freq)
     assert 0.1 < off.mean_velocity[0] < 0.9 and off.regime[0] == "running" and not off.converged[0]
     assert c.converged.all()
-    # The zero step p = 0: locked, ⟨θ'⟩ = 0 exactly.
+    # The zero step p = 0: phase-locked as mbm.solve labels it, ⟨θ'⟩ = 0 exactly, the
+    # orbit's period 2π/Ω; on the locked side of the switching current.
+    model = mbm.Pendulum(1.0, 0.3, 1.0, 1e-3, 0.9)
     z = mbm.iv_curve(1.0, [0.3], drive_amplitude=1e-3, drive_frequency=0.9)
-    assert z.mean_velocity[0] == 0.0 and z.regime[0] == "locked"
+    r = mbm.solve(model, (0.0, 3000.0), [0.0, 0.0], t_eval=[3000.0])
+    assert z.mean_velocity[0] == 0.0 and z.regime[0] == r.regime == "phase-locked"
+    assert z.period[0] == pytest.approx(2 * np.pi / 0.9, rel=1e-12) and r.period == pytest.approx(z.period[0])
 
 
 def test_a_later_start_time_sets_the_samples():
