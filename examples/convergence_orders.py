@@ -5,8 +5,9 @@ The figure of the convergence study behind ``docs/convergent.md``
 (``examples/convergence_study.py``), on one scene: fixed-window runs of classical RK4,
 two splittings and two Taylor degrees on the second paper's Example 1 (0 ≤ t ≤ 80),
 their largest error over the integer times against the fixed-point reference of
-``tests/data/convergent_reference.npz`` (~1e-25, independent of mbm's kernels), for τ
-from 4 down to where the error reaches mbm's own round-off.
+``tests/data/convergent_reference.npz`` (~1e-25, independent of mbm's kernels; its
+error as measured against heyoka in long double, ~1e-19, is that check's own floor), for
+τ from 4 down to where the error reaches mbm's own round-off.
 
 Each family's order is fitted by the study's rule (:mod:`mbm.orderfit`, as
 ``mbm study``): points within 10× the reference's own error (measured against heyoka
