@@ -52,7 +52,9 @@ def test_regime_sets_of_the_scene_classes():
     assert rs(T, A, 1, 0.1, 0.5, REGIME_NONE) == loop.RS_DRIVEN
     assert rs(T, A, 1, 0.1, 0.5, REGIME_PHASE_LOCKED) == loop.RS_STROBE
     assert rs(T, A, 0, 0.1, 0.0, REGIME_NONE) == loop.RS_PLAIN  # regimes off
-    assert rs(T, loop.CONTROLLER_FIXED, 1, 0.1, 0.0, REGIME_NONE) == loop.RS_PLAIN  # fixed windows
+    assert rs(T, loop.CONTROLLER_FIXED, 1, 0.1, 0.0, REGIME_NONE) == loop.RS_FIXED  # fixed windows
+    assert rs(loop.KIND_SPLIT, loop.CONTROLLER_FIXED, 0, -0.1, 0.0, REGIME_NONE) == loop.RS_FIXED
+    assert rs(T, loop.CONTROLLER_FIXED, 1, 0.1, 0.5, REGIME_NONE) == loop.RS_DRIVEN  # a drive's own anchor
     assert rs(T, A, 1, -0.1, 0.0, REGIME_NONE) == loop.RS_PLAIN  # β < 0: no regime applies
     assert rs(loop.KIND_SALAS_TORQUE, loop.CONTROLLER_FIXED, 1, 0.1, 0.0, REGIME_NONE) == loop.RS_PLAIN
 
@@ -112,6 +114,8 @@ _COMPILED = textwrap.dedent("""
     t = np.linspace(0.0, 80.0, 201)
     if sys.argv[1] == "solve":
         mbm.solve(m, (0.0, 80.0), [math.radians(30), 0.0], rtol=1e-9, atol=1e-9, t_eval=t)
+    elif sys.argv[1] == "fixed":
+        mbm.solve(m, (0.0, 80.0), [math.radians(30), 0.0], tau=0.5, t_eval=t)
     else:
         solve_ivp(m, (0.0, 80.0), [math.radians(30), 0.0], method=mbm.MBM, approximant="salas-torque",
                   tau=0.25, t_eval=t, dense_output=True)
@@ -147,6 +151,18 @@ def test_first_call_of_a_fixed_window_kind_compiles_no_regime(tmp_path):
     assert any("salas_torque_anchor" in n for n in names)
     assert [n for n in names if any(k in n for k in REGIME_KERNELS) and "mbm.dense." not in n] == []
     assert not any("_period" in n or "_strobe" in n for n in names)
+
+
+# The adaptive controller's kernels and the locked window.
+ADAPTIVE_KERNELS = ("first_window", "adaptive_window", "_accepted_factor", "accept_try", "taylor_error_kernel")
+LOCKED_WINDOW = ("locked_coef", "locked_eval")
+
+
+def test_first_fixed_window_taylor_run_compiles_no_controller_and_no_regime(tmp_path):
+    # τ given: the RS_FIXED entry, fixed windows only
+    names = _compiled_names("fixed", tmp_path)
+    assert any("run_entry" in n for n in names) and any("series_loop" in n for n in names)
+    assert [n for n in names if any(k in n for k in ADAPTIVE_KERNELS + LOCKED_WINDOW + REGIME_KERNELS)] == []
 
 
 @pytest.mark.parametrize("regime,want", [(REGIME_NONE, loop.RS_PLAIN), (REGIME_LOCKED, loop.RS_PLAIN),

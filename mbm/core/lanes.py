@@ -29,7 +29,7 @@ from .controller import (
     accept_try,
     first_try,
 )
-from .loop import REACHES, _regime_set, _run_sets, damped_setup, emit_taylor, locked_test
+from .loop import REACHES, _regime_set, _run_sets, damped_setup, emit_taylor, locked_test, set_flag
 from .window import (
     KIND_TAYLOR,
     _reduce_phi,
@@ -373,7 +373,7 @@ def batch_flags(p):
             kinds[kind] = 1
         rset = _regime_set(kind, controller, regimes, beta_sign, 1.0 if driven else 0.0, regime)
         for s in (rset,) + REACHES[rset]:
-            sets[s] = 1
+            sets[set_flag(s)] = 1
     return tuple(kinds) + tuple(sets)
 
 

@@ -34,7 +34,8 @@ AC drive (RS_DRIVEN): each window is anchored at its start time by
 :func:`anchor_driven`; the stroboscopic samples at t_s + nT_d are watched (S1–S7),
 and once their deviations have converged for good the windows are the stored drive
 period from the anchor sample (RS_STROBE: ``regimes.STROBE_TAG``, S6), ``regime``
-phase-locked.
+phase-locked.  A run of fixed windows (τ given) of a kind with an error estimate takes
+RS_FIXED's entry, which compiles neither a regime nor the adaptive controller.
 """
 
 import math
@@ -271,7 +272,7 @@ def _source(kind, rset, r, t, y0, y1, k, off, direction, max_step, h_abs, log_ep
     lk_order, lk_ts = 0, 0.0
     if rset == RS_DAMPED and can_lock:
         lk_order, lk_ts = locked_test(r, y0, y1, off, lk)
-    if lk_order > 0:
+    if rset == RS_DAMPED and lk_order > 0:  # (the other sets' entries compile no locked window)
         coef = locked_coef(beta, lk[1], lk_ts, y0, y1, gamma, lk_order)
         t_new = _window_end(t, direction, t_bound, max_step)
         th, v = locked_eval(coef, t_new - t)
@@ -287,8 +288,11 @@ def _source(kind, rset, r, t, y0, y1, k, off, direction, max_step, h_abs, log_ep
         coef = anchor(kind, karg, beta, gamma, omega, y0, y1, ws[0], ws[1])
     if coef[0] != 0.0:
         return STATUS_ANCHOR, coef, t, y0, y1, k, h_abs, h_abs, False, per
+    if rset == RS_FIXED:  # fixed windows only: numba prunes the adaptive controller below
+        st, t_new, th, v = fixed_window(kind, coef, t, direction, t_bound, min(h_abs, max_step))
+        return st, coef, t_new, th, v, k, h_abs, h_abs, False, per
     # RS_DAMPED and RS_CONSERVATIVE runs are adaptive (regime_set): only the other sets'
-    # entries compile the fixed controller.
+    # entries compile the fixed controller (RS_PLAIN: the kinds without an estimate).
     if rset != RS_DAMPED and rset != RS_CONSERVATIVE and c.controller != CONTROLLER_ADAPTIVE:
         st, t_new, th, v = fixed_window(kind, coef, t, direction, t_bound, min(h_abs, max_step))
         return st, coef, t_new, th, v, k, h_abs, h_abs, False, per
@@ -462,7 +466,7 @@ def _runner(kind, rset):
 
 # Regime sets: which regimes an entry of the loop compiles (numba prunes the other
 # sets' branches, so a scene class pays only for the regimes it can reach).
-RS_PLAIN = 0  # no regime: fixed windows, regimes off, β < 0
+RS_PLAIN = 0  # no regime: regimes off, β < 0, or a kind without an estimate (fixed windows)
 
 
 RS_DAMPED = 1  # undriven, β > 0: the locked regime (L1-L7) and the return map's watch (R1, R2)
@@ -478,6 +482,9 @@ RS_CYCLE = 4  # in the running cycle or a libration: the stored period's windows
 
 
 RS_STROBE = 5  # phase-locked to the drive: the stored drive period's windows (S6, S7)
+
+
+RS_FIXED = 6  # fixed windows (τ given) of a kind with an estimate, undriven: no regime, no adaptive controller
 
 
 @numba.njit(cache=True)
@@ -496,15 +503,17 @@ def regime_set(kind, controller, regimes, beta, amp, regime):
         return RS_STROBE
     if amp != 0.0:
         return RS_DRIVEN
-    if regimes == 0 or controller != CONTROLLER_ADAPTIVE or beta < 0.0:
+    if controller != CONTROLLER_ADAPTIVE:
+        return RS_FIXED  # its entry compiles no adaptive controller
+    if regimes == 0 or beta < 0.0:
         return RS_PLAIN
     return RS_DAMPED if beta > 0.0 else RS_CONSERVATIVE
 
 
 #: Every (kind, regime set) the loop has an entry for: those regime_set can return.
 RUN_TABLE = tuple(
-    [(KIND_TAYLOR, s) for s in (RS_PLAIN, RS_DAMPED, RS_CONSERVATIVE, RS_DRIVEN, RS_CYCLE, RS_STROBE)]
-    + [(KIND_SPLIT, s) for s in (RS_PLAIN, RS_DAMPED, RS_CONSERVATIVE, RS_DRIVEN, RS_CYCLE)]
+    [(KIND_TAYLOR, s) for s in (RS_PLAIN, RS_DAMPED, RS_CONSERVATIVE, RS_DRIVEN, RS_CYCLE, RS_STROBE, RS_FIXED)]
+    + [(KIND_SPLIT, s) for s in (RS_PLAIN, RS_DAMPED, RS_CONSERVATIVE, RS_DRIVEN, RS_CYCLE, RS_FIXED)]
     + [(kd, s) for kd in (KIND_EXACT, KIND_SALAS_TORQUE) for s in (RS_PLAIN, RS_DRIVEN)]
 )
 
@@ -515,7 +524,7 @@ RUNNERS = {key: _runner(*key) for key in RUN_TABLE}
 
 # numba calls a compiled function through a global: the table's entries as globals of
 # this module for _dispatch and _dispatch_flagged.
-(_R_T0, _R_T1, _R_T2, _R_T3, _R_T4, _R_T5, _R_S0, _R_S1, _R_S2, _R_S3, _R_S4,
+(_R_T0, _R_T1, _R_T2, _R_T3, _R_T4, _R_T5, _R_T6, _R_S0, _R_S1, _R_S2, _R_S3, _R_S4, _R_S6,
  _R_E0, _R_E3, _R_Q0, _R_Q3) = (RUNNERS[key] for key in RUN_TABLE)
 
 
@@ -536,6 +545,8 @@ def _dispatch(kind, rset, p, t_eval, out, win_t, win_y, win_coef, cancel):
             return _R_T4(p, t_eval, out, win_t, win_y, win_coef, cancel)
         if rset == RS_STROBE:
             return _R_T5(p, t_eval, out, win_t, win_y, win_coef, cancel)
+        if rset == RS_FIXED:
+            return _R_T6(p, t_eval, out, win_t, win_y, win_coef, cancel)
     elif kind == KIND_SPLIT:
         if rset == RS_PLAIN:
             return _R_S0(p, t_eval, out, win_t, win_y, win_coef, cancel)
@@ -547,6 +558,8 @@ def _dispatch(kind, rset, p, t_eval, out, win_t, win_y, win_coef, cancel):
             return _R_S3(p, t_eval, out, win_t, win_y, win_coef, cancel)
         if rset == RS_CYCLE:
             return _R_S4(p, t_eval, out, win_t, win_y, win_coef, cancel)
+        if rset == RS_FIXED:
+            return _R_S6(p, t_eval, out, win_t, win_y, win_coef, cancel)
     elif kind == KIND_EXACT:
         if rset == RS_PLAIN:
             return _R_E0(p, t_eval, out, win_t, win_y, win_coef, cancel)
@@ -570,7 +583,8 @@ def _record_set(kind, r):
 def _dispatch_flagged(kind, rset, k0, k1, k2, k3, s0, s1, s2, s3, s4, s5, p, t_eval, out, win_t, win_y, win_coef,
                       cancel):
     """The entry of (``kind``, ``rset``) called where that kind and set are flagged
-    (``k<i>``: taylor, exact, salas-torque, split; ``s<i>``: RS index; 0/1 constants
+    (``k<i>``: taylor, exact, salas-torque, split; ``s<i>``: RS index, RS_FIXED under
+    ``s0`` with RS_PLAIN (:func:`set_flag`); 0/1 constants
     where the caller is compiled); any other pair is STATUS_ANCHOR.
 
     One call site, its flags constants: numba prunes the unflagged calls after inlining
@@ -598,6 +612,9 @@ def _dispatch_flagged(kind, rset, k0, k1, k2, k3, s0, s1, s2, s3, s4, s5, p, t_e
             elif rset == RS_STROBE:
                 if s5 == 1:
                     return _R_T5(p, t_eval, out, win_t, win_y, win_coef, cancel)
+            elif rset == RS_FIXED:
+                if s0 == 1:
+                    return _R_T6(p, t_eval, out, win_t, win_y, win_coef, cancel)
     elif kind == KIND_SPLIT:
         if k3 == 1:
             if rset == RS_PLAIN:
@@ -615,6 +632,9 @@ def _dispatch_flagged(kind, rset, k0, k1, k2, k3, s0, s1, s2, s3, s4, s5, p, t_e
             elif rset == RS_CYCLE:
                 if s4 == 1:
                     return _R_S4(p, t_eval, out, win_t, win_y, win_coef, cancel)
+            elif rset == RS_FIXED:
+                if s0 == 1:
+                    return _R_S6(p, t_eval, out, win_t, win_y, win_coef, cancel)
     elif kind == KIND_EXACT:
         if k1 == 1:
             if rset == RS_PLAIN:
@@ -653,7 +673,14 @@ def _run_sets(kind, k0, k1, k2, k3, s0, s1, s2, s3, s4, s5, p, t_eval, out, win_
 
 #: The sets a run starting in a set may reach (a switch to a stored period).
 REACHES = {RS_PLAIN: (), RS_DAMPED: (RS_CYCLE,), RS_CONSERVATIVE: (RS_CYCLE,), RS_DRIVEN: (RS_STROBE,),
-           RS_CYCLE: (), RS_STROBE: ()}
+           RS_CYCLE: (), RS_STROBE: (), RS_FIXED: ()}
+
+
+def set_flag(rset):
+    """The index of the 0/1 flag that compiles set ``rset`` in a whole-run entry
+    (:func:`_dispatch_flagged`): the set's own, RS_PLAIN's for RS_FIXED (the plain sets
+    of a kind, with and without the adaptive controller)."""
+    return RS_PLAIN if rset == RS_FIXED else rset
 
 
 # One compiled whole run per kind (every set it may reach), for the compiled callers
