@@ -288,12 +288,10 @@ def _source(kind, rset, r, t, y0, y1, k, off, direction, max_step, h_abs, log_ep
         coef = anchor(kind, karg, beta, gamma, omega, y0, y1, ws[0], ws[1])
     if coef[0] != 0.0:
         return STATUS_ANCHOR, coef, t, y0, y1, k, h_abs, h_abs, False, per
-    if rset == RS_FIXED:  # fixed windows only: numba prunes the adaptive controller below
-        st, t_new, th, v = fixed_window(kind, coef, t, direction, t_bound, min(h_abs, max_step))
-        return st, coef, t_new, th, v, k, h_abs, h_abs, False, per
     # RS_DAMPED and RS_CONSERVATIVE runs are adaptive (regime_set): only the other sets'
-    # entries compile the fixed controller (RS_PLAIN: the kinds without an estimate).
-    if rset != RS_DAMPED and rset != RS_CONSERVATIVE and c.controller != CONTROLLER_ADAPTIVE:
+    # entries compile the fixed controller; RS_FIXED's only that one (numba prunes the
+    # adaptive controller below), RS_PLAIN's for the kinds without an estimate too.
+    if rset == RS_FIXED or (rset != RS_DAMPED and rset != RS_CONSERVATIVE and c.controller != CONTROLLER_ADAPTIVE):
         st, t_new, th, v = fixed_window(kind, coef, t, direction, t_bound, min(h_abs, max_step))
         return st, coef, t_new, th, v, k, h_abs, h_abs, False, per
     if h_abs <= 0.0:
