@@ -8,6 +8,7 @@ paper's Example 1 (P2: β = 0.1, γ = 0.3, θ₀ = 30°, rtol = atol = 1e-9, 201
 * ``solve_ivp(method=mbm.MBM)`` alone;
 * ``mbm.solve`` alone;
 * ``solve_ivp`` then ``mbm.solve`` in one process (the second's own compile);
+* ``mbm.solve`` with fixed windows (τ = 0.5, the step-size studies' runs) alone;
 * ``solve_ivp`` then a further approximant kind (``salas-torque``, τ = 0.25: the demo's
   third row), the further kind's own compile;
 * ``mbm.solve_batch`` alone on 64 damped scenes (locked and running ones);
@@ -48,6 +49,8 @@ def ivp():
     solve_ivp(m, (0.0, 80.0), y0, method=mbm.MBM, rtol=1e-9, atol=1e-9, t_eval=t, dense_output=True)
 def solve():
     mbm.solve(m, (0.0, 80.0), y0, rtol=1e-9, atol=1e-9, t_eval=t)
+def fixed():
+    mbm.solve(m, (0.0, 80.0), y0, tau=0.5, t_eval=t)
 def salas():
     solve_ivp(m, (0.0, 80.0), y0, method=mbm.MBM, approximant="salas-torque", tau=0.25, t_eval=t)
 def batch():
@@ -61,6 +64,7 @@ ROWS = {
     "solve_ivp(method=mbm.MBM), first call": "print(json.dumps(timed(ivp)))",
     "mbm.solve, first call": "print(json.dumps(timed(solve)))",
     "mbm.solve after solve_ivp (its own compile)": "timed(ivp); print(json.dumps(timed(solve)))",
+    "mbm.solve with fixed windows (tau = 0.5), first call": "print(json.dumps(timed(fixed)))",
     "salas-torque after solve_ivp (a further kind)": "timed(ivp); print(json.dumps(timed(salas)))",
     "mbm.solve_batch, first call (64 damped scenes, γ 0.05 to 1.5)": "print(json.dumps(timed(batch)))",
 }
