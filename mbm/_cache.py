@@ -279,11 +279,15 @@ def _install_listener():
             module = getattr(py_func, "__module__", None) or ""
             if module != "mbm" and not module.startswith("mbm."):
                 return
+            where = getattr(getattr(dispatcher, "_cache", None), "cache_path", None)
+            if where is None and module == "mbm.user_events":
+                # The locator compiled for a user's event function (about 1 s, stated
+                # in mbm.user_events): not the first call's compile the notice is about.
+                return
             # A flag, not unregister: numba's broadcast iterates the listener list, and
             # removing from it mid-iteration would skip the next listener's event.
             self.done = True
             name = "%s.%s" % (module, getattr(py_func, "__qualname__", "?"))
-            where = getattr(getattr(dispatcher, "_cache", None), "cache_path", None)
             saved = ("cached under %s for later calls" % where) if where else "not cached"
             try:
                 sys.stderr.write(

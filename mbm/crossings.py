@@ -27,10 +27,11 @@ import numpy as np
 from . import loop
 from ._validate import as_t_eval, check_real, t_eval_error, t_eval_problem
 from .approximants.taylor import HEADER as _HEADER, N_EXTRA as _N_EXTRA
-from .core.event_watch import EV_ANGLE, EV_SECTION, EV_VELOCITY, EV_WIDTH, WATCH_CROWDED, WATCH_LOCKED, locate
+from .core.event_watch import EV_ANGLE, EV_SECTION, EV_VELOCITY, EV_WIDTH, WATCH_CROWDED, WATCH_LOCKED, WATCH_OK, locate
 from .regimes import REGIME_NAMES, REGIME_NONE, REGIME_PHASE_LOCKED, cycle_summary, strobe_summary
-from .regimes.common import REGIMES_ALL, REGIMES_PERIODIC
+from .regimes.common import REGIMES_ALL, REGIMES_OFF, REGIMES_PERIODIC
 from .regimes.cycle import CYCLE_WIDTH
+from .user_events import event_function_options, function_crossings, is_event_function
 from .status import STATUS_EVENT, STATUS_MESSAGES, STATUS_OK, STATUS_PAUSED
 
 __all__ = ["Event", "angle_event", "velocity_event", "section_event", "solve_events"]
@@ -177,33 +178,45 @@ def section_event(phase, *, terminal=False):
     return Event("section", check_real("phase", phase), _TWO_PI, 0.0, _terminal(terminal))
 
 
-def as_events(events):
-    """A list of :class:`Event` from an event or a sequence of them, or a TypeError."""
-    items = [events] if isinstance(events, Event) else events
+def as_events(events, functions=True):
+    """A list of events from an :class:`Event`, a ``numba.njit`` event function (where
+    ``functions``) or a non-empty sequence of them, or a TypeError."""
+    def taken(e):
+        return isinstance(e, Event) or (functions and is_event_function(e))
+
+    items = [events] if taken(events) else events
     try:
         items = list(items)
     except TypeError:
         items = None
-    if not items or not all(isinstance(e, Event) for e in items):
-        bad = events if items is None or not items else next(e for e in items if not isinstance(e, Event))
+    if not items or not all(taken(e) for e in items):
+        bad = events if items is None or not items else next(e for e in items if not taken(e))
+        if is_event_function(bad):
+            raise TypeError(
+                f"solve_batch takes the built-in events (mbm.angle_event, mbm.velocity_event, "
+                f"mbm.section_event), got the numba.njit function {bad!r}; an event function "
+                "g(t, theta, theta_dot) is taken by mbm.solve and Integrator.solve")
         if callable(bad):
             raise TypeError(
-                "events of mbm.solve are built-in events (mbm.angle_event, mbm.velocity_event, "
-                f"mbm.section_event), got the callable {bad!r}; for an event function g(t, y) use "
-                "solve_ivp(method=mbm.MBM, events=g)")
-        raise TypeError(f"events must be an mbm event or a non-empty sequence of them, got {bad!r}")
+                "events are built-in events (mbm.angle_event, mbm.velocity_event, mbm.section_event) "
+                f"or numba.njit functions g(t, theta, theta_dot), got the Python callable {bad!r}: "
+                "decorate it with numba.njit, or use solve_ivp(method=mbm.MBM, events=g) for g(t, y)")
+        raise TypeError(f"events must be an mbm event, a numba.njit event function or a non-empty sequence "
+                        f"of them, got {bad!r}")
     return items
 
 
 def _table(ig, items):
-    # The compiled watch's table, after the checks that depend on the Integrator.
+    # The compiled watch's table of the built-in events, after the checks that depend
+    # on the Integrator.
     if ig._kind != loop.KIND_TAYLOR:
         raise ValueError(
             f"events are located on Taylor windows (polynomials); approximant {ig.approximant.name!r} "
             "has none: use approximant='auto' or 'taylor*' (or solve_ivp(method=mbm.MBM, events=...))")
-    if any(e.kind == "section" for e in items) and not ig.model.driven:
+    if any(isinstance(e, Event) and e.kind == "section" for e in items) and not ig.model.driven:
         raise ValueError("section_event needs a driven model (drive_amplitude != 0 and drive_frequency > 0)")
-    return np.array([e._row() for e in items], dtype=np.float64).reshape(len(items), EV_WIDTH)
+    rows = [e._row() for e in items if isinstance(e, Event)]
+    return np.array(rows, dtype=np.float64).reshape(len(rows), EV_WIDTH)
 
 
 def lock_allowed(ev):
@@ -258,14 +271,18 @@ def solve_events(ig, t0, t1, theta0, v0, t_eval, wrap, events, max_events=None):
     h = ig._h
     if ig._span_plan:
         h = loop.plan_windows(ig.approximant, None, ig.max_step, abs(t1 - t0))[1]
-    regimes = REGIMES_ALL if lock_allowed(ev) and not ig.model.driven else REGIMES_PERIODIC
+    funcs = [(e, g) + event_function_options(g) for e, g in enumerate(items) if is_event_function(g)]
+    if funcs:
+        regimes = REGIMES_OFF  # g's events are not a stored period's shifted
+    else:
+        regimes = REGIMES_ALL if lock_allowed(ev) and not ig.model.driven else REGIMES_PERIODIC
     while True:
         words = _event_words(ig, regimes).copy()
         words[_W["t"]], words[_W["theta"]], words[_W["v"]], words[_W["t_bound"]] = t0, theta0, v0, t1
         words[_W["h_abs"]] = h
         if t_eval is not None:
             out[:] = np.nan
-        run = _Run(ig, ev, cap, t0, t1, te, out, words.view(loop.RUN))
+        run = _Run(ig, ev, cap, t0, t1, te, out, words.view(loop.RUN), items, funcs)
         if run.go() or regimes == REGIMES_PERIODIC:
             return run.result(items, wrap)
         regimes = REGIMES_PERIODIC  # a locked window may reach a level: without the locked regime
@@ -273,18 +290,30 @@ def solve_events(ig, t0, t1, theta0, v0, t_eval, wrap, events, max_events=None):
 
 class _Run:
     """One run with its event watch: the compiled loop in chunks of stored windows, each
-    chunk's events located before the next (a terminal event stops it)."""
+    chunk's events located before the next (a terminal event stops it).  ``funcs``:
+    the event functions among ``items`` as (index, g, direction, terminal count); with
+    them the windows are the approximant's (no regime) and each chunk's events of every
+    kind are merged in time order (:meth:`_merge`)."""
 
-    def __init__(self, ig, ev, cap, t0, t1, te, out, p):
+    def __init__(self, ig, ev, cap, t0, t1, te, out, p, items, funcs):
         self.ig, self.ev, self.t0, self.t1, self.te, self.out, self.p = ig, ev, t0, t1, te, out, p
         self.direction = 1.0 if t1 >= t0 else -1.0
         self.width = max(_HEADER + int(p[0]["control"]["karg"]) + 1 + _N_EXTRA, CYCLE_WIDTH)
         self.evf = np.empty((EVENTS_CAPACITY, 4))
         self.evi = np.empty(EVENTS_CAPACITY, np.int64)
         self.count = 0
-        self.hits = np.zeros(ev.shape[0], np.int64)
-        self.stored = np.zeros(ev.shape[0], np.int64)
-        self.cap = np.full(ev.shape[0], cap, np.int64)
+        n_items = len(items)
+        self.hits = np.zeros(n_items, np.int64)
+        self.stored = np.zeros(n_items, np.int64)
+        self.cap = np.full(n_items, cap, np.int64)
+        # The built-in events' rows of ``items`` (ev's rows in order) and their terminal counts.
+        self.builtin = np.array([e for e, item in enumerate(items) if isinstance(item, Event)], np.int64)
+        self.terminal = np.zeros(n_items)
+        self.terminal[self.builtin] = ev[:, 4]
+        self.funcs = funcs
+        for e, _, _, stops in funcs:
+            self.terminal[e] = stops
+        self.refs = [np.zeros(4) for _ in funcs]
         self.ends_t, self.ends_y = [], []
         self.stopped = False
         self.windows_before = 0
@@ -293,20 +322,19 @@ class _Run:
         """Run to the end or the terminal event; False where a locked window may reach
         an event's level (the run is then to be taken without the locked regime)."""
         p, r = self.p, self.p[0]
-        model = self.ig.model
-        lock = np.array([model.gamma, model.omega, self.ig.rtol, self.ig.atol])
-        never = np.zeros(1, np.int64)
         cap = FIRST_CHUNK
         while True:
             win_t, win_y = np.empty(cap + 1), np.empty((cap + 1, 2))
             win_coef = np.empty((cap, self.width))
             runner = loop.RUNNERS[(self.ig._kind, int(loop.set_of(r)))]
             before = int(r["progress"]["n_windows"])
-            n = runner(p, self.te, self.out, win_t, win_y, win_coef, never)
+            n = runner(p, self.te, self.out, win_t, win_y, win_coef, np.zeros(1, np.int64))
             start_theta = np.ascontiguousarray(win_y[: n + 1, 0])
-            self.evf, self.evi, self.count, stop, ok = locate(
-                win_t, start_theta, win_coef, n, self.ev, self.hits, self.stored, self.cap, model.drive_frequency,
-                model.drive_phase, self.direction, self.evf, self.evi, self.count, lock)
+            last = int(r["progress"]["status"]) != STATUS_PAUSED
+            if self.funcs:
+                stop, ok = self._merge(win_t, start_theta, win_coef, n, not self.ends_t, last)
+            else:
+                stop, ok = self._locate(win_t, start_theta, win_coef, n)
             if ok == WATCH_LOCKED:
                 return False
             if ok == WATCH_CROWDED:
@@ -321,9 +349,70 @@ class _Run:
                 return True
             self.ends_t.append(win_t[first: n + 1].copy())
             self.ends_y.append(win_y[first: n + 1].copy())
-            if int(r["progress"]["status"]) != STATUS_PAUSED:
+            if last:
                 return True
             cap = min(2 * cap, LAST_CHUNK)
+
+    def _locate(self, win_t, start_theta, win_coef, n, ev=None, hits=None, stored=None, cap=None):
+        # The built-in events of n windows (locate): (stop window, verdict).
+        model = self.ig.model
+        lock = np.array([model.gamma, model.omega, self.ig.rtol, self.ig.atol])
+        self.evf, self.evi, self.count, stop, ok = locate(
+            win_t, start_theta, win_coef, n, self.ev if ev is None else ev, self.hits if hits is None else hits,
+            self.stored if stored is None else stored, self.cap if cap is None else cap, model.drive_frequency,
+            model.drive_phase, self.direction, self.evf, self.evi, self.count, lock)
+        return stop, ok
+
+    def _merge(self, win_t, start_theta, win_coef, n, first, last):
+        # Every event of n windows, built-in (all, none terminal) and g's, in time order;
+        # then counted, capped and stopped at the terminal one: (stop window, verdict).
+        rows = []
+        if self.builtin.size:
+            c0 = self.count
+            ev = self.ev.copy()
+            ev[:, 4] = 0.0
+            zeros = np.zeros(ev.shape[0], np.int64)
+            _, ok = self._locate(win_t, start_theta, win_coef, n, ev, zeros, zeros.copy(), np.full_like(zeros, -1))
+            if ok != WATCH_OK:
+                return -1, ok
+            found = self.evf[c0: self.count]
+            rows.append(np.column_stack((found, self.builtin[self.evi[c0: self.count]])))
+            self.count = c0
+        for (e, g, want, _), ref in zip(self.funcs, self.refs):
+            found, m = function_crossings(g, want, win_t, start_theta, win_coef, n, ref, first, last)
+            if m < 0:
+                raise ValueError(f"the event function {g!r} returned a non-finite value at t={found[0, 0]!r}")
+            found = found[:m].copy()
+            found[:, 3] = np.nan
+            rows.append(np.column_stack((found, np.full(m, float(e)))))
+        rows = np.concatenate(rows) if rows else np.empty((0, 5))
+        return self._count(rows[np.lexsort((rows[:, 4], self.direction * rows[:, 0]))], win_t, n)
+
+    def _count(self, rows, win_t, n):
+        # Rows (t, θ, θ', m, e) in time order counted into hits, stored up to the caps
+        # and cut at the first terminal occurrence: (stop window or -1, WATCH_OK).
+        e = rows[:, 4].astype(np.int64)
+        rank = np.zeros(e.size, np.int64)
+        for q in np.unique(e):
+            sel = e == q
+            rank[sel] = self.hits[q] + np.arange(np.count_nonzero(sel))
+        stops = self.terminal[e]
+        fires = np.flatnonzero((stops > 0.0) & (rank + 1 >= stops))
+        stop = -1
+        if fires.size:
+            rows, e, rank = rows[: fires[0] + 1], e[: fires[0] + 1], rank[: fires[0] + 1]
+            d = self.direction
+            stop = int(np.clip(np.searchsorted(d * win_t[: n + 1], d * rows[-1, 0], side="left") - 1, 0, n - 1))
+        np.add.at(self.hits, e, 1)
+        keep = (self.cap[e] < 0) | (rank < self.cap[e])
+        if stop >= 0:
+            keep[-1] = True
+        np.add.at(self.stored, e[keep], 1)
+        new = rows[keep]
+        self.evf = np.concatenate((self.evf[: self.count], new[:, :4]))
+        self.evi = np.concatenate((self.evi[: self.count], new[:, 4].astype(np.int64)))
+        self.count = self.evf.shape[0]
+        return stop, WATCH_OK
 
     def result(self, items, wrap):
         from .fast import SolveResult
@@ -371,7 +460,10 @@ class _Run:
                 sel = sel[: self.cap[e]]  # a terminal event past the cap is only the stop
             res["t_events"].append(evf[sel, 0].copy())
             res["y_events"].append(evf[sel][:, 1:3].copy())
-            m = evf[sel, 3] if item.kind != "velocity" else np.floor((evf[sel, 1] + math.pi) / _TWO_PI)
+            if isinstance(item, Event) and item.kind != "velocity":
+                m = evf[sel, 3]
+            else:
+                m = np.floor((evf[sel, 1] + math.pi) / _TWO_PI)  # θ's winding count
             res["winding_events"].append(m.astype(np.int64))
         return res
 
@@ -385,7 +477,7 @@ def batch_table(events, max_events, kinds, amp, freq, names):
         if cap >= 0:
             raise ValueError("max_events needs events")
         return None, cap, None
-    items = as_events(events)
+    items = as_events(events, functions=False)
     bad = np.flatnonzero(kinds != loop.KIND_TAYLOR)
     if bad.size:
         raise ValueError(

@@ -352,9 +352,9 @@ class Integrator:
             window ends.
         wrap : bool, optional
             θ wrapped to (−π, π], with its winding count (see :func:`solve`).
-        events : Event or sequence of Event, optional
-            Built-in events located on the windows (see :func:`solve`); needs a
-            Taylor approximant.
+        events : Event, numba.njit function, or sequence of them, optional
+            Built-in events, or event functions g(t, θ, θ'), located on the windows
+            (see :func:`solve`); needs a Taylor approximant.
         max_events : int, optional
             Occurrences of each event stored (see :func:`solve`); default all.
 
@@ -459,8 +459,7 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
           max_events=None):
     """Solve one scene by the moving boundary method, the whole run compiled.
 
-    The one-shot form of :class:`Integrator` (for many runs of one model, build an
-    Integrator once).
+    The one-shot form of :class:`Integrator` (build one for many runs of one model).
 
     Parameters
     ----------
@@ -495,7 +494,7 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
         hold θ this way inside (a count and an angle in (−π, π]), so the wrapped
         angle keeps its full precision however far the run has wound; unwrapped,
         θ is rounded once per output at its own magnitude.
-    events : Event or sequence of Event, optional
+    events : Event, numba.njit function, or sequence of them, optional
         Built-in events (:func:`mbm.angle_event`, :func:`mbm.velocity_event`,
         :func:`mbm.section_event`) located inside the compiled run on each window's
         own formula (:mod:`mbm.crossings`): every crossing of a Taylor window isolated
@@ -505,9 +504,10 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
         cycle or a libration the stored period's events are shifted per turn; the
         locked regime is taken only where no event's level is within reach of its
         closed form (else the scene is run without it), the phase-locked regime not at
-        all.  "auto" is the Taylor series
-        (also at β = γ = 0); another approximant than ``taylor*`` is a ValueError.
-        The first call compiles the watch once (a few seconds, cached).
+        all.  "auto" is the Taylor series (also at β = γ = 0); another is a ValueError.
+        The first call compiles the watch once (a few seconds, cached).  A
+        ``numba.njit`` g(t, θ, θ') is an event where it changes sign (scipy's
+        ``terminal``, ``direction``; no regime then; :mod:`mbm.user_events`).
     max_events : int, optional
         Occurrences of each event stored (the first ``max_events``); all are counted
         in ``n_events``.  Default None: all.  Past it a running cycle's or a libration's
@@ -532,8 +532,8 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
         With ``events``: ``t_events`` and ``y_events`` (a list with one array per
         event, of shapes (k,) and (k, 2), as scipy's) and ``winding_events`` (int64
         arrays: m with θ = value + modulo·m of an angle event, the drive turn of a
-        section, θ's winding count round(θ/2π) of a velocity event) and ``n_events``
-        (int64, shape (n_events,): each event's occurrences, stored or not).
+        section, θ's winding count round(θ/2π) of a velocity event or a function)
+        and ``n_events`` (int64, shape (n_events,): occurrences, stored or not).
         On a failure ``t``, ``y`` hold the outputs reached before it.
 
     Raises
