@@ -21,7 +21,7 @@ from .window import KIND_TAYLOR
 from ..regimes.common import REGIME_NONE
 from ..status import STATUS_CROWDED, STATUS_EVENT, STATUS_PAUSED
 
-__all__ = ["events_rows_for", "events_entry", "lane_events", "stop_at", "FIRST_CHUNK", "LAST_CHUNK"]
+__all__ = ["scene_events_for", "events_rows_for", "events_entry", "lane_events", "stop_at", "FIRST_CHUNK", "LAST_CHUNK"]
 
 # Windows stored per call of the loop: a scene's first chunk short (a first slip of the
 # I-V ensemble lies ~6 windows in, and a terminal event wastes the rest of its chunk;
@@ -88,11 +88,56 @@ def lane_events(p, ln, i, coef, t_w, t_new, k, direction, t_eval, out, ev, caps,
     return evf, evi, evs, count
 
 
+def scene_events_for(flags):
+    """The compiled run with events of one scene (Taylor windows), for the regime sets
+    flagged in ``flags`` (:func:`mbm.core.lanes.batch_flags`; constants of the closure,
+    so only those sets' entries are compiled, each closure cached apart)."""
+    _, _, _, _, s0, s1, s2, s3, s4, s5 = flags
+
+    @numba.njit(cache=True, nogil=True)
+    def run_scene_events(p, i, t_eval, out_i, cancel, ev, caps, hits, stored, win_t, win_y, win_coef, lock, evf,
+                         evi, evs, count):
+        """Run scene ``i`` of ``p`` (fresh, or paused by the lanes) in chunks of stored
+        windows (``win_*``, :data:`LAST_CHUNK` long), locating the events ``ev`` of each
+        (at most ``caps`` of each stored, -1: all; its counts so far and on ``hits``,
+        ``stored``; ``lock``: scratch of 4) and appending them to ``evf``, ``evi``, ``evs``
+        from ``count``.  Returns the buffers, the count and whether the scene is to be
+        run again without the locked regime (its events then dropped)."""
+        r = p[i]
+        lock[0], lock[1], lock[2], lock[3] = r.model.gamma, r.model.omega, r.control.rtol, r.control.atol
+        first = count
+        direction = 1.0 if r.state.t_bound >= r.state.t else -1.0
+        chunk = FIRST_CHUNK
+        while True:
+            before = r.progress.n_windows
+            n = _run_sets(KIND_TAYLOR, 1, 0, 0, 0, s0, s1, s2, s3, s4, s5, p[i:i + 1], t_eval, out_i,
+                          win_t[: chunk + 1], win_y[: chunk + 1], win_coef[:chunk], cancel)
+            c0 = count
+            evf, evi, count, stop, ok = locate(win_t, np.ascontiguousarray(win_y[: n + 1, 0]), win_coef, n,
+                                               ev, hits, stored, caps, r.model.drive_freq, r.model.drive_phase,
+                                               direction, evf, evi, count, lock)
+            evs = _grow(evs, evi.size)
+            evs[c0:count] = i
+            if ok == WATCH_LOCKED:
+                return evf, evi, evs, first, True
+            if ok == WATCH_CROWDED:
+                r.progress.status = STATUS_CROWDED
+                break
+            if stop >= 0:
+                stop_at(r, out_i, t_eval, evf, count - 1, before + stop + 1, direction)
+                break
+            if r.progress.status != STATUS_PAUSED:
+                break
+            chunk = min(2 * chunk, LAST_CHUNK)
+        return evf, evi, evs, count, False
+
+    return run_scene_events
+
+
 def events_rows_for(flags):
     """The compiled run with events of the scenes ``ids`` (Taylor windows), for the
-    regime sets flagged in ``flags`` (:func:`mbm.core.lanes.batch_flags`; constants of
-    the closure, so only those sets' entries are compiled, each closure cached apart)."""
-    _, _, _, _, s0, s1, s2, s3, s4, s5 = flags
+    regime sets flagged in ``flags`` (:func:`scene_events_for`)."""
+    run_scene_events = scene_events_for(flags)
 
     @numba.njit(cache=True, nogil=True)
     def run_rows_events(p, ids, t_eval, out, cancel, ev, cap, width, hits_all, stored_all, again):
@@ -101,46 +146,21 @@ def events_rows_for(flags):
         counts so far and on are ``hits_all[i]``, ``stored_all[i]``; ``again[i]`` is
         set to 1 where the scene is to be run without the locked regime.
         Returns the stored events: rows (t, θ, θ', m), event index, scene."""
-        nev = ev.shape[0]
         evf = np.empty((EVENTS_CAPACITY, 4))
         evi = np.empty(EVENTS_CAPACITY, np.int64)
         evs = np.empty(EVENTS_CAPACITY, np.int64)
         count = 0
-        caps = np.full(nev, cap, np.int64)
+        caps = np.full(ev.shape[0], cap, np.int64)
         win_t = np.empty(LAST_CHUNK + 1)
         win_y = np.empty((LAST_CHUNK + 1, 2))
         win_coef = np.empty((LAST_CHUNK, width))
         lock = np.empty(4)
         for i in ids:
-            r = p[i]
-            lock[0], lock[1], lock[2], lock[3] = r.model.gamma, r.model.omega, r.control.rtol, r.control.atol
-            first = count
-            hits, stored = hits_all[i], stored_all[i]
-            direction = 1.0 if r.state.t_bound >= r.state.t else -1.0
-            chunk = FIRST_CHUNK
-            while True:
-                before = r.progress.n_windows
-                n = _run_sets(KIND_TAYLOR, 1, 0, 0, 0, s0, s1, s2, s3, s4, s5, p[i:i + 1], t_eval, out[i],
-                              win_t[: chunk + 1], win_y[: chunk + 1], win_coef[:chunk], cancel)
-                c0 = count
-                evf, evi, count, stop, ok = locate(win_t, np.ascontiguousarray(win_y[: n + 1, 0]), win_coef, n,
-                                                   ev, hits, stored, caps, r.model.drive_freq, r.model.drive_phase,
-                                                   direction, evf, evi, count, lock)
-                evs = _grow(evs, evi.size)
-                evs[c0:count] = i
-                if ok == WATCH_LOCKED:
-                    again[i] = 1
-                    count = first
-                    break
-                if ok == WATCH_CROWDED:
-                    r.progress.status = STATUS_CROWDED
-                    break
-                if stop >= 0:
-                    stop_at(r, out[i], t_eval, evf, count - 1, before + stop + 1, direction)
-                    break
-                if r.progress.status != STATUS_PAUSED:
-                    break
-                chunk = min(2 * chunk, LAST_CHUNK)
+            evf, evi, evs, count, locked = run_scene_events(p, i, t_eval, out[i], cancel, ev, caps, hits_all[i],
+                                                            stored_all[i], win_t, win_y, win_coef, lock, evf, evi,
+                                                            evs, count)
+            if locked:
+                again[i] = 1
         return evf[:count].copy(), evi[:count].copy(), evs[:count].copy()
 
     return run_rows_events
