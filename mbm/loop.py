@@ -107,7 +107,7 @@ from .core.loop import (  # noqa: F401
     _run_sets,
     _runner,
     _store_window,
-    _value_at,
+    _stored_value,
     regime_set,
     run,
     run_exact,

@@ -107,19 +107,12 @@ _INLINE = dict(cache=True, inline="always")
 
 
 @numba.njit(**_INLINE)
-def _value_at(kind, rset, is_locked, coef, per_starts, per_ends, per_coefs, per_n, t, tj, k):
-    """(φ, θ', winding count) of the window ``coef`` that started at ``t``, at time ``tj``:
-    the formula of the window's source (the regime's, or the approximant's)."""
+def _stored_value(kind, rset, coef, per_starts, per_ends, per_coefs, per_n, t, tj):
+    """(φ, θ', winding count) of a stored period's window (RS_CYCLE, RS_STROBE) that
+    started at ``t``, at time ``tj``."""
     if rset == RS_CYCLE:
         return _period_value(kind, coef, per_starts, per_ends, per_coefs, per_n, tj - t)
-    if rset == RS_STROBE:
-        return _strobe_value(kind, coef, tj)
-    if rset == RS_DAMPED:
-        if is_locked:
-            a, b = locked_eval(coef, tj - t)
-            return a, b, k
-    a, b = evaluate(kind, coef, tj - t)
-    return a, b, k
+    return _strobe_value(kind, coef, tj)
 
 
 @numba.njit(cache=True)
@@ -260,14 +253,36 @@ def _source_strobe(kind, r, t, direction, max_step, h_abs, per):
 
 
 @numba.njit(**_INLINE)
+def _anchored(kind, rset, r, t, y0, y1, ws):
+    """The approximant's coefficients anchored at (t, φ = ``y0``, θ' = ``y1``): with the
+    drive's term in RS_DRIVEN."""
+    m = r.model
+    if rset == RS_DRIVEN:
+        return anchor_driven(kind, r.control.karg, m.beta, m.gamma, m.omega, m.drive_amp, m.drive_freq,
+                             m.drive_phase, t, y0, y1, ws[0], ws[1])
+    return anchor(kind, r.control.karg, m.beta, m.gamma, m.omega, y0, y1, ws[0], ws[1])
+
+
+@numba.njit(**_INLINE)
+def _source_fixed(kind, rset, r, t, y0, y1, k, direction, max_step, h_abs, ws, per):
+    """The window of a fixed length ``min(h_abs, max_step)`` (RS_FIXED, the kinds without
+    an estimate, a fixed controller's window), as :func:`_source` returns it."""
+    coef = _anchored(kind, rset, r, t, y0, y1, ws)
+    if coef[0] != 0.0:
+        return STATUS_ANCHOR, coef, t, y0, y1, k, h_abs, h_abs, False, per
+    st, t_new, th, v = fixed_window(kind, coef, t, direction, r.state.t_bound, min(h_abs, max_step))
+    return st, coef, t_new, th, v, k, h_abs, h_abs, False, per
+
+
+@numba.njit(**_INLINE)
 def _source(kind, rset, r, t, y0, y1, k, off, direction, max_step, h_abs, log_eps, can_lock, lk, ws, per):
     """The window from (t, φ = ``y0``, θ' = ``y1``, winding ``k``) outside the stored
     periods: the locked closed form (L2, L5), or the approximant anchored at the state
-    under its controller.  Returns ``(status, coef, t_new, θ, θ', k_new, h_abs, h_next,
+    under the adaptive controller (a fixed window: :func:`_source_fixed`).  Returns ``(status, coef, t_new, θ, θ', k_new, h_abs, h_next,
     is_locked, per)`` (``per`` passed through)."""
     m, c = r.model, r.control
     beta, gamma, omega = m.beta, m.gamma, m.omega
-    rtol, atol, karg, error_order = c.rtol, c.atol, c.karg, c.error_order
+    rtol, atol, error_order = c.rtol, c.atol, c.error_order
     t_bound = r.state.t_bound
     lk_order, lk_ts = 0, 0.0
     if rset == RS_DAMPED and can_lock:
@@ -281,19 +296,9 @@ def _source(kind, rset, r, t, y0, y1, k, off, direction, max_step, h_abs, log_ep
             r.switch.t_regime = t
         st = STATUS_OK if math.isfinite(th) and math.isfinite(v) else STATUS_NONFINITE
         return st, coef, t_new, th, v, k, h_abs, h_abs, True, per
-    if rset == RS_DRIVEN:
-        coef = anchor_driven(kind, karg, beta, gamma, omega, m.drive_amp, m.drive_freq, m.drive_phase, t, y0, y1,
-                             ws[0], ws[1])
-    else:
-        coef = anchor(kind, karg, beta, gamma, omega, y0, y1, ws[0], ws[1])
+    coef = _anchored(kind, rset, r, t, y0, y1, ws)
     if coef[0] != 0.0:
         return STATUS_ANCHOR, coef, t, y0, y1, k, h_abs, h_abs, False, per
-    # RS_DAMPED and RS_CONSERVATIVE runs are adaptive (regime_set): only the other sets'
-    # entries compile the fixed controller; RS_FIXED's only that one (numba prunes the
-    # adaptive controller below), RS_PLAIN's for the kinds without an estimate too.
-    if rset == RS_FIXED or (rset != RS_DAMPED and rset != RS_CONSERVATIVE and c.controller != CONTROLLER_ADAPTIVE):
-        st, t_new, th, v = fixed_window(kind, coef, t, direction, t_bound, min(h_abs, max_step))
-        return st, coef, t_new, th, v, k, h_abs, h_abs, False, per
     if h_abs <= 0.0:
         h_abs = _first(kind, coef, t, y0, y1, off, direction, t_bound, omega, max_step, rtol, atol, error_order,
                        log_eps)
@@ -322,17 +327,16 @@ def emit_taylor(coef, t, t_new, t_eval, j, direction, k, out_theta, out_v, out_w
 
 
 @numba.njit(**_INLINE)
-def _emit(kind, rset, is_locked, coef, per, t, t_new, th, v, k, k_new, t_eval, j, direction, out_theta, out_v,
-          out_w, wrapped):
-    """The outputs in (t, t_new] from the window's formula; returns the next output index."""
-    if kind == KIND_TAYLOR and rset != RS_CYCLE and rset != RS_STROBE and not is_locked:
-        return emit_taylor(coef, t, t_new, t_eval, j, direction, k, out_theta, out_v, out_w, wrapped)
+def _emit_stored(kind, rset, coef, per, t, t_new, th, v, k_new, t_eval, j, direction, out_theta, out_v, out_w,
+                 wrapped):
+    """The outputs in (t, t_new] of a stored period's window (RS_CYCLE, RS_STROBE);
+    returns the next output index."""
     while j < t_eval.size and (direction * (t_eval[j] - t_new) <= 0.0):
         if t_eval[j] == t_new:
             _put(out_theta, out_w, wrapped, j, k_new, th)
             out_v[j] = v
         else:
-            a, b, kc = _value_at(kind, rset, is_locked, coef, per[0], per[1], per[2], per[3], t, t_eval[j], k)
+            a, b, kc = _stored_value(kind, rset, coef, per[0], per[1], per[2], per[3], t, t_eval[j])
             _put(out_theta, out_w, wrapped, j, kc, a)
             out_v[j] = b
         j += 1
@@ -340,17 +344,35 @@ def _emit(kind, rset, is_locked, coef, per, t, t_new, th, v, k, k_new, t_eval, j
 
 
 @numba.njit(**_INLINE)
-def _watch(kind, rset, p, coef, t, t_new, y0, th, v, k, off, can_cycle, sec_off, sec_acc, sp, sp_next, n_total):
-    """The regime watches after an ordinary window: the return map (R1, R2) and the
-    stroboscopic samples in (t, t_new] (S1-S7).  Returns the next sample's time."""
-    r = p[0]
-    if rset == RS_DAMPED and can_cycle and r.switch.regime == REGIME_NONE:
-        m = r.model
-        _watch_cycle(kind, r, coef, t, t_new, y0, th, v, k, off, sec_off, sec_acc, m.beta, m.gamma, m.omega,
-                     r.state.t_bound, r.control.rtol, r.control.atol)
-    if rset == RS_DRIVEN and sp_next <= t_new and r.switch.regime == REGIME_NONE:
-        sp_next = _watch_strobe(kind, p, coef, t, t_new, k, off, sp[0], sp[1], sp[2], n_total)
-    return sp_next
+def _emit_formula(kind, rset, is_locked, coef, t, t_new, th, v, k, t_eval, j, direction, out_theta, out_v, out_w,
+                  wrapped):
+    """The outputs in (t, t_new] of the approximant's window or the locked form's
+    (RS_DAMPED); returns the next output index.  (Apart from :func:`_emit_stored`: an
+    inlined callee's calls are inlined before its pruned branches are dropped.)"""
+    if kind == KIND_TAYLOR and not is_locked:
+        return emit_taylor(coef, t, t_new, t_eval, j, direction, k, out_theta, out_v, out_w, wrapped)
+    while j < t_eval.size and (direction * (t_eval[j] - t_new) <= 0.0):
+        if t_eval[j] == t_new:
+            _put(out_theta, out_w, wrapped, j, k, th)
+            out_v[j] = v
+        else:
+            if rset == RS_DAMPED and is_locked:
+                a, b = locked_eval(coef, t_eval[j] - t)
+            else:
+                a, b = evaluate(kind, coef, t_eval[j] - t)
+            _put(out_theta, out_w, wrapped, j, k, a)
+            out_v[j] = b
+        j += 1
+    return j
+
+
+@numba.njit(cache=True)
+def _max_step(c, v):
+    """The longest window from θ' = ``v``: ``max_step``, and ``max_dtheta``/|θ'| where
+    the θ-step is limited (solve_ivp's event search)."""
+    if c.max_dtheta < math.inf and v != 0.0:
+        return min(c.max_step, c.max_dtheta / abs(v))
+    return c.max_step
 
 
 @numba.njit(cache=True)
@@ -373,8 +395,7 @@ def _runner(kind, rset):
 
     Both are constants of the closure, so numba prunes the other kinds' and sets'
     branches before it compiles (a first run compiles the kernels and regimes its scene
-    class uses), and caches each closure apart (its constants are in the cache's key).
-    """
+    class uses), and caches each closure apart (its constants are in the cache's key)."""
 
     @numba.njit(cache=True)
     def run_entry(p, t_eval, out, win_t, win_y, win_coef, cancel):
@@ -421,36 +442,45 @@ def _runner(kind, rset):
             status, seen = _stop_before(kind, rset, r, n, n_total, store, cap, seen, cancel)
             if status != STATUS_OK:
                 break
-            max_step = r.control.max_step
-            if r.control.max_dtheta < math.inf and y1 != 0.0:
-                max_step = min(max_step, r.control.max_dtheta / abs(y1))
+            max_step = _max_step(r.control, y1)
             if kind == KIND_TAYLOR or kind == KIND_SPLIT:  # WRAPPING_KINDS
                 k, y0 = _reduce_phi(k, y0)
             off = k * _TWO_PI  # θ's scale for the tolerances (scipy's rtol·|θ| of the whole angle)
             if rset == RS_CONSERVATIVE and can_librate:
                 can_librate = False
-                m = r.model
-                _libration_test(r, t, y0, y1, k, off, m.gamma, m.omega, t_bound, r.control.rtol, r.control.atol)
+                _libration_test(r, t, y0, y1, k, off, r.model.gamma, r.model.omega, t_bound, r.control.rtol,
+                                r.control.atol)
                 if r.switch.regime != REGIME_NONE:
                     status = STATUS_PAUSED  # the rest of the run is the stored period: RS_CYCLE's entry
                     break
-            if rset == RS_CYCLE:
+            if rset == RS_CYCLE:  # (each branch on the constants inlines only its own callees)
                 st, coef, t_new, th, v, k_new, h_abs, h_next, is_locked, per = _source_cycle(
                     kind, r, t, direction, max_step, h_abs, per)
             elif rset == RS_STROBE:
                 st, coef, t_new, th, v, k_new, h_abs, h_next, is_locked, per = _source_strobe(
                     kind, r, t, direction, max_step, h_abs, per)
+            elif (rset == RS_FIXED or kind == KIND_EXACT or kind == KIND_SALAS_TORQUE
+                  or (rset != RS_DAMPED and rset != RS_CONSERVATIVE  # (always adaptive: regime_set)
+                      and r.control.controller != CONTROLLER_ADAPTIVE)):
+                st, coef, t_new, th, v, k_new, h_abs, h_next, is_locked, per = _source_fixed(
+                    kind, rset, r, t, y0, y1, k, direction, max_step, h_abs, ws, per)
             else:
                 st, coef, t_new, th, v, k_new, h_abs, h_next, is_locked, per = _source(
                     kind, rset, r, t, y0, y1, k, off, direction, max_step, h_abs, log_eps, can_lock, lk, ws, per)
             if st != STATUS_OK:
                 status = st
                 break
-            j = _emit(kind, rset, is_locked, coef, per, t, t_new, th, v, k, k_new, t_eval, j, direction,
-                      out_theta, out_v, out_w, wrapped)
-            if not is_locked:
-                sp_next = _watch(kind, rset, p, coef, t, t_new, y0, th, v, k, off, can_cycle, sec_off, sec_acc, sp,
-                                 sp_next, n_total)
+            if rset == RS_CYCLE or rset == RS_STROBE:
+                j = _emit_stored(kind, rset, coef, per, t, t_new, th, v, k_new, t_eval, j, direction, out_theta,
+                                 out_v, out_w, wrapped)
+            else:  # (k_new = k outside the stored periods)
+                j = _emit_formula(kind, rset, is_locked, coef, t, t_new, th, v, k, t_eval, j, direction, out_theta,
+                                  out_v, out_w, wrapped)
+            if rset == RS_DAMPED and not is_locked and can_cycle and r.switch.regime == REGIME_NONE:
+                _watch_cycle(kind, r, coef, t, t_new, y0, th, v, k, off, sec_off, sec_acc, r.model.beta,
+                             r.model.gamma, r.model.omega, t_bound, r.control.rtol, r.control.atol)
+            if rset == RS_DRIVEN and sp_next <= t_new and r.switch.regime == REGIME_NONE:
+                sp_next = _watch_strobe(kind, p, coef, t, t_new, k, off, sp[0], sp[1], sp[2], n_total)
             if store:
                 _store_window(win_t, win_y, win_coef, n, coef, t_new, theta_of(k_new, th), v)
             t, y0, y1, h_abs, k = t_new, th, v, h_next, k_new

@@ -129,7 +129,7 @@ def _x_minus_sin(x):
     return x - math.sin(x)
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True)
 def _potential(w2, gamma, d, x):
     # (L3): U(x) = ω²(2 cos d sin²(x/2) − sin d (x − sin x)), sin d = γ/ω²: both terms
     # carry their leading order, so U keeps its relative precision at any small x.
@@ -177,7 +177,7 @@ def locked_quick_reject(theta, v, d, sd, wl2, g0, omega, rtol, atol, q2):
     return not (q2 > 0.0 and q2 * a * a * a <= tol)
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True)
 def _amplitude_newton(w2, gamma, d, wl2, h0, edge):
     # (L3): a point x between 0 and the saddle ``edge`` with U(x) ≥ H₀, so that the
     # root A± of U = H₀ on that side (U is monotone there) is at most |x|; inf if
