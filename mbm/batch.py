@@ -262,12 +262,14 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
         ``beta``, ``gamma``, ``omega`` (see :class:`mbm.Pendulum`).
     wrap : bool, optional
         As in :func:`mbm.solve`.
-    events : Event or sequence of Event, optional
+    events : Event, numba.njit function, or sequence of them, optional
         Built-in events (:func:`mbm.angle_event`, :func:`mbm.velocity_event`,
         :func:`mbm.section_event`) watched in every scene as :func:`mbm.solve` does (the
         same events, bit for bit); a terminal event stops its scene only.  Every scene
         must run Taylor windows, and be driven for a section event.  The scenes the
         lockstep lanes take are watched in the lanes; the others by the compiled loop.
+        With an event function g(t, θ, θ') (:mod:`mbm.user_events`) the scenes are run
+        one after another as :func:`mbm.solve` runs them, without regimes or threads.
     max_events : int, optional
         Events of each kind stored per scene, K (default: the most any scene has).
 
@@ -298,7 +300,8 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
         :func:`mbm.solve`, naming the scene).
     TypeError
         For an argument that is not real numbers (a str, bool, complex), an event that
-        is not a built-in one, a ``max_events`` that is not an int.
+        is neither a built-in one nor a ``numba.njit`` function, a ``max_events`` that
+        is not an int.
     KeyboardInterrupt
         Honoured while the batch runs: every scene stops at its next window.
     """
@@ -333,7 +336,11 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
     if ev is None:
         _run_batch_interruptibly(p, te, out, order)
         return _batch_result(p, te, out, wrap, names)
-    found = _run_interruptibly(lambda cancel: crossings.run_batch_events(p, te, out, order, ev, cap, cancel, fresh))
+    if any(crossings.is_event_function(e) for e in items):
+        found = crossings.run_batch_functions(p, te, out, order, ev, cap, items, drive)
+    else:
+        found = _run_interruptibly(lambda cancel: crossings.run_batch_events(p, te, out, order, ev, cap, cancel,
+                                                                             fresh))
     res = _batch_result(p, te, out, wrap, names)
     res["t_events"], res["y_events"], res["winding_events"], res["n_events"] = crossings.batch_event_arrays(
         items, cap, *found)

@@ -193,9 +193,9 @@ def as_events(events, functions=True):
         bad = events if items is None or not items else next(e for e in items if not taken(e))
         if is_event_function(bad):
             raise TypeError(
-                f"solve_batch takes the built-in events (mbm.angle_event, mbm.velocity_event, "
+                f"the compiled event table takes the built-in events (mbm.angle_event, mbm.velocity_event, "
                 f"mbm.section_event), got the numba.njit function {bad!r}; an event function "
-                "g(t, theta, theta_dot) is taken by mbm.solve and Integrator.solve")
+                "g(t, theta, theta_dot) is taken by mbm.solve, Integrator.solve and solve_batch")
         if callable(bad):
             raise TypeError(
                 "events are built-in events (mbm.angle_event, mbm.velocity_event, mbm.section_event) "
@@ -477,19 +477,19 @@ def batch_table(events, max_events, kinds, amp, freq, names):
         if cap >= 0:
             raise ValueError("max_events needs events")
         return None, cap, None
-    items = as_events(events, functions=False)
+    items = as_events(events)
     bad = np.flatnonzero(kinds != loop.KIND_TAYLOR)
     if bad.size:
         raise ValueError(
             f"events are located on Taylor windows (polynomials); scene {bad[0]}'s approximant "
             f"{names[bad[0]]!r} has none: use approximant='auto' or 'taylor*'")
-    if any(e.kind == "section" for e in items):
+    if any(isinstance(e, Event) and e.kind == "section" for e in items):
         bad = np.flatnonzero((amp == 0.0) | (freq <= 0.0))
         if bad.size:
             raise ValueError(f"section_event needs driven scenes (drive_amplitude != 0 and drive_frequency > 0); "
                              f"scene {bad[0]} is not")
-    ev = np.array([e._row() for e in items], dtype=np.float64).reshape(len(items), EV_WIDTH)
-    return ev, cap, items
+    rows = [e._row() for e in items if isinstance(e, Event)]
+    return np.array(rows, dtype=np.float64).reshape(len(rows), EV_WIDTH), cap, items
 
 
 def run_batch_events(p, te, out, order, ev, cap, cancel, fresh):
@@ -544,6 +544,53 @@ def run_batch_events(p, te, out, order, ev, cap, cancel, fresh):
     return evf, evi, evs, hits
 
 
+def run_batch_functions(p, te, out, order, ev, cap, items, drive):
+    """The batch's scenes run one by one as :func:`mbm.solve` runs a scene with event
+    functions among ``items`` (no regime; :class:`_Run`, the loop in chunks and g's
+    locator, both compiled), so each scene's events are mbm.solve's bit for bit; a
+    terminal event stops its scene as :func:`mbm.core.event_batch.stop_at` does.
+    Returns the stored events and the counts as :func:`run_batch_events`."""
+    from .core.event_batch import stop_row
+
+    funcs = [(e, g) + event_function_options(g) for e, g in enumerate(items) if is_event_function(g)]
+    p["switch"]["regimes"] = REGIMES_OFF
+    hits = np.zeros((p.size, len(items)), np.int64)
+    found = []
+    for i in order:
+        r = p[i]
+        m, c = r["model"], r["control"]
+        scene = _Scene(int(c["kind"]), float(m["gamma"]), float(m["omega"]), float(drive[1][i]),
+                       float(drive[2][i]), float(c["rtol"]), float(c["atol"]))
+        run = _Run(scene, ev, cap, float(r["state"]["t"]), float(r["state"]["t_bound"]), te, out[i], p[i: i + 1],
+                   items, funcs)
+        run.go()
+        if run.stopped:
+            stop_row(p, i, out[i], te, run.evf, np.int64(run.count - 1), np.int64(run.windows_before), run.direction)
+        hits[i] = run.hits
+        found.append((run.evf[: run.count].copy(), run.evi[: run.count].copy(), np.full(run.count, i, np.int64)))
+    evf = np.concatenate([f[0] for f in found]) if found else np.empty((0, 4))
+    evi = np.concatenate([f[1] for f in found]) if found else np.empty(0, np.int64)
+    evs = np.concatenate([f[2] for f in found]) if found else np.empty(0, np.int64)
+    return evf, evi, evs, hits
+
+
+class _Scene:
+    """What :class:`_Run` reads of an Integrator, for a scene of a batch."""
+
+    __slots__ = ("_kind", "model", "rtol", "atol")
+
+    def __init__(self, kind, gamma, omega, drive_frequency, drive_phase, rtol, atol):
+        self._kind, self.rtol, self.atol = kind, rtol, atol
+        self.model = _SceneModel(gamma, omega, drive_frequency, drive_phase)
+
+
+class _SceneModel:
+    __slots__ = ("gamma", "omega", "drive_frequency", "drive_phase")
+
+    def __init__(self, gamma, omega, drive_frequency, drive_phase):
+        self.gamma, self.omega, self.drive_frequency, self.drive_phase = gamma, omega, drive_frequency, drive_phase
+
+
 def batch_event_arrays(items, cap, evf, evi, evs, hits):
     """``t_events`` (N, n_events, K), ``y_events`` (N, n_events, K, 2) NaN past each
     stored count, ``winding_events`` (N, n_events, K) int64 (0 past the count) and
@@ -563,6 +610,6 @@ def batch_event_arrays(items, cap, evf, evi, evs, hits):
     winding = np.zeros((n, nev, k), np.int64)
     t_events[evs, evi, rank] = evf[:, 0]
     y_events[evs, evi, rank] = evf[:, 1:3]
-    velocity = np.array([e.kind == "velocity" for e in items])[evi]
+    velocity = np.array([not isinstance(e, Event) or e.kind == "velocity" for e in items])[evi]
     winding[evs, evi, rank] = np.where(velocity, np.floor((evf[:, 1] + math.pi) / _TWO_PI), evf[:, 3])
     return t_events, y_events, winding, hits

@@ -75,7 +75,7 @@ def test_bad_arguments_are_refused():
     def g(t, th, v):
         return th
 
-    with pytest.raises(TypeError, match="built-in events"):
+    with pytest.raises(TypeError, match="takes the built-in events"):
         mbm.event_table(g)
     with pytest.raises(TypeError, match="events must be"):
         mbm.event_table([1.0])

@@ -191,5 +191,30 @@ def test_bad_event_functions_are_refused():
 
     with pytest.raises(ValueError, match="non-finite"):
         mbm.solve(m, (0.0, 5.0), [0.0, 0.0], events=blows_up)
-    with pytest.raises(TypeError, match="solve_batch takes the built-in events"):
-        mbm.solve_batch(0.1, np.array([1.2, 1.3]), 1.0, np.zeros((2, 2)), (0.0, 1.0), np.array([1.0]), events=slip)
+    with pytest.raises(TypeError, match="numba.njit"):
+        mbm.solve_batch(0.1, np.array([1.2, 1.3]), 1.0, np.zeros((2, 2)), (0.0, 1.0), np.array([1.0]),
+                        events=lambda t, th, v: th)
+
+
+def test_batch_scenes_are_mbm_solve_bit_for_bit():
+    gammas = np.array([0.5, 1.05, 1.2, 1.5])
+    te = np.linspace(0.0, 100.0, 11)
+    ev = [_fresh(slip, terminal=2), mbm.velocity_event(1.5)]
+    b = mbm.solve_batch(0.1, gammas, 1.0, np.zeros((4, 2)), (0.0, 100.0), te, rtol=1e-9, atol=1e-9, events=ev,
+                        max_events=3)
+    assert b.t_events.shape == (4, 2, 3) and b.n_events.shape == (4, 2)
+    assert list(b.status) == [0, 6, 6, 6]  # γ = 0.5 < ω² never slips; the others stop at the 2nd slip
+    for i, g in enumerate(gammas):
+        r = mbm.solve(mbm.Pendulum(0.1, g), (0.0, 100.0), [0.0, 0.0], rtol=1e-9, atol=1e-9, t_eval=te, events=ev,
+                      max_events=3)
+        assert (b.status[i], b.n_windows[i]) == (r.status, r.n_windows)
+        np.testing.assert_array_equal(b.n_events[i], r.n_events)
+        for e in range(2):
+            k = r.t_events[e].size
+            np.testing.assert_array_equal(b.t_events[i, e, :k], r.t_events[e])
+            np.testing.assert_array_equal(b.y_events[i, e, :k], r.y_events[e])
+            np.testing.assert_array_equal(b.winding_events[i, e, :k], r.winding_events[e])
+            assert np.isnan(b.t_events[i, e, k:]).all()
+        j = r.t.size
+        np.testing.assert_array_equal(b.y[i][:, :j], r.y)
+        assert np.isnan(b.y[i][:, j:]).all()

@@ -21,7 +21,7 @@ from .window import KIND_TAYLOR
 from ..regimes.common import REGIME_NONE
 from ..status import STATUS_CROWDED, STATUS_EVENT, STATUS_PAUSED
 
-__all__ = ["scene_events_for", "events_rows_for", "events_entry", "lane_events", "stop_at", "FIRST_CHUNK", "LAST_CHUNK"]
+__all__ = ["scene_events_for", "events_rows_for", "events_entry", "lane_events", "stop_at", "stop_row", "FIRST_CHUNK", "LAST_CHUNK"]
 
 # Windows stored per call of the loop: a scene's first chunk short (a first slip of the
 # I-V ensemble lies ~6 windows in, and a terminal event wastes the rest of its chunk;
@@ -57,6 +57,12 @@ def stop_at(r, out_i, t_eval, evf, k, n_windows, direction):
     if r.switch.regime != REGIME_NONE and direction * (r.switch.t_regime - t_stop) > 0.0:
         r.switch.regime = REGIME_NONE
         r.switch.t_regime = math.nan
+
+
+@numba.njit(cache=True)
+def stop_row(p, i, out_i, t_eval, evf, k, n_windows, direction):
+    """:func:`stop_at` for row ``i`` of the records ``p`` (a caller in Python)."""
+    stop_at(p[i], out_i, t_eval, evf, k, n_windows, direction)
 
 
 @numba.njit(cache=True)
