@@ -239,6 +239,13 @@ def _run_options(t_span, t_eval, rtol, atol, max_step, max_windows, wrap):
     return t0, t1, te, rtol, atol, max_step, max_windows
 
 
+def _run_events(p, te, out, order, ev, cap, items, drive, fresh):
+    # The scenes run with their events: the stored events and the counts.
+    if any(crossings.is_event_function(e) for e in items):
+        return crossings.run_batch_functions(p, te, out, order, ev, cap, items, drive)
+    return _run_interruptibly(lambda cancel: crossings.run_batch_events(p, te, out, order, ev, cap, cancel, fresh))
+
+
 def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
                 approximant="auto", tau=None, max_step=np.inf, max_windows=DEFAULT_MAX_WINDOWS,
                 drive_amplitude=0.0, drive_frequency=0.0, drive_phase=0.0, wrap=False, events=None,
@@ -268,8 +275,8 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
         same events, bit for bit); a terminal event stops its scene only.  Every scene
         must run Taylor windows, and be driven for a section event.  The scenes the
         lockstep lanes take are watched in the lanes; the others by the compiled loop.
-        With an event function g(t, θ, θ') (:mod:`mbm.user_events`) the scenes are run
-        one after another as :func:`mbm.solve` runs them, without regimes or threads.
+        With a function g(t, θ, θ') (:mod:`mbm.user_events`) the scenes run in turn,
+        as :func:`mbm.solve` runs them.
     max_events : int, optional
         Events of each kind stored per scene, K (default: the most any scene has).
 
@@ -300,16 +307,14 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
         :func:`mbm.solve`, naming the scene).
     TypeError
         For an argument that is not real numbers (a str, bool, complex), an event that
-        is neither a built-in one nor a ``numba.njit`` function, a ``max_events`` that
-        is not an int.
+        is not an mbm event or a ``numba.njit`` function, a non-int ``max_events``.
     KeyboardInterrupt
         Honoured while the batch runs: every scene stops at its next window.
     """
     driven_call = not (_is_zero(drive_amplitude) and _is_zero(drive_frequency) and _is_zero(drive_phase))
     beta, gamma, omega, amp, freq, phase = _scene_arrays(
         (beta, gamma, omega, drive_amplitude, drive_frequency, drive_phase), driven_call)
-    n = beta.size
-    y0 = _scene_states(y0, n)
+    y0 = _scene_states(y0, beta.size)
     t0, t1, te, rtol, atol, max_step, max_windows = _run_options(t_span, t_eval, rtol, atol, max_step,
                                                                  max_windows, wrap)
     if events is not None and isinstance(approximant, str) and approximant == "auto":
@@ -330,17 +335,13 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
                        float(rtol), float(atol), int(max_windows))
         return q
 
-    p = fresh(np.arange(n))
-    out = np.full((n, 3 if wrap else 2, te.size), np.nan)
-    order = _balanced_order(n)
+    p = fresh(np.arange(beta.size))
+    out = np.full((beta.size, 3 if wrap else 2, te.size), np.nan)
+    order = _balanced_order(beta.size)
     if ev is None:
         _run_batch_interruptibly(p, te, out, order)
         return _batch_result(p, te, out, wrap, names)
-    if any(crossings.is_event_function(e) for e in items):
-        found = crossings.run_batch_functions(p, te, out, order, ev, cap, items, drive)
-    else:
-        found = _run_interruptibly(lambda cancel: crossings.run_batch_events(p, te, out, order, ev, cap, cancel,
-                                                                             fresh))
+    found = _run_events(p, te, out, order, ev, cap, items, drive, fresh)
     res = _batch_result(p, te, out, wrap, names)
     res["t_events"], res["y_events"], res["winding_events"], res["n_events"] = crossings.batch_event_arrays(
         items, cap, *found)
