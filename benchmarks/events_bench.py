@@ -5,7 +5,8 @@
 
 The scene of issue 29: β = 0.1, γ = 1.2 from rest over T = 1000, the event
 cos(θ/2) = 0 (θ ≡ π mod 2π: 1889 slips).  Reference: heyoka in long double at tol
-1e-19 with an ``nt_event``.  mbm: ``mbm.solve(..., events=mbm.angle_event(π))``;
+1e-19 with an ``nt_event``.  mbm: ``mbm.solve(..., events=mbm.angle_event(π))``, and with
+the event function cos(θ/2) (a ``numba.njit`` g(t, θ, θ'), no regime switch);
 heyoka: one ``taylor_adaptive`` with the ``nt_event``, built once and reset per run
 (``ta.time``, ``ta.state``).  Medians of ``--repeat`` warm runs in one process (the
 first call's compile and JIT apart); error: the largest event-time difference from
@@ -69,6 +70,17 @@ def _heyoka(tol, fp):
     return ta, found
 
 
+def _slip_function():
+    # The slip as a numba.njit event function g(t, θ, θ') (mbm.user_events).
+    import numba
+
+    @numba.njit
+    def slip(t, theta, theta_dot):
+        return math.cos(0.5 * theta)
+
+    return slip
+
+
 def _median(run, repeat):
     times, out = [], None
     for _ in range(repeat):
@@ -98,6 +110,13 @@ def rows(repeat):
         run()  # compile / warm
         ms, t = _median(run, repeat)
         out.append(("mbm", rtol, 1e3 * ms, _error(t, ref), len(t)))
+    g = _slip_function()
+    for rtol in MBM_RTOLS:
+        def run(rtol=rtol):
+            return mbm.solve(model, (0.0, T_END), [0.0, 0.0], rtol=rtol, atol=rtol, events=g).t_events[0]
+        run()  # compile / warm
+        ms, t = _median(run, repeat)
+        out.append(("mbm, event function cos(θ/2)", rtol, 1e3 * ms, _error(t, ref), len(t)))
     for tol in HEYOKA_TOLS:
         ta, found = _heyoka(tol, float)
 
