@@ -103,20 +103,13 @@ def rows(repeat):
     ref = np.array(found, dtype=np.longdouble)
     out = []
     model = mbm.Pendulum(BETA, GAMMA)
-    ev = mbm.angle_event(math.pi)
-    for rtol in MBM_RTOLS:
-        def run(rtol=rtol):
-            return mbm.solve(model, (0.0, T_END), [0.0, 0.0], rtol=rtol, atol=rtol, events=ev).t_events[0]
-        run()  # compile / warm
-        ms, t = _median(run, repeat)
-        out.append(("mbm", rtol, 1e3 * ms, _error(t, ref), len(t)))
-    g = _slip_function()
-    for rtol in MBM_RTOLS:
-        def run(rtol=rtol):
-            return mbm.solve(model, (0.0, T_END), [0.0, 0.0], rtol=rtol, atol=rtol, events=g).t_events[0]
-        run()  # compile / warm
-        ms, t = _median(run, repeat)
-        out.append(("mbm, event function cos(θ/2)", rtol, 1e3 * ms, _error(t, ref), len(t)))
+    for name, ev in (("mbm", mbm.angle_event(math.pi)), ("mbm, event function cos(θ/2)", _slip_function())):
+        for rtol in MBM_RTOLS:
+            def run(rtol=rtol, ev=ev):
+                return mbm.solve(model, (0.0, T_END), [0.0, 0.0], rtol=rtol, atol=rtol, events=ev).t_events[0]
+            run()  # compile / warm
+            ms, t = _median(run, repeat)
+            out.append((name, rtol, 1e3 * ms, _error(t, ref), len(t)))
     for tol in HEYOKA_TOLS:
         ta, found = _heyoka(tol, float)
 
