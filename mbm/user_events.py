@@ -128,6 +128,27 @@ def _brent(g, c, t_w, k, xa, xb, fa, fb, xtol):
 
 
 @numba.njit
+def _window_samples(c, ss, m, th_s, v_s):
+    """θ (unwound: the polynomial's φ) and θ' of a Taylor window at its ``m`` sample
+    times ``ss`` from the anchor, all at once: the samples' Horner chains interleaved
+    (independent, so they run in parallel), each the operations of
+    :func:`mbm.approximants.taylor.taylor_eval_kernel` in its order: the same bits."""
+    n = int(c[1])
+    a = c[HEADER:]
+    for j in range(m):
+        th_s[j] = a[n]
+        v_s[j] = n * a[n]
+    for q in range(n - 1, 1, -1):
+        aq, qaq = a[q], q * a[q]
+        for j in range(m):
+            th_s[j] = th_s[j] * ss[j] + aq
+            v_s[j] = v_s[j] * ss[j] + qaq
+    for j in range(m):
+        th_s[j] = a[0] + ss[j] * (th_s[j] * ss[j] + a[1])
+        v_s[j] = v_s[j] * ss[j] + a[1]
+
+
+@numba.njit
 def _push(rows, count, t, th, v, window):
     if count == rows.shape[0]:
         grown = np.empty((2 * count, 4))
@@ -150,6 +171,9 @@ def function_crossings(g, want, starts, start_theta, coefs, n, ref, first, last)
     """
     rows = np.empty((ROWS_CAPACITY, 4))
     count = 0
+    ss = np.empty(SAMPLES_PER_WINDOW + 1)
+    th_s = np.empty(SAMPLES_PER_WINDOW + 1)
+    v_s = np.empty(SAMPLES_PER_WINDOW + 1)
     for i in range(n):
         t_w = starts[i]
         h = starts[i + 1] - t_w
@@ -158,8 +182,11 @@ def function_crossings(g, want, starts, start_theta, coefs, n, ref, first, last)
         xtol = TIME_ULPS * _EPS * max(abs(t_w), abs(t_w + h))
         j0 = 0 if (first and i == 0) else 1
         for j in range(j0, SAMPLES_PER_WINDOW + 1):
-            s = h if j == SAMPLES_PER_WINDOW else h * (j / SAMPLES_PER_WINDOW)
-            gs, th, v = _value(g, c, t_w, k, s)
+            ss[j - j0] = h if j == SAMPLES_PER_WINDOW else h * (j / SAMPLES_PER_WINDOW)
+        _window_samples(c, ss, SAMPLES_PER_WINDOW + 1 - j0, th_s, v_s)
+        for j in range(j0, SAMPLES_PER_WINDOW + 1):
+            s = ss[j - j0]
+            gs = float(g(t_w + s, theta_of(k, th_s[j - j0]), v_s[j - j0]))
             if not math.isfinite(gs):
                 rows[0, 0] = t_w + s
                 return rows, -1
