@@ -218,3 +218,28 @@ def test_batch_scenes_are_mbm_solve_bit_for_bit():
         j = r.t.size
         np.testing.assert_array_equal(b.y[i][:, :j], r.y)
         assert np.isnan(b.y[i][:, j:]).all()
+
+
+def test_wrap_and_a_driven_batch_with_a_function():
+    m = mbm.Pendulum(0.1, 1.2)
+    te = np.linspace(0.0, 30.0, 31)
+    stop = _fresh(slip, terminal=3)
+    a = mbm.solve(m, (0.0, 30.0), [0.0, 0.0], rtol=1e-9, atol=1e-9, t_eval=te, wrap=True, events=stop)
+    b = mbm.solve(m, (0.0, 30.0), [0.0, 0.0], rtol=1e-9, atol=1e-9, t_eval=te, events=stop)
+    assert a.status == b.status == 6 and a.t.size == b.t.size
+    np.testing.assert_array_equal(a.t_events[0], b.t_events[0])
+    # θ = 2π·winding + y[0], the wrapped angle rounded once less than the unwrapped one.
+    np.testing.assert_allclose(a.y[0] + 2 * np.pi * a.winding, b.y[0], rtol=0, atol=1e-13)
+    c = mbm.solve_batch(0.1, np.array([1.2, 0.5]), 1.0, np.zeros((2, 2)), (0.0, 30.0), te, rtol=1e-9, atol=1e-9,
+                        wrap=True, events=stop)
+    np.testing.assert_array_equal(c.y[0][:, : a.t.size], a.y)
+    np.testing.assert_array_equal(c.winding[0][: a.t.size], a.winding)
+    events = [stop, mbm.section_event(1.0)]
+    d = mbm.solve_batch(0.2, np.array([0.3, 0.6]), 1.0, np.zeros((2, 2)), (0.0, 60.0), 2 * te, rtol=1e-9,
+                        atol=1e-9, drive_amplitude=0.8, drive_frequency=0.7, events=events)
+    for i, g in enumerate((0.3, 0.6)):
+        r = mbm.solve(mbm.Pendulum(0.2, g, 1.0, 0.8, 0.7), (0.0, 60.0), [0.0, 0.0], rtol=1e-9, atol=1e-9,
+                      t_eval=2 * te, events=events)
+        np.testing.assert_array_equal(d.n_events[i], r.n_events)
+        for e in range(2):
+            np.testing.assert_array_equal(d.t_events[i, e, : r.t_events[e].size], r.t_events[e])
