@@ -34,7 +34,7 @@ from .approximants import (
 from .special.pendulum_flow import pendulum_flow, period
 from .fast import Integrator, solve, solve_batch, solve_njit
 from .crossings import Event, angle_event, section_event, velocity_event
-from .njit_events import event_table, solve_njit_events
+from .njit_events import event_table, solve_njit_events, solve_njit_function_events
 from .junction import IVCurve, iv_curve
 from .problem import Pendulum, identify_model
 from .shapiro import ShapiroStep, ShapiroSteps, shapiro_steps
@@ -69,6 +69,7 @@ __all__ = [
     "solve_batch",
     "solve_njit",
     "solve_njit_events",
+    "solve_njit_function_events",
     "successive",
     "sweep",
     "velocity_event",

@@ -15,13 +15,16 @@ from .approximants.base import get_approximant
 from .approximants.taylor import HEADER, N_EXTRA
 from .choice import auto_name
 from . import loop
-from .core.event_batch import EVENTS_CAPACITY, LAST_CHUNK, scene_events_for
+from .core.event_batch import EVENTS_CAPACITY, FIRST_CHUNK, LAST_CHUNK, scene_events_for, stop_at
+from .core.loop import _run_sets
 from .core.event_watch import EV_ANGLE, EV_VELOCITY, EV_WIDTH
 from .crossings import as_events
-from .regimes.common import REGIMES_ALL, REGIMES_PERIODIC
+from .regimes.common import REGIMES_ALL, REGIMES_OFF, REGIMES_PERIODIC
+from .status import STATUS_EVENT, STATUS_NONFINITE, STATUS_PAUSED
+from .user_events import function_crossings
 from .regimes.cycle import CYCLE_WIDTH
 
-__all__ = ["event_table", "solve_njit_events"]
+__all__ = ["event_table", "solve_njit_events", "solve_njit_function_events"]
 
 _TAYLOR = get_approximant(auto_name(False))
 _KIND, _KARG = loop.kind_of(_TAYLOR)
@@ -56,6 +59,12 @@ def event_table(events):
     """
     items = as_events(events, functions=False)
     return np.array([e._row() for e in items], dtype=np.float64).reshape(len(items), EV_WIDTH)
+
+
+@numba.njit(cache=True)
+def _window_store():
+    # A chunk's window store (LAST_CHUNK windows of the default Taylor series).
+    return np.empty(LAST_CHUNK + 1), np.empty((LAST_CHUNK + 1, 2)), np.empty((LAST_CHUNK, _WIDTH))
 
 
 @numba.njit(cache=True)
@@ -165,9 +174,7 @@ def solve_njit_events(beta, gamma, omega, t0, theta0, v0, t_bound, t_eval, out, 
     control = (_KIND, _KARG, loop.CONTROLLER_ADAPTIVE, -1.0, math.inf, math.inf, float(rtol), float(atol), _ORDER)
     regimes = REGIMES_ALL if _lock_allowed(events) and drive[0] == 0.0 else REGIMES_PERIODIC
     nev = events.shape[0]
-    win_t = np.empty(LAST_CHUNK + 1)
-    win_y = np.empty((LAST_CHUNK + 1, 2))
-    win_coef = np.empty((LAST_CHUNK, _WIDTH))
+    win_t, win_y, win_coef = _window_store()
     caps = np.full(nev, max_events, np.int64)
     cancel = np.zeros(1, dtype=np.int64)
     lock = np.empty(4)
@@ -186,3 +193,119 @@ def solve_njit_events(beta, gamma, omega, t0, theta0, v0, t_bound, t_eval, out, 
         regimes = REGIMES_PERIODIC  # a locked window may reach a level: without the locked regime
     t_events, y_events, winding, n_events = _arrays(events, evf, evi, count, max_events, hits)
     return p[0].progress.status, p[0].progress.n_windows, t_events, y_events, winding, n_events
+
+
+@numba.njit(cache=True)
+def _record(rows, m, hits, max_events, terminal, t_events, y_events):
+    # The m events of rows (t, θ, θ', window) counted after hits, the first max_events
+    # stored: (the count, the row of the terminal one or -1).
+    for q in range(m):
+        if hits < max_events:
+            t_events[hits], y_events[hits, 0], y_events[hits, 1] = rows[q, 0], rows[q, 1], rows[q, 2]
+        hits += 1
+        if terminal > 0 and hits >= terminal:
+            return hits, q
+    return hits, -1
+
+
+@numba.njit
+def solve_njit_function_events(beta, gamma, omega, t0, theta0, v0, t_bound, t_eval, out, rtol, atol, max_windows,
+                               g, direction, terminal, max_events, drive_amplitude=0.0, drive_frequency=0.0,
+                               drive_phase=0.0):
+    """:func:`mbm.solve_njit` with an event function ``g(t, theta, theta_dot)`` of your own
+    (a ``numba.njit`` function), callable from ``numba.njit`` code.
+
+    The run and its events are those of ``mbm.solve(..., events=g, max_events=max_events)``
+    with ``g.direction = direction`` and ``g.terminal = terminal``, bit for bit (the
+    Taylor series, no regime: :mod:`mbm.user_events`).  Arguments are not validated,
+    but for ``max_events``.  Compiled for each ``g`` and not cached (numba cannot cache
+    a kernel that takes a function): about 8 s in each new process on 2 cores, as the
+    whole loop is optimised again with it.  Called from your own
+    ``numba.njit(cache=True)`` function with ``g`` a global there, it is compiled into
+    that function and cached with it.
+
+    Parameters
+    ----------
+    beta, gamma, omega : float
+        The model θ'' + βθ' + ω² sin θ = γ + A sin(Ωt + φ).
+    t0, theta0, v0, t_bound : float
+        Initial time and state, end of the span.
+    t_eval : ndarray, shape (m,)
+        Output times.
+    out : ndarray, shape (2, m)
+        Filled with θ, θ' at ``t_eval`` (NaN past a terminal event or a failure).
+    rtol, atol : float
+        Tolerances.
+    max_windows : int
+        Windows the run may take.
+    g : numba.njit function
+        The event function g(t, θ, θ') -> float.
+    direction : float
+        scipy's: > 0 only g rising through 0, < 0 only falling, 0 both.
+    terminal : int
+        Stop at the ``terminal``-th event (0: never).
+    max_events : int
+        Events stored (>= 1); all are counted.
+    drive_amplitude, drive_frequency, drive_phase : float, optional
+        The AC drive's A, Ω, φ (default 0: none); pass all three or none.
+
+    Returns
+    -------
+    status : int
+        0 on success, 6 at a terminal event, 3 where g was not finite, else a
+        :mod:`mbm.loop` status.
+    n_windows : int
+        Windows taken.
+    t_events : ndarray, shape (max_events,)
+        The events' times, NaN past the stored count.
+    y_events : ndarray, shape (max_events, 2)
+        The states there.
+    n_events : int
+        The events' count, stored or not.
+
+    Raises
+    ------
+    ValueError
+        If ``max_events`` < 1.
+    """
+    if max_events < 1:
+        raise ValueError("max_events must be >= 1")
+    p = np.empty(1, dtype=loop.RUN)
+    drive = (drive_amplitude, drive_frequency, drive_phase) if drive_amplitude != 0.0 else (0.0, 0.0, 0.0)
+    model = (float(beta), float(gamma), float(omega), float(drive[0]), float(drive[1]), float(drive[2]))
+    state = (float(t0), float(theta0), float(v0), float(t_bound))
+    control = (_KIND, _KARG, loop.CONTROLLER_ADAPTIVE, -1.0, math.inf, math.inf, float(rtol), float(atol), _ORDER)
+    loop.init_run(p, 0, model, state, control, np.int64(max_windows), 0, REGIMES_OFF)
+    r = p[0]
+    win_t, win_y, win_coef = _window_store()
+    cancel = np.zeros(1, dtype=np.int64)
+    t_events = np.full(max_events, np.nan)
+    y_events = np.full((max_events, 2), np.nan)
+    stop = np.empty((1, 4))
+    ref = np.zeros(4)
+    sign = 1.0 if t_bound >= t0 else -1.0
+    out[:] = np.nan
+    hits = 0
+    chunk = FIRST_CHUNK
+    first = True
+    while True:
+        before = r.progress.n_windows
+        # Regimes off: the plain (or driven) entry of the Taylor kind alone.
+        n = _run_sets(_KIND, 1, 0, 0, 0, 1, 0, 0, 1, 0, 0, p, t_eval, out, win_t[: chunk + 1], win_y[: chunk + 1],
+                      win_coef[:chunk], cancel)
+        last = r.progress.status != STATUS_PAUSED
+        rows, m = function_crossings(g, direction, win_t, np.ascontiguousarray(win_y[: n + 1, 0]), win_coef, n, ref,
+                                     first, last)
+        first = False
+        if m < 0:
+            r.progress.status = STATUS_NONFINITE
+            break
+        hits, q = _record(rows, m, hits, max_events, terminal, t_events, y_events)
+        if q >= 0:
+            stop[0, 0], stop[0, 1], stop[0, 2], stop[0, 3] = rows[q, 0], rows[q, 1], rows[q, 2], 0.0
+            stop_at(r, out, t_eval, stop, 0, before + int(rows[q, 3]) + 1, sign)
+            break
+        if last:
+            break
+        chunk = min(2 * chunk, LAST_CHUNK)
+    return r.progress.status, r.progress.n_windows, t_events, y_events, hits

@@ -79,3 +79,31 @@ def test_bad_arguments_are_refused():
         mbm.event_table(g)
     with pytest.raises(TypeError, match="events must be"):
         mbm.event_table([1.0])
+
+
+@numba.njit
+def _slip(t, theta, theta_dot):
+    return math.cos(0.5 * theta)
+
+
+@pytest.mark.parametrize("direction, terminal", [(1.0, 3), (0.0, 0)])
+def test_function_events_equal_mbm_solve_bit_for_bit(direction, terminal):
+    te = np.linspace(0.0, 100.0, 11)
+    out = np.empty((2, te.size))
+    status, nw, t_ev, y_ev, count = mbm.solve_njit_function_events(
+        0.1, 1.2, 1.0, 0.0, 0.0, 0.0, 100.0, te, out, 1e-9, 1e-9, 10**7, _slip, direction, terminal, 5)
+    g = numba.njit(_slip.py_func)
+    g.direction, g.terminal = direction, terminal if terminal else False
+    r = mbm.solve(mbm.Pendulum(0.1, 1.2), (0.0, 100.0), [0.0, 0.0], rtol=1e-9, atol=1e-9, t_eval=te, events=g,
+                  max_events=5)
+    assert (status, nw, count) == (r.status, r.n_windows, r.n_events[0])
+    k = r.t_events[0].size
+    assert k == 5 if not terminal else k == terminal
+    np.testing.assert_array_equal(t_ev[:k], r.t_events[0])
+    np.testing.assert_array_equal(y_ev[:k], r.y_events[0])
+    assert np.isnan(t_ev[k:]).all()
+    np.testing.assert_array_equal(out[:, : r.t.size], r.y)
+    assert np.isnan(out[:, r.t.size:]).all()
+    with pytest.raises(ValueError, match="max_events"):
+        mbm.solve_njit_function_events(0.1, 1.2, 1.0, 0.0, 0.0, 0.0, 1.0, te[:0], out[:, :0], 1e-9, 1e-9, 100,
+                                       _slip, 0.0, 0, 0)
