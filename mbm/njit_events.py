@@ -218,11 +218,10 @@ def solve_njit_function_events(beta, gamma, omega, t0, theta0, v0, t_bound, t_ev
     The run and its events are those of ``mbm.solve(..., events=g, max_events=max_events)``
     with ``g.direction = direction`` and ``g.terminal = terminal``, bit for bit (the
     Taylor series, no regime: :mod:`mbm.user_events`).  Arguments are not validated,
-    but for ``max_events``.  Compiled for each ``g`` and not cached (numba cannot cache
-    a kernel that takes a function): about 8 s in each new process on 2 cores, as the
-    whole loop is optimised again with it.  Called from your own
-    ``numba.njit(cache=True)`` function with ``g`` a global there, it is compiled into
-    that function and cached with it.
+    but for ``max_events``.  Compiled for each ``g`` in each new process and not cached
+    (numba cannot cache a kernel that takes a function, nor a caller of it): about
+    8 s on 2 cores, as the whole loop is optimised again with it; outside numba code,
+    ``mbm.solve(..., events=g)`` compiles only its locator (about 1 s).
 
     Parameters
     ----------
