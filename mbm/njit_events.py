@@ -62,6 +62,16 @@ def event_table(events):
 
 
 @numba.njit(cache=True)
+def _init_taylor(p, beta, gamma, omega, t0, theta0, v0, t_bound, rtol, atol, max_windows, amp, freq, phase, regimes):
+    # p[0] a fresh adaptive run of the default Taylor series (mbm.solve's with events).
+    drive = (amp, freq, phase) if amp != 0.0 else (0.0, 0.0, 0.0)
+    model = (float(beta), float(gamma), float(omega), float(drive[0]), float(drive[1]), float(drive[2]))
+    state = (float(t0), float(theta0), float(v0), float(t_bound))
+    control = (_KIND, _KARG, loop.CONTROLLER_ADAPTIVE, -1.0, math.inf, math.inf, float(rtol), float(atol), _ORDER)
+    loop.init_run(p, 0, model, state, control, np.int64(max_windows), 0, regimes)
+
+
+@numba.njit(cache=True)
 def _window_store():
     # A chunk's window store (LAST_CHUNK windows of the default Taylor series).
     return np.empty(LAST_CHUNK + 1), np.empty((LAST_CHUNK + 1, 2)), np.empty((LAST_CHUNK, _WIDTH))
@@ -168,18 +178,15 @@ def solve_njit_events(beta, gamma, omega, t0, theta0, v0, t_bound, t_eval, out, 
     if max_events < 1:
         raise ValueError("max_events must be >= 1")
     p = np.empty(1, dtype=loop.RUN)
-    drive = (drive_amplitude, drive_frequency, drive_phase) if drive_amplitude != 0.0 else (0.0, 0.0, 0.0)
-    model = (float(beta), float(gamma), float(omega), float(drive[0]), float(drive[1]), float(drive[2]))
-    state = (float(t0), float(theta0), float(v0), float(t_bound))
-    control = (_KIND, _KARG, loop.CONTROLLER_ADAPTIVE, -1.0, math.inf, math.inf, float(rtol), float(atol), _ORDER)
-    regimes = REGIMES_ALL if _lock_allowed(events) and drive[0] == 0.0 else REGIMES_PERIODIC
+    regimes = REGIMES_ALL if _lock_allowed(events) and drive_amplitude == 0.0 else REGIMES_PERIODIC
     nev = events.shape[0]
     win_t, win_y, win_coef = _window_store()
     caps = np.full(nev, max_events, np.int64)
     cancel = np.zeros(1, dtype=np.int64)
     lock = np.empty(4)
     while True:
-        loop.init_run(p, 0, model, state, control, np.int64(max_windows), 0, regimes)
+        _init_taylor(p, beta, gamma, omega, t0, theta0, v0, t_bound, rtol, atol, max_windows, drive_amplitude,
+                     drive_frequency, drive_phase, np.int64(regimes))
         hits = np.zeros(nev, np.int64)
         stored = np.zeros(nev, np.int64)
         evf = np.empty((EVENTS_CAPACITY, 4))
@@ -270,11 +277,8 @@ def solve_njit_function_events(beta, gamma, omega, t0, theta0, v0, t_bound, t_ev
     if max_events < 1:
         raise ValueError("max_events must be >= 1")
     p = np.empty(1, dtype=loop.RUN)
-    drive = (drive_amplitude, drive_frequency, drive_phase) if drive_amplitude != 0.0 else (0.0, 0.0, 0.0)
-    model = (float(beta), float(gamma), float(omega), float(drive[0]), float(drive[1]), float(drive[2]))
-    state = (float(t0), float(theta0), float(v0), float(t_bound))
-    control = (_KIND, _KARG, loop.CONTROLLER_ADAPTIVE, -1.0, math.inf, math.inf, float(rtol), float(atol), _ORDER)
-    loop.init_run(p, 0, model, state, control, np.int64(max_windows), 0, REGIMES_OFF)
+    _init_taylor(p, beta, gamma, omega, t0, theta0, v0, t_bound, rtol, atol, max_windows, drive_amplitude,
+                 drive_frequency, drive_phase, np.int64(REGIMES_OFF))
     r = p[0]
     win_t, win_y, win_coef = _window_store()
     cancel = np.zeros(1, dtype=np.int64)
