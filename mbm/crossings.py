@@ -314,6 +314,9 @@ class _Run:
         for e, _, _, stops in funcs:
             self.terminal[e] = stops
         self.refs = [np.zeros(4) for _ in funcs]
+        # With functions, the built-in events are located all, none terminal (_merge).
+        self.ev_all = ev.copy()
+        self.ev_all[:, 4] = 0.0
         self.ends_t, self.ends_y = [], []
         self.stopped = False
         self.windows_before = 0
@@ -369,10 +372,9 @@ class _Run:
         rows = []
         if self.builtin.size:
             c0 = self.count
-            ev = self.ev.copy()
-            ev[:, 4] = 0.0
-            zeros = np.zeros(ev.shape[0], np.int64)
-            _, ok = self._locate(win_t, start_theta, win_coef, n, ev, zeros, zeros.copy(), np.full_like(zeros, -1))
+            zeros = np.zeros(self.ev.shape[0], np.int64)
+            _, ok = self._locate(win_t, start_theta, win_coef, n, self.ev_all, zeros, zeros.copy(),
+                                 np.full_like(zeros, -1))
             if ok != WATCH_OK:
                 return -1, ok
             found = self.evf[c0: self.count]

@@ -227,8 +227,9 @@ def solve_njit_function_events(beta, gamma, omega, t0, theta0, v0, t_bound, t_ev
     Taylor series, no regime: :mod:`mbm.user_events`).  Arguments are not validated,
     but for ``max_events``.  Compiled for each ``g`` in each new process and not cached
     (numba cannot cache a kernel that takes a function, nor a caller of it): about
-    8 s on 2 cores, as the whole loop is optimised again with it; outside numba code,
-    ``mbm.solve(..., events=g)`` compiles only its locator (about 1 s).
+    3.5 s per function on 2 cores (``python -m benchmarks.compile_profile``), as the
+    whole loop is optimised again with it; ``mbm.solve(..., events=g)`` compiles only
+    its locator (about 1.2 s).
 
     Parameters
     ----------

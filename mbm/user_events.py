@@ -23,8 +23,8 @@ running cycle's or a libration's stored period gives the built-in events by shif
 per turn, not g's, which may depend on t).
 
 The locator is compiled for each event function (numba cannot cache a kernel that
-takes another function as an argument): about 1 s on a function's first call in a
-process (``docs/contributing.md``), then it is reused.
+takes another function as an argument): about 1.2 s on a function's first call in a
+process on 2 cores (``python -m benchmarks.compile_profile``), then it is reused.
 """
 
 import math
