@@ -10,8 +10,8 @@ approximant "auto", the Taylor series), calls with one output time:
 * ``Integrator.solve`` (prepared) and :func:`mbm.solve` (one-shot: its cache of
   Integrators, argument checks) on a zero-length span (no window: the fixed cost
   before the first window) and on a span of 1e-9 (one window);
-* the compiled part alone: Integrator.solve's compiled entry (``mbm.fast.ENTRIES``:
-  the t_eval check, the record set-up, the loop, what the result needs) called from
+* the compiled part alone: Integrator.solve's compiled entry (the loop's own,
+  ``mbm.loop.RUNNERS``: the t_eval check, the record set-up, the loop) called from
   Python with its arguments ready (dispatch included), and called from a compiled loop
   (no dispatch);
 * for scale, P1 whole (0 ≤ t ≤ 20) with its 201 outputs.
@@ -62,15 +62,15 @@ BLOCK_NAME = "overheads-per-call"
 
 
 # The entry of mbm.solve's scene (undriven Taylor, β > 0: the damped regime set).
-_OUTPUTS_TAYLOR = fast.ENTRIES[(loop.KIND_TAYLOR, loop.RS_DAMPED)][0]
+_ENTRY_TAYLOR = loop.RUNNERS[(loop.KIND_TAYLOR, loop.RS_DAMPED)]
 
 
 @numba.njit
-def _entry_loop(n, buf, t0, theta0, v0, t1, h, te, out):
+def _entry_loop(n, buf, t0, theta0, v0, t1, h, te, out, win_t, win_y, win_coef, never):
     # The compiled entry n times from compiled code: its cost without the dispatch.
     problem = 0
     for _ in range(n):
-        problem += _OUTPUTS_TAYLOR(buf, True, t0, theta0, v0, t1, h, te, out)[0]
+        problem += _ENTRY_TAYLOR(buf, True, t0, theta0, v0, t1, h, te, out, win_t, win_y, win_coef, never)
     return problem
 
 
@@ -101,22 +101,23 @@ def fixed_costs(repeats=DEFAULT_REPEATS, block=BLOCK):
     """
     model = mbm.Pendulum(*MODEL_PARAMS)
     ig = mbm.Integrator(model, rtol=RTOL, atol=ATOL)
-    if ig._outputs is not _OUTPUTS_TAYLOR:  # pragma: no cover - "auto" is Taylor here
-        raise RuntimeError(f"expected the Taylor entry, got {ig._outputs}")
+    if ig._entry is not _ENTRY_TAYLOR:  # pragma: no cover - "auto" is Taylor here
+        raise RuntimeError(f"expected the Taylor entry, got {ig._entry}")
     te1 = np.array([0.0])
     te_tiny = np.array([TINY_SPAN[1]])
     te_p1 = np.linspace(*P1_SPAN, N_OUTPUTS)
     opts = dict(rtol=RTOL, atol=ATOL)
     # The entry's arguments, ready (a buffer of the Integrator's pool: its template row).
     ig.solve((0.0, 0.0), Y0, te1)
-    buf = ig._records[-1]
+    buf = ig._records[-1][0]
     out = np.empty((2, 1))
     h = ig._h
-    entry = ig._outputs
+    entry = ig._entry
+    empty = (fast._NO_T, fast._NO_Y, fast._NO_COEF, fast._NEVER)
 
     def compiled(t1, te):
-        _entry_loop(1, buf, 0.0, Y0[0], Y0[1], t1, h, te, out)  # compiled before timing
-        return (lambda: _entry_loop(COMPILED_BLOCK, buf, 0.0, Y0[0], Y0[1], t1, h, te, out),
+        _entry_loop(1, buf, 0.0, Y0[0], Y0[1], t1, h, te, out, *empty)  # compiled before timing
+        return (lambda: _entry_loop(COMPILED_BLOCK, buf, 0.0, Y0[0], Y0[1], t1, h, te, out, *empty),
                 COMPILED_BLOCK)
 
     calls = {
@@ -127,9 +128,9 @@ def fixed_costs(repeats=DEFAULT_REPEATS, block=BLOCK):
         "mbm.solve, span 1e-9 (one window)":
             (lambda: mbm.solve(model, TINY_SPAN, Y0, t_eval=te_tiny, **opts), None),
         "compiled entry from Python, zero-length span":
-            (lambda: entry(buf, True, 0.0, Y0[0], Y0[1], 0.0, h, te1, out), None),
+            (lambda: entry(buf, True, 0.0, Y0[0], Y0[1], 0.0, h, te1, out, *empty), None),
         "compiled entry from Python, span 1e-9":
-            (lambda: entry(buf, True, 0.0, Y0[0], Y0[1], TINY_SPAN[1], h, te_tiny, out), None),
+            (lambda: entry(buf, True, 0.0, Y0[0], Y0[1], TINY_SPAN[1], h, te_tiny, out, *empty), None),
         "compiled entry in a compiled loop, zero-length span": compiled(0.0, te1),
         "compiled entry in a compiled loop, span 1e-9": compiled(TINY_SPAN[1], te_tiny),
         f"Integrator.solve, P1 (t ≤ 20) with {N_OUTPUTS} outputs":

@@ -331,7 +331,8 @@ class _Run:
             win_coef = np.empty((cap, self.width))
             runner = loop.RUNNERS[(self.ig._kind, int(loop.set_of(r)))]
             before = int(r["progress"]["n_windows"])
-            n = runner(p, self.te, self.out, win_t, win_y, win_coef, np.zeros(1, np.int64))
+            n = runner(loop.words_of(p), False, 0.0, 0.0, 0.0, 0.0, 0.0, self.te, self.out, win_t, win_y, win_coef,
+                       np.zeros(1, np.int64))
             start_theta = np.ascontiguousarray(win_y[: n + 1, 0])
             last = int(r["progress"]["status"]) != STATUS_PAUSED
             if self.funcs:

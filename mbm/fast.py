@@ -26,7 +26,6 @@ from ._validate import (
     check_tolerances,
     check_window_budget,
     t_eval_error,
-    t_eval_problem,
 )
 from .approximants import get_approximant
 from .choice import auto_name, auto_reason
@@ -58,6 +57,12 @@ _KIND_SALAS_TORQUE, _KIND_SPLIT = loop.KIND_SALAS_TORQUE, loop.KIND_SPLIT
 _W_T, _W_THETA, _W_V, _W_TBOUND, _W_H = _W["t"], _W["theta"], _W["v"], _W["t_bound"], _W["h_abs"]
 _W_CYC_T, _W_CYC_SIGN = _W["cyc_T"], _W["cyc_sign"]
 _W_STR_P, _W_STR_Q, _W_FREQ = _W["str_p"], _W["str_q"], _W["drive_freq"]
+_W_STATUS, _W_J, _W_NW, _W_REGIME, _W_T_REGIME = (_W[k] for k in ("status", "j", "n_windows", "regime", "t_regime"))
+# The loop entry's arguments a call leaves empty: no outputs, no window store; never
+# cancelled (mbm.solve is chunked instead, CALL_WINDOWS).
+_NO_TIMES, _NO_OUT = np.empty(0), np.empty((2, 0))
+_NO_T, _NO_Y, _NO_COEF = np.empty(0), np.empty((0, 2)), np.empty((0, 0))
+_NEVER = np.zeros(1, np.int64)
 # Bound once: Integrator.solve's fast path reads no module attributes (each read is a
 # few percent of its fixed cost).
 _PAUSED, _OK, _MESSAGES = loop.STATUS_PAUSED, loop.STATUS_OK, loop.STATUS_MESSAGES
@@ -148,94 +153,25 @@ def _state(y0):
     return float(y[0]), float(y[1])
 
 
-# The compiled entries of Integrator.solve, two per kind (each calls its own kind's
-# loop entry only, so a first run compiles the kinds it uses): with t_eval
-# (_outputs_*) and with the window ends (_ends_*).  In one dispatch an entry checks
-# t_eval (as check_t_eval; nothing is run when it fails), copies the template record
-# into the call's words, sets the span, the state and the first window, runs the loop
-# and returns what the result needs.  Folding these into one call cut
-# Integrator.solve's fixed cost by about 2 µs (the separate dispatches of
-# check_t_eval and of the loop entry with its 7 arguments, the word writes and int64
-# reads from Python): benchmarks/overheads.py.
-#
-# Arguments: buf (float64, shape (2, words): row 0 the Integrator's template record,
-# row 1 the call's record, both as float64 words), fresh (False: resume the paused run
-# in row 1 as it stands), t0, theta0, v0, t1, h (the first window's h_abs), then
-# t_eval, out or win_t, win_y (as loop.run's).  Returns (problem, status, j,
-# n_windows, regime, t_regime) with t_eval (problem: the t_eval_problem code, 0: ran),
-# (status, n, n_windows, regime, t_regime) with the window ends (n: the windows this
-# call took).
+# Integrator.solve calls the loop's entry itself (loop.RUNNERS: one compiled entry per
+# kind and regime set, shared with solve_ivp's MBM), with a buffer of two rows of
+# float64 words: row 0 the Integrator's template record, row 1 the call's record.  A
+# fresh call checks t_eval (as check_t_eval; nothing is run when it fails), copies the
+# template into row 1, sets the span, the state and the first window and runs the loop
+# (mbm.core.loop._runner); a resumed one goes on from row 1 as it stands.  The status,
+# counts and regime are read back from row 1's int64 view.  One dispatch per call:
+# benchmarks/overheads.py.
 
 
-@numba.njit(cache=True, inline="always")
-def _start(buf, fresh, t0, theta0, v0, t1, h):
-    words = buf[1]
-    if fresh:
-        # An element loop: a slice assignment compiles numpy's broadcast-error
-        # machinery and its message formatting (seconds of a first call).
-        tpl = buf[0]
-        for i in range(words.size):
-            words[i] = tpl[i]
-        words[_W_T] = t0
-        words[_W_THETA] = theta0
-        words[_W_V] = v0
-        words[_W_TBOUND] = t1
-        words[_W_H] = h
-    return words.view(loop.RUN)
+def _entry_of(kind, words):
+    # The entry that runs the record in ``words`` (float64 words of a RUN) now.
+    return loop.RUNNERS[(kind, loop.set_of(words.view(loop.RUN)[0]))]
 
 
-@numba.njit(cache=True, inline="always")
-def _outputs(kind, rset, buf, fresh, t0, theta0, v0, t1, h, t_eval, out):
-    if fresh:
-        problem = t_eval_problem(t_eval, t0, t1, False)
-        if problem != 0:
-            return problem, 0, 0, 0, 0, math.nan
-    p = _start(buf, fresh, t0, theta0, v0, t1, h)
-    win_t, win_y, win_coef = np.empty(0), np.empty((0, 2)), np.empty((0, 0))
-    never = np.zeros(1, np.int64)
-    loop._dispatch(kind, rset, p, t_eval, out, win_t, win_y, win_coef, never)
-    r = p[0]
-    return 0, r.progress.status, r.progress.j, r.progress.n_windows, r.switch.regime, r.switch.t_regime
-
-
-@numba.njit(cache=True, inline="always")
-def _ends(kind, rset, buf, fresh, t0, theta0, v0, t1, h, win_t, win_y):
-    p = _start(buf, fresh, t0, theta0, v0, t1, h)
-    t_eval, out, win_coef = np.empty(0), np.empty((2, 0)), np.empty((0, 0))
-    never = np.zeros(1, np.int64)
-    n = loop._dispatch(kind, rset, p, t_eval, out, win_t, win_y, win_coef, never)
-    r = p[0]
-    return r.progress.status, n, r.progress.n_windows, r.switch.regime, r.switch.t_regime
-
-
-def _entries(kind, rset):
-    # kind and rset are constants of the closures: numba prunes every other entry of
-    # the loop (loop._dispatch), and caches each closure apart.
-    @numba.njit(cache=True)
-    def outputs(buf, fresh, t0, theta0, v0, t1, h, t_eval, out):
-        return _outputs(kind, rset, buf, fresh, t0, theta0, v0, t1, h, t_eval, out)
-
-    @numba.njit(cache=True)
-    def ends(buf, fresh, t0, theta0, v0, t1, h, win_t, win_y):
-        return _ends(kind, rset, buf, fresh, t0, theta0, v0, t1, h, win_t, win_y)
-
-    return outputs, ends
-
-
-#: The compiled entries (with t_eval, with the window ends) of each (kind id, regime
-#: set) of the loop's table (mbm.loop.RUN_TABLE).
-ENTRIES = {key: _entries(*key) for key in loop.RUN_TABLE}
-
-
-def _entries_of(kind, words):
-    # The entries that run the record in ``words`` (float64 words of a RUN) now.
-    return ENTRIES[(kind, loop.set_of(words.view(loop.RUN)[0]))]
-
-
-def _entries_at(integrator, regime):
-    # The entries of an Integrator's run once it is in ``regime`` (the record's other
-    # fields that choose the set are the Integrator's, fixed): the regime's set's entries.
-    return ENTRIES[(integrator._kind, _regime_set(*integrator._set_fields, regime))]
+def _entry_at(integrator, regime):
+    # The entry of an Integrator's run once it is in ``regime`` (the record's other
+    # fields that choose the set are the Integrator's, fixed): the regime's set's entry.
+    return loop.RUNNERS[(integrator._kind, _regime_set(*integrator._set_fields, regime))]
 
 
 # The keys of a result, in their order (its repr's); the constant ones are filled in
@@ -323,13 +259,13 @@ class Integrator:
         # words of its own.
         self._words = template.view(np.float64).copy()
         self._kind = kind
-        # The entries of a fresh run (a regime switch resumes through its set's own).
-        self._outputs, self._ends = _entries_of(kind, self._words)
+        # The entry of a fresh run (a regime switch resumes through its set's own).
+        self._entry = _entry_of(kind, self._words)
         run0 = template[0]
         self._set_fields = (kind, int(run0["control"]["controller"]), int(run0["switch"]["regimes"]),
                             float(run0["model"]["beta"]), float(run0["model"]["drive_amp"]))
         self._h = float(self._words[_W_H])
-        # Buffers ready for a call (row 0 these words, row 1 the call's: see ENTRIES),
+        # Buffers ready for a call (row 0 these words, row 1 the call's: see _entry_of),
         # taken and put back per call (list pop/append are atomic, so threads sharing
         # an Integrator each get their own).
         self._records = []
@@ -392,51 +328,53 @@ class Integrator:
             h = loop.plan_windows(self.approximant, None, self.max_step, abs(t1 - t0))[1]
         records = self._records
         try:
-            buf = records.pop()
+            buf, words, ints = records.pop()
         except IndexError:
             buf = np.empty((2, self._words.size))
             buf[0] = self._words
+            words, ints = buf[1], buf[1].view(np.int64)
         try:
+            entry, item = self._entry, ints.item
             if t_eval is None:
                 # The window ends: stored from the start, the store grown as it fills.
                 win_t = np.empty(ENDS_CAPACITY + 1)
                 win_y = np.empty((ENDS_CAPACITY + 1, 2))
-                status, n, n_windows, regime, t_regime = self._ends(
-                    buf, True, t0, theta0, v0, t1, h, win_t, win_y)
-                ends, chosen = self._ends, REGIME_NONE
-                while status == _PAUSED:  # chunked: Ctrl-C gets in between calls
+                n = entry(buf, True, t0, theta0, v0, t1, h, _NO_TIMES, _NO_OUT, win_t, win_y, _NO_COEF, _NEVER)
+                chosen = REGIME_NONE
+                while item(_W_STATUS) == _PAUSED:  # chunked: Ctrl-C gets in between calls
                     if n + 1 == win_t.size:
                         win_t = np.concatenate((win_t, np.empty(win_t.size)))
                         win_y = np.concatenate((win_y, np.empty((win_y.shape[0], 2))))
+                    regime = item(_W_REGIME)
                     if regime != chosen:  # a regime switch: its set's entry
-                        ends, chosen = _entries_at(self, regime)[1], regime
-                    status, k, n_windows, regime, t_regime = ends(
-                        buf, False, t0, theta0, v0, t1, h, win_t[n:], win_y[n:])
-                    n += k
+                        entry, chosen = _entry_at(self, regime), regime
+                    n += entry(buf, False, t0, theta0, v0, t1, h, _NO_TIMES, _NO_OUT, win_t[n:], win_y[n:],
+                               _NO_COEF, _NEVER)
                 t, y = win_t[: n + 1], win_y[: n + 1].T
             else:
-                problem, status, j, n_windows, regime, t_regime = self._outputs(
-                    buf, True, t0, theta0, v0, t1, h, te, y)
-                if problem:
-                    raise t_eval_error(problem, t0, t1)
-                outputs, chosen = self._outputs, REGIME_NONE
-                while status == _PAUSED:
+                problem = entry(buf, True, t0, theta0, v0, t1, h, te, y, _NO_T, _NO_Y, _NO_COEF, _NEVER)
+                if problem < 0:
+                    raise t_eval_error(-problem, t0, t1)
+                chosen = REGIME_NONE
+                while item(_W_STATUS) == _PAUSED:
+                    regime = item(_W_REGIME)
                     if regime != chosen:  # a regime switch: its set's entry
-                        outputs, chosen = _entries_at(self, regime)[0], regime
-                    status, j, n_windows, regime, t_regime = outputs(
-                        buf, False, t0, theta0, v0, t1, h, te, y)[1:]
+                        entry, chosen = _entry_at(self, regime), regime
+                    entry(buf, False, t0, theta0, v0, t1, h, te, y, _NO_T, _NO_Y, _NO_COEF, _NEVER)
                 t = te
+                j = item(_W_J)
                 if j != te.size:
                     t, y = te[:j], y[:, :j]
+            status, n_windows, regime = item(_W_STATUS), item(_W_NW), item(_W_REGIME)
+            t_regime = words.item(_W_T_REGIME)
             if regime == REGIME_NONE:
                 period = mean_velocity = _NAN
             else:
-                words = buf[1]
                 period, mean_velocity = cycle_summary(regime, words[_W_CYC_T], words[_W_CYC_SIGN])
                 if regime == REGIME_PHASE_LOCKED:
                     period, mean_velocity = strobe_summary(words[_W_STR_P], words[_W_STR_Q], words[_W_FREQ])
         finally:
-            records.append(buf)
+            records.append((buf, words, ints))
         r = SolveResult(self._base)
         if wrap:
             r["winding"] = y[2].astype(np.int64)

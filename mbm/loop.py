@@ -25,6 +25,8 @@ from .core.record import (  # noqa: F401
     init_run,
     init_runs,
     new_run,
+    start_record,
+    words_of,
 )
 from .core.window import (  # noqa: F401
     COMPILED_KINDS,
@@ -100,7 +102,6 @@ from .core.loop import (  # noqa: F401
     _R_T3,
     _R_T4,
     _R_T5,
-    _dispatch,
     _record_set,
     _regime_set,
     REACHES,
@@ -185,6 +186,8 @@ __all__ = [
     "flat",
     "init_run",
     "init_runs",
+    "start_record",
+    "words_of",
     "COMPILED_KINDS",
     "CONTROLLER_FIXED",
     "CONTROLLER_ADAPTIVE",

@@ -344,7 +344,7 @@ class MBM(_MBMBase):
         # The run record of the compiled loop (None: windows driven from Python, one
         # per step, for approximants without a compiled kind), and its words as float64
         # and int64 (fast field access).
-        self._run = self._words = self._ints = None
+        self._run = self._words = self._ints = self._buf = None
         # Width of the window store (the approximant's coefficient vector), the window
         # store's size for the next step, and the last step's windows (starts, θ at the
         # starts, coefficients, count) for its dense output.
@@ -360,6 +360,7 @@ class MBM(_MBMBase):
                 0 if wps else CALL_WINDOWS,
             )
             self._run = np.ndarray(1, loop.RUN, self._words)
+            self._buf = self._words.reshape(1, -1)  # as the loop's entries take the record
             self._ints = np.ndarray(self._words.shape, np.int64, self._words)
             # The entry of the run's regime set (loop.runner_for), chosen again after a
             # pause: a regime switch resumes through its own set's entry.
@@ -369,6 +370,7 @@ class MBM(_MBMBase):
         if self._run is None:
             return self._python_window()
         p, words, ints, run = self._run, self._words, self._ints, self._runner
+        buf = self._buf
         # The store: windows_per_step windows at most (None: unbounded), from a size that
         # doubles while the loop fills it (a short run allocates little).
         limit = self.windows_per_step
@@ -376,7 +378,7 @@ class MBM(_MBMBase):
         win_t = np.empty(size + 1)
         win_y = np.empty((size + 1, 2))
         win_coef = np.empty((size, self._width))
-        n = run(p, _NO_TIMES, _NO_OUT, win_t, win_y, win_coef, _NEVER)
+        n = run(buf, False, 0.0, 0.0, 0.0, 0.0, 0.0, _NO_TIMES, _NO_OUT, win_t, win_y, win_coef, _NEVER)
         # Paused with the store full (or, windows_per_step=None, after CALL_WINDOWS):
         # go on in a larger store (twice the windows so far and a buffer more), up to
         # the limit.
@@ -387,7 +389,8 @@ class MBM(_MBMBase):
                 win_y = np.concatenate((win_y[: n + 1], np.empty((size - n, 2))))
                 win_coef = np.concatenate((win_coef[:n], np.empty((size - n, self._width))))
             run = self._runner = loop.runner_for(p[0])
-            n += run(p, _NO_TIMES, _NO_OUT, win_t[n:], win_y[n:], win_coef[n:], _NEVER)
+            n += run(buf, False, 0.0, 0.0, 0.0, 0.0, 0.0, _NO_TIMES, _NO_OUT, win_t[n:], win_y[n:], win_coef[n:],
+                     _NEVER)
         self._store_size = size
         self.n_windows = ints.item(_W_NW)
         regime = ints.item(_W_REGIME)

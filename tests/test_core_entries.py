@@ -35,10 +35,10 @@ def test_every_record_has_an_entry_and_a_dense_evaluator():
             continue  # only Taylor integrates a drive, so only it can phase-lock
         rset = loop.regime_set.py_func(kind, ctl, regimes, beta, amp, regime)
         assert (kind, rset) in loop.RUN_TABLE
-        assert (kind, rset) in loop.RUNNERS and (kind, rset) in fast.ENTRIES
+        assert (kind, rset) in loop.RUNNERS
         assert (kind, dense.dense_set(regime)) in dense.DENSE_TABLE or kind in (loop.KIND_EXACT,
                                                                              loop.KIND_SALAS_TORQUE)
-    assert set(loop.RUNNERS) == set(loop.RUN_TABLE) == set(fast.ENTRIES)
+    assert set(loop.RUNNERS) == set(loop.RUN_TABLE)
 
 
 def test_regime_sets_of_the_scene_classes():
@@ -83,7 +83,7 @@ def test_an_entry_called_for_another_set_pauses_and_run_resumes_through_the_righ
     f2 = loop.flat(p2)
     f2[0]["status"] = loop.STATUS_OK
     f2[0]["t_bound"] = span[1] + 10.0
-    assert damped(p2, np.empty(0), np.empty((2, 0)), *args[2:]) == 0
+    assert damped(loop.words_of(p2), False, 0.0, 0.0, 0.0, 0.0, 0.0, np.empty(0), np.empty((2, 0)), *args[2:]) == 0
     assert f2[0]["status"] == loop.STATUS_PAUSED and f2[0]["t"] == f[0]["t"]
 
 

@@ -1,5 +1,5 @@
-"""Integrator.solve's compiled entries (mbm.fast.ENTRIES): one dispatch checks t_eval,
-sets up the run record and runs the loop.  They must refuse what check_t_eval refuses,
+"""Integrator.solve's compiled entry (the loop's own, mbm.loop.RUNNERS): one dispatch
+checks t_eval, sets up the run record and runs the loop.  They must refuse what check_t_eval refuses,
 with its messages and in the same order of checks, resume a paused run bit for bit and
 never make numba compile the loop again for an unusual t_eval."""
 
@@ -47,7 +47,7 @@ def test_entries_refuse_bad_t_eval_as_check_t_eval(kind, span, t_eval, message):
     ig = mbm.Integrator(model, **kw)
     # the entry of a fresh run of its kind and regime set (mbm.loop.regime_set)
     words = ig._words.view(loop.RUN)[0]
-    assert fast.ENTRIES[(loop.kind_of(ig.approximant)[0], loop.set_of(words))][0] is ig._outputs
+    assert loop.RUNNERS[(loop.kind_of(ig.approximant)[0], loop.set_of(words))] is ig._entry
     with pytest.raises(ValueError) as want:
         check_t_eval(t_eval, *span)
     assert str(want.value) == message
@@ -101,7 +101,7 @@ def test_unusual_t_eval_arrays_give_the_same_bits_and_compile_nothing():
     ig = mbm.Integrator(DAMPED, rtol=1e-8, atol=1e-8)
     te = np.linspace(0.0, 10.0, 21)
     want = ig.solve((0.0, 10.0), Y0, t_eval=te)
-    signatures = (len(loop.RUNNERS[(loop.KIND_TAYLOR, loop.RS_DAMPED)].signatures), len(ig._outputs.signatures))
+    signatures = len(loop.RUNNERS[(loop.KIND_TAYLOR, loop.RS_DAMPED)].signatures)
     read_only = te.copy()
     read_only.flags.writeable = False
     unaligned = np.frombuffer(bytearray(b"\0" + te.tobytes()), dtype=np.float64, offset=1)
@@ -112,7 +112,7 @@ def test_unusual_t_eval_arrays_give_the_same_bits_and_compile_nothing():
         r = ig.solve((0.0, 10.0), Y0, t_eval=arg)
         np.testing.assert_array_equal(r.t, te)
         np.testing.assert_array_equal(r.y, want.y)
-    assert (len(loop.RUNNERS[(loop.KIND_TAYLOR, loop.RS_DAMPED)].signatures), len(ig._outputs.signatures)) == signatures
+    assert len(loop.RUNNERS[(loop.KIND_TAYLOR, loop.RS_DAMPED)].signatures) == signatures
     # a plain float64 array is used as it is (no copy): the result's t is it
     assert ig.solve((0.0, 10.0), Y0, t_eval=te).t is te
 
@@ -146,12 +146,10 @@ def test_paused_runs_resume_bit_for_bit(small_chunks, monkeypatch, wrap):
     monkeypatch.setattr(fast, "ENDS_CAPACITY", 3)
     ig = mbm.Integrator(model, **kw)
     calls = []
-    ig._outputs = _counting(ig._outputs, calls)
-    ig._ends = _counting(ig._ends, calls)
-    # a regime switch resumes through its own set's entries: counted too
-    entries_at = fast._entries_at
-    monkeypatch.setattr(fast, "_entries_at",
-                        lambda ig, regime: tuple(_counting(f, calls) for f in entries_at(ig, regime)))
+    ig._entry = _counting(ig._entry, calls)
+    # a regime switch resumes through its own set's entry: counted too
+    entry_at = fast._entry_at
+    monkeypatch.setattr(fast, "_entry_at", lambda ig, regime: _counting(entry_at(ig, regime), calls))
     got = ig.solve((0.0, T), y0, t_eval=te, wrap=wrap)
     assert calls[0] is True and calls.count(False) >= want.n_windows // 7 - 1 > 5
     for key in want:

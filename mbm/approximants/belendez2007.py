@@ -47,7 +47,7 @@ import numba
 import numpy as np
 
 from ..special.dd import PI_HI
-from ..special.jit import NJIT_OPTIONS
+from ..special.jit import NJIT_OPTIONS, kernel
 
 # The flow, and the names re-exported from here for existing importers.
 from ..special.pendulum_flow import (  # noqa: F401
@@ -108,7 +108,7 @@ _NAN = float("nan")
 # ---------------------------------------------------------------------------
 
 
-@numba.njit(**NJIT_OPTIONS)
+@numba.njit(**NJIT_OPTIONS)  # also called from Python
 def belendez_anchor_kernel(beta, gamma, omega, theta0, v0):
     """Anchor the exact flow: ``coef = [status, *flow_setup_kernel(...)[:-1]]``.
 
@@ -129,7 +129,7 @@ def belendez_anchor_kernel(beta, gamma, omega, theta0, v0):
     return coef
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def belendez_eval_kernel(coef, t):
     """(θ, θ') at time t after the anchor; exactly the anchor at t == 0.0."""
     return flow_eval_kernel(coef[1], coef[3], coef[4], coef[5], coef[12], coef[13],
@@ -137,7 +137,7 @@ def belendez_eval_kernel(coef, t):
                             coef[18], coef[19], coef[20], t)
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def belendez_eval_array_kernel(coef, t, out_theta, out_v):
     """:func:`belendez_eval_kernel` over a contiguous float64 array ``t``."""
     for i in range(t.shape[0]):
@@ -198,7 +198,7 @@ class BelendezExact(Approximant):
 # ---------------------------------------------------------------------------
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def harmonic_anchor_kernel(beta, gamma, omega, theta0, v0):
     """Anchor the harmonic approximation (32)-(33).
 
@@ -248,7 +248,7 @@ def harmonic_anchor_kernel(beta, gamma, omega, theta0, v0):
     return coef
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def harmonic_eval_kernel(coef, t):
     """(θ, θ') of the harmonic c + A cos(ω_h t + φ); exactly the anchor at t == 0.0."""
     if t == 0.0:
@@ -260,7 +260,7 @@ def harmonic_eval_kernel(coef, t):
     return coef[2] + ((th_loc - coef[9]) - coef[10]), -A * om_h * math.sin(arg)
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def harmonic_eval_array_kernel(coef, t, out_theta, out_v):
     """:func:`harmonic_eval_kernel` over a contiguous float64 array ``t``."""
     for i in range(t.shape[0]):

@@ -8,12 +8,11 @@ in :mod:`mbm.approximants.salas2021`, which registers the Approximant classes.
 
 import math
 
-import numba
 import numpy as np
 
 from ..special.dd import TWO_PI_HI, nearest_2pi_multiple
 from ..special.jacobi import ellipf_kernel, ellipj_kernel
-from ..special.jit import NJIT_OPTIONS
+from ..special.jit import kernel
 from ..special.trig import sin_m_dm_kernel, trig_m_kernel
 
 
@@ -62,7 +61,7 @@ CARLSON_MAXITER = 64
 # ---------------------------------------------------------------------------
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _exprel(y):
     """expm1(y)/y, 1 at y = 0."""
     if abs(y) < EXPREL_SERIES_MAX:
@@ -70,7 +69,7 @@ def _exprel(y):
     return math.expm1(y) / y
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _rlog1p(x):
     """log1p(x)/x, 1 at x = 0 (log1p is relatively accurate for small x)."""
     if x == 0.0:
@@ -78,7 +77,7 @@ def _rlog1p(x):
     return math.log1p(x) / x
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _ratan(x):
     """atan(x)/x, 1 at x = 0."""
     if x == 0.0:
@@ -86,7 +85,7 @@ def _ratan(x):
     return math.atan(x) / x
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _q(y):
     """q(y) = (1 − (1 + y) e^{−y}) / y = y/2 − y²/3 + y³/8 − …, 0 at y = 0."""
     if abs(y) <= Q_SERIES_MAX:
@@ -103,7 +102,7 @@ def _q(y):
     return (-math.expm1(-y) - y * math.exp(-y)) / y
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _reduce_angle(theta0):
     """(offset, θr): θ0 = offset + θr with offset a multiple of 2π and θr ∈ [−π, π].
 
@@ -120,7 +119,7 @@ def _reduce_angle(theta0):
 # ---------------------------------------------------------------------------
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _rf(x, y, z):
     """Carlson's R_F(x, y, z), x, y, z ≥ 0, at most one zero (duplication, DLMF 19.36.1)."""
     for _ in range(CARLSON_MAXITER):
@@ -148,7 +147,7 @@ def _rf(x, y, z):
     ) / math.sqrt(mu)
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _rd(x, y, z):
     """Carlson's R_D(x, y, z), x, y ≥ 0 (not both 0), z > 0 (DLMF 19.36.2)."""
     s = 0.0
@@ -184,7 +183,7 @@ def _rd(x, y, z):
     return 3.0 * s + fac * ser / (mu * math.sqrt(mu))
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def ellipe_kernel(phi, m, mc):
     """E(φ|m) for real φ and m < 1 (mc = 1 − m > 0), numba kernel.
 
@@ -217,7 +216,7 @@ _S_PARAM_NAMES = (
 )
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _common_status(beta, gamma, omega, theta0, v0):
     """Status shared by all four approximants, and the reduced anchor."""
     eps = 0.5 * beta
@@ -233,7 +232,7 @@ def _common_status(beta, gamma, omega, theta0, v0):
     return STATUS_OK, eps, off, thr
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def salas_anchor(beta, gamma, omega, theta0, v0):
     """Anchor kernel of "salas-damped" and "salas-damped-linear" (see module docstring)."""
     coef = np.zeros(_S_NCOEF)
@@ -294,7 +293,7 @@ def salas_anchor(beta, gamma, omega, theta0, v0):
     return coef
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def salas_f_kernel(eps, sqc, P, Q, QmP, rr, u0, t):
     """F(t) = ∫₀ᵗ f′ (2.6) in closed form, and f′(t) (2.5); stable as ε → 0.
 
@@ -336,7 +335,7 @@ def salas_f_kernel(eps, sqc, P, Q, QmP, rr, u0, t):
     return sqc * term, sqc * u1
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _salas_state(coef, F, fp, t):
     eps = coef[_S_EPS]
     a = coef[_S_A]
@@ -350,7 +349,7 @@ def _salas_state(coef, F, fp, t):
     return theta, v
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def salas_eval_formula(coef, t):
     """(2.2) with (2.6) at t, without the exact-anchor shortcut at t = 0 (for tests)."""
     F, fp = salas_f_kernel(
@@ -360,7 +359,7 @@ def salas_eval_formula(coef, t):
     return _salas_state(coef, F, fp, t)
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def salas_eval(coef, t):
     """Evaluate θ(t), θ′(t) of an anchored "salas-damped" approximant."""
     if t == 0.0:
@@ -368,7 +367,7 @@ def salas_eval(coef, t):
     return salas_eval_formula(coef, t)
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def salas_eval_array(coef, t, out_theta, out_v):
     """:func:`salas_eval` over an array of times."""
     for i in range(t.size):
@@ -377,14 +376,14 @@ def salas_eval_array(coef, t, out_theta, out_v):
         out_v[i] = b
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def salas_linear_eval_formula(coef, t):
     """(2.2) with the paper's f ≈ f′(0)t, without the t = 0 shortcut (for tests)."""
     fp = coef[_S_SQRTC] * coef[_S_U0]
     return _salas_state(coef, fp * t, fp, t)
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def salas_linear_eval(coef, t):
     """Evaluate θ(t), θ′(t) of an anchored "salas-damped-linear" approximant."""
     if t == 0.0:
@@ -392,7 +391,7 @@ def salas_linear_eval(coef, t):
     return salas_linear_eval_formula(coef, t)
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def salas_linear_eval_array(coef, t, out_theta, out_v):
     """:func:`salas_linear_eval` over an array of times."""
     for i in range(t.size):
@@ -446,7 +445,7 @@ _J_PARAM_NAMES = (
 )
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def johannessen_xi_kernel(eps, Om, M, t):
     """ξ(t) of (3.9) (with κ² = M) and ξ′(t); regular at ε = 0 where ξ = Ωt."""
     k1 = 9.0 * Om * M * M / 256.0  # 9θ̇₀⁴/(4096 Ω³) with θ̇₀² = 4Ω²M (θ̇₀⁴, not the printed θ̇₀²)
@@ -457,7 +456,7 @@ def johannessen_xi_kernel(eps, Om, M, t):
     return xi, dxi
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _j_theta_v(sgn, M, mcM, u0, eps, Om, t, trig):
     """θ − offset and θ′ of the (generalized) Johannessen form at t."""
     y2 = 2.0 * eps * t
@@ -487,7 +486,7 @@ def _j_theta_v(sgn, M, mcM, u0, eps, Om, t, trig):
     return 2.0 * math.asin(z), v
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _j_u0(sgn, S, y, M, mcM, trig):
     """Phase u₀ with σ√M sn(u₀|M) = S (or sin_m), cn(u₀) ≥ 0."""
     if trig == 0:
@@ -498,7 +497,7 @@ def _j_u0(sgn, S, y, M, mcM, trig):
     return w0 / math.sqrt(L / 14.0)
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _j_residual(y, sgn, S, C, eps, Om, v0, trig):
     """θ′(0)/2 − θ̇₀/2 of the form with amplitude M = S² + y²."""
     M = S * S + y * y
@@ -514,7 +513,7 @@ def _j_residual(y, sgn, S, C, eps, Om, v0, trig):
     return 0.5 * v - 0.5 * v0
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _johannessen_anchor(beta, gamma, omega, theta0, v0, trig):
     coef = np.zeros(_J_NCOEF)
     status, eps, off, thr = _common_status(beta, gamma, omega, theta0, v0)
@@ -596,19 +595,19 @@ def _johannessen_anchor(beta, gamma, omega, theta0, v0, trig):
     return coef
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def johannessen_anchor(beta, gamma, omega, theta0, v0):
     """Anchor kernel of "johannessen" (3.9), any anchor (see module docstring)."""
     return _johannessen_anchor(beta, gamma, omega, theta0, v0, 0)
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def johannessen_trig_anchor(beta, gamma, omega, theta0, v0):
     """Anchor kernel of "johannessen-trig": (3.9) with sin_m of (3.12)–(3.13)."""
     return _johannessen_anchor(beta, gamma, omega, theta0, v0, 1)
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _j_eval_formula(coef, t, trig):
     M = coef[_J_M]
     if M == 0.0:
@@ -619,13 +618,13 @@ def _j_eval_formula(coef, t, trig):
     return coef[_J_OFF] + th, v
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def johannessen_eval_formula(coef, t):
     """(3.9) at t without the exact-anchor shortcut at t = 0 (for tests)."""
     return _j_eval_formula(coef, t, 0)
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def johannessen_eval(coef, t):
     """Evaluate θ(t), θ′(t) of an anchored "johannessen" approximant."""
     if t == 0.0:
@@ -633,7 +632,7 @@ def johannessen_eval(coef, t):
     return _j_eval_formula(coef, t, 0)
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def johannessen_eval_array(coef, t, out_theta, out_v):
     """:func:`johannessen_eval` over an array of times."""
     for i in range(t.size):
@@ -642,13 +641,13 @@ def johannessen_eval_array(coef, t, out_theta, out_v):
         out_v[i] = b
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def johannessen_trig_eval_formula(coef, t):
     """(3.9) with sin_m at t without the exact-anchor shortcut at t = 0 (for tests)."""
     return _j_eval_formula(coef, t, 1)
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def johannessen_trig_eval(coef, t):
     """Evaluate θ(t), θ′(t) of an anchored "johannessen-trig" approximant."""
     if t == 0.0:
@@ -656,7 +655,7 @@ def johannessen_trig_eval(coef, t):
     return _j_eval_formula(coef, t, 1)
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def johannessen_trig_eval_array(coef, t, out_theta, out_v):
     """:func:`johannessen_trig_eval` over an array of times."""
     for i in range(t.size):

@@ -13,7 +13,7 @@ import numba
 import numpy as np
 
 from ..special.jacobi import ellipf_kernel, ellipj_kernel
-from ..special.jit import NJIT_OPTIONS
+from ..special.jit import NJIT_OPTIONS, kernel
 from ..special.trig import trig_m_kernel
 from ..special.weierstrass import wp_kernel, wp_lattice_kernel
 
@@ -40,7 +40,7 @@ STATUS_UNBOUNDED = 2
 STATUS_NONFINITE = 3
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def cubic_equilibrium(gamma_s):
     """Root d of θ − 2θ³/13 = γ nearest arcsin γ (2.6); nan when |γ| > G_CUBIC_MAX."""
     if abs(gamma_s) > G_CUBIC_MAX:
@@ -69,7 +69,7 @@ def cubic_equilibrium(gamma_s):
     return x
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _f(y, y0, f0, p, q, r):
     # f(y) − f(y0) factored by (y0 − y) so that f is accurate near the turning points.
     g = p * (y0 + y) + (2.0 * q / 3.0) * (y0 * y0 + y0 * y + y * y) + 0.5 * r * (y0 + y) * (
@@ -78,12 +78,12 @@ def _f(y, y0, f0, p, q, r):
     return f0 + (y0 - y) * g
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _fprime(y, p, q, r):
     return -2.0 * y * (p + q * y + r * y * y)
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _root_between(a, b, y0, f0, p, q, r):
     # f is monotone on [a, b] with a sign change (f(a) > 0 ≥ f(b) or the reverse):
     # safeguarded Newton.
@@ -109,7 +109,7 @@ def _root_between(a, b, y0, f0, p, q, r):
     return x
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _sorted3(a, n):
     """The first ``n`` ≤ 3 items of ``a`` in increasing order, NaN last (np.sort's order),
     as a new array: np.sort compiles numba's whole quicksort (~2 s of a first call)."""
@@ -125,7 +125,7 @@ def _sorted3(a, n):
     return out
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _turning_points(y0, f0, p, q, r):
     """Turning points (lo, hi) of y'² = f(y) around y0; ok=False if the motion is unbounded."""
     # Critical points of f: 0 and the roots of r y² + q y + p = 0 (r < 0).
@@ -183,7 +183,7 @@ def _turning_points(y0, f0, p, q, r):
 NCOEF = 20
 
 
-@numba.njit(**NJIT_OPTIONS)
+@numba.njit(**NJIT_OPTIONS)  # also called from Python
 def salas_torque_anchor(beta, gamma, omega, theta0, v0):
     """Anchor kernel of "salas-torque": coefficient vector (see module docstring)."""
     coef = np.zeros(NCOEF)
@@ -244,7 +244,7 @@ def salas_torque_anchor(beta, gamma, omega, theta0, v0):
     return coef
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _ww(s, y0, yd0, f1, c, k0, k1, g2, g3):
     """Whittaker–Watson solution of y'² = f(y) anchored at y0: returns (y, y')."""
     wp, wpp = wp_kernel(s, g2, g3)
@@ -268,7 +268,7 @@ def _ww(s, y0, yd0, f1, c, k0, k1, g2, g3):
     return y, dy
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def salas_torque_eval(coef, t):
     """Evaluate θ(t), θ'(t) of an anchored "salas-torque" approximant (2.13) with (2.7)."""
     if t == 0.0:
@@ -283,7 +283,7 @@ def salas_torque_eval(coef, t):
     return theta, omega * vs
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def salas_torque_eval_array(coef, t, out_theta, out_v):
     """:func:`salas_torque_eval` over an array of times."""
     for i in range(t.size):
@@ -360,7 +360,7 @@ _CN_PARAM_NAMES = (
 )
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def cn_from_wp_kernel(t, m, mc):
     """cn(t | m) through ℘, the relation (2.22), numba kernel.
 
@@ -390,7 +390,7 @@ def cn_from_wp_kernel(t, m, mc):
     return 1.0 - 6.0 / (4.0 * m + 1.0 + 12.0 * w)
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def wp_from_cn_kernel(g2, g3):
     """a, b, ω, m, mc with ℘(t; g₂, g₃) = a + b/(1 − cn(ωt | m)), (2.23)–(2.24), numba kernel.
 
@@ -449,13 +449,13 @@ def wp_from_cn_kernel(g2, g3):
     return a, b, w, m, mc
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _cn_from_wp_loop(t, m, mc, out):
     for i in range(t.shape[0]):
         out[i] = cn_from_wp_kernel(t[i], m[i], mc[i])
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _wp_from_cn_loop(g2, g3, oa, ob, ow, om, omc):
     for i in range(g2.shape[0]):
         a, b, w, m, mc = wp_from_cn_kernel(g2[i], g3[i])
@@ -467,7 +467,7 @@ def _wp_from_cn_loop(g2, g3, oa, ob, ow, om, omc):
 
 
 # R = 0 (Abar, Bbar of (2.17) infinite) must give inf, not raise: NJIT_OPTIONS' error model.
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _cn_anchor(beta, gamma, omega, theta0, v0):
     """Anchor of the cn form (2.17) from the ℘ anchor of "salas-torque" and (2.23)."""
     coef = np.zeros(NCOEF_CN)
@@ -540,13 +540,13 @@ def _cn_anchor(beta, gamma, omega, theta0, v0):
     return coef
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def salas_torque_cn_anchor(beta, gamma, omega, theta0, v0):
     """Anchor kernel of "salas-torque-cn": the cn form (2.17) of the ℘ approximant."""
     return _cn_anchor(beta, gamma, omega, theta0, v0)
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _cn_theta(coef, s, X, dXds):
     """θ, θ' from X = cn(φ) (or cos_m(φ)) and dX/ds through (*), (2.7) and s = ωt."""
     A = coef[_CN_A]
@@ -563,7 +563,7 @@ def _cn_theta(coef, s, X, dXds):
     return coef[_CN_D] + e * y, omega * e * (dy - 0.5 * bs * y)
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def salas_torque_cn_eval(coef, t):
     """θ(t), θ'(t) of an anchored "salas-torque-cn": (2.17) with cn(√ω̄ s + c₂ | m), s = ωt."""
     if t == 0.0:
@@ -574,7 +574,7 @@ def salas_torque_cn_eval(coef, t):
     return _cn_theta(coef, s, cn, -w * sn * dn)
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def salas_torque_cn_eval_array(coef, t, out_theta, out_v):
     """:func:`salas_torque_cn_eval` over an array of times."""
     for i in range(t.size):
@@ -583,7 +583,7 @@ def salas_torque_cn_eval_array(coef, t, out_theta, out_v):
         out_v[i] = b
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def salas_torque_trig_anchor(beta, gamma, omega, theta0, v0):
     """Anchor kernel of "salas-torque-trig": the cn anchor, m restricted to (2.25)'s range."""
     coef = _cn_anchor(beta, gamma, omega, theta0, v0)
@@ -592,7 +592,7 @@ def salas_torque_trig_anchor(beta, gamma, omega, theta0, v0):
     return coef
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def salas_torque_trig_eval(coef, t):
     """θ(t), θ'(t) of "salas-torque-trig": (2.28), cn of (2.17) replaced by cos_m (2.25)."""
     if t == 0.0:
@@ -604,7 +604,7 @@ def salas_torque_trig_eval(coef, t):
     return _cn_theta(coef, s, cm, -w * sm * dm)
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def salas_torque_trig_eval_array(coef, t, out_theta, out_v):
     """:func:`salas_torque_trig_eval` over an array of times."""
     for i in range(t.size):

@@ -69,7 +69,7 @@ import numba
 import numpy as np
 
 from ..special.dd import reduce_2pi
-from ..special.jit import NJIT_OPTIONS
+from ..special.jit import NJIT_OPTIONS, kernel
 from ..special.pendulum_flow import pendulum_flow_kernel
 from .base import Approximant, register
 from .taylor import taylor_coefficients, taylor_eval_kernel, taylor_radius_kernel
@@ -201,7 +201,7 @@ STATUS_OK = 0
 STATUS_BAD_STATE = 1  # non-finite anchor or parameters
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def drift_flow_kernel(theta0, v0, beta, gamma, t):
     """Exact flow of the B part, θ' = 0, v' = γ − βv: the state at time t.
 
@@ -235,7 +235,7 @@ def drift_flow_kernel(theta0, v0, beta, gamma, t):
     return theta0, v0 * decay + gamma * phi1
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def compose_kernel(theta0, v0, beta, gamma, omega, t, a_w, b_w, n_stages):
     """The composition e^{b₀tB} e^{a₁tA} ⋯ e^{a_s tA} e^{b_s tB} applied to (θ₀, θ̇₀).
 
@@ -278,7 +278,7 @@ def compose_kernel(theta0, v0, beta, gamma, omega, t, a_w, b_w, n_stages):
     return theta0 + (th - start), v
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def split_eval_kernel(coef, t):
     """θ(t), θ'(t) of an anchored splitting approximant: the composition with step t,
     applied n times with step t/n when β·|t| exceeds :data:`SPLIT_MAX_SUBSTEP_BETA`."""
@@ -298,7 +298,7 @@ def split_eval_kernel(coef, t):
     return th, v
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def split_eval_array_kernel(coef, t, out_theta, out_v):
     """:func:`split_eval_kernel` over a float64 array ``t``."""
     for i in range(t.shape[0]):
@@ -307,7 +307,7 @@ def split_eval_array_kernel(coef, t, out_theta, out_v):
         out_v[i] = b
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def split_error_kernel(coef, h):
     """Estimated local error of the window [0, h]: distance to the anchor's Taylor polynomial.
 
@@ -349,7 +349,7 @@ def split_error_kernel(coef, h):
     return math.inf, math.inf
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def split_anchor(method_id, beta, gamma, omega, theta0, v0):
     coef = np.empty(N_COEF)
     coef[0] = STATUS_OK
@@ -366,37 +366,37 @@ def split_anchor(method_id, beta, gamma, omega, theta0, v0):
 
 
 # One anchor kernel per method: the kernel signature has no room for the method id.
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def split2_anchor_kernel(beta, gamma, omega, theta0, v0):
     return split_anchor(0, beta, gamma, omega, theta0, v0)
 
 
-@numba.njit(**NJIT_OPTIONS)
+@numba.njit(**NJIT_OPTIONS)  # also called from Python
 def split4_anchor_kernel(beta, gamma, omega, theta0, v0):
     return split_anchor(1, beta, gamma, omega, theta0, v0)
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def split4bm_anchor_kernel(beta, gamma, omega, theta0, v0):
     return split_anchor(2, beta, gamma, omega, theta0, v0)
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def split6_anchor_kernel(beta, gamma, omega, theta0, v0):
     return split_anchor(3, beta, gamma, omega, theta0, v0)
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def split8_anchor_kernel(beta, gamma, omega, theta0, v0):
     return split_anchor(4, beta, gamma, omega, theta0, v0)
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def sbab2_anchor_kernel(beta, gamma, omega, theta0, v0):
     return split_anchor(5, beta, gamma, omega, theta0, v0)
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def sbab3_anchor_kernel(beta, gamma, omega, theta0, v0):
     return split_anchor(6, beta, gamma, omega, theta0, v0)
 

@@ -117,8 +117,8 @@ values are used.  The estimate scales as h^{N+1}, as the solver's step factor
 import math
 
 import numpy as np
-from numba import njit
 
+from ..special.jit import kernel
 from .base import Approximant, register
 from .taylor_series import (  # noqa: F401  callers and tests import these from here
     HEADER, N_EXTRA, MAX_ORDER, _INV_K, _INV_K12, STATUS_OK, STATUS_BAD_STATE,
@@ -171,7 +171,7 @@ WINDOW_SAFETY_EXP = 0.7
 # (taylor_series explains why: the same bits on every compile and cache path).
 
 
-@njit(cache=True)
+@kernel
 def taylor_eval_kernel(coef, t):
     """θ(t), θ'(t) of the anchored Taylor polynomial (Horner; the anchor exactly at t = 0).
 
@@ -199,7 +199,7 @@ def taylor_eval_kernel(coef, t):
     return a[0] + t * p, q
 
 
-@njit(cache=True)
+@kernel
 def taylor_eval_range(coef, t0, times, lo, hi, out_theta, out_v):
     """:func:`taylor_eval_kernel` at ``times[lo:hi] − t0``, written to ``out_*[lo:hi]``.
 
@@ -251,7 +251,7 @@ def taylor_eval_range(coef, t0, times, lo, hi, out_theta, out_v):
         i += 1
 
 
-@njit(cache=True)
+@kernel
 def taylor_eval_array_kernel(coef, t, out_theta, out_v):
     """:func:`taylor_eval_kernel` over a float64 array ``t``."""
     for i in range(t.shape[0]):
@@ -260,7 +260,7 @@ def taylor_eval_array_kernel(coef, t, out_theta, out_v):
         out_v[i] = b
 
 
-@njit(cache=True)
+@kernel
 def taylor_radius_kernel(coef):
     """Root-test radius estimate min(|a_{N+1}|^{−1/(N+1)}, |a_{N+2}|^{−1/(N+2)}); inf if both are 0."""
     n = int(coef[1])
@@ -272,7 +272,7 @@ def taylor_radius_kernel(coef):
     return r
 
 
-@njit(cache=True)
+@kernel
 def taylor_error_kernel(coef, h):
     """Estimated local error of the window [0, h]: the first two neglected terms.
 
@@ -297,7 +297,7 @@ def taylor_error_kernel(coef, h):
     return (e1 + e2) * ah, (n + 1.0) * e1 + (n + 2.0) * e2
 
 
-@njit(cache=True)
+@kernel
 def taylor_window_kernel(coef, theta0, v0, rtol, atol, eps):
     """A-priori window length from the anchored coefficients (heyoka's rule, per component).
 
@@ -336,7 +336,7 @@ def taylor_window_kernel(coef, theta0, v0, rtol, atol, eps):
     return taylor_window_log(coef, theta0, v0, rtol, atol, math.log(eps))
 
 
-@njit(cache=True)
+@kernel
 def taylor_window_log(coef, theta0, v0, rtol, atol, log_eps):
     """:func:`taylor_window_kernel` with ln eps given (the loop forms it once per run)."""
     n = int(coef[1])
@@ -366,32 +366,32 @@ def taylor_window_log(coef, theta0, v0, rtol, atol, log_eps):
 # N, and numba caches a function of module-level constants, not a closure.  The degree
 # is passed as np.int64(N), not a literal: a literal argument compiles taylor_coefficients
 # and its callees again for that value instead of sharing the loop's int64 compilation.
-@njit(cache=True)
+@kernel
 def taylor8_anchor_kernel(beta, gamma, omega, theta0, v0):
     return taylor_coefficients(beta, gamma, omega, theta0, v0, np.int64(8))
 
 
-@njit(cache=True)
+@kernel
 def taylor12_anchor_kernel(beta, gamma, omega, theta0, v0):
     return taylor_coefficients(beta, gamma, omega, theta0, v0, np.int64(12))
 
 
-@njit(cache=True)
+@kernel
 def taylor16_anchor_kernel(beta, gamma, omega, theta0, v0):
     return taylor_coefficients(beta, gamma, omega, theta0, v0, np.int64(16))
 
 
-@njit(cache=True)
+@kernel
 def taylor20_anchor_kernel(beta, gamma, omega, theta0, v0):
     return taylor_coefficients(beta, gamma, omega, theta0, v0, np.int64(20))
 
 
-@njit(cache=True)
+@kernel
 def taylor24_anchor_kernel(beta, gamma, omega, theta0, v0):
     return taylor_coefficients(beta, gamma, omega, theta0, v0, np.int64(24))
 
 
-@njit(cache=True)
+@kernel
 def taylor30_anchor_kernel(beta, gamma, omega, theta0, v0):
     return taylor_coefficients(beta, gamma, omega, theta0, v0, np.int64(30))
 

@@ -13,6 +13,7 @@ import numpy as np
 from numba import njit
 
 from ..special.dd import two_prod, two_sum
+from ..special.jit import kernel
 from .taylor_simd import SIMD_ORDER, taylor24_driven_series, taylor24_series
 
 
@@ -169,7 +170,7 @@ def _sin_order(k, off, br, sn, cn):
     return sk
 
 
-@njit(cache=True)
+@kernel
 def taylor_workspace(n_order):
     """``(coef, scratch)`` buffers for :func:`taylor_coefficients_into` at degree ``n_order``.
 
@@ -180,7 +181,7 @@ def taylor_workspace(n_order):
     return np.empty(HEADER + n + 1), np.empty(3 * (n + 1))
 
 
-@njit(cache=True)
+@kernel
 def taylor_coefficients_into(beta, gamma, omega, theta0, v0, n_order, coef, scratch):
     """:func:`taylor_coefficients` written into caller-owned buffers (no allocation).
 
@@ -223,7 +224,7 @@ def taylor_coefficients_into(beta, gamma, omega, theta0, v0, n_order, coef, scra
     return coef
 
 
-@njit(cache=True)
+@kernel
 def series_loop(beta, gamma, omega, theta0, v0, n_order, a, scratch):
     """The recurrence's loop form: a₀ … a_{N+2} into ``a`` (``scratch`` as
     :func:`taylor_workspace`'s); degree SIMD_ORDER takes the vector kernel of
@@ -246,7 +247,7 @@ def series_loop(beta, gamma, omega, theta0, v0, n_order, a, scratch):
         br[off - 2] = (k + 2.0) * a[k + 2]
 
 
-@njit(cache=True)
+@kernel
 def taylor_coefficients(beta, gamma, omega, theta0, v0, n_order):
     """Taylor coefficients of θ(t) at an anchor, with the two error-estimate extras.
 
@@ -273,7 +274,7 @@ def taylor_coefficients(beta, gamma, omega, theta0, v0, n_order):
     return taylor_coefficients_into(beta, gamma, omega, theta0, v0, n_order, coef, scratch)
 
 
-@njit(cache=True)
+@kernel
 def drive_phase_sincos(freq, phase, t0):
     """sin ψ, cos ψ of the drive's phase ψ = Ω t₀ + φ at a window start t₀.
 
@@ -290,7 +291,7 @@ def drive_phase_sincos(freq, phase, t0):
     return sh + lo * ch, ch - lo * sh
 
 
-@njit(cache=True)
+@kernel
 def taylor_driven_coefficients_into(beta, gamma, omega, amp, freq, phase, t0, theta0, v0, n_order, coef,
                                     scratch):
     """:func:`taylor_coefficients_into` of the driven equation θ'' + βθ' + ω² sin θ = γ + A sin(Ωt + φ).
@@ -341,7 +342,7 @@ def taylor_driven_coefficients_into(beta, gamma, omega, amp, freq, phase, t0, th
     return coef
 
 
-@njit(cache=True)
+@kernel
 def driven_series_loop(beta, gamma, omega, amp, freq, u, w, theta0, v0, n_order, a, scratch):
     """:func:`series_loop` of the driven recurrence, the drive's phase as u = sin ψ,
     w = cos ψ (:func:`drive_phase_sincos`)."""
@@ -363,7 +364,7 @@ def driven_series_loop(beta, gamma, omega, amp, freq, u, w, theta0, v0, n_order,
         br[off - 2] = (k + 2.0) * a[k + 2]
 
 
-@njit(cache=True)
+@kernel
 def taylor_driven_coefficients(beta, gamma, omega, amp, freq, phase, t0, theta0, v0, n_order):
     """:func:`taylor_coefficients` of the driven equation, the window starting at ``t0``
     (a new array; see :func:`taylor_driven_coefficients_into`)."""

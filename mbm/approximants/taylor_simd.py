@@ -35,8 +35,10 @@ for the loop form.
 import math
 
 from llvmlite import ir
-from numba import njit, types
+from numba import types
 from numba.core.extending import intrinsic
+
+from ..special.jit import kernel
 
 __all__ = ["SIMD_ORDER", "LANES", "taylor24_series", "taylor24_driven_series", "taylor24_lanes", "horner24_lanes"]
 
@@ -287,7 +289,7 @@ def _lane_series(typingctx, ins, coefs, soa):
     return sig, codegen
 
 
-@njit(cache=True)
+@kernel
 def taylor24_lanes(ins, coefs, soa):
     """a₀ … a_26 of :func:`taylor24_series` for ``LANES`` scenes at once.
 
@@ -348,7 +350,7 @@ def _horner_lanes(typingctx, soa, s, out):
     return sig, codegen
 
 
-@njit(cache=True)
+@kernel
 def horner24_lanes(soa, s, out):
     """θ, θ' of ``LANES`` degree-24 Taylor polynomials at their times ``s``.
 
@@ -363,7 +365,7 @@ def horner24_lanes(soa, s, out):
     _horner_lanes(soa, s, out)
 
 
-@njit(cache=True)
+@kernel
 def taylor24_series(beta, gamma, omega, theta0, v0, coef):
     """a₀ … a_26 of the recurrence at degree 24, written into ``coef[5:]``.
 
@@ -373,7 +375,7 @@ def taylor24_series(beta, gamma, omega, theta0, v0, coef):
     _series(beta, gamma, omega * omega, math.sin(theta0), math.cos(theta0), theta0, v0, coef)
 
 
-@njit(cache=True)
+@kernel
 def taylor24_driven_series(beta, gamma, omega, f, freq, u, w, theta0, v0, coef):
     """:func:`taylor24_series` of the driven recurrence, the drive as f = A, u = sin ψ,
     w = cos ψ (:func:`mbm.approximants.taylor.taylor_driven_coefficients_into`)."""

@@ -12,6 +12,7 @@ import math
 import numba
 import numpy as np
 
+from ..special.jit import kernel
 from .window import (
     KIND_EXACT,
     KIND_SALAS_TORQUE,
@@ -84,7 +85,7 @@ def plan_windows(approximant, tau, max_step, span):
     return None
 
 
-@numba.njit(cache=True)
+@kernel
 def _window_end(t, direction, t_bound, h_abs):
     t_new = t + direction * h_abs
     if direction * (t_new - t_bound) > 0.0:
@@ -92,7 +93,7 @@ def _window_end(t, direction, t_bound, h_abs):
     return t_new
 
 
-@numba.njit(cache=True)
+@kernel
 def _error_norm(et, ev, y0, y1, theta, v, rtol, atol):
     # scipy's RMS norm of the estimate scaled by atol + rtol·max(|y_start|, |y_end|).
     st = atol + rtol * max(abs(y0), abs(theta))
@@ -118,7 +119,7 @@ def first_window_for(kind):
     the other kinds' kernels), called rather than inlined: inlining copies the
     callee's IR at each site, which was most of a first call's compile."""
 
-    @numba.njit(cache=True)
+    @kernel
     def first_window(coef, t, y0, y1, off, direction, t_bound, omega, max_step, rtol, atol,
                      error_order, log_eps):
         """Initial adaptive window length: the a-priori window (:func:`prior_window`) where
@@ -143,7 +144,7 @@ def first_window_for(kind):
     return first_window
 
 
-@numba.njit(cache=True)
+@kernel
 def _accepted_factor(err, theta, v, prior, inv, rejected):
     """:func:`adaptive_window`'s test of a try: the factor of the next proposal when the
     try is accepted (scaled estimate ≤ 1, finite), else 0."""
@@ -163,7 +164,7 @@ def adaptive_window_for(kind):
     the other kinds' kernels), called rather than inlined: inlining copies the
     callee's IR at each site, which was most of a first call's compile."""
 
-    @numba.njit(cache=True)
+    @kernel
     def adaptive_window(coef, t, y0, y1, off, direction, t_bound, h_abs, max_step, rtol, atol,
                         error_order, log_eps):
         """Adaptive controller: one accepted window under rtol/atol.
@@ -240,7 +241,7 @@ def first_try(kind, coef, t, y0, y1, off, direction, t_bound, h_abs, max_step, r
     return False, h, prior, t
 
 
-@numba.njit(cache=True)
+@kernel
 def accept_try(et, ev, y0, y1, off, theta, v, rtol, atol, prior, error_order, h):
     """The test of the first try of length ``h`` (estimate ``et``, ``ev``; the state from
     φ = ``y0``, θ' = ``y1`` to ``theta``, ``v``): ``(accepted, h_next)``, as

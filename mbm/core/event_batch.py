@@ -15,6 +15,7 @@ import math
 import numba
 import numpy as np
 
+from ..special.jit import kernel
 from .event_watch import WATCH_CROWDED, WATCH_LOCKED, WATCH_OK, locate, taylor_events
 from .loop import _run_sets
 from .window import KIND_TAYLOR
@@ -32,7 +33,7 @@ LAST_CHUNK = 4096
 EVENTS_CAPACITY = 256
 
 
-@numba.njit(cache=True)
+@kernel
 def _grow(evs, size):
     # The scene column grown to the event buffers' size (locate doubles those).
     if evs.size >= size:
@@ -42,7 +43,7 @@ def _grow(evs, size):
     return out
 
 
-@numba.njit(cache=True)
+@kernel
 def stop_at(r, out_i, t_eval, evf, k, n_windows, direction):
     # The scene stopped by its terminal event (row k of evf): status, state, windows,
     # no outputs past the event, no regime taken after it.
@@ -59,13 +60,13 @@ def stop_at(r, out_i, t_eval, evf, k, n_windows, direction):
         r.switch.t_regime = math.nan
 
 
-@numba.njit(cache=True)
+@kernel
 def stop_row(p, i, out_i, t_eval, evf, k, n_windows, direction):
     """:func:`stop_at` for row ``i`` of the records ``p`` (a caller in Python)."""
     stop_at(p[i], out_i, t_eval, evf, k, n_windows, direction)
 
 
-@numba.njit(cache=True)
+@kernel
 def lane_events(p, ln, i, coef, t_w, t_new, k, direction, t_eval, out, ev, caps, hits_all, stored_all, handed, ws,
                 evf, evi, evs, count):
     """The events of a lane's window (scene ``i``, coefficients ``coef`` from ``t_w`` to

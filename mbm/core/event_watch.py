@@ -30,6 +30,7 @@ from ..approximants.taylor import HEADER
 from ..regimes.cycle import CYC_PERIOD, CYC_SIGN, CYC_T_OFF, CYC_WIND, CYCLE_TAG
 from ..regimes.cycle_windows import _period_store
 from ..regimes.locked import LCK_V0, LCK_X0, LOCKED_TAG, _potential, locked_amplitude
+from ..special.jit import kernel
 from ..special.polyroots import crossings
 from .window import KIND_TAYLOR, evaluate, theta_of
 
@@ -59,7 +60,7 @@ WATCH_CROWDED = 0  # a window held more crossings than WINDOW_CROSSINGS (or its 
 WATCH_LOCKED = -1  # a locked window may reach a level: run the scene without the locked regime
 
 
-@numba.njit(cache=True)
+@kernel
 def _push(evf, evi, count, t, theta, v, m, e):
     # Appends an event (doubling the buffers when full); returns them and the count.
     if count == evi.size:
@@ -75,7 +76,7 @@ def _push(evf, evi, count, t, theta, v, m, e):
     return evf, evi, count + 1
 
 
-@numba.njit(cache=True)
+@kernel
 def _level(value, modulo, m, k):
     # value + modulo·m − 2πk in φ's frame; with modulo = 2π as value + 2π(m − k), exact
     # in m − k however far the run has wound.
@@ -84,7 +85,7 @@ def _level(value, modulo, m, k):
     return (value + modulo * m) - _TWO_PI * k
 
 
-@numba.njit(cache=True)
+@kernel
 def _window_roots(coef, h, t_w, k, ev, drive_freq, drive_phase, direction, alpha, beta_v, work, xs, ds,
                   out_s, out_m, out_e):
     """The events of the table ``ev`` in one Taylor window (anchor ``coef``, length ``h``
@@ -163,7 +164,7 @@ def _window_roots(coef, h, t_w, k, ev, drive_freq, drive_phase, direction, alpha
     return count
 
 
-@numba.njit(cache=True)
+@kernel
 def _sort_window(out_s, out_m, out_e, count, direction):
     # Insertion sort by time along the integration (a window holds a handful).
     for i in range(1, count):
@@ -175,7 +176,7 @@ def _sort_window(out_s, out_m, out_e, count, direction):
         out_s[j + 1], out_m[j + 1], out_e[j + 1] = s, m, e
 
 
-@numba.njit(cache=True)
+@kernel
 def _period_events(p_starts, p_coefs, p_n, ev, kn, alpha, beta_v, work, xs, ds, out_s, out_m, out_e):
     """The events of a stored period (its windows ``p_starts``, ``p_coefs``, θ continuous
     from the anchor) in a turn of winding ``kn``, by phase s in (0, T]: rows ``(s, φ, θ', m,
@@ -203,7 +204,7 @@ def _period_events(p_starts, p_coefs, p_n, ev, kn, alpha, beta_v, work, xs, ds, 
     return buf[:count], True
 
 
-@numba.njit(cache=True)
+@kernel
 def locked_unreachable(theta, c, ev, lock):
     """Whether no event of ``ev`` can occur in a locked window (coefficients ``c``, its
     start's angle ``theta``) however long: the exact motion keeps |θ − θ*| ≤ A and
@@ -235,7 +236,7 @@ def locked_unreachable(theta, c, ev, lock):
     return True
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True)  # also called from Python
 def locate(starts, start_theta, coefs, n, ev, hits, stored, cap, drive_freq, drive_phase, direction, evf, evi,
            count, lock):
     """The events of ``n`` stored windows in time order, appended to ``evf`` (rows t, θ,
@@ -317,7 +318,7 @@ def window_may_cross(c, h, k, ev):
     return False
 
 
-@numba.njit(cache=True)
+@kernel
 def taylor_events(c, t_w, h, k, ev, hits, stored, cap, drive_freq, drive_phase, direction, alpha, beta_v, work, xs,
                   ds, out_s, out_m, out_e, evf, evi, count):
     """The events of one Taylor window (coefficients ``c`` from ``t_w``, length ``h``,
@@ -344,7 +345,7 @@ def taylor_events(c, t_w, h, k, ev, hits, stored, cap, drive_freq, drive_phase, 
     return evf, evi, count, WATCH_OK, False
 
 
-@numba.njit(cache=True)
+@kernel
 def workspace(nd_max):
     """The scratch arrays of :func:`taylor_events` for windows of up to ``nd_max``
     coefficients: (alpha, beta_v, work, xs, ds, out_s, out_m, out_e)."""
@@ -353,7 +354,7 @@ def workspace(nd_max):
             np.empty(WINDOW_CROSSINGS, np.int64))
 
 
-@numba.njit(cache=True)
+@kernel
 def _turns_to_skip(rows, ev, hits, stored, cap, n_turns):
     """Whole turns of a cycle window that can be counted without being walked: 0 while
     an event still stores its occurrences, else at most ``n_turns``, fewer where a
@@ -377,7 +378,7 @@ def _turns_to_skip(rows, ev, hits, stored, cap, n_turns):
     return skip
 
 
-@numba.njit(cache=True)
+@kernel
 def _cycle_window(c, t_w, h, ev, hits, stored, cap, alpha, beta_v, work, xs, ds, out_s, out_m, out_e, evf, evi,
                   count):
     """The events of a cycle window (from ``t_w``, length ``h``): its stored period's,

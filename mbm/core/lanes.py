@@ -22,6 +22,7 @@ from ..approximants.taylor_simd import (
     horner24_lanes,
     taylor24_lanes,
 )
+from ..special.jit import kernel
 from .controller import (
     CONTROLLER_ADAPTIVE,
     _adaptive_window_taylor,
@@ -86,7 +87,7 @@ def lane_eligible(r):
             and g.status == STATUS_OK)
 
 
-@numba.njit(cache=True)
+@kernel
 def _lane_start(r, i, ln, coefs, lane):
     # The loop's set-up for a fresh run (the undriven Taylor branches).
     ln.scene = i
@@ -109,7 +110,7 @@ def _lane_start(r, i, ln, coefs, lane):
     coefs[lane, 4] = omega
 
 
-@numba.njit(cache=True)
+@kernel
 def _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel, handed):
     # The lane's state written back as a paused run's, and the run finished by the loop
     # (a lane's scene is in RS_DAMPED, or reached RS_CYCLE); with events (``handed`` not

@@ -42,7 +42,9 @@ import math
 import numba
 import numpy as np
 
+from .._validate import t_eval_problem
 from ..approximants.taylor import taylor_eval_range, taylor_workspace
+from ..special.jit import kernel
 from .controller import (
     CONTROLLER_ADAPTIVE,
     _adaptive,
@@ -50,6 +52,7 @@ from .controller import (
     _window_end,
     fixed_window,
 )
+from .record import start_record, words_of
 from .window import (
     KIND_EXACT,
     KIND_SALAS_TORQUE,
@@ -115,7 +118,7 @@ def _stored_value(kind, rset, coef, per_starts, per_ends, per_coefs, per_n, t, t
     return _strobe_value(kind, coef, tj)
 
 
-@numba.njit(cache=True)
+@kernel
 def _store_window(win_t, win_y, win_coef, n, coef, t_new, theta, v):
     """Window ``n`` of the call into the window store: its coefficients (cut or
     zero-padded to the store's width) and the state at its end."""
@@ -133,7 +136,7 @@ def _store_window(win_t, win_y, win_coef, n, coef, t_new, theta, v):
     win_y[n + 1, 1] = v
 
 
-@numba.njit(cache=True)
+@kernel
 def damped_setup(r, may, width):
     """The damped regimes' constants of an RS_DAMPED run (record ``r``): whether the
     locked regime may apply (L5, where |γ| < ω², its formula fits the window store and
@@ -366,7 +369,7 @@ def _emit_formula(kind, rset, is_locked, coef, t, t_new, th, v, k, t_eval, j, di
     return j
 
 
-@numba.njit(cache=True)
+@kernel
 def _max_step(c, v):
     """The longest window from θ' = ``v``: ``max_step``, and ``max_dtheta``/|θ'| where
     the θ-step is limited (solve_ivp's event search)."""
@@ -375,7 +378,7 @@ def _max_step(c, v):
     return c.max_step
 
 
-@numba.njit(cache=True)
+@kernel
 def _finish(r, status, t, y0, y1, k, h_abs, n_total, j, t_eval, out_theta, out_v, out_w, wrapped):
     """The outputs of a span of zero length (the initial state), and the state reached,
     the next window length, the counts and the status written back to the record."""
@@ -390,6 +393,29 @@ def _finish(r, status, t, y0, y1, k, h_abs, n_total, j, t_eval, out_theta, out_v
     r.progress.status = status
 
 
+# The entries' contract.  ``run_entry(buf, fresh, t0, theta0, v0, t1, h, t_eval, out,
+# win_t, win_y, win_coef, cancel)`` advances the run in ``buf``'s last row (a RUN record's
+# float64 words: mbm.core.record.start_record) window by window.  With ``fresh`` the run
+# is first set up from ``buf``'s row 0 (a template record), the span (t0, t1), the state
+# (theta0, v0) and the first window's h_abs ``h``, and ``t_eval`` checked
+# (mbm._validate.t_eval_problem: where it fails nothing is run and −(its code) returned);
+# otherwise those five are unused and the run resumes as it stands.  One compiled entry
+# serves every caller (mbm.MBM, mbm.Integrator, the compiled whole runs), so none links
+# the loop into a wrapper of its own.
+#
+# It stops at t_bound (status 0), at a failure (a STATUS_* code), at max_windows, paused
+# (STATUS_PAUSED) after call_windows windows, when the window store is full or at a
+# switch to another regime set, or interrupted once cancel[0] is set (by another
+# thread).  The state reached, the next window length, the counts and the status are
+# written back to the record, so a paused run resumes where it stopped.
+#
+# ``out`` (2 or 3 rows, m) takes θ, θ' at ``t_eval`` from the record's progress.j on
+# (three rows: θ wrapped to (−π, π], its winding count in row 2); ``win_t`` (cap + 1,),
+# ``win_y`` (cap + 1, 2), ``win_coef`` (cap, width) store the call's windows (start
+# times, states, coefficients cut or zero-padded to ``width``; empty: none).  It returns
+# the windows this call took.
+
+
 def _runner(kind, rset):
     """The loop's compiled entry for kind ``kind`` and regime set ``rset`` (:func:`regime_set`).
 
@@ -398,22 +424,16 @@ def _runner(kind, rset):
     class uses), and caches each closure apart (its constants are in the cache's key)."""
 
     @numba.njit(cache=True)
-    def run_entry(p, t_eval, out, win_t, win_y, win_coef, cancel):
-        """Advance the run ``p[0]`` (a :data:`RUN` record) window by window.
-
-        Stops at ``t_bound`` (status 0), at a failure (a ``STATUS_*`` code), at
-        ``max_windows``, paused (:data:`STATUS_PAUSED`) after ``call_windows`` windows,
-        when the window store is full or at a switch to another regime set, or
-        interrupted once ``cancel[0]`` is set (by another thread).  The state reached,
-        the next window length, the counts and the status are written back to ``p[0]``,
-        so a paused run resumes where it stopped.
-
-        ``out`` (2 or 3 rows, m) takes θ, θ' at ``t_eval`` from index ``p[0].progress.j``
-        on (three rows: θ wrapped to (−π, π], its winding count in row 2);
-        ``win_t`` (cap + 1,), ``win_y`` (cap + 1, 2), ``win_coef`` (cap, width) store the
-        call's windows (start times, states, coefficients cut or zero-padded to
-        ``width``; empty: none).  Returns the windows this call took.
-        """
+    def run_entry(buf, fresh, t0, theta0, v0, t1, h, t_eval, out, win_t, win_y, win_coef, cancel):
+        """Advance the run in ``buf``'s last row window by window, set up first from
+        row 0 where ``fresh``; returns the windows this call took, or −(the t_eval
+        problem's code) where a fresh call's ``t_eval`` fails (nothing run).  The
+        arguments, stops and write-back: the entries' contract above :func:`_runner`."""
+        if fresh:
+            problem = t_eval_problem(t_eval, t0, t1, False)
+            if problem != 0:
+                return -problem
+        p = start_record(buf, fresh, t0, theta0, v0, t1, h)
         r = p[0]
         t, y0, y1, t_bound = r.state.t, r.state.theta, r.state.v, r.state.t_bound
         h_abs = r.control.h_abs
@@ -515,7 +535,7 @@ RS_STROBE = 5  # phase-locked to the drive: the stored drive period's windows (S
 RS_FIXED = 6  # fixed windows (τ given) of a kind with an estimate, undriven: no regime, no adaptive controller
 
 
-@numba.njit(cache=True)
+@kernel
 def regime_set(kind, controller, regimes, beta, amp, regime):
     """The regime set (``RS_*``) of a run record's fields: the entry that runs it.
 
@@ -550,56 +570,11 @@ RUN_TABLE = tuple(
 RUNNERS = {key: _runner(*key) for key in RUN_TABLE}
 
 
+
 # numba calls a compiled function through a global: the table's entries as globals of
-# this module for _dispatch and _dispatch_flagged.
+# this module for _dispatch_flagged.
 (_R_T0, _R_T1, _R_T2, _R_T3, _R_T4, _R_T5, _R_T6, _R_S0, _R_S1, _R_S2, _R_S3, _R_S4, _R_S6,
  _R_E0, _R_E3, _R_Q0, _R_Q3) = (RUNNERS[key] for key in RUN_TABLE)
-
-
-@numba.njit(**_INLINE)
-def _dispatch(kind, rset, p, t_eval, out, win_t, win_y, win_coef, cancel):
-    """The entry of (``kind``, ``rset``) called: with both constants, one call after
-    pruning; an unknown pair is a status (STATUS_ANCHOR), never another entry."""
-    if kind == KIND_TAYLOR:
-        if rset == RS_PLAIN:
-            return _R_T0(p, t_eval, out, win_t, win_y, win_coef, cancel)
-        if rset == RS_DAMPED:
-            return _R_T1(p, t_eval, out, win_t, win_y, win_coef, cancel)
-        if rset == RS_CONSERVATIVE:
-            return _R_T2(p, t_eval, out, win_t, win_y, win_coef, cancel)
-        if rset == RS_DRIVEN:
-            return _R_T3(p, t_eval, out, win_t, win_y, win_coef, cancel)
-        if rset == RS_CYCLE:
-            return _R_T4(p, t_eval, out, win_t, win_y, win_coef, cancel)
-        if rset == RS_STROBE:
-            return _R_T5(p, t_eval, out, win_t, win_y, win_coef, cancel)
-        if rset == RS_FIXED:
-            return _R_T6(p, t_eval, out, win_t, win_y, win_coef, cancel)
-    elif kind == KIND_SPLIT:
-        if rset == RS_PLAIN:
-            return _R_S0(p, t_eval, out, win_t, win_y, win_coef, cancel)
-        if rset == RS_DAMPED:
-            return _R_S1(p, t_eval, out, win_t, win_y, win_coef, cancel)
-        if rset == RS_CONSERVATIVE:
-            return _R_S2(p, t_eval, out, win_t, win_y, win_coef, cancel)
-        if rset == RS_DRIVEN:
-            return _R_S3(p, t_eval, out, win_t, win_y, win_coef, cancel)
-        if rset == RS_CYCLE:
-            return _R_S4(p, t_eval, out, win_t, win_y, win_coef, cancel)
-        if rset == RS_FIXED:
-            return _R_S6(p, t_eval, out, win_t, win_y, win_coef, cancel)
-    elif kind == KIND_EXACT:
-        if rset == RS_PLAIN:
-            return _R_E0(p, t_eval, out, win_t, win_y, win_coef, cancel)
-        if rset == RS_DRIVEN:
-            return _R_E3(p, t_eval, out, win_t, win_y, win_coef, cancel)
-    elif kind == KIND_SALAS_TORQUE:
-        if rset == RS_PLAIN:
-            return _R_Q0(p, t_eval, out, win_t, win_y, win_coef, cancel)
-        if rset == RS_DRIVEN:
-            return _R_Q3(p, t_eval, out, win_t, win_y, win_coef, cancel)
-    p[0].progress.status = STATUS_ANCHOR
-    return 0
 
 
 @numba.njit(**_INLINE)
@@ -620,65 +595,86 @@ def _dispatch_flagged(kind, rset, k0, k1, k2, k3, s0, s1, s2, s3, s4, s5, p, t_e
     the kind's branches, made the inlined body ~6x larger, and numba's inlining copies
     a body's whole variable scope once per block: quadratic in its size.)
     """
+    w = p.view(np.float64)  # the record's words, as the entries take them (a resumed run)
+    buf = w.reshape((1, w.size))
+    # fresh typed, not a literal (a literal False would compile each entry again).
+    resume = np.bool_(False)
     if kind == KIND_TAYLOR:
         if k0 == 1:
             if rset == RS_PLAIN:
                 if s0 == 1:
-                    return _R_T0(p, t_eval, out, win_t, win_y, win_coef, cancel)
+                    return _R_T0(buf, resume, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t, win_y, win_coef,
+                                 cancel)
             elif rset == RS_DAMPED:
                 if s1 == 1:
-                    return _R_T1(p, t_eval, out, win_t, win_y, win_coef, cancel)
+                    return _R_T1(buf, resume, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t, win_y, win_coef,
+                                 cancel)
             elif rset == RS_CONSERVATIVE:
                 if s2 == 1:
-                    return _R_T2(p, t_eval, out, win_t, win_y, win_coef, cancel)
+                    return _R_T2(buf, resume, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t, win_y, win_coef,
+                                 cancel)
             elif rset == RS_DRIVEN:
                 if s3 == 1:
-                    return _R_T3(p, t_eval, out, win_t, win_y, win_coef, cancel)
+                    return _R_T3(buf, resume, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t, win_y, win_coef,
+                                 cancel)
             elif rset == RS_CYCLE:
                 if s4 == 1:
-                    return _R_T4(p, t_eval, out, win_t, win_y, win_coef, cancel)
+                    return _R_T4(buf, resume, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t, win_y, win_coef,
+                                 cancel)
             elif rset == RS_STROBE:
                 if s5 == 1:
-                    return _R_T5(p, t_eval, out, win_t, win_y, win_coef, cancel)
+                    return _R_T5(buf, resume, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t, win_y, win_coef,
+                                 cancel)
             elif rset == RS_FIXED:
                 if s0 == 1:
-                    return _R_T6(p, t_eval, out, win_t, win_y, win_coef, cancel)
+                    return _R_T6(buf, resume, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t, win_y, win_coef,
+                                 cancel)
     elif kind == KIND_SPLIT:
         if k3 == 1:
             if rset == RS_PLAIN:
                 if s0 == 1:
-                    return _R_S0(p, t_eval, out, win_t, win_y, win_coef, cancel)
+                    return _R_S0(buf, resume, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t, win_y, win_coef,
+                                 cancel)
             elif rset == RS_DAMPED:
                 if s1 == 1:
-                    return _R_S1(p, t_eval, out, win_t, win_y, win_coef, cancel)
+                    return _R_S1(buf, resume, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t, win_y, win_coef,
+                                 cancel)
             elif rset == RS_CONSERVATIVE:
                 if s2 == 1:
-                    return _R_S2(p, t_eval, out, win_t, win_y, win_coef, cancel)
+                    return _R_S2(buf, resume, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t, win_y, win_coef,
+                                 cancel)
             elif rset == RS_DRIVEN:
                 if s3 == 1:
-                    return _R_S3(p, t_eval, out, win_t, win_y, win_coef, cancel)
+                    return _R_S3(buf, resume, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t, win_y, win_coef,
+                                 cancel)
             elif rset == RS_CYCLE:
                 if s4 == 1:
-                    return _R_S4(p, t_eval, out, win_t, win_y, win_coef, cancel)
+                    return _R_S4(buf, resume, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t, win_y, win_coef,
+                                 cancel)
             elif rset == RS_FIXED:
                 if s0 == 1:
-                    return _R_S6(p, t_eval, out, win_t, win_y, win_coef, cancel)
+                    return _R_S6(buf, resume, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t, win_y, win_coef,
+                                 cancel)
     elif kind == KIND_EXACT:
         if k1 == 1:
             if rset == RS_PLAIN:
                 if s0 == 1:
-                    return _R_E0(p, t_eval, out, win_t, win_y, win_coef, cancel)
+                    return _R_E0(buf, resume, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t, win_y, win_coef,
+                                 cancel)
             elif rset == RS_DRIVEN:
                 if s3 == 1:
-                    return _R_E3(p, t_eval, out, win_t, win_y, win_coef, cancel)
+                    return _R_E3(buf, resume, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t, win_y, win_coef,
+                                 cancel)
     elif kind == KIND_SALAS_TORQUE:
         if k2 == 1:
             if rset == RS_PLAIN:
                 if s0 == 1:
-                    return _R_Q0(p, t_eval, out, win_t, win_y, win_coef, cancel)
+                    return _R_Q0(buf, resume, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t, win_y, win_coef,
+                                 cancel)
             elif rset == RS_DRIVEN:
                 if s3 == 1:
-                    return _R_Q3(p, t_eval, out, win_t, win_y, win_coef, cancel)
+                    return _R_Q3(buf, resume, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t, win_y, win_coef,
+                                 cancel)
     p[0].progress.status = STATUS_ANCHOR
     return 0
 
@@ -713,25 +709,25 @@ def set_flag(rset):
 
 # One compiled whole run per kind (every set it may reach), for the compiled callers
 # (solve_njit, the batch).
-@numba.njit(cache=True)
+@kernel
 def run_taylor(p, t_eval, out, win_t, win_y, win_coef, cancel):
     """:func:`_run_sets` through every set of kind ``"taylor"``; returns the windows taken."""
     return _run_sets(KIND_TAYLOR, 1, 0, 0, 0, 1, 1, 1, 1, 1, 1, p, t_eval, out, win_t, win_y, win_coef, cancel)
 
 
-@numba.njit(cache=True)
+@kernel
 def run_exact(p, t_eval, out, win_t, win_y, win_coef, cancel):
     """:func:`_run_sets` through every set of kind ``"exact"``; returns the windows taken."""
     return _run_sets(KIND_EXACT, 0, 1, 0, 0, 1, 1, 1, 1, 1, 1, p, t_eval, out, win_t, win_y, win_coef, cancel)
 
 
-@numba.njit(cache=True)
+@kernel
 def run_salas_torque(p, t_eval, out, win_t, win_y, win_coef, cancel):
     """:func:`_run_sets` through every set of kind ``"salas-torque"``; returns the windows taken."""
     return _run_sets(KIND_SALAS_TORQUE, 0, 0, 1, 0, 1, 1, 1, 1, 1, 1, p, t_eval, out, win_t, win_y, win_coef, cancel)
 
 
-@numba.njit(cache=True)
+@kernel
 def run_split(p, t_eval, out, win_t, win_y, win_coef, cancel):
     """:func:`_run_sets` through every set of kind ``"split"``; returns the windows taken."""
     return _run_sets(KIND_SPLIT, 0, 0, 0, 1, 1, 1, 1, 1, 1, 1, p, t_eval, out, win_t, win_y, win_coef, cancel)
@@ -764,12 +760,13 @@ def run(p, t_eval, out, win_t, win_y, win_coef, cancel):
     """
     n = 0
     progress = p["progress"]
+    buf = words_of(p)
     while True:
         rset = set_of(p[0])
         entry = RUNNERS.get((int(p[0]["control"]["kind"]), rset))
         if entry is None:
             progress["status"][0] = STATUS_ANCHOR
             return n
-        n += entry(p, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
+        n += entry(buf, False, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
         if progress["status"][0] != STATUS_PAUSED or set_of(p[0]) == rset:
             return n

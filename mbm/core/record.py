@@ -13,6 +13,7 @@ import numpy as np
 
 from ..regimes.common import REGIME_NONE
 from ..regimes.strobe import STROBE_MAX_PERIODS, STROBE_RING
+from ..special.jit import kernel
 
 def _group(*fields):
     return np.dtype(list(fields), align=True)
@@ -121,7 +122,7 @@ def flat(p):
     return p.view(FLAT)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True)  # called from Python (new_run)
 def init_run(p, i, model, state, control, max_windows, call_windows, regimes):
     """Set row ``i`` of RUN array ``p`` to a fresh run: the one initialiser of a record.
 
@@ -162,7 +163,40 @@ def init_run(p, i, model, state, control, max_windows, call_windows, regimes):
         b.str_qb[q] = math.inf
 
 
-@numba.njit(cache=True)
+_WS_T, _WS_THETA, _WS_V, _WS_TBOUND, _WS_H = (WORD[k] for k in ("t", "theta", "v", "t_bound", "h_abs"))
+
+
+@kernel
+def start_record(buf, fresh, t0, theta0, v0, t1, h):
+    """The run record of the loop's entries (:func:`mbm.core.loop._runner`): the last row
+    of ``buf`` (rows of a RUN record's float64 words) viewed as a RUN array of one.
+    With ``fresh``, row 0 (a template record) is copied into it first and the span
+    (t0, t1), the state and the first window's h_abs set (a resumed run is left as it
+    stands)."""
+    words = buf[buf.shape[0] - 1]
+    if fresh:
+        # An element loop: a slice assignment compiles numpy's broadcast-error
+        # machinery and its message formatting (seconds of a first call).
+        tpl = buf[0]
+        for i in range(words.size):
+            words[i] = tpl[i]
+        words[_WS_T] = t0
+        words[_WS_THETA] = theta0
+        words[_WS_V] = v0
+        words[_WS_TBOUND] = t1
+        words[_WS_H] = h
+    return words.view(RUN)
+
+
+def words_of(p):
+    """A RUN array of one record as the (1, words) float64 buffer the loop's entries
+    take (a view: the entries write the run back into ``p``)."""
+    if p.size != 1:
+        raise ValueError(f"words_of takes a RUN array of one record, got {p.size}")
+    return p.view(np.float64).reshape(1, RUN.itemsize // 8)
+
+
+@numba.njit(cache=True)  # also called from Python
 def init_runs(p, model, t0, y0, t_bound, plan, h_abs, max_step, rtol, atol, max_windows):
     """:func:`init_run` for every row of ``p`` (a batch): ``model`` rows β, γ, ω, A, Ω, φ
     of shape (6, N), ``y0`` (N, 2), ``plan`` rows kind, karg, controller, error_order

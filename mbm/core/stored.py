@@ -8,6 +8,7 @@ bit with less work per time.
 import numba
 import numpy as np
 
+from ..special.jit import kernel
 from .window import (
     KIND_EXACT,
     KIND_SALAS_TORQUE,
@@ -87,22 +88,22 @@ def _evaluate_windows(kind, starts, start_theta, coefs, n, direction, t, out_the
         out_v[j] = b
 
 
-@numba.njit(cache=True)
+@kernel
 def _evaluate_windows_taylor(starts, start_theta, coefs, n, direction, t, out_theta, out_v):
     _evaluate_windows(KIND_TAYLOR, starts, start_theta, coefs, n, direction, t, out_theta, out_v)
 
 
-@numba.njit(cache=True)
+@kernel
 def _evaluate_windows_exact(starts, start_theta, coefs, n, direction, t, out_theta, out_v):
     _evaluate_windows(KIND_EXACT, starts, start_theta, coefs, n, direction, t, out_theta, out_v)
 
 
-@numba.njit(cache=True)
+@kernel
 def _evaluate_windows_salas_torque(starts, start_theta, coefs, n, direction, t, out_theta, out_v):
     _evaluate_windows(KIND_SALAS_TORQUE, starts, start_theta, coefs, n, direction, t, out_theta, out_v)
 
 
-@numba.njit(cache=True)
+@kernel
 def _evaluate_windows_split(starts, start_theta, coefs, n, direction, t, out_theta, out_v):
     _evaluate_windows(KIND_SPLIT, starts, start_theta, coefs, n, direction, t, out_theta, out_v)
 

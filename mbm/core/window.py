@@ -26,6 +26,7 @@ from ..approximants.taylor import (
     taylor_eval_kernel,
     taylor_window_log,
 )
+from ..special.jit import kernel
 
 # Inlined only where a caller's constant kind or regime set must prune branches (numba
 # prunes an inlined constant, not a called function's literal argument) or where a call
@@ -186,7 +187,7 @@ def prior_window(kind, coef, y0, y1, rtol, atol, log_eps):
     return math.inf
 
 
-@numba.njit(cache=True)
+@kernel
 def window_log_eps(rtol):
     """ln of :func:`prior_window`'s per-window target eps (a constant of the run, formed
     once per loop call: a log per window was ~10 ns of it)."""
@@ -207,7 +208,7 @@ def step(kind, coef, h, with_error):
     return theta, v, 0.0, 0.0
 
 
-@numba.njit(cache=True)
+@kernel
 def theta_of(k, phi):
     """θ = 2πk + φ, rounded once (φ itself when k = 0)."""
     if k == 0.0:
@@ -215,7 +216,7 @@ def theta_of(k, phi):
     return k * TWO_PI_A + (phi + k * TWO_PI_B)
 
 
-@numba.njit(cache=True)
+@kernel
 def wrap(k, phi):
     """``(k', φ')`` with φ' in (−π, π] and 2πk' + φ' = 2πk + φ (to the rounding of φ').
 
@@ -236,7 +237,7 @@ def wrap(k, phi):
     return k + m, phi
 
 
-@numba.njit(cache=True)
+@kernel
 def _reduce_phi(k, phi):
     """(k, φ) before a window: φ reduced to (−π, π] where that leaves θ's value unchanged
     to the bit (so a window's start repeats the state the last one ended at; else next
@@ -248,7 +249,7 @@ def _reduce_phi(k, phi):
     return k, phi
 
 
-@numba.njit(cache=True)
+@kernel
 def _put(out_theta, out_w, wrapped, i, k, phi):
     # An output angle: θ = 2πk + φ, or (φ wrapped to (−π, π], its winding count).
     if wrapped:

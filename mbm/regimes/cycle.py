@@ -14,9 +14,9 @@ documentation's theory page, ``docs/theory/regimes.md``.
 
 import math
 
-import numba
 import numpy as np
 
+from ..special.jit import kernel
 from .common import REGIME_LIBRATION, REGIME_LOCKED, REGIME_RUNNING, SWITCH_SAFETY
 
 # A running-cycle window's coefficient vector (R3): [CYCLE_TAG, θ_c, v_c, T_c, t_off,
@@ -60,7 +60,7 @@ CYC_WIND = 13  # k_c: the anchor's winding count (mbm.loop "Winding")
 CYC_PERIOD_LO = 14  # T_lo: T_c + T_lo is the period in double-double (0 for the running cycle; C3)
 
 
-@numba.njit(cache=True)
+@kernel
 def section_offset(gamma, omega):
     """θ_s of the running cycle's section θ ≡ θ_s (mod 2π) (item R1): the saddle π − d.
 
@@ -77,7 +77,7 @@ def section_offset(gamma, omega):
     return math.pi - math.asin(min(1.0, max(-1.0, gamma / (omega * omega))))
 
 
-@numba.njit(cache=True)
+@kernel
 def cycle_switch(dv, dv_prev, dT, v, theta, vmax, amax, n_rest, rtol, atol):
     """Whether the return map has converged enough to switch to the cycle (item R2).
 
@@ -115,7 +115,7 @@ def cycle_switch(dv, dv_prev, dT, v, theta, vmax, amax, n_rest, rtol, atol):
             and drift * vmax <= SWITCH_SAFETY * (atol + rtol * abs(theta)))
 
 
-@numba.njit(cache=True)
+@kernel
 def cycle_coef(theta_c, v_c, period, t_off, beta, gamma, omega, rtol, atol, sign, karg, error_order,
                wind_c, period_lo):
     """A running-cycle window's coefficient vector (layout: CYCLE_TAG; item R3).

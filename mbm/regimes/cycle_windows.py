@@ -21,6 +21,7 @@ from ..core.window import (
     evaluate,
     window_log_eps,
 )
+from ..special.jit import kernel
 from .common import REGIME_RUNNING
 from .cycle import (
     CROSSING_ITERATIONS,
@@ -122,7 +123,7 @@ def _period_windows_for(kind):
     their kernels (a whole controller and step: as an inlined callee, its every kind
     would be copied and pruned only afterwards)."""
 
-    @numba.njit(cache=True)
+    @kernel
     def period_windows(c):
         """The windows of a cycle window's stored period, re-taken from its anchor (R3).
 
@@ -238,12 +239,12 @@ def _period_store(kind, c):
 
 
 # The lookup likewise: one compiled copy serves the loop and both dense outputs.
-@numba.njit(cache=True)
+@kernel
 def _period_lookup_taylor(c, starts, ends, coefs, n, t):
     return _period_lookup(KIND_TAYLOR, c, starts, ends, coefs, n, t)
 
 
-@numba.njit(cache=True)
+@kernel
 def _period_lookup_split(c, starts, ends, coefs, n, t):
     return _period_lookup(KIND_SPLIT, c, starts, ends, coefs, n, t)
 
@@ -262,7 +263,7 @@ def _cycle_crossing_for(kind):
     :func:`_watch_cycle` only in a window that crosses a section level (rare: once a
     period), so its Newton iteration is compiled once and the common window pays nothing."""
 
-    @numba.njit(cache=True)
+    @kernel
     def cycle_crossing(r, coef, t, t_new, y0, th, v, k, off, sec_off, sec_acc, beta, gamma, omega, t_bound,
                        rtol, atol, m0, m1):
         """The window [t, t_new] from φ = ``y0`` to (``th``, ``v``) crossed the level between

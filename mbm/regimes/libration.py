@@ -13,7 +13,6 @@ documentation's theory page, ``docs/theory/regimes.md``.
 
 import math
 
-import numba
 import numpy as np
 
 from ..special.dd import (
@@ -34,6 +33,7 @@ from ..special.dd import (
     reduce_2pi,
     two_prod,
 )
+from ..special.jit import kernel
 from .common import REGIME_LIBRATION, SWITCH_SAFETY
 from .locked import X_MINUS_SIN_SERIES, _potential
 
@@ -66,7 +66,7 @@ LIBRATION_MIN_PERIODS = 16
 DD_X_MINUS_SIN_TERMS = 12
 
 
-@numba.njit(cache=True)
+@kernel
 def _dd_potential(w2h, w2l, cdh, cdl, eh, el, gamma, xh, xl):
     # (C1): U(x) = 2ω² cos d sin²(x/2) + (ω² sin d − γ) sin x − γ(x − sin x) in
     # double-double; (w2h, w2l) = ω², (cdh, cdl) = cos d, (eh, el) = ω² sin d − γ.
@@ -95,7 +95,7 @@ def _dd_potential(w2h, w2l, cdh, cdl, eh, el, gamma, xh, xl):
     return dd_add(uh, ul, -gh, -gl)
 
 
-@numba.njit(cache=True)
+@kernel
 def _turning_point(w2, gamma, d, h0, edge):
     # (C1): the root of U(x) = H' between 0 and the saddle ``edge`` (U rises from 0 to
     # above H' there), bracketed Newton in double.
@@ -119,7 +119,7 @@ def _turning_point(w2, gamma, d, h0, edge):
     return x
 
 
-@numba.njit(cache=True)
+@kernel
 def _period_quadrature(w2h, w2l, cdh, cdl, eh, el, gamma, hh, hl, mh, ml, rh, rl):
     """(C2): the period as the midpoint rule over ψ of x = m + r sin ψ, M doubled until two
     successive sums agree: ``(t_hi, t_lo, their change)``, nan where the energy H' − U
@@ -157,7 +157,7 @@ def _period_quadrature(w2h, w2l, cdh, cdl, eh, el, gamma, hh, hl, mh, ml, rh, rl
     return nan, nan, nan
 
 
-@numba.njit(cache=True)
+@kernel
 def libration_period(gamma, omega, theta, v):
     """The period of the conservative libration through (θ, θ') (items C1, C2).
 
@@ -239,7 +239,7 @@ def libration_period(gamma, omega, theta, v):
     return th, tl, diff + LIBRATION_DD_FLOOR * th, math.sqrt(2.0 * hh), 2.0 * rh
 
 
-@numba.njit(cache=True)
+@kernel
 def _libration_test(r, t, y0, y1, k, off, gamma, omega, t_bound, rtol, atol):
     """The libration test of a fresh conservative run (mbm.regimes, C1-C4): switches the
     record ``r`` to REGIME_LIBRATION where the stored period's phase error over the rest

@@ -19,6 +19,7 @@ import math
 import numba
 import numpy as np
 
+from ..special.jit import kernel
 from .common import SWITCH_SAFETY
 
 # (L3): relative widening of the amplitude bound A, covering the rounding of H₀ and U
@@ -62,7 +63,7 @@ LCK_DR = 11  # D_r of x₂ (L6)
 LCK_DI = 12  # D_i of x₂ (L6)
 
 
-@numba.njit(cache=True)
+@kernel
 def green_integrals(beta, wl2):
     """Upper bounds on the L¹ norms of the oscillator's Green's function (item L4).
 
@@ -92,7 +93,7 @@ def green_integrals(beta, wl2):
     return g0, g1
 
 
-@numba.njit(cache=True)
+@kernel
 def locked_constants(beta, gamma, omega):
     """Per-run constants of the locked test (items L1, L4).
 
@@ -129,7 +130,7 @@ def _x_minus_sin(x):
     return x - math.sin(x)
 
 
-@numba.njit(cache=True)
+@kernel
 def _potential(w2, gamma, d, x):
     # (L3): U(x) = ω²(2 cos d sin²(x/2) − sin d (x − sin x)), sin d = γ/ω²: both terms
     # carry their leading order, so U keeps its relative precision at any small x.
@@ -142,7 +143,7 @@ def _nearest_k(theta, d):
     return math.floor((theta - d) / (2.0 * math.pi) + 0.5)
 
 
-@numba.njit(cache=True)
+@kernel
 def locked_quick_reject(theta, v, d, sd, wl2, g0, omega, rtol, atol, q2):
     """True when the locked test surely fails (cheap; run before every window).
 
@@ -177,7 +178,7 @@ def locked_quick_reject(theta, v, d, sd, wl2, g0, omega, rtol, atol, q2):
     return not (q2 > 0.0 and q2 * a * a * a <= tol)
 
 
-@numba.njit(cache=True)
+@kernel
 def _amplitude_newton(w2, gamma, d, wl2, h0, edge):
     # (L3): a point x between 0 and the saddle ``edge`` with U(x) ≥ H₀, so that the
     # root A± of U = H₀ on that side (U is monotone there) is at most |x|; inf if
@@ -207,7 +208,7 @@ def _amplitude_newton(w2, gamma, d, wl2, h0, edge):
     return math.inf
 
 
-@numba.njit(cache=True)
+@kernel
 def locked_bound(beta, gamma, omega, theta, v, d, wl2, g0, g1):
     """Rigorous bounds on the locked closed form's deviation over any horizon (L3, L4).
 
@@ -234,7 +235,7 @@ def locked_bound(beta, gamma, omega, theta, v, d, wl2, g0, g1):
     return ts, r * g0, r * g1
 
 
-@numba.njit(cache=True)
+@kernel
 def locked_amplitude(gamma, omega, theta, v, d):
     """The nearest stable equilibrium and the amplitude bound A of item L3.
 
@@ -277,7 +278,7 @@ def locked_amplitude(gamma, omega, theta, v, d):
     return ts, max(amp, abs(x)) * (1.0 + AMPLITUDE_MARGIN)
 
 
-@numba.njit(cache=True)
+@kernel
 def locked2_terms(beta, gamma, wl2, x0, v0):
     """The second-order term x₂ of item L6 from the anchor offset (x₀, x₀').
 
@@ -310,7 +311,7 @@ def locked2_terms(beta, gamma, wl2, x0, v0):
     return qr, qi, m, dr, di, math.sqrt(c_abs2), x2
 
 
-@numba.njit(cache=True)
+@kernel
 def locked2_bound(beta, gamma, omega, d, wl2, g0, g1, amp, x0, v0):
     """L7's bounds on the second-order form's deviation over any horizon.
 
@@ -345,7 +346,7 @@ def locked2_bound(beta, gamma, omega, d, wl2, g0, g1, amp, x0, v0):
     return e, ev
 
 
-@numba.njit(cache=True)
+@kernel
 def locked_choice(beta, gamma, omega, theta, v, d, wl2, g0, g1, rtol, atol, off, second):
     """Whether the locked closed form may take over from (θ, θ'), and of which order (L5, L7).
 
@@ -386,7 +387,7 @@ def locked_choice(beta, gamma, omega, theta, v, d, wl2, g0, g1, rtol, atol, off,
     return 0, ts
 
 
-@numba.njit(cache=True)
+@kernel
 def locked2_quick(beta, gamma, omega, d, wl2, g0):
     """q2 of :func:`locked_quick_reject`: ω²G₀ cos d / 6 where L6 applies, else 0."""
     if not (wl2 - 0.25 * beta * beta > 0.0):
@@ -394,7 +395,7 @@ def locked2_quick(beta, gamma, omega, d, wl2, g0):
     return omega * omega * g0 * math.cos(d) / 6.0
 
 
-@numba.njit(cache=True)
+@kernel
 def locked_coef(beta, wl2, theta_star, theta, v, gamma=0.0, order=1):
     """The locked window's coefficient vector anchored at (θ, θ').
 
@@ -431,7 +432,7 @@ def locked_coef(beta, wl2, theta_star, theta, v, gamma=0.0, order=1):
     return c
 
 
-@numba.njit(cache=True)
+@kernel
 def locked_eval(coef, t):
     """The linearized motion of a locked window (item L2; with L6's x₂ at order 2).
 
@@ -484,7 +485,7 @@ def locked_eval(coef, t):
     return th0 + (x - x0), xd
 
 
-@numba.njit(cache=True)
+@kernel
 def locked_eval_array(coef, t, out_theta, out_v):
     """:func:`locked_eval` at each of ``t``.
 
@@ -503,7 +504,7 @@ def locked_eval_array(coef, t, out_theta, out_v):
         out_v[i] = b
 
 
-@numba.njit(cache=True)
+@kernel
 def _lock_setup(beta, gamma, omega, can_lock, can_lock2):
     """The locked test's constants of a run (L5; |sin d| and the second-order quick
     test's q₂ where ``can_lock2``): ``(d, ω_l², G₀, G₁, |sin d|, q₂, can_lock2)``, the

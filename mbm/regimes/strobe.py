@@ -15,10 +15,10 @@ documentation's theory page, ``docs/theory/regimes.md``.
 
 import math
 
-import numba
 import numpy as np
 
 from ..special.dd import TWO_PI_HI, TWO_PI_LO, dd_add, dd_div_d, dd_mul_d, reduce_2pi, two_prod, two_sum
+from ..special.jit import kernel
 
 # A phase-locked window's coefficient vector (S6): [STROBE_TAG, φ_a, θ'_a, k_a, t_a, q, p,
 # ψ_a, β, γ, ω, A, Ω, rtol, atol, karg + STROBE_CODE·error_order]: the anchor at
@@ -86,7 +86,7 @@ STR_ATOL = 14  # atol the stored period is re-taken with
 STR_KARG_ORDER = 15  # karg + STROBE_CODE·error_order (the approximant's kind argument and error order)
 
 
-@numba.njit(cache=True)
+@kernel
 def strobe_period(freq, q):
     """The period qT_d = 2πq/Ω as a double-double (items S1, S6).
 
@@ -105,7 +105,7 @@ def strobe_period(freq, q):
     return dd_mul_d(hi, lo, q)
 
 
-@numba.njit(cache=True)
+@kernel
 def strobe_time(t_s, n, p_hi, p_lo):
     """The stroboscopic time t_s + n·P (item S1): its rounding and the residual.
 
@@ -127,7 +127,7 @@ def strobe_time(t_s, n, p_hi, p_lo):
     return dd_add(mh, ml, t_s, 0.0)
 
 
-@numba.njit(cache=True)
+@kernel
 def strobe_phase(freq, phase, t):
     """The drive's phase Ωt + φ reduced to [−π, π] (item S6).
 
@@ -151,7 +151,7 @@ def strobe_phase(freq, phase, t):
     return rh + (rl + (e + e2))
 
 
-@numba.njit(cache=True)
+@kernel
 def strobe_split(t, t_a, p_hi, p_lo):
     """``(n, s)`` with t − t_a = nP + s, 0 ≤ s ≤ fl(P) (item S6).
 
@@ -187,14 +187,14 @@ def strobe_split(t, t_a, p_hi, p_lo):
     return n, min(max(sh + sl, 0.0), p_hi)
 
 
-@numba.njit(cache=True)
+@kernel
 def _spectral_radius(tau, det):
     # (S4): max |μ| of μ² − τμ + D = 0.
     disc = tau * tau - 4.0 * det
     return math.sqrt(det) if disc < 0.0 else 0.5 * (abs(tau) + math.sqrt(disc))
 
 
-@numba.njit(cache=True)
+@kernel
 def strobe_switch(d3t, d3v, d2t, d2v, d1t, d1v, ct, cv, det, omega, scale, tau1, tau2, rho_clean):
     """Whether the stroboscopic deviations have converged enough to switch (items S3-S5).
 
@@ -281,7 +281,7 @@ def strobe_switch(d3t, d3v, d2t, d2v, d1t, d1v, ct, cv, det, omega, scale, tau1,
     return bound <= scale, tau, rho_clean, rho, bound
 
 
-@numba.njit(cache=True)
+@kernel
 def strobe_coef(phi_a, v_a, k_a, t_a, q, p, psi_a, beta, gamma, omega, amp, freq, rtol, atol, karg,
                 error_order):
     """A phase-locked window's coefficient vector (layout: STROBE_TAG; item S6).

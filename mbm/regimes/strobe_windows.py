@@ -22,6 +22,7 @@ from ..core.window import (
     window_log_eps,
     wrap,
 )
+from ..special.jit import kernel
 from .common import REGIME_NONE, REGIME_PHASE_LOCKED, SWITCH_SAFETY
 from .cycle import CYCLE_MAX_WINDOWS
 from .cycle_windows import _TWO_PI
@@ -46,7 +47,7 @@ _INLINE = dict(cache=True, inline="always")
 
 # The drive is Taylor's only: one compiled copy, called (a whole controller re-run; inlined,
 # numba would copy its large body at each site).
-@numba.njit(cache=True)
+@kernel
 def _strobe_eval_taylor(c, t):
     """A phase-locked window (coefficients: regimes.strobe_coef) at time ``t`` (S6).
 
@@ -96,7 +97,7 @@ def _strobe_value(kind, c, t):
     return math.nan, math.nan, 0.0
 
 
-@numba.njit(cache=True)
+@kernel
 def _strobe_samples_taylor(p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det, n_total):
     """The stroboscopic samples of the window [t, t_new] (formula ``coef``, winding count
     ``k``, ``off`` = 2πk) and the switch rule at each (mbm.regimes, S1-S7): the run
@@ -171,7 +172,7 @@ def _strobe_samples_taylor(p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det, n_to
 # _strobe_dev and _strobe_subharmonic are called, not inlined: they are kind-free, run once
 # per drive period of a driven run, and inlined at their call sites they added ~10 s to
 # run_taylor's compile from an empty cache (49 -> 39 s, measured).
-@numba.njit(cache=True)
+@kernel
 def _strobe_dev(r, n, i, d, k, phi, v):
     """``(turns, Δθ, Δθ')`` of z_i − z_{i−d} (S1's arithmetic; S7): samples before the
     current one, index ``n`` (state ``k``, ``phi``, ``v``), from the record's ring."""
@@ -188,7 +189,7 @@ def _strobe_dev(r, n, i, d, k, phi, v):
     return turns, (dphi - m * TWO_PI_A) - m * TWO_PI_B, v1 - ring[s0 + 2]
 
 
-@numba.njit(cache=True)
+@kernel
 def _strobe_subharmonic(p, k, phi, v, scale, sp_hi, n_total):
     """The switch rule of the maps P^q, q = 2 .. STROBE_MAX_PERIODS, at the current
     sample (index ``str_n``, state ``k``, ``phi``, ``v`` carried to the exact time;
@@ -242,7 +243,7 @@ def _strobe_subharmonic(p, k, phi, v, scale, sp_hi, n_total):
     return 0, 0.0
 
 
-@numba.njit(cache=True)
+@kernel
 def _strobe_setup(r, t, freq, beta, n_total):
     """The stroboscopic watch's constants of a driven run (S1-S7): ``(T_d hi, T_d lo,
     e^{−βT_d}, the next sample's time)``; a fresh run sets the samples' origin."""

@@ -15,10 +15,10 @@ double-double, in [−π, π]); :func:`nearest_2pi_multiple` is its j.
 
 import math
 
-import numba
 import numpy as np
 
-from .jit import NJIT_OPTIONS
+from .jit import kernel
+
 
 __all__ = [
     "EPS",
@@ -79,7 +79,7 @@ PIO4 = 0.7853981633974483
 # ---------------------------------------------------------------------------
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def two_sum(a, b):
     """s + e == a + b exactly, s = fl(a + b)."""
     s = a + b
@@ -88,7 +88,7 @@ def two_sum(a, b):
     return s, e
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def fast_two_sum(a, b):
     """s + e == a + b exactly, assuming |a| >= |b| or a == 0."""
     s = a + b
@@ -96,7 +96,7 @@ def fast_two_sum(a, b):
     return s, e
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def split(a):
     """Veltkamp's split a = hi + lo, each half with at most 26 significant bits."""
     t = SPLITTER * a
@@ -104,7 +104,7 @@ def split(a):
     return hi, a - hi
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def two_prod(a, b):
     """p + e == a * b exactly, p = fl(a * b) (no fma: Dekker's split)."""
     p = a * b
@@ -119,7 +119,7 @@ def two_prod(a, b):
 # ---------------------------------------------------------------------------
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def dd_add(ah, al, bh, bl):
     """Accurate double-double sum (both parts two-summed)."""
     s, e = two_sum(ah, bh)
@@ -130,7 +130,7 @@ def dd_add(ah, al, bh, bl):
     return fast_two_sum(s, e)
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def dd_add_pos(ah, al, bh, bl):
     """Double-double sum of two numbers of equal sign (no cancellation)."""
     s, e = two_sum(ah, bh)
@@ -138,7 +138,7 @@ def dd_add_pos(ah, al, bh, bl):
     return fast_two_sum(s, e)
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def dd_mul(ah, al, bh, bl):
     """Double-double product."""
     p, e = two_prod(ah, bh)
@@ -146,7 +146,7 @@ def dd_mul(ah, al, bh, bl):
     return fast_two_sum(p, e)
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def dd_mul_safe(ah, al, bh, bl):
     """dd_mul, falling back to a plain product where the split would overflow."""
     p = ah * bh
@@ -158,7 +158,7 @@ def dd_mul_safe(ah, al, bh, bl):
     return dd_mul(ah, al, bh, bl)
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def dd_mul_d(ah, al, b):
     """Double-double times a double b."""
     p, e = two_prod(ah, b)
@@ -166,7 +166,7 @@ def dd_mul_d(ah, al, b):
     return fast_two_sum(p, e)
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def dd_div(ah, al, bh, bl):
     """Double-double quotient a / b."""
     q1 = ah / bh
@@ -176,13 +176,13 @@ def dd_div(ah, al, bh, bl):
     return fast_two_sum(q1, q2)
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def dd_gt(ah, al, bh, bl):
     """a > b for normalized double-doubles."""
     return ah > bh or (ah == bh and al > bl)
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def dd_sqrt(ah, al):
     """sqrt of a non-negative double-double (one Newton correction)."""
     if ah <= 0.0:
@@ -204,7 +204,7 @@ def dd_sqrt(ah, al):
     return h * down, l * down
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def dd_div_d(ah, al, b):
     """(ah + al) / b for a double b."""
     q1 = ah / b
@@ -213,7 +213,7 @@ def dd_div_d(ah, al, b):
     return fast_two_sum(q1, q2)
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def dd_sincos(xh, xl):
     """sin x and cos x in double-double for |x| <= π/2 (+ tiny).
 
@@ -247,7 +247,7 @@ def dd_sincos(xh, xl):
     return sh, sl, ch, cl
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def dd_sincos_any(xh, xl):
     """sin x and cos x in double-double for a double-double x of moderate size.
 
@@ -283,7 +283,7 @@ def dd_sincos_any(xh, xl):
 # ---------------------------------------------------------------------------
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def nearest_2pi_multiple(x):
     """j = round(x / 2π) as a float: the j of :func:`reduce_2pi` before its boundary fix.
 
@@ -293,7 +293,7 @@ def nearest_2pi_multiple(x):
     return np.floor(x / TWO_PI_HI + 0.5)
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def reduce_2pi(x):
     """x − 2πj in double-double, with j an integer and the result in [−π, π].
 

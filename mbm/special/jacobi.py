@@ -41,7 +41,6 @@ from 1 - m), :func:`ellipk_kc_dd_kernel` (K from k'), :func:`ellipj_kc_dd_kernel
 (sn, cn, dn at a double-double argument) and :func:`carlson_rf_kernel`.
 """
 
-import numba
 import numpy as np
 
 from ._arrays import finite_f64, flat, nan_guard, unflat
@@ -54,7 +53,7 @@ from .jacobi_kernels import (  # noqa: F401  callers and tests import these from
     ellipj_kc_dd_kernel, _ellipj_dd, ellipj_kernel, carlson_rf_kernel,
     ellipf_kernel,
 )
-from .jit import NJIT_OPTIONS
+from .jit import kernel
 
 __all__ = [
     "ellipj_kernel",
@@ -79,7 +78,7 @@ __all__ = [
 # ---------------------------------------------------------------------------
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _ellipj_loop(u, m, mc, out_sn, out_cn, out_dn, out_am):
     for i in range(u.shape[0]):
         s, c, d, a = ellipj_kernel(u[i], m[i], mc[i])
@@ -89,13 +88,13 @@ def _ellipj_loop(u, m, mc, out_sn, out_cn, out_dn, out_am):
         out_am[i] = a
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _ellipk_loop(m, mc, out):
     for i in range(m.shape[0]):
         out[i] = ellipk_kernel(m[i], mc[i])
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _ellipf_loop(phi, m, mc, out):
     for i in range(phi.shape[0]):
         out[i] = ellipf_kernel(phi[i], m[i], mc[i])

@@ -32,7 +32,7 @@ from .dd import (
     dd_sqrt,
     two_prod,
 )
-from .jit import NJIT_OPTIONS
+from .jit import kernel
 
 
 # ---------------------------------------------------------------------------
@@ -106,7 +106,7 @@ def _stack_f64(typingctx, n):
 # ---------------------------------------------------------------------------
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def ellipk_kc_dd_kernel(kch, kcl):
     """K(m) in double-double from the complementary modulus k' = sqrt(1 - m).
 
@@ -152,7 +152,7 @@ def ellipk_kc_dd_kernel(kch, kcl):
     return dd_div(PIO2_HI, PIO2_LO, Mh, Ml)
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def ellipk_dd_kernel(mc, mc_lo):
     """K(m) in double-double from the complementary parameter mc = 1 - m.
 
@@ -179,7 +179,7 @@ def ellipk_dd_kernel(mc, mc_lo):
     return math.nan, math.nan
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _ellipk_rough(kc):
     """K to ~8 digits in plain double (used only to pick the fast path)."""
     if kc == 0.0:
@@ -193,7 +193,7 @@ def _ellipk_rough(kc):
     return PIO2_HI / (0.5 * (a + b))
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def ellipk_kernel(m, mc):
     """Complete elliptic integral of the first kind K(m), numba kernel.
 
@@ -223,7 +223,7 @@ def ellipk_kernel(m, mc):
 # ---------------------------------------------------------------------------
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _landen(z, m, mc):
     """(sn, cn, dn)(z | m) for 0 <= z <= K(m)/2, |m| small or 0 <= m < 1.
 
@@ -280,7 +280,7 @@ def _landen(z, m, mc):
     return s, c, d
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def ellipj_kc_dd_kernel(vh, vl, m, mc, kch, kcl):
     """sn, cn, dn at a double-double argument with the period fixed by k', numba kernel.
 
@@ -364,7 +364,7 @@ def ellipj_kc_dd_kernel(vh, vl, m, mc, kch, kcl):
     return sn_, cn_, dn_, n, a
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _ellipj_dd(uh, ul, m, mc):
     """(sn, cn, dn, am)(u | m) for u = uh + ul given in double-double."""
     if mc == 0.0:
@@ -400,7 +400,7 @@ def _ellipj_dd(uh, ul, m, mc):
     return s, c, d, n * TWO_PI_HI + (a + n * TWO_PI_LO)
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def ellipj_kernel(u, m, mc):
     """Jacobi elliptic functions and amplitude, numba kernel.
 
@@ -435,7 +435,7 @@ def ellipj_kernel(u, m, mc):
 # ---------------------------------------------------------------------------
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def carlson_rf_kernel(x, y, z):
     """Carlson's R_F(x, y, z) for x, y, z >= 0, at most one of them zero.
 
@@ -477,7 +477,7 @@ def carlson_rf_kernel(x, y, z):
     ) / math.sqrt(an)
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def ellipf_kernel(phi, m, mc):
     """Incomplete elliptic integral of the first kind F(phi | m), numba kernel.
 

@@ -58,7 +58,7 @@ from .dd import (
     two_sum,
 )
 from .jacobi import ellipf_kernel, ellipj_kernel, ellipk_dd_kernel
-from .jit import NJIT_OPTIONS
+from .jit import NJIT_OPTIONS, kernel
 
 __all__ = [
     "flow_setup_kernel",
@@ -123,13 +123,13 @@ _INF = float("inf")
 # ---------------------------------------------------------------------------
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _failed_setup(status):
     x = _NAN
     return (x, x, x, x, x, x, x, x, x, x, x, x, x, x, x, x, x, x, x, x, float(status))
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _half_rate_dd(v0, omega):
     """w = θ̇₀/(2ω) in double-double (the division's rounding matters next to the separatrix)."""
     two_omega = 2.0 * omega
@@ -141,7 +141,7 @@ def _half_rate_dd(v0, omega):
     return w_hi, w_lo
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _libration_constants(sh, ch, w_hi, w_lo, k, m, mc, mc_lo, omega):
     """Libration, sin(θ/2) = k sn(ωt + u0 | m).
 
@@ -170,7 +170,7 @@ def _libration_constants(sh, ch, w_hi, w_lo, k, m, mc, mc_lo, omega):
     return par, parc, K_hi, K_lo, u0, rate_hi, rate_lo, vscale, per
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _rotation_constants(sh_hi, sh_lo, ch, h_hi, h_lo, aw_hi, aw_lo, k, m, mc, mc_lo, sign, omega):
     """Rotation, θ/2 = am(s k ω t + u0 | 1/m).
 
@@ -203,7 +203,7 @@ def _rotation_constants(sh_hi, sh_lo, ch, h_hi, h_lo, aw_hi, aw_lo, k, m, mc, mc
     return k_lo, par, parc, K_hi, K_lo, u0, rate_hi, rate_lo, vscale, per
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def flow_setup_kernel(theta0, v0, omega):
     """Constants of the exact flow of θ'' + ω² sin θ = 0 through (θ₀, θ̇₀).
 
@@ -305,7 +305,7 @@ def flow_setup_kernel(theta0, v0, omega):
     )
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def flow_eval_kernel(regime, theta0, v0, k, par, parc, K_hi, K_lo, u0, sign,
                      th_hi, th_lo, rate_hi, rate_lo, vscale, t):
     """Evaluate the exact flow set up by :func:`flow_setup_kernel` at time ``t``.
@@ -426,7 +426,7 @@ def pendulum_flow_kernel(theta0, v0, omega, t):
                             th_hi, th_lo, rate_hi, rate_lo, vscale, t)
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def pendulum_flow_array_kernel(theta0, v0, omega, t, out_theta, out_v):
     """:func:`pendulum_flow_kernel` over a contiguous float64 array ``t`` (one setup).
 

@@ -18,8 +18,9 @@ Kernels (``numba.njit``, cached): :func:`bernstein_into`, :func:`sign_changes`,
 :func:`isolate`, :func:`horner`, :func:`refine`, :func:`crossings` (the three together).
 """
 
-import numba
 import numpy as np
+
+from .jit import kernel
 
 __all__ = ["bernstein_into", "sign_changes", "isolate", "horner", "refine", "crossings", "MAX_DEPTH"]
 
@@ -32,7 +33,7 @@ MAX_DEPTH = 52
 REFINE_STEPS = 200
 
 
-@numba.njit(cache=True)
+@kernel
 def bernstein_into(alpha, n, out):
     """The Bernstein coefficients on [0, 1] of p(x) = Σ_{k≤n} alpha[k] x^k, into ``out[:n + 1]``.
 
@@ -49,7 +50,7 @@ def bernstein_into(alpha, n, out):
         out[j] = s
 
 
-@numba.njit(cache=True)
+@kernel
 def sign_changes(b, n):
     """Sign changes of ``b[:n + 1]`` (zeros skipped)."""
     count = 0
@@ -62,7 +63,7 @@ def sign_changes(b, n):
     return count
 
 
-@numba.njit(cache=True)
+@kernel
 def horner(alpha, n, x):
     """p(x) = Σ_{k≤n} alpha[k] x^k (Horner, the constant term added last)."""
     p = alpha[n]
@@ -71,7 +72,7 @@ def horner(alpha, n, x):
     return alpha[0] + x * p if n > 0 else alpha[0]
 
 
-@numba.njit(cache=True)
+@kernel
 def _split(b, n, left, right):
     # de Casteljau at 1/2: b on [lo, hi] into its halves' coefficients.
     for j in range(n + 1):
@@ -83,7 +84,7 @@ def _split(b, n, left, right):
     left[n] = right[0]
 
 
-@numba.njit(cache=True)
+@kernel
 def isolate(alpha, n, out_lo, out_hi):
     """Intervals of [0, 1] that may hold a sign change of p (``alpha`` its power
     coefficients, degree ``n``), left to right; returns how many (at most
@@ -128,7 +129,7 @@ def isolate(alpha, n, out_lo, out_hi):
     return count
 
 
-@numba.njit(cache=True)
+@kernel
 def refine(alpha, n, lo, hi, glo, ghi, xtol):
     """The crossing of p in (lo, hi] where p(lo) = ``glo`` ≠ 0 and ``ghi`` = p(hi) is 0
     or of the other sign: the first double x of the final bracket (lo, x] with p(x)
@@ -167,7 +168,7 @@ def refine(alpha, n, lo, hi, glo, ghi, xtol):
     return hi
 
 
-@numba.njit(cache=True)
+@kernel
 def crossings(alpha, n, xtol, out_x, out_dir):
     """The sign changes of p (power coefficients ``alpha``, degree ``n``) in (0, 1], left to
     right: their points (:func:`refine`, to ``xtol``) into ``out_x`` and their directions

@@ -46,7 +46,7 @@ import math
 import numba
 import numpy as np
 
-from .jit import NJIT_OPTIONS
+from .jit import NJIT_OPTIONS, kernel
 
 __all__ = [
     "M_MAX",
@@ -64,7 +64,7 @@ __all__ = [
 M_MAX = 1.0
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _setup(m):
     """A (3.13), L = A − m + 2, N = A − m − 12 and the frequency ν = √(L/14) of (2.26)."""
     A = math.sqrt(m * m - 144.0 * m + 144.0)
@@ -121,7 +121,7 @@ def sin_m_dm_kernel(t, m):
     return math.sqrt(14.0) * (cw * dw / math.sqrt(D) - 0.5 * sw * dD / (D * math.sqrt(D)))
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _trig_array(t, m, which, out):
     for i in range(t.size):
         out[i] = trig_m_kernel(t[i], m[i])[which]

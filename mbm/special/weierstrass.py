@@ -64,7 +64,7 @@ from .jacobi import (
     ellipj_kc_dd_kernel,
     ellipk_kc_dd_kernel,
 )
-from .jit import NJIT_OPTIONS
+from .jit import NJIT_OPTIONS, kernel
 
 __all__ = [
     "wp_roots_kernel",
@@ -107,7 +107,7 @@ _LOG4 = 1.3862943611198906
 # ---------------------------------------------------------------------------
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _delta_dd(g2, g3):
     """Δ = g2³ − 27 g3² in double-double."""
     sh, sl = two_prod(g2, g2)
@@ -117,7 +117,7 @@ def _delta_dd(g2, g3):
     return dd_add(ch, cl, -th, -tl)
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _newton(x, g2, g3):
     """One guarded Newton step on 4x³ − g2 x − g3 (double)."""
     fp = 12.0 * x * x - g2
@@ -129,7 +129,7 @@ def _newton(x, g2, g3):
     return x
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _newton_dd(x, g2, g3):
     """x + correction as a double-double: Newton with the cubic in double-double."""
     fp = 12.0 * x * x - g2
@@ -146,7 +146,7 @@ def _newton_dd(x, g2, g3):
     return x, 0.0
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _lattice_three_real(G2, G3, dh, t, rt):
     """:func:`wp_lattice_kernel` for Δ ≥ 0 (three real roots), at the scaled invariants.
 
@@ -225,7 +225,7 @@ def _lattice_three_real(G2, G3, dh, t, rt):
             lh * rt, ll * rt, m, mc, kch, kcl)
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _lattice_one_real(G2, G3, dh, dl, t, rt):
     """:func:`wp_lattice_kernel` for Δ < 0 (one real root), at the scaled invariants.
 
@@ -497,7 +497,7 @@ def wp_inverse_kernel(w, g2, g3):
 # ---------------------------------------------------------------------------
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _wp_loop(z, g2, g3, out_wp, out_wpp):
     for i in range(z.shape[0]):
         a, b = wp_kernel(z[i], g2[i], g3[i])
@@ -505,7 +505,7 @@ def _wp_loop(z, g2, g3, out_wp, out_wpp):
         out_wpp[i] = b
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _wp_roots_loop(g2, g3, o1, o2, o3, o4):
     for i in range(g2.shape[0]):
         a, b, c, d = wp_roots_kernel(g2[i], g3[i])
@@ -515,13 +515,13 @@ def _wp_roots_loop(g2, g3, o1, o2, o3, o4):
         o4[i] = d
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _wp_half_period_loop(g2, g3, out):
     for i in range(g2.shape[0]):
         out[i] = wp_half_period_kernel(g2[i], g3[i])
 
 
-@numba.njit(**NJIT_OPTIONS)
+@kernel(error_model="numpy")
 def _wp_inverse_loop(w, g2, g3, out):
     for i in range(w.shape[0]):
         out[i] = wp_inverse_kernel(w[i], g2[i], g3[i])
