@@ -486,3 +486,37 @@ def test_running_windows_do_not_grow_with_the_horizon(beta, gamma, y0):
         n[T] = r.n_windows
     assert n[1e6] <= HORIZON_COST_RATIO * n[1e3]
     assert r.mean_velocity == pytest.approx((r.y[0, -1] - r.y[0, -2]) / (r.t[-1] - r.t[-2]), rel=1e-3)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_quick_rejection_never_refuses_a_state_the_full_test_takes(seed):
+    # States around the lock threshold (both stages of the quick test and the full one
+    # decide there), in wells far from θ = 0 as after many turns: wherever the full test
+    # (locked_choice) switches, the quick test must let it run; and its energy stage
+    # must spare most failing full tests there (their Newton steps are its point).
+    rng = np.random.default_rng(seed)
+    lk = regimes.locked
+    passed = spared = failed = 0
+    for _ in range(4000):
+        beta, gamma, omega = rng.uniform(0.02, 1.0), rng.uniform(-0.95, 0.95), rng.uniform(0.5, 2.0)
+        tol = 10.0 ** rng.uniform(-12, -4)
+        d, wl2, g0, g1, sd, q2, two = lk._lock_setup.py_func(beta, gamma * omega**2, omega, True, True)
+        k = float(rng.integers(-10**6, 10**6)) if rng.uniform() < 0.3 else 0.0
+        off = 2.0 * math.pi * k
+        amp = 10.0 ** rng.uniform(0.5 * math.log10(tol) - 1.5, math.log10(tol) / 3.0 + 0.5)
+        phase = rng.uniform(0.0, 2.0 * math.pi)
+        x, v = amp * math.cos(phase), amp * math.sqrt(wl2) * math.sin(phase)
+        y0 = d + x
+        order, _ = lk.locked_choice.py_func(beta, gamma * omega**2, omega, y0, v, d, wl2, g0, g1, tol, tol, off,
+                                            two)
+        reject = lk.locked_quick_reject.py_func(off + y0, v, d, sd, wl2, g0, g1, omega, tol, tol, q2)
+        a, tol_t = lk.QUICK_FACTOR * math.sqrt(x * x + v * v / wl2), regimes.SWITCH_SAFETY * (tol + tol * abs(off + d))
+        first_stage = omega**2 * lk._rho(sd, a) * g0 > tol_t and not (q2 > 0.0 and q2 * a**3 <= tol_t)
+        if order > 0:
+            passed += 1
+            assert not reject, (beta, gamma, omega, tol, k, x, v)
+        elif not first_stage:
+            failed += 1
+            spared += reject
+    assert passed > 100 and failed > 100, (passed, failed)
+    assert spared > 0.5 * failed, (spared, failed)

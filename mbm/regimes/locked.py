@@ -35,6 +35,10 @@ X_MINUS_SIN_SERIES = 0.25
 # Quick rejection before the rigorous test (it only delays a switch, never allows
 # one): the linear estimate sqrt(2H/ω_l²) of A times this factor must already pass.
 QUICK_FACTOR = 0.5
+# The quick test's energy bound of A: x = θ − θ* of whole angles is off by at most a
+# few ulps of them (the full test's reduced x by fewer); this many, with room to spare.
+X_ROUNDING = 8.0
+_EPS = 2.220446049250313e-16
 
 # A locked window's coefficient vector, as stored in a run's window store:
 # [LOCKED_TAG, θ₀, x₀ = θ₀ − θ*, v₀, β/2, s², ω_l²], θ = θ₀ + (x − x₀) so that the
@@ -143,18 +147,37 @@ def _nearest_k(theta, d):
     return math.floor((theta - d) / (2.0 * math.pi) + 0.5)
 
 
+@numba.njit(cache=True, inline="always")
+def _bounds_fail(a, sd, cd, g0, g1, omega, tol, tol_v, second):
+    # At a lower bound ``a`` of A: L5's first-order bounds ω²ρ(A)G₀, ω²ρ(A)G₁ and, where
+    # ``second``, L7's, which are at least ω²G₀ρ₃(A) and ω²G₁ρ₃(A), all fail (each
+    # grows with A).
+    w2 = omega * omega
+    r = w2 * _rho(sd, a)
+    if r * g0 <= tol and r * g1 <= tol_v:
+        return False
+    if not second:
+        return True
+    rho3 = cd * a * a * a / 6.0 + sd * a * a * a * a / 24.0
+    return w2 * g0 * rho3 > tol or w2 * g1 * rho3 > tol_v
+
+
 @kernel
-def locked_quick_reject(theta, v, d, sd, wl2, g0, omega, rtol, atol, q2):
+def locked_quick_reject(theta, v, d, sd, wl2, g0, g1, omega, rtol, atol, q2):
     """True when the locked test surely fails (cheap; run before every window).
 
-    A necessary condition only (the linear amplitude estimate times QUICK_FACTOR must
-    already pass L5): a True delays a switch, a False leads to :func:`locked_bound`.
+    A necessary condition only, in two stages: the linear amplitude estimate times
+    QUICK_FACTOR must already pass L5 (no trigonometry); where it does, a rigorous lower
+    bound of A from the energy (L3) must pass too, so that the full test
+    (:func:`locked_choice`, its Newton steps on both sides of the well) runs only where
+    it may succeed.  A True where the full test would pass never happens by the second
+    stage, and by the first it would only delay a switch.
 
     Parameters
     ----------
     theta, v : float
         The state.
-    d, wl2, g0 : float
+    d, wl2, g0, g1 : float
         From :func:`locked_constants`.
     sd : float
         |sin d| (formed once per run: a sin per window was ~10 % of the test).
@@ -173,9 +196,19 @@ def locked_quick_reject(theta, v, d, sd, wl2, g0, omega, rtol, atol, q2):
     x = theta - ts
     a = QUICK_FACTOR * math.sqrt(x * x + v * v / wl2)
     tol = SWITCH_SAFETY * (atol + rtol * abs(ts))
-    if omega * omega * _rho(sd, a) * g0 <= tol:
-        return False
-    return not (q2 > 0.0 and q2 * a * a * a <= tol)
+    if omega * omega * _rho(sd, a) * g0 > tol and not (q2 > 0.0 and q2 * a * a * a <= tol):
+        return True
+    # (L3) U(x) = ω²(cos d (1 − cos x) − sin d (x − sin x)) ≤ ω_l² x²/2 + ω²|sin d| |x|³/6
+    # on both sides, so the root a* of that bound at H₀ is below A± (both increase), and
+    # a* ≥ a_lin / sqrt(1 + c a_lin) with a_lin = sqrt(2H₀/ω_l²) ≥ a*, c = ω²|sin d|/(3ω_l²).
+    # H₀ as locked_amplitude forms it (γ = ω² sin d) from the reduced angle: the margin
+    # covers their rounding, the last term x's own here (θ and θ* whole angles).
+    w2 = omega * omega
+    h0 = 0.5 * v * v + _potential(w2, w2 * math.copysign(sd, d), d, x)
+    a_lin = math.sqrt(max(2.0 * h0 / wl2, 0.0))
+    a_lo = (a_lin / math.sqrt(1.0 + w2 * sd * a_lin / (3.0 * wl2)) * (1.0 - AMPLITUDE_MARGIN)
+            - X_ROUNDING * _EPS * (abs(theta) + abs(ts)))
+    return _bounds_fail(max(a_lo, 0.0), sd, wl2 / w2, g0, g1, omega, tol, SWITCH_SAFETY * atol, q2 > 0.0)
 
 
 @kernel
