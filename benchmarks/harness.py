@@ -114,6 +114,22 @@ def gc_paused():
             gc.enable()
 
 
+def entry_calls(entry):
+    """A compiled loop that calls the loop entry ``entry`` (``mbm.loop.RUNNERS``'s) ``n``
+    times as a fresh run: ``calls(n, buf, t0, theta0, v0, t1, h, t_eval, out, win_t,
+    win_y, win_coef, cancel)`` returns the sum of its returns; the entry's cost without
+    Python's dispatch (``entry`` is a constant of the loop)."""
+    import numba
+
+    @numba.njit
+    def calls(n, buf, t0, theta0, v0, t1, h, t_eval, out, win_t, win_y, win_coef, cancel):
+        total = 0
+        for _ in range(n):
+            total += entry(buf, True, t0, theta0, v0, t1, h, t_eval, out, win_t, win_y, win_coef, cancel)
+        return total
+
+    return calls
+
 def timed_runs(fn, repeats):
     """Seconds of ``repeats`` calls of ``fn`` with the garbage collector off (as ``timeit``)."""
     with gc_paused():

@@ -35,7 +35,6 @@ import sys
 import time
 from pathlib import Path
 
-import numba
 import numpy as np
 
 import mbm
@@ -65,13 +64,8 @@ BLOCK_NAME = "overheads-per-call"
 _ENTRY_TAYLOR = loop.RUNNERS[(loop.KIND_TAYLOR, loop.RS_DAMPED)]
 
 
-@numba.njit
-def _entry_loop(n, buf, t0, theta0, v0, t1, h, te, out, win_t, win_y, win_coef, never):
-    # The compiled entry n times from compiled code: its cost without the dispatch.
-    problem = 0
-    for _ in range(n):
-        problem += _ENTRY_TAYLOR(buf, True, t0, theta0, v0, t1, h, te, out, win_t, win_y, win_coef, never)
-    return problem
+# The entry n times from compiled code: its cost without the dispatch.
+_entry_loop = harness.entry_calls(_ENTRY_TAYLOR)
 
 
 def _samples(calls, repeats, block):

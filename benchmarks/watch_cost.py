@@ -29,7 +29,6 @@ import sys
 import time
 from pathlib import Path
 
-import numba
 import numpy as np
 
 import mbm
@@ -58,22 +57,8 @@ _PLAIN = loop.RUNNERS[(loop.KIND_TAYLOR, loop.RS_PLAIN)]
 _EMPTY = (np.empty(0), np.empty((2, 0)), np.empty(0), np.empty((0, 2)), np.empty((0, 0)), np.zeros(1, np.int64))
 
 
-@numba.njit
-def _calls_watched(n, buf, t0, theta0, v0, t1, h, te, out, wt, wy, wc, never):
-    # The RS_DAMPED entry n times (a fresh run from buf's template each time).
-    windows = 0
-    for _ in range(n):
-        windows += _WATCHED(buf, True, t0, theta0, v0, t1, h, te, out, wt, wy, wc, never)
-    return windows
-
-
-@numba.njit
-def _calls_plain(n, buf, t0, theta0, v0, t1, h, te, out, wt, wy, wc, never):
-    # The RS_PLAIN entry n times, as _calls_watched.
-    windows = 0
-    for _ in range(n):
-        windows += _PLAIN(buf, True, t0, theta0, v0, t1, h, te, out, wt, wy, wc, never)
-    return windows
+# Each entry n times from a compiled loop (a fresh run from buf's template each time).
+_calls_watched, _calls_plain = harness.entry_calls(_WATCHED), harness.entry_calls(_PLAIN)
 
 
 def _buffers(scene, tol):
