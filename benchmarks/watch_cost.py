@@ -32,7 +32,7 @@ from pathlib import Path
 import numpy as np
 
 import mbm
-from mbm import loop
+from mbm import fast, loop
 from mbm.core.record import WORD
 
 from . import harness
@@ -52,9 +52,9 @@ BLOCK_NAME = "watch-cost"
 
 _WATCHED = loop.RUNNERS[(loop.KIND_TAYLOR, loop.RS_DAMPED)]
 _PLAIN = loop.RUNNERS[(loop.KIND_TAYLOR, loop.RS_PLAIN)]
-# The entries' empty arguments (no outputs, no window store, never cancelled), passed
-# in: a global array is a read-only constant to numba, and the entries write to theirs.
-_EMPTY = (np.empty(0), np.empty((2, 0)), np.empty(0), np.empty((0, 2)), np.empty((0, 0)), np.zeros(1, np.int64))
+# The entries' empty arguments, as Integrator.solve passes them: no outputs, no window
+# store, never cancelled.
+_EMPTY = (fast._NO_T, fast._NO_OUT, fast._NO_T, fast._NO_Y, fast._NO_COEF, fast._NEVER)
 
 
 # Each entry n times from a compiled loop (a fresh run from buf's template each time).

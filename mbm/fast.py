@@ -54,14 +54,13 @@ INTEGRATOR_CACHE = 256
 _W = loop.WORD
 _KIND_TAYLOR, _KIND_EXACT = loop.KIND_TAYLOR, loop.KIND_EXACT
 _KIND_SALAS_TORQUE, _KIND_SPLIT = loop.KIND_SALAS_TORQUE, loop.KIND_SPLIT
-_W_T, _W_THETA, _W_V, _W_TBOUND, _W_H = _W["t"], _W["theta"], _W["v"], _W["t_bound"], _W["h_abs"]
+_W_H = _W["h_abs"]
 _W_CYC_T, _W_CYC_SIGN = _W["cyc_T"], _W["cyc_sign"]
 _W_STR_P, _W_STR_Q, _W_FREQ = _W["str_p"], _W["str_q"], _W["drive_freq"]
 _W_STATUS, _W_J, _W_NW, _W_REGIME, _W_T_REGIME = (_W[k] for k in ("status", "j", "n_windows", "regime", "t_regime"))
 # The loop entry's arguments a call leaves empty: no outputs, no window store; never
 # cancelled (mbm.solve is chunked instead, CALL_WINDOWS).
-_NO_TIMES, _NO_OUT = np.empty(0), np.empty((2, 0))
-_NO_T, _NO_Y, _NO_COEF = np.empty(0), np.empty((0, 2)), np.empty((0, 0))
+_NO_T, _NO_OUT, _NO_Y, _NO_COEF = np.empty(0), np.empty((2, 0)), np.empty((0, 2)), np.empty((0, 0))
 _NEVER = np.zeros(1, np.int64)
 # Bound once: Integrator.solve's fast path reads no module attributes (each read is a
 # few percent of its fixed cost).
@@ -339,7 +338,7 @@ class Integrator:
                 # The window ends: stored from the start, the store grown as it fills.
                 win_t = np.empty(ENDS_CAPACITY + 1)
                 win_y = np.empty((ENDS_CAPACITY + 1, 2))
-                n = entry(buf, True, t0, theta0, v0, t1, h, _NO_TIMES, _NO_OUT, win_t, win_y, _NO_COEF, _NEVER)
+                n = entry(buf, True, t0, theta0, v0, t1, h, _NO_T, _NO_OUT, win_t, win_y, _NO_COEF, _NEVER)
                 chosen = REGIME_NONE
                 while item(_W_STATUS) == _PAUSED:  # chunked: Ctrl-C gets in between calls
                     if n + 1 == win_t.size:
@@ -348,7 +347,7 @@ class Integrator:
                     regime = item(_W_REGIME)
                     if regime != chosen:  # a regime switch: its set's entry
                         entry, chosen = _entry_at(self, regime), regime
-                    n += entry(buf, False, t0, theta0, v0, t1, h, _NO_TIMES, _NO_OUT, win_t[n:], win_y[n:],
+                    n += entry(buf, False, t0, theta0, v0, t1, h, _NO_T, _NO_OUT, win_t[n:], win_y[n:],
                                _NO_COEF, _NEVER)
                 t, y = win_t[: n + 1], win_y[: n + 1].T
             else:
