@@ -329,7 +329,7 @@ class _Run:
         while True:
             win_t, win_y = np.empty(cap + 1), np.empty((cap + 1, 2))
             win_coef = np.empty((cap, self.width))
-            runner = loop.RUNNERS[(self.ig._kind, int(loop.set_of(r)))]
+            runner = loop.runner_for(r)
             before = int(r["progress"]["n_windows"])
             n = runner(loop.words_of(p), False, 0.0, 0.0, 0.0, 0.0, 0.0, self.te, self.out, win_t, win_y, win_coef,
                        np.zeros(1, np.int64))

@@ -162,15 +162,15 @@ def _state(y0):
 # benchmarks/overheads.py.
 
 
-def _entry_of(kind, words):
+def _entry_of(words):
     # The entry that runs the record in ``words`` (float64 words of a RUN) now.
-    return loop.RUNNERS[(kind, loop.set_of(words.view(loop.RUN)[0]))]
+    return loop.runner_for(words.view(loop.RUN)[0])
 
 
 def _entry_at(integrator, regime):
     # The entry of an Integrator's run once it is in ``regime`` (the record's other
     # fields that choose the set are the Integrator's, fixed): the regime's set's entry.
-    return loop.RUNNERS[(integrator._kind, _regime_set(*integrator._set_fields, regime))]
+    return loop.entry_for(integrator._kind, _regime_set(*integrator._set_fields, regime), integrator._karg)
 
 
 # The keys of a result, in their order (its repr's); the constant ones are filled in
@@ -257,9 +257,9 @@ class Integrator:
         # The record's words as float64: each call's compiled entry copies them into
         # words of its own.
         self._words = template.view(np.float64).copy()
-        self._kind = kind
+        self._kind, self._karg = kind, karg
         # The entry of a fresh run (a regime switch resumes through its set's own).
-        self._entry = _entry_of(kind, self._words)
+        self._entry = _entry_of(self._words)
         run0 = template[0]
         self._set_fields = (kind, int(run0["control"]["controller"]), int(run0["switch"]["regimes"]),
                             float(run0["model"]["beta"]), float(run0["model"]["drive_amp"]))

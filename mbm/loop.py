@@ -87,6 +87,7 @@ from .core.loop import (  # noqa: F401
     RS_FIXED,
     RUNNERS,
     RUN_TABLE,
+    SIMD_RUNNERS,
     _R_E0,
     _R_E3,
     _R_Q0,
@@ -116,6 +117,7 @@ from .core.loop import (  # noqa: F401
     run_split,
     run_taylor,
     runner_for,
+    entry_for,
     set_of,
 )
 from .core.lanes import (  # noqa: F401
@@ -218,6 +220,8 @@ __all__ = [
     "run_salas_torque",
     "run_split",
     "RUNNERS",
+    "SIMD_RUNNERS",
+    "entry_for",
     "RUN_TABLE",
     "CHAINS",
     "RS_PLAIN",

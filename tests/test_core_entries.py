@@ -144,6 +144,8 @@ def test_first_solve_of_a_damped_scene_compiles_only_its_regimes(tmp_path):
     assert any("run_entry" in n for n in names) and any("cycle_crossing" in n for n in names)
     assert any("locked_choice" in n for n in names)
     assert [n for n in names if any(k in n for k in NOT_FOR_DAMPED)] == []
+    # the default degree's entry anchors with the vector kernel alone (loop.SIMD_RUNNERS)
+    assert not any("series_loop" in n for n in names)
 
 
 def test_first_call_of_a_fixed_window_kind_compiles_no_regime(tmp_path):
@@ -161,8 +163,9 @@ LOCKED_WINDOW = ("locked_coef", "locked_eval")
 def test_first_fixed_window_taylor_run_compiles_no_controller_and_no_regime(tmp_path):
     # τ given: the RS_FIXED entry, fixed windows only
     names = _compiled_names("fixed", tmp_path)
-    assert any("run_entry" in n for n in names) and any("series_loop" in n for n in names)
+    assert any("run_entry" in n for n in names) and any("taylor24_coefficients_into" in n for n in names)
     assert [n for n in names if any(k in n for k in ADAPTIVE_KERNELS + LOCKED_WINDOW + REGIME_KERNELS)] == []
+    assert not any("series_loop" in n for n in names)  # the default degree: the vector kernel alone
 
 
 @pytest.mark.parametrize("regime,want", [(REGIME_NONE, loop.RS_PLAIN), (REGIME_LOCKED, loop.RS_PLAIN),
@@ -194,3 +197,45 @@ def test_first_calls_page_is_a_quotable_block():
     page = first_calls.format_table([("a", [2.0, None, 4.0]), ("b", [None])], 3, "test machine")
     body = extract_blocks(page)[first_calls.BLOCK_NAME]
     assert "| a | 3.0 |" in body and "| b | failed |" in body and "test machine" in page
+
+
+def test_the_default_degree_takes_its_own_entry_and_other_degrees_the_general_one():
+    for name, table in (("taylor", loop.SIMD_RUNNERS), ("taylor24", loop.SIMD_RUNNERS), ("taylor16", None)):
+        ig = mbm.Integrator(mbm.Pendulum(0.1, 0.3), approximant=name)
+        want = table[loop.RS_DAMPED] if table else loop.RUNNERS[(loop.KIND_TAYLOR, loop.RS_DAMPED)]
+        assert ig._entry is want
+    assert loop.entry_for(loop.KIND_SPLIT, loop.RS_DAMPED, 24) is loop.RUNNERS[(loop.KIND_SPLIT, loop.RS_DAMPED)]
+    assert loop.entry_for(loop.KIND_EXACT, loop.RS_DAMPED, 0) is None  # no such pair
+    assert set(loop.SIMD_RUNNERS) == {s for k, s in loop.RUN_TABLE if k == loop.KIND_TAYLOR}
+
+
+def _entry_outputs(entry, model, y0, span, te, **kw):
+    ig = mbm.Integrator(model, rtol=1e-9, atol=1e-9, **kw)
+    p = np.array(ig._words.copy().view(loop.RUN))
+    f = loop.flat(p)
+    f[0]["t"], f[0]["theta"], f[0]["v"], f[0]["t_bound"] = span[0], y0[0], y0[1], span[1]
+    f[0]["call_windows"] = 0
+    out = np.empty((2, te.size))
+    n = entry(loop.words_of(p), False, 0.0, 0.0, 0.0, 0.0, 0.0, te, out, np.empty(0), np.empty((0, 2)),
+              np.empty((0, 0)), np.zeros(1, np.int64))
+    return int(f[0]["status"]), n, out
+
+
+@pytest.mark.parametrize("rset,model", [(loop.RS_DAMPED, mbm.Pendulum(0.1, 0.3)),
+                                        (loop.RS_DRIVEN, mbm.Pendulum(0.1, 0.3, drive_amplitude=0.4,
+                                                                      drive_frequency=0.7))])
+def test_the_default_degree_entry_gives_the_general_entry_s_answers_bit_for_bit(rset, model):
+    span, y0 = (0.0, 40.0), [0.5, 0.0]
+    te = np.linspace(*span, 57)
+    simd = _entry_outputs(loop.SIMD_RUNNERS[rset], model, y0, span, te)
+    general = _entry_outputs(loop.RUNNERS[(loop.KIND_TAYLOR, rset)], model, y0, span, te)
+    assert simd[0] == loop.STATUS_OK and simd[1] > 5
+    assert simd[:2] == general[:2]
+    np.testing.assert_array_equal(simd[2], general[2])
+
+
+def test_the_default_degree_entry_refuses_another_degree_with_a_status():
+    # handed a degree-16 record (bypassing entry_for) it anchors nothing: STATUS_ANCHOR
+    status, n, _ = _entry_outputs(loop.SIMD_RUNNERS[loop.RS_DAMPED], mbm.Pendulum(0.1, 0.3), [0.5, 0.0],
+                                  (0.0, 10.0), np.empty(0), approximant="taylor16")
+    assert status == loop.STATUS_ANCHOR and n == 0

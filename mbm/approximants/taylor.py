@@ -125,7 +125,7 @@ from .taylor_series import (  # noqa: F401  callers and tests import these from 
     STATUS_BAD_ORDER, _header, _header_into, _finite5, _start, _sin_order,
     taylor_workspace, taylor_coefficients_into, series_loop, taylor_coefficients,
     drive_phase_sincos, taylor_driven_coefficients_into, driven_series_loop,
-    taylor_driven_coefficients,
+    taylor_driven_coefficients, taylor24_coefficients_into, taylor24_driven_coefficients_into,
 )
 
 
@@ -134,6 +134,8 @@ __all__ = [
     "taylor_coefficients_into",
     "taylor_driven_coefficients",
     "taylor_driven_coefficients_into",
+    "taylor24_coefficients_into",
+    "taylor24_driven_coefficients_into",
     "drive_phase_sincos",
     "taylor_workspace",
     "taylor_eval_kernel",

@@ -201,8 +201,30 @@ def taylor_coefficients_into(beta, gamma, omega, theta0, v0, n_order, coef, scra
         or ``coef[:HEADER]`` with status STATUS_BAD_ORDER for a degree outside
         1 .. MAX_ORDER or buffers too small for it.
     """
-    if (n_order == SIMD_ORDER and coef.size == HEADER + SIMD_ORDER + N_EXTRA + 1
-            and _finite5(beta, gamma, omega, theta0, v0)):
+    if n_order == SIMD_ORDER:
+        # The same recurrence in vector instructions (mbm.approximants.taylor_simd).
+        return taylor24_coefficients_into(beta, gamma, omega, theta0, v0, n_order, coef, scratch)
+    ok, coef = _header(coef, scratch, n_order, beta, gamma, omega)
+    if not ok:
+        return coef
+    if not _finite5(beta, gamma, omega, theta0, v0):
+        coef[:] = np.nan
+        coef[0] = STATUS_BAD_STATE
+        return coef
+    series_loop(beta, gamma, omega, theta0, v0, n_order, coef[HEADER:], scratch)
+    return coef
+
+
+@kernel
+def taylor24_coefficients_into(beta, gamma, omega, theta0, v0, n_order, coef, scratch):
+    """:func:`taylor_coefficients_into` at degree SIMD_ORDER alone (the vector kernel),
+    which compiles no loop form: the loop's entries for the default degree call it.
+    Another ``n_order`` returns ``coef[:HEADER]`` with status STATUS_BAD_ORDER."""
+    if n_order != SIMD_ORDER:
+        coef[:HEADER] = np.nan
+        coef[0] = STATUS_BAD_ORDER
+        return coef[:HEADER]
+    if coef.size == HEADER + SIMD_ORDER + N_EXTRA + 1 and _finite5(beta, gamma, omega, theta0, v0):
         # The run's own workspace at the vector kernel's degree: header and
         # coefficients stored in place, no view made.
         _header_into(coef, n_order, beta, gamma, omega)
@@ -215,12 +237,7 @@ def taylor_coefficients_into(beta, gamma, omega, theta0, v0, n_order, coef, scra
         coef[:] = np.nan
         coef[0] = STATUS_BAD_STATE
         return coef
-
-    if n_order == SIMD_ORDER:
-        # The same recurrence in vector instructions (mbm.approximants.taylor_simd).
-        taylor24_series(beta, gamma, omega, theta0, v0, coef)
-    else:
-        series_loop(beta, gamma, omega, theta0, v0, n_order, coef[HEADER:], scratch)
+    taylor24_series(beta, gamma, omega, theta0, v0, coef)
     return coef
 
 
@@ -317,9 +334,33 @@ def taylor_driven_coefficients_into(beta, gamma, omega, amp, freq, phase, t0, th
     ndarray
         A view of ``coef`` (the layout at module top).
     """
-    finite = (_finite5(beta, gamma, omega, theta0, v0) and math.isfinite(amp) and math.isfinite(freq)
-              and math.isfinite(phase) and math.isfinite(t0))
-    if n_order == SIMD_ORDER and coef.size == HEADER + SIMD_ORDER + N_EXTRA + 1 and finite:
+    if n_order == SIMD_ORDER:
+        # The same recurrence in vector instructions (mbm.approximants.taylor_simd).
+        return taylor24_driven_coefficients_into(beta, gamma, omega, amp, freq, phase, t0, theta0, v0, n_order,
+                                                 coef, scratch)
+    ok, coef = _header(coef, scratch, n_order, beta, gamma, omega)
+    if not ok:
+        return coef
+    if not _driven_finite(beta, gamma, omega, amp, freq, phase, t0, theta0, v0):
+        coef[:] = np.nan
+        coef[0] = STATUS_BAD_STATE
+        return coef
+    u, w = drive_phase_sincos(freq, phase, t0)
+    driven_series_loop(beta, gamma, omega, amp, freq, u, w, theta0, v0, n_order, coef[HEADER:], scratch)
+    return coef
+
+
+@kernel
+def taylor24_driven_coefficients_into(beta, gamma, omega, amp, freq, phase, t0, theta0, v0, n_order, coef,
+                                      scratch):
+    """:func:`taylor_driven_coefficients_into` at degree SIMD_ORDER alone, as
+    :func:`taylor24_coefficients_into` is :func:`taylor_coefficients_into`'s."""
+    if n_order != SIMD_ORDER:
+        coef[:HEADER] = np.nan
+        coef[0] = STATUS_BAD_ORDER
+        return coef[:HEADER]
+    finite = _driven_finite(beta, gamma, omega, amp, freq, phase, t0, theta0, v0)
+    if coef.size == HEADER + SIMD_ORDER + N_EXTRA + 1 and finite:
         # The workspace in place, as taylor_coefficients_into.
         _header_into(coef, n_order, beta, gamma, omega)
         u, w = drive_phase_sincos(freq, phase, t0)
@@ -332,14 +373,15 @@ def taylor_driven_coefficients_into(beta, gamma, omega, amp, freq, phase, t0, th
         coef[:] = np.nan
         coef[0] = STATUS_BAD_STATE
         return coef
-
     u, w = drive_phase_sincos(freq, phase, t0)
-    if n_order == SIMD_ORDER:
-        # The same recurrence in vector instructions (mbm.approximants.taylor_simd).
-        taylor24_driven_series(beta, gamma, omega, amp, freq, u, w, theta0, v0, coef)
-    else:
-        driven_series_loop(beta, gamma, omega, amp, freq, u, w, theta0, v0, n_order, coef[HEADER:], scratch)
+    taylor24_driven_series(beta, gamma, omega, amp, freq, u, w, theta0, v0, coef)
     return coef
+
+
+@njit(cache=True, inline="always")
+def _driven_finite(beta, gamma, omega, amp, freq, phase, t0, theta0, v0):
+    return (_finite5(beta, gamma, omega, theta0, v0) and math.isfinite(amp) and math.isfinite(freq)
+            and math.isfinite(phase) and math.isfinite(t0))
 
 
 @kernel

@@ -44,6 +44,7 @@ import numpy as np
 
 from .._validate import t_eval_problem
 from ..approximants.taylor import taylor_eval_range, taylor_workspace
+from ..approximants.taylor_simd import SIMD_ORDER
 from ..special.jit import kernel
 from .controller import (
     CONTROLLER_ADAPTIVE,
@@ -256,21 +257,21 @@ def _source_strobe(kind, r, t, direction, max_step, h_abs, per):
 
 
 @numba.njit(**_INLINE)
-def _anchored(kind, rset, r, t, y0, y1, ws):
+def _anchored(kind, rset, simd, r, t, y0, y1, ws):
     """The approximant's coefficients anchored at (t, φ = ``y0``, θ' = ``y1``): with the
-    drive's term in RS_DRIVEN."""
+    drive's term in RS_DRIVEN; ``simd``: the default degree's entry (:func:`_runner`)."""
     m = r.model
     if rset == RS_DRIVEN:
         return anchor_driven(kind, r.control.karg, m.beta, m.gamma, m.omega, m.drive_amp, m.drive_freq,
-                             m.drive_phase, t, y0, y1, ws[0], ws[1])
-    return anchor(kind, r.control.karg, m.beta, m.gamma, m.omega, y0, y1, ws[0], ws[1])
+                             m.drive_phase, t, y0, y1, ws[0], ws[1], simd)
+    return anchor(kind, r.control.karg, m.beta, m.gamma, m.omega, y0, y1, ws[0], ws[1], simd)
 
 
 @numba.njit(**_INLINE)
-def _source_fixed(kind, rset, r, t, y0, y1, k, direction, max_step, h_abs, ws, per):
+def _source_fixed(kind, rset, simd, r, t, y0, y1, k, direction, max_step, h_abs, ws, per):
     """The window of a fixed length ``min(h_abs, max_step)`` (RS_FIXED, the kinds without
     an estimate, a fixed controller's window), as :func:`_source` returns it."""
-    coef = _anchored(kind, rset, r, t, y0, y1, ws)
+    coef = _anchored(kind, rset, simd, r, t, y0, y1, ws)
     if coef[0] != 0.0:
         return STATUS_ANCHOR, coef, t, y0, y1, k, h_abs, h_abs, False, per
     st, t_new, th, v = fixed_window(kind, coef, t, direction, r.state.t_bound, min(h_abs, max_step))
@@ -278,7 +279,7 @@ def _source_fixed(kind, rset, r, t, y0, y1, k, direction, max_step, h_abs, ws, p
 
 
 @numba.njit(**_INLINE)
-def _source(kind, rset, r, t, y0, y1, k, off, direction, max_step, h_abs, log_eps, can_lock, lk, ws, per):
+def _source(kind, rset, simd, r, t, y0, y1, k, off, direction, max_step, h_abs, log_eps, can_lock, lk, ws, per):
     """The window from (t, φ = ``y0``, θ' = ``y1``, winding ``k``) outside the stored
     periods: the locked closed form (L2, L5), or the approximant anchored at the state
     under the adaptive controller (a fixed window: :func:`_source_fixed`).  Returns ``(status, coef, t_new, θ, θ', k_new, h_abs, h_next,
@@ -299,7 +300,7 @@ def _source(kind, rset, r, t, y0, y1, k, off, direction, max_step, h_abs, log_ep
             r.switch.t_regime = t
         st = STATUS_OK if math.isfinite(th) and math.isfinite(v) else STATUS_NONFINITE
         return st, coef, t_new, th, v, k, h_abs, h_abs, True, per
-    coef = _anchored(kind, rset, r, t, y0, y1, ws)
+    coef = _anchored(kind, rset, simd, r, t, y0, y1, ws)
     if coef[0] != 0.0:
         return STATUS_ANCHOR, coef, t, y0, y1, k, h_abs, h_abs, False, per
     if h_abs <= 0.0:
@@ -416,12 +417,15 @@ def _finish(r, status, t, y0, y1, k, h_abs, n_total, j, t_eval, out_theta, out_v
 # the windows this call took.
 
 
-def _runner(kind, rset):
+def _runner(kind, rset, simd=False):
     """The loop's compiled entry for kind ``kind`` and regime set ``rset`` (:func:`regime_set`).
 
     Both are constants of the closure, so numba prunes the other kinds' and sets'
     branches before it compiles (a first run compiles the kernels and regimes its scene
-    class uses), and caches each closure apart (its constants are in the cache's key)."""
+    class uses), and caches each closure apart (its constants are in the cache's key).
+    ``simd`` (kind "taylor"): the entry of the default degree SIMD_ORDER, which anchors
+    with the vector kernel alone and compiles no loop form of the recurrence (another
+    degree's run would end STATUS_ANCHOR: :func:`entry_for` chooses)."""
 
     @numba.njit(cache=True)
     def run_entry(buf, fresh, t0, theta0, v0, t1, h, t_eval, out, win_t, win_y, win_coef, cancel):
@@ -483,10 +487,10 @@ def _runner(kind, rset):
                   or (rset != RS_DAMPED and rset != RS_CONSERVATIVE  # (always adaptive: regime_set)
                       and r.control.controller != CONTROLLER_ADAPTIVE)):
                 st, coef, t_new, th, v, k_new, h_abs, h_next, is_locked, per = _source_fixed(
-                    kind, rset, r, t, y0, y1, k, direction, max_step, h_abs, ws, per)
+                    kind, rset, simd, r, t, y0, y1, k, direction, max_step, h_abs, ws, per)
             else:
                 st, coef, t_new, th, v, k_new, h_abs, h_next, is_locked, per = _source(
-                    kind, rset, r, t, y0, y1, k, off, direction, max_step, h_abs, log_eps, can_lock, lk, ws, per)
+                    kind, rset, simd, r, t, y0, y1, k, off, direction, max_step, h_abs, log_eps, can_lock, lk, ws, per)
             if st != STATUS_OK:
                 status = st
                 break
@@ -566,8 +570,21 @@ RUN_TABLE = tuple(
 )
 
 
-#: The loop's entry for each (kind id, regime set) of RUN_TABLE.
+#: The loop's entry for each (kind id, regime set) of RUN_TABLE, any degree.
 RUNNERS = {key: _runner(*key) for key in RUN_TABLE}
+
+#: The entries of kind "taylor" at its default degree SIMD_ORDER, per regime set: what
+#: the Python paths call (:func:`entry_for`; the compiled whole runs call RUNNERS').
+SIMD_RUNNERS = {rset: _runner(kind, rset, True) for kind, rset in RUN_TABLE if kind == KIND_TAYLOR}
+
+
+def entry_for(kind, rset, karg):
+    """The compiled entry that runs a record of kind id ``kind``, regime set ``rset`` and
+    kind argument ``karg`` (:data:`SIMD_RUNNERS` at the default Taylor degree, else
+    :data:`RUNNERS`), or None for a pair without an entry."""
+    if kind == KIND_TAYLOR and karg == SIMD_ORDER:
+        return SIMD_RUNNERS.get(rset)
+    return RUNNERS.get((kind, rset))
 
 
 
@@ -749,8 +766,8 @@ def set_of(r):
 
 
 def runner_for(r):
-    """The compiled entry (:data:`RUNNERS`) that runs record ``r`` now."""
-    return RUNNERS.get((int(r["control"]["kind"]), set_of(r)))
+    """The compiled entry (:func:`entry_for`) that runs record ``r`` now."""
+    return entry_for(int(r["control"]["kind"]), set_of(r), int(r["control"]["karg"]))
 
 
 def run(p, t_eval, out, win_t, win_y, win_coef, cancel):
@@ -763,7 +780,7 @@ def run(p, t_eval, out, win_t, win_y, win_coef, cancel):
     buf = words_of(p)
     while True:
         rset = set_of(p[0])
-        entry = RUNNERS.get((int(p[0]["control"]["kind"]), rset))
+        entry = entry_for(int(p[0]["control"]["kind"]), rset, int(p[0]["control"]["karg"]))
         if entry is None:
             progress["status"][0] = STATUS_ANCHOR
             return n

@@ -20,6 +20,8 @@ from ..approximants.belendez2007 import belendez_anchor_kernel, belendez_eval_ke
 from ..approximants.salas2022 import salas_torque_anchor, salas_torque_eval
 from ..approximants.splitting import split_anchor, split_error_kernel, split_eval_kernel
 from ..approximants.taylor import (
+    taylor24_coefficients_into,
+    taylor24_driven_coefficients_into,
     taylor_coefficients_into,
     taylor_driven_coefficients_into,
     taylor_error_kernel,
@@ -110,13 +112,17 @@ def kind_of(approximant):
 
 
 @numba.njit(**_INLINE)
-def anchor(kind, karg, beta, gamma, omega, theta0, v0, ws_coef, ws_scratch):
+def anchor(kind, karg, beta, gamma, omega, theta0, v0, ws_coef, ws_scratch, simd=False):
     """Coefficient vector of approximant ``kind`` anchored at (θ₀, θ̇₀); coef[0] = status.
 
     Kind "taylor" writes it into the run's workspace ``ws_coef``, ``ws_scratch``
     (:func:`mbm.approximants.taylor.taylor_workspace`; no allocation per window), so
     the vector lives until the next anchor; the other kinds return a new array.
+    ``simd`` (a constant of the caller) anchors "taylor" at degree SIMD_ORDER alone,
+    compiling no loop form of the recurrence (another ``karg``: STATUS_BAD_ORDER).
     """
+    if kind == KIND_TAYLOR and simd:
+        return taylor24_coefficients_into(beta, gamma, omega, theta0, v0, karg, ws_coef, ws_scratch)
     if kind == KIND_TAYLOR:
         return taylor_coefficients_into(beta, gamma, omega, theta0, v0, karg, ws_coef, ws_scratch)
     elif kind == KIND_EXACT:
@@ -132,10 +138,15 @@ def anchor(kind, karg, beta, gamma, omega, theta0, v0, ws_coef, ws_scratch):
 
 
 @numba.njit(**_INLINE)
-def anchor_driven(kind, karg, beta, gamma, omega, amp, freq, phase, t0, theta0, v0, ws_coef, ws_scratch):
+def anchor_driven(kind, karg, beta, gamma, omega, amp, freq, phase, t0, theta0, v0, ws_coef, ws_scratch,
+                  simd=False):
     """:func:`anchor` of the driven equation (torque γ + A sin(Ωt + φ)), the window
-    starting at time ``t0``, into the workspace as :func:`anchor`; only kind "taylor"
-    integrates a drive (the others: a bad status, never the autonomous formula)."""
+    starting at time ``t0``, into the workspace as :func:`anchor` (``simd`` as there);
+    only kind "taylor" integrates a drive (the others: a bad status, never the
+    autonomous formula)."""
+    if kind == KIND_TAYLOR and simd:
+        return taylor24_driven_coefficients_into(beta, gamma, omega, amp, freq, phase, t0, theta0, v0, karg,
+                                                 ws_coef, ws_scratch)
     if kind == KIND_TAYLOR:
         return taylor_driven_coefficients_into(beta, gamma, omega, amp, freq, phase, t0, theta0, v0, karg,
                                                ws_coef, ws_scratch)
