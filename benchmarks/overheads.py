@@ -11,7 +11,7 @@ approximant "auto", the Taylor series), calls with one output time:
   Integrators, argument checks) on a zero-length span (no window: the fixed cost
   before the first window) and on a span of 1e-9 (one window);
 * the compiled part alone: Integrator.solve's compiled entry (the loop's own,
-  ``mbm.loop.RUNNERS``: the t_eval check, the record set-up, the loop) called from
+  ``mbm.loop.entry_for``: the t_eval check, the record set-up, the loop) called from
   Python with its arguments ready (dispatch included), and called from a compiled loop
   (no dispatch);
 * for scale, P1 whole (0 ≤ t ≤ 20) with its 201 outputs.
@@ -60,8 +60,9 @@ DEFAULT_REPEATS = 200
 BLOCK_NAME = "overheads-per-call"
 
 
-# The entry of mbm.solve's scene (undriven Taylor, β > 0: the damped regime set).
-_ENTRY_TAYLOR = loop.RUNNERS[(loop.KIND_TAYLOR, loop.RS_DAMPED)]
+# The entry of mbm.solve's scene (undriven Taylor at its default degree, β > 0: the
+# damped regime set).
+_ENTRY_TAYLOR = loop.SIMD_RUNNERS[loop.RS_DAMPED]
 
 
 # The entry n times from compiled code: its cost without the dispatch.

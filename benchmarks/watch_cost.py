@@ -7,10 +7,10 @@ Run from the root of a checkout::
 A damped undriven run (RS_DAMPED) tests the locked regime before each window and
 watches the return map after it (:mod:`mbm.regimes`); a run without regimes (RS_PLAIN)
 takes the same windows without either.  For P1–P3 (:mod:`benchmarks.scenes`) at each
-tolerance, both compiled entries of the Taylor kind (``mbm.loop.RUNNERS``) run the
-scene's windows before its switch to a regime: the span is cut at ``t_regime`` of
-``mbm.solve`` (the whole span where the scene never switches), so both runs take the
-same windows; the script checks that they do (window count and end state bit for bit)
+tolerance, both compiled entries of the Taylor kind at its default degree
+(``mbm.loop.SIMD_RUNNERS``) run the scene's windows before its switch to a regime:
+the span is cut at ``t_regime`` of ``mbm.solve`` (the whole span where the scene never
+switches), so both runs take the same windows; the script checks that they do (window count and end state bit for bit)
 and refuses to report otherwise.  The entries are called from a compiled loop (no
 dispatch), with no output times (the windows alone), from the Integrator's template
 record (its first window, tolerances and degree, mbm.solve's).
@@ -50,8 +50,8 @@ BLOCK = 200
 TARGET_SHARE = 0.10
 BLOCK_NAME = "watch-cost"
 
-_WATCHED = loop.RUNNERS[(loop.KIND_TAYLOR, loop.RS_DAMPED)]
-_PLAIN = loop.RUNNERS[(loop.KIND_TAYLOR, loop.RS_PLAIN)]
+_WATCHED = loop.SIMD_RUNNERS[loop.RS_DAMPED]
+_PLAIN = loop.SIMD_RUNNERS[loop.RS_PLAIN]
 # The entries' empty arguments, as Integrator.solve passes them: no outputs, no window
 # store, never cancelled.
 _EMPTY = (fast._NO_T, fast._NO_OUT, fast._NO_T, fast._NO_Y, fast._NO_COEF, fast._NEVER)
@@ -66,8 +66,7 @@ def _buffers(scene, tol):
     h_abs and the span's cut (``t_regime`` of mbm.solve, or the span's end)."""
     model, (t0, t1) = scene.model, scene.t_span
     ig = mbm.Integrator(model, rtol=tol, atol=tol)
-    if (loop.kind_of(ig.approximant)[0], loop.set_of(ig._words.view(loop.RUN)[0])) != (
-            loop.KIND_TAYLOR, loop.RS_DAMPED):  # pragma: no cover - P1-P3 are damped Taylor runs
+    if ig._entry is not _WATCHED:  # pragma: no cover - P1-P3 are damped Taylor runs, default degree
         raise RuntimeError(f"{scene.name}: not a damped Taylor run")
     r = mbm.solve(model, (t0, t1), scene.y0, rtol=tol, atol=tol)
     cut = r.t_regime if math.isfinite(r.t_regime) else t1

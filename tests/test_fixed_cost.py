@@ -1,4 +1,4 @@
-"""Integrator.solve's compiled entry (the loop's own, mbm.loop.RUNNERS): one dispatch
+"""Integrator.solve's compiled entry (the loop's own, mbm.loop.entry_for): one dispatch
 checks t_eval, sets up the run record and runs the loop.  They must refuse what check_t_eval refuses,
 with its messages and in the same order of checks, resume a paused run bit for bit and
 never make numba compile the loop again for an unusual t_eval."""
@@ -47,7 +47,8 @@ def test_entries_refuse_bad_t_eval_as_check_t_eval(kind, span, t_eval, message):
     ig = mbm.Integrator(model, **kw)
     # the entry of a fresh run of its kind and regime set (mbm.loop.regime_set)
     words = ig._words.view(loop.RUN)[0]
-    assert loop.RUNNERS[(loop.kind_of(ig.approximant)[0], loop.set_of(words))] is ig._entry
+    kind, karg = loop.kind_of(ig.approximant)
+    assert loop.entry_for(kind, loop.set_of(words), karg) is ig._entry
     with pytest.raises(ValueError) as want:
         check_t_eval(t_eval, *span)
     assert str(want.value) == message
@@ -101,7 +102,7 @@ def test_unusual_t_eval_arrays_give_the_same_bits_and_compile_nothing():
     ig = mbm.Integrator(DAMPED, rtol=1e-8, atol=1e-8)
     te = np.linspace(0.0, 10.0, 21)
     want = ig.solve((0.0, 10.0), Y0, t_eval=te)
-    signatures = len(loop.RUNNERS[(loop.KIND_TAYLOR, loop.RS_DAMPED)].signatures)
+    signatures = len(loop.SIMD_RUNNERS[loop.RS_DAMPED].signatures)
     read_only = te.copy()
     read_only.flags.writeable = False
     unaligned = np.frombuffer(bytearray(b"\0" + te.tobytes()), dtype=np.float64, offset=1)
@@ -112,7 +113,7 @@ def test_unusual_t_eval_arrays_give_the_same_bits_and_compile_nothing():
         r = ig.solve((0.0, 10.0), Y0, t_eval=arg)
         np.testing.assert_array_equal(r.t, te)
         np.testing.assert_array_equal(r.y, want.y)
-    assert len(loop.RUNNERS[(loop.KIND_TAYLOR, loop.RS_DAMPED)].signatures) == signatures
+    assert len(loop.SIMD_RUNNERS[loop.RS_DAMPED].signatures) == signatures
     # a plain float64 array is used as it is (no copy): the result's t is it
     assert ig.solve((0.0, 10.0), Y0, t_eval=te).t is te
 

@@ -27,8 +27,9 @@ def test_kernels_are_compiled_without_wrappers():
         assert isinstance(k, jit.KernelDispatcher)
         assert k.targetoptions["no_cpython_wrapper"] and k.targetoptions["no_cfunc_wrapper"]
     # the entries Python calls keep theirs
-    entry = core_loop.RUNNERS[(core_loop.KIND_TAYLOR, core_loop.RS_DAMPED)]
-    assert not isinstance(entry, jit.KernelDispatcher)
+    for entry in (core_loop.RUNNERS[(core_loop.KIND_TAYLOR, core_loop.RS_DAMPED)],
+                  core_loop.SIMD_RUNNERS[core_loop.RS_DAMPED]):
+        assert not isinstance(entry, jit.KernelDispatcher)
 
 
 def test_a_kernel_called_from_python_runs_its_twin_with_the_same_bits():
