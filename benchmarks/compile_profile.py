@@ -51,7 +51,7 @@ def profile(code, setup=""):
     """``(wall seconds, {kernel: (compiles, own seconds)})`` of ``code`` run after
     ``setup`` in a fresh interpreter with an empty numba cache."""
     with tempfile.TemporaryDirectory() as cache:
-        env = dict(os.environ, NUMBA_CACHE_DIR=cache, MBM_COMPILE_NOTICE="0")
+        env = dict(os.environ, NUMBA_CACHE_DIR=cache, MBM_COMPILE_NOTICE="0", MBM_COMPILE_HELPER="0")
         proc = subprocess.run([sys.executable, "-c", _CHILD, setup, code], env=env, capture_output=True, text=True)
     if proc.returncode:
         raise RuntimeError(f"the profiled code failed:\n{proc.stderr}")

@@ -12,7 +12,7 @@ import math
 import numba
 import numpy as np
 
-from . import loop
+from . import _warm, loop
 from ._validate import (
     DEFAULT_MAX_WINDOWS,
     RTOL_FLOOR,
@@ -260,6 +260,8 @@ class Integrator:
         self._kind, self._karg = kind, karg
         # The entry of a fresh run (a regime switch resumes through its set's own).
         self._entry = _entry_of(self._words)
+        # From a cold cache, a helper process compiles the kernels beside it (mbm._warm).
+        _warm.prefetch("solve", self._entry)
         run0 = template[0]
         self._set_fields = (kind, int(run0["control"]["controller"]), int(run0["switch"]["regimes"]),
                             float(run0["model"]["beta"]), float(run0["model"]["drive_amp"]))

@@ -20,7 +20,7 @@ from scipy.integrate import DenseOutput, OdeSolver
 
 from . import dense as _dense
 from . import events as _events
-from . import loop
+from . import _warm, loop
 from ._validate import (
     DEFAULT_MAX_WINDOWS,
     check_max_windows,
@@ -365,6 +365,8 @@ class MBM(_MBMBase):
             # The entry of the run's regime set (loop.runner_for), chosen again after a
             # pause: a regime switch resumes through its own set's entry.
             self._runner = loop.runner_for(self._run[0])
+            # From a cold cache, a helper process compiles the kernels beside it (mbm._warm).
+            _warm.prefetch("ivp", self._runner)
 
     def _step_impl(self):
         if self._run is None:

@@ -131,7 +131,8 @@ REGIME_KERNELS = NOT_FOR_DAMPED + ("locked_choice", "cycle_crossing", "locked_qu
 
 
 def _compiled_names(which, tmp_path):
-    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), MBM_COMPILE_NOTICE="0")
+    # (no compile helper: a kernel it compiled first would be loaded, not compiled, here)
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), MBM_COMPILE_NOTICE="0", MBM_COMPILE_HELPER="0")
     env["PYTHONPATH"] = os.pathsep.join([str(ROOT)] + [p for p in env.get("PYTHONPATH", "").split(os.pathsep) if p])
     proc = subprocess.run([sys.executable, "-c", _COMPILED, which], env=env, cwd=ROOT, capture_output=True,
                           text=True, timeout=600)

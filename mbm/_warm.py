@@ -1,0 +1,264 @@
+"""A first call's kernels compiled by a helper process beside the call's own compile.
+
+numba compiles one function at a time, depth first, holding the GIL: a first call of a
+loop entry compiles its ~50 kernels one after the other on one core.  Where the cache
+holds no compiled code for the entry a Python path is about to call,
+:func:`prefetch` starts one helper process (:func:`main` with KEY) that compiles
+the same kernels with the signatures recorded for that path in :data:`MANIFEST_FILE`,
+in the reverse of the call's order, into the same on-disk cache.  When the call's own
+compile reaches a kernel the helper has finished, numba loads it from the cache instead
+of compiling it; the two meet in the middle.
+
+The call compiles whatever it does not find, so its answers never depend on the helper
+(a helper that fails, is late or is absent changes only the wall time).  It is started
+only with a second core, the JIT on, a manifest written by this numba version, and not
+from a helper; ``MBM_COMPILE_HELPER=0`` turns it off.  A helper still running when its
+parent exits is stopped (numba writes each cache file whole, by rename).
+
+The manifest is generated, never edited: ``python -m benchmarks.warm_manifest`` runs each
+scene of :data:`SCENES` in a fresh process with an empty cache and records the kernels it
+compiled, in order, with their signatures (numba types, pickled).
+"""
+
+import atexit
+import os
+import pickle
+import subprocess
+import sys
+
+__all__ = ["HELPER_ENV", "MANIFEST_FILE", "SCENES", "prefetch", "entry_key", "load_manifest"]
+
+# Environment variable that turns the helper off when set to 0 / false / no / off.
+HELPER_ENV = "MBM_COMPILE_HELPER"
+# Set in a helper's environment, so that a helper starts none of its own.
+_IN_HELPER_ENV = "MBM_IN_COMPILE_HELPER"
+# The generated manifest: {"numba": version, "paths": {key: [(module, name, item, signature)]}}.
+MANIFEST_FILE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "_warm_manifest.pkl")
+
+# The first calls the manifest covers (Python statements after the imports of _SCENE_SETUP),
+# keyed as prefetch looks them up: (path, entry table, entry key).  The second paper's
+# Example 1 (benchmarks.first_calls), its salas-torque window (the demo's), a driven scene.
+SCENES = {
+    ("solve", "SIMD_RUNNERS", 1): "mbm.solve(m, span, y0, rtol=1e-9, atol=1e-9, t_eval=t)",
+    ("ivp", "SIMD_RUNNERS", 1): "solve_ivp(m, span, y0, method=mbm.MBM, rtol=1e-9, atol=1e-9, t_eval=t, "
+                                "dense_output=True)",
+    ("ivp", "RUNNERS", (2, 0)): "solve_ivp(m, span, y0, method=mbm.MBM, approximant='salas-torque', tau=0.25, "
+                                "t_eval=t, dense_output=True)",
+    ("solve", "SIMD_RUNNERS", 3): "mbm.solve(mbm.Pendulum(0.1, 0.3, drive_amplitude=0.5, drive_frequency=0.8), "
+                                  "span, y0, rtol=1e-9, atol=1e-9, t_eval=t)",
+}
+_SCENE_SETUP = """
+import math
+import numpy as np
+from scipy.integrate import solve_ivp
+import mbm
+m = mbm.Pendulum(beta=0.1, gamma=0.3)
+span, y0, t = (0.0, 80.0), [math.radians(30), 0.0], np.linspace(0.0, 80.0, 201)
+"""
+
+_started = {}  # key -> the helper's Popen, one per key and process
+_manifest = []  # the loaded manifest's paths, once (a list: loaded or not)
+
+
+def _env_off(name):
+    return os.environ.get(name, "").strip().lower() in ("0", "false", "no", "off")
+
+
+def load_manifest():
+    """The manifest's paths, ``{key: [(module, name, item, signature), ...]}``, or ``{}``
+    where there is none or another numba version wrote it."""
+    if not _manifest:
+        paths = {}
+        try:
+            import numba
+
+            with open(MANIFEST_FILE, "rb") as f:
+                data = pickle.load(f)
+            if data.get("numba") == numba.__version__:
+                paths = data["paths"]
+        except Exception:  # a missing, unreadable or foreign manifest: no helper
+            paths = {}
+        _manifest.append(paths)
+    return _manifest[0]
+
+
+def entry_key(entry):
+    """``(table, key)`` of a loop entry in :data:`mbm.core.loop.SIMD_RUNNERS` or
+    :data:`mbm.core.loop.RUNNERS`, or None."""
+    from .core import loop
+
+    for table in ("SIMD_RUNNERS", "RUNNERS"):
+        for key, value in getattr(loop, table).items():
+            if value is entry:
+                return table, key
+    return None
+
+
+def _cold(entry):
+    # Whether numba's cache holds nothing for the entry (its index file is missing).
+    try:
+        return not os.path.exists(entry._cache._cache_file._index_path)
+    except AttributeError:  # another numba's cache layout: treat as warm
+        return False
+
+
+def _cores():
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:
+        return os.cpu_count() or 1
+
+
+def prefetch(path, entry):
+    """Start the helper for ``path`` ("solve" or "ivp") about to call loop entry
+    ``entry`` from a cold cache, where the module docstring's conditions hold.
+
+    Returns
+    -------
+    bool
+        Whether a helper was started.
+    """
+    if entry.signatures or _env_off(HELPER_ENV) or os.environ.get(_IN_HELPER_ENV) or not _cold(entry):
+        return False  # (compiled in this process: the check a warm call makes, first)
+    where = entry_key(entry)
+    key = None if where is None else (path,) + where
+    if key is None or key in _started or _cores() < 2 or key not in load_manifest():
+        return False
+    import numba
+
+    if numba.config.DISABLE_JIT:
+        return False
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    env = dict(os.environ, **{_IN_HELPER_ENV: "1", "MBM_COMPILE_NOTICE": "0"})
+    env["PYTHONPATH"] = os.pathsep.join([root] + [p for p in env.get("PYTHONPATH", "").split(os.pathsep) if p])
+    try:
+        _started[key] = subprocess.Popen(
+            [sys.executable, "-c", "import sys; from mbm._warm import main; sys.exit(main(sys.argv[1:]))", repr(key)],
+            env=env, stdin=subprocess.DEVNULL,
+            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    except OSError:
+        return False
+    return True
+
+
+@atexit.register
+def _stop_helpers():
+    for proc in _started.values():
+        if proc.poll() is None:
+            proc.terminate()
+            try:
+                proc.wait(timeout=5)
+            except subprocess.TimeoutExpired:  # pragma: no cover - a helper ignoring SIGTERM
+                proc.kill()
+
+
+def _resolve(module, name, item):
+    import importlib
+
+    obj = getattr(importlib.import_module(module), name)
+    for part in item:
+        obj = obj[part]
+    return obj
+
+
+def compile_path(entries):
+    """Compile ``entries`` (a manifest's list) in order, each skipped where it fails;
+    returns the count compiled."""
+    done = 0
+    for module, name, item, sig in entries:
+        try:
+            _resolve(module, name, item).compile(sig)
+            done += 1
+        except Exception:  # a stale entry: the parent compiles what it needs itself
+            continue
+    return done
+
+
+_CAPTURE = r'''
+import pickle, sys
+from numba.core import event
+order = []
+class Listener(event.Listener):
+    def on_start(self, ev):
+        pass
+    def on_end(self, ev):
+        d = (ev.data or {}).get("dispatcher")
+        if d is not None and d not in order:
+            order.append(d)
+event.register("numba:compile", Listener())
+exec(sys.argv[1])
+exec(sys.argv[2])
+from mbm import _warm
+sys.stdout.buffer.write(pickle.dumps(_warm._recorded(order, eval(sys.argv[3]))))
+'''
+
+
+def _locations():
+    # Where each dispatcher of the package is bound: id -> (module, name, item path).
+    found = {}
+    for modname, mod in list(sys.modules.items()):
+        if modname != "mbm" and not modname.startswith("mbm."):
+            continue
+        for name, value in list(vars(mod).items()):
+            if hasattr(value, "overloads") and hasattr(value, "py_func"):
+                found.setdefault(id(value), (modname, name, ()))
+            elif isinstance(value, dict):
+                for k, v in value.items():
+                    if hasattr(v, "overloads"):
+                        found.setdefault(id(v), (modname, name, (k,)))
+                    elif isinstance(v, tuple):
+                        for i, x in enumerate(v):
+                            if hasattr(x, "overloads"):
+                                found.setdefault(id(x), (modname, name, (k, i)))
+    return found
+
+
+def _recorded(order, key):
+    # The manifest's list for ``key``, in the helper's order: the package's kernels the
+    # scene compiled before its entry (its callees) last first, then those it compiled
+    # after it (the dense output's) in order, which the helper reaches while the call
+    # lowers the entry; less the entry itself and numba's own implementations.
+    from .core import loop
+
+    entry = getattr(loop, key[1])[key[2]]
+    found = _locations()
+    before, after = [], []
+    rows = before
+    for d in order:
+        if d is entry:
+            rows = after
+            continue
+        where = found.get(id(d))
+        if where is not None:
+            rows.extend(where + (sig,) for sig in d.overloads)
+    return before[::-1] + after
+
+
+def regenerate(path=MANIFEST_FILE):
+    """Write the manifest: each scene of :data:`SCENES` in a fresh process with an empty
+    cache.  Returns ``{key: entries}``."""
+    import tempfile
+
+    import numba
+
+    paths = {}
+    for key, code in SCENES.items():
+        with tempfile.TemporaryDirectory() as cache:
+            env = dict(os.environ, NUMBA_CACHE_DIR=cache, MBM_COMPILE_NOTICE="0", **{HELPER_ENV: "0"})
+            proc = subprocess.run([sys.executable, "-c", _CAPTURE, _SCENE_SETUP, code, repr(key)], env=env,
+                                  capture_output=True, check=True)
+        paths[key] = pickle.loads(proc.stdout)
+    with open(path, "wb") as f:
+        pickle.dump({"numba": numba.__version__, "paths": paths}, f)
+    return paths
+
+
+def main(argv):
+    """A helper's body: ``main([repr(KEY)])`` compiles the manifest's path KEY."""
+    import ast
+    import importlib
+
+    importlib.import_module("mbm")  # the package's import-time cache check first
+
+    compile_path(load_manifest().get(ast.literal_eval(argv[0]), []))
+    return 0

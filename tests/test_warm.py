@@ -1,0 +1,135 @@
+"""The compile helper (mbm._warm): when it starts, that answers never depend on it, and
+that its generated manifest matches what a first call compiles."""
+
+import json
+import os
+import pickle
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import mbm
+from mbm import _warm
+from mbm.core import loop
+
+ROOT = Path(__file__).resolve().parent.parent
+DAMPED_KEY = ("solve", "SIMD_RUNNERS", loop.RS_DAMPED)
+
+
+def _env(cache, **extra):
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(cache), MBM_COMPILE_NOTICE="0", **extra)
+    env.pop(_warm._IN_HELPER_ENV, None)
+    env["PYTHONPATH"] = os.pathsep.join([str(ROOT)] + [p for p in env.get("PYTHONPATH", "").split(os.pathsep) if p])
+    return env
+
+
+def test_every_manifest_row_names_a_kernel_of_the_package():
+    paths = _warm.load_manifest()
+    assert set(paths) == set(_warm.SCENES)
+    for key, rows in paths.items():
+        assert len(rows) > 20
+        entry = getattr(loop, key[1])[key[2]]
+        for module, name, item, sig in rows:
+            disp = _warm._resolve(module, name, item)
+            assert disp is not entry and hasattr(disp, "compile")
+            assert len(sig) == disp.py_func.__code__.co_argcount
+
+
+@pytest.mark.parametrize("key", [DAMPED_KEY])
+def test_the_manifest_is_what_a_first_call_compiles_now(key):
+    # regenerate one scene (the others: `pytest -m slow`); a stale manifest only slows a
+    # first call, but says that `python -m benchmarks.warm_manifest` is due
+    _fresh_equals_stored(key)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("key", [k for k in _warm.SCENES if k != DAMPED_KEY])
+def test_the_manifest_is_what_every_first_call_compiles_now(key):
+    _fresh_equals_stored(key)
+
+
+def _fresh_equals_stored(key):
+    import tempfile
+
+    with tempfile.TemporaryDirectory() as cache:
+        proc = subprocess.run([sys.executable, "-c", _warm._CAPTURE, _warm._SCENE_SETUP, _warm.SCENES[key],
+                               repr(key)], env=_env(cache, MBM_COMPILE_HELPER="0"), capture_output=True,
+                              timeout=600)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    fresh = pickle.loads(proc.stdout)
+    stored = _warm.load_manifest()[key]
+    assert [(m, n, i, str(s)) for m, n, i, s in fresh] == [(m, n, i, str(s)) for m, n, i, s in stored]
+
+
+_COLD_SOLVE = textwrap.dedent("""
+    import json, math, sys
+    import numpy as np
+    import mbm
+    from mbm import _warm
+    m = mbm.Pendulum(beta=0.1, gamma=0.3)
+    t = np.linspace(0.0, 80.0, 201)
+    r = mbm.solve(m, (0.0, 80.0), [math.radians(30), 0.0], rtol=1e-9, atol=1e-9, t_eval=t)
+    helpers = list(_warm._started.values())
+    codes = [h.wait(timeout=600) for h in helpers]
+    print(json.dumps({"y": r.y.tolist(), "helpers": len(helpers), "codes": codes}))
+""")
+
+
+def test_a_cold_first_call_starts_one_helper_and_its_answers_are_the_warm_ones(tmp_path):
+    if _warm._cores() < 2:
+        pytest.skip("the helper needs a second core")
+    proc = subprocess.run([sys.executable, "-c", _COLD_SOLVE], env=_env(tmp_path), cwd=ROOT, capture_output=True,
+                          text=True, timeout=900)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    got = json.loads(proc.stdout.strip().splitlines()[-1])
+    assert got["helpers"] == 1 and got["codes"] == [0]
+    want = mbm.solve(mbm.Pendulum(beta=0.1, gamma=0.3), (0.0, 80.0), [np.radians(30), 0.0], rtol=1e-9,
+                     atol=1e-9, t_eval=np.linspace(0.0, 80.0, 201))
+    np.testing.assert_array_equal(np.array(got["y"]), want.y)
+
+
+def test_no_helper_for_a_compiled_entry_when_turned_off_or_inside_a_helper(monkeypatch):
+    entry = loop.SIMD_RUNNERS[loop.RS_DAMPED]
+    mbm.solve(mbm.Pendulum(0.1, 0.3), (0.0, 1.0), [0.1, 0.0])  # compiled in this process
+    assert entry.signatures and _warm.prefetch("solve", entry) is False
+    monkeypatch.setattr(_warm, "_cold", lambda e: True)
+
+    class Fake:  # a cold entry of the table: signatures empty, found by entry_key
+        signatures = []
+
+    fake = Fake()
+    monkeypatch.setattr(loop, "SIMD_RUNNERS", dict(loop.SIMD_RUNNERS))
+    loop.SIMD_RUNNERS[loop.RS_DAMPED] = fake
+    started = []
+    monkeypatch.setattr(_warm.subprocess, "Popen", lambda *a, **k: started.append(a) or object())
+    monkeypatch.setattr(_warm, "_started", {})
+    monkeypatch.setenv(_warm.HELPER_ENV, "0")
+    assert _warm.prefetch("solve", fake) is False
+    monkeypatch.delenv(_warm.HELPER_ENV)
+    monkeypatch.setenv(_warm._IN_HELPER_ENV, "1")
+    assert _warm.prefetch("solve", fake) is False
+    monkeypatch.delenv(_warm._IN_HELPER_ENV)
+    assert _warm.prefetch("ivp-unknown", fake) is False  # no manifest path for it
+    if _warm._cores() >= 2:
+        assert _warm.prefetch("solve", fake) is True
+        assert _warm.prefetch("solve", fake) is False  # one helper per path and process
+        assert len(started) == 1 and "main" in started[0][0][2]
+
+
+def test_a_manifest_of_another_numba_or_a_stale_row_is_ignored(monkeypatch, tmp_path):
+    other = tmp_path / "m.pkl"
+    other.write_bytes(pickle.dumps({"numba": "0.0.0", "paths": {DAMPED_KEY: []}}))
+    monkeypatch.setattr(_warm, "MANIFEST_FILE", str(other))
+    monkeypatch.setattr(_warm, "_manifest", [])
+    assert _warm.load_manifest() == {}
+    monkeypatch.setattr(_warm, "_manifest", [])
+    (tmp_path / "bad.pkl").write_bytes(b"not a pickle")
+    monkeypatch.setattr(_warm, "MANIFEST_FILE", str(tmp_path / "bad.pkl"))
+    assert _warm.load_manifest() == {}
+    # a row naming a kernel that is gone, then one with a signature it no longer takes
+    rows = [("mbm.core.loop", "no_such_kernel", (), ()), ("mbm.core.window", "theta_of", (), ())]
+    assert _warm.compile_path(rows) == 0
