@@ -95,10 +95,14 @@ def entry_key(entry):
 
 
 def _cold(entry):
-    # Whether numba's cache holds nothing for the entry (its index file is missing).
+    # Whether numba's cache holds no code of this entry: its index (a file shared by the
+    # closures of one function) has no key of this closure's code and constants (numba's
+    # Cache._index_key less the signature, which only the call's typing knows).
     try:
-        return not os.path.exists(entry._cache._cache_file._index_path)
-    except AttributeError:  # another numba's cache layout: treat as warm
+        cache = entry._cache
+        mine = cache._index_key(None, entry.targetctx.codegen())[1:]
+        return not any(key[1:] == mine for key in cache._cache_file._load_index())
+    except Exception:  # another numba's cache layout, an unreadable index: treat as warm
         return False
 
 

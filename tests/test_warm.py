@@ -75,7 +75,11 @@ _COLD_SOLVE = textwrap.dedent("""
     r = mbm.solve(m, (0.0, 80.0), [math.radians(30), 0.0], rtol=1e-9, atol=1e-9, t_eval=t)
     helpers = list(_warm._started.values())
     codes = [h.wait(timeout=600) for h in helpers]
-    print(json.dumps({"y": r.y.tolist(), "helpers": len(helpers), "codes": codes}))
+    # the entry the call compiled is in the cache now; another closure of the same
+    # function (the salas-torque kind's entry, sharing its index file) is not
+    from mbm.core import loop
+    cold = [_warm._cold(loop.SIMD_RUNNERS[loop.RS_DAMPED]), _warm._cold(loop.RUNNERS[(2, 0)])]
+    print(json.dumps({"y": r.y.tolist(), "helpers": len(helpers), "codes": codes, "cold": cold}))
 """)
 
 
@@ -87,6 +91,7 @@ def test_a_cold_first_call_starts_one_helper_and_its_answers_are_the_warm_ones(t
     assert proc.returncode == 0, proc.stderr[-2000:]
     got = json.loads(proc.stdout.strip().splitlines()[-1])
     assert got["helpers"] == 1 and got["codes"] == [0]
+    assert got["cold"] == [False, True]
     want = mbm.solve(mbm.Pendulum(beta=0.1, gamma=0.3), (0.0, 80.0), [np.radians(30), 0.0], rtol=1e-9,
                      atol=1e-9, t_eval=np.linspace(0.0, 80.0, 201))
     np.testing.assert_array_equal(np.array(got["y"]), want.y)
