@@ -240,3 +240,16 @@ def test_the_default_degree_entry_refuses_another_degree_with_a_status():
     status, n, _ = _entry_outputs(loop.SIMD_RUNNERS[loop.RS_DAMPED], mbm.Pendulum(0.1, 0.3), [0.5, 0.0],
                                   (0.0, 10.0), np.empty(0), approximant="taylor16")
     assert status == loop.STATUS_ANCHOR and n == 0
+
+
+def test_solve_njit_runs_the_default_degree_that_run_taylor_compiles():
+    # loop.run_taylor compiles the default degree's entries alone (flag 2)
+    from mbm.approximants.taylor_simd import SIMD_ORDER
+
+    assert fast._AUTO_TAYLOR == (loop.KIND_TAYLOR, SIMD_ORDER)
+    t = np.array([5.0])
+    out = np.empty((2, 1))
+    status, n = mbm.solve_njit(0.1, 0.3, 1.0, 0.0, 0.5, 0.0, 5.0, t, out, 1e-8, 1e-8, 10**6)
+    want = mbm.solve(mbm.Pendulum(0.1, 0.3), (0.0, 5.0), [0.5, 0.0], t_eval=t, rtol=1e-8, atol=1e-8)
+    assert status == 0 and n == want.n_windows
+    np.testing.assert_array_equal(out, want.y)

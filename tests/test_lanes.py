@@ -150,11 +150,44 @@ def test_batch_compiles_only_the_kinds_and_sets_its_scenes_reach():
     f["karg"] = [SIMD_ORDER, 0]
     f["controller"] = [loop.CONTROLLER_ADAPTIVE, loop.CONTROLLER_FIXED]
     f["beta"], f["regimes"], f["max_dtheta"] = [0.1, 0.0], 1, np.inf
-    taylor, exact, salas, split = 1, 1, 0, 0
+    taylor, exact, salas, split = 2, 1, 0, 0  # taylor 2: the default degree's entries alone
     plain, damped, conservative, driven, cycle, strobe = 1, 1, 0, 0, 1, 0
     assert loop.batch_flags(p) == (taylor, exact, salas, split, plain, damped, conservative, driven, cycle, strobe)
+    q = np.concatenate([p[:1], p[:1]])
+    loop.flat(q)["karg"][1] = 16
+    assert loop.batch_flags(q[1:])[0] == 1 and loop.batch_flags(q)[0] == 3  # general entries, both
     assert list(loop.eligible_rows(p)) == [True, False]
     # the loop's entry for the exact row: that kind and set only
     assert loop.batch_flags(p[1:]) == (0, 1, 0, 0, 1, 0, 0, 0, 0, 0) and loop.batch_flags(p[1:]) in loop.ROWS_ENTRIES
     f["drive_amp"][0] = 0.5  # driven: its strobe set too, the damped one no longer
     assert loop.batch_flags(p)[4:] == (1, 0, 0, 1, 0, 1)
+
+
+
+def test_a_batch_of_default_and_other_degrees_runs_each_through_its_own_entries():
+    # the default degree beside taylor16, outside the lanes (regimes off): flags 3, each
+    # record through the entries of its degree, its answers those of loop.run alone
+    def record(name):
+        ig = mbm.Integrator(mbm.Pendulum(0.1, 0.3), approximant=name, rtol=1e-8, atol=1e-8)
+        r = np.array(ig._words.copy().view(loop.RUN))
+        f = loop.flat(r)
+        f["t"], f["theta"], f["v"], f["t_bound"] = 0.0, 0.5, 0.0, 20.0
+        f["call_windows"], f["regimes"] = 0, 0
+        return r
+
+    p = np.concatenate([record("taylor"), record("taylor16")])
+    assert loop.batch_flags(p)[0] == 3 and not loop.eligible_rows(p).any()
+    te = np.linspace(0.0, 20.0, 11)
+    none = (np.empty(0), np.empty((0, 2)), np.empty((0, 0)), np.zeros(1, np.int64))
+    want = []
+    for i in range(2):
+        out = np.empty((2, te.size))
+        q = p[i:i + 1].copy()
+        loop.run(q, te, out, *none)
+        assert loop.flat(q)["status"][0] == loop.STATUS_OK
+        want.append(out)
+    out = np.empty((2, 2, te.size))
+    loop.run_batch(p, te, out, np.arange(2), np.zeros(1, np.int64))
+    assert list(loop.flat(p)["status"]) == [loop.STATUS_OK] * 2
+    np.testing.assert_array_equal(out[0], want[0])
+    np.testing.assert_array_equal(out[1], want[1])

@@ -99,7 +99,7 @@ def scene_events_for(flags):
     """The compiled run with events of one scene (Taylor windows), for the regime sets
     flagged in ``flags`` (:func:`mbm.core.lanes.batch_flags`; constants of the closure,
     so only those sets' entries are compiled, each closure cached apart)."""
-    _, _, _, _, s0, s1, s2, s3, s4, s5 = flags
+    k0, _, _, _, s0, s1, s2, s3, s4, s5 = flags
 
     @numba.njit(cache=True, nogil=True)
     def run_scene_events(p, i, t_eval, out_i, cancel, ev, caps, hits, stored, win_t, win_y, win_coef, lock, evf,
@@ -117,7 +117,7 @@ def scene_events_for(flags):
         chunk = FIRST_CHUNK
         while True:
             before = r.progress.n_windows
-            n = _run_sets(KIND_TAYLOR, 1, 0, 0, 0, s0, s1, s2, s3, s4, s5, p[i:i + 1], t_eval, out_i,
+            n = _run_sets(KIND_TAYLOR, k0, 0, 0, 0, s0, s1, s2, s3, s4, s5, p[i:i + 1], t_eval, out_i,
                           win_t[: chunk + 1], win_y[: chunk + 1], win_coef[:chunk], cancel)
             c0 = count
             evf, evi, count, stop, ok = locate(win_t, np.ascontiguousarray(win_y[: n + 1, 0]), win_coef, n,

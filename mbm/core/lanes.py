@@ -126,7 +126,7 @@ def _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel, handed):
     if handed.size:
         handed[i] = 1
         return
-    _run_sets(KIND_TAYLOR, 1, 0, 0, 0, 0, 1, 0, 0, 1, 0, p[i:i + 1], t_eval, out[i], win_t, win_y, win_coef, cancel)
+    _run_sets(KIND_TAYLOR, 2, 0, 0, 0, 0, 1, 0, 0, 1, 0, p[i:i + 1], t_eval, out[i], win_t, win_y, win_coef, cancel)
 
 
 @numba.njit(**_INLINE)
@@ -337,7 +337,7 @@ def _rows_for(flags):
 
 
 #: Every kind and regime set flagged: a batch of any records.
-ALL_FLAGS = (1,) * 10
+ALL_FLAGS = (3,) + (1,) * 9
 
 
 #: The compiled runs of the scenes outside the lanes, per flags met so far (:func:`_rows_for`).
@@ -363,14 +363,20 @@ def eligible_rows(p):
 
 def batch_flags(p):
     """The kinds (taylor, exact, salas-torque, split) and regime sets (RS index) the
-    records ``p`` start in or may reach (:data:`mbm.core.loop.REACHES`), as ten 0/1 flags."""
+    records ``p`` start in or may reach (:data:`mbm.core.loop.REACHES`), as ten flags:
+    0/1, but the Taylor kind's 1 (degrees other than SIMD_ORDER), 2 (SIMD_ORDER alone:
+    the default degree's entries) or 3 (both), as :func:`mbm.core.loop._dispatch_flagged`
+    takes it."""
     c, w, m = p["control"], p["switch"], p["model"]
     kinds = [0, 0, 0, 0]
     sets = [0] * 6
     rows = zip(c["kind"].tolist(), c["controller"].tolist(), w["regimes"].tolist(),
-               np.sign(m["beta"]).tolist(), (m["drive_amp"] != 0.0).tolist(), w["regime"].tolist())
-    for kind, controller, regimes, beta_sign, driven, regime in set(rows):
-        if 0 <= kind < 4:
+               np.sign(m["beta"]).tolist(), (m["drive_amp"] != 0.0).tolist(), w["regime"].tolist(),
+               (c["karg"] == SIMD_ORDER).tolist())
+    for kind, controller, regimes, beta_sign, driven, regime, simd in set(rows):
+        if kind == KIND_TAYLOR:
+            kinds[kind] |= 2 if simd else 1
+        elif 0 <= kind < 4:
             kinds[kind] = 1
         rset = _regime_set(kind, controller, regimes, beta_sign, 1.0 if driven else 0.0, regime)
         for s in (rset,) + REACHES[rset]:

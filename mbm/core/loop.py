@@ -592,6 +592,8 @@ def entry_for(kind, rset, karg):
 # this module for _dispatch_flagged.
 (_R_T0, _R_T1, _R_T2, _R_T3, _R_T4, _R_T5, _R_T6, _R_S0, _R_S1, _R_S2, _R_S3, _R_S4, _R_S6,
  _R_E0, _R_E3, _R_Q0, _R_Q3) = (RUNNERS[key] for key in RUN_TABLE)
+(_R_V0, _R_V1, _R_V2, _R_V3, _R_V4, _R_V5, _R_V6) = (
+    SIMD_RUNNERS[s] for s in (RS_PLAIN, RS_DAMPED, RS_CONSERVATIVE, RS_DRIVEN, RS_CYCLE, RS_STROBE, RS_FIXED))
 
 
 @numba.njit(**_INLINE)
@@ -600,12 +602,55 @@ def _record_set(kind, r):
 
 
 @numba.njit(**_INLINE)
+def _taylor_flagged(simd, rset, s0, s1, s2, s3, s4, s5, buf, resume, t_eval, out, win_t, win_y, win_coef, cancel):
+    """The Taylor entry of ``rset`` where its flag is set (:func:`_dispatch_flagged`): the
+    default degree's (``simd``) or the general one; −1 where the set is not flagged."""
+    if rset == RS_PLAIN:
+        if s0 == 1:
+            if simd:
+                return _R_V0(buf, resume, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t, win_y, win_coef, cancel)
+            return _R_T0(buf, resume, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t, win_y, win_coef, cancel)
+    elif rset == RS_DAMPED:
+        if s1 == 1:
+            if simd:
+                return _R_V1(buf, resume, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t, win_y, win_coef, cancel)
+            return _R_T1(buf, resume, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t, win_y, win_coef, cancel)
+    elif rset == RS_CONSERVATIVE:
+        if s2 == 1:
+            if simd:
+                return _R_V2(buf, resume, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t, win_y, win_coef, cancel)
+            return _R_T2(buf, resume, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t, win_y, win_coef, cancel)
+    elif rset == RS_DRIVEN:
+        if s3 == 1:
+            if simd:
+                return _R_V3(buf, resume, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t, win_y, win_coef, cancel)
+            return _R_T3(buf, resume, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t, win_y, win_coef, cancel)
+    elif rset == RS_CYCLE:
+        if s4 == 1:
+            if simd:
+                return _R_V4(buf, resume, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t, win_y, win_coef, cancel)
+            return _R_T4(buf, resume, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t, win_y, win_coef, cancel)
+    elif rset == RS_STROBE:
+        if s5 == 1:
+            if simd:
+                return _R_V5(buf, resume, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t, win_y, win_coef, cancel)
+            return _R_T5(buf, resume, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t, win_y, win_coef, cancel)
+    elif rset == RS_FIXED:
+        if s0 == 1:
+            if simd:
+                return _R_V6(buf, resume, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t, win_y, win_coef, cancel)
+            return _R_T6(buf, resume, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t, win_y, win_coef, cancel)
+    return -1
+
+
+@numba.njit(**_INLINE)
 def _dispatch_flagged(kind, rset, k0, k1, k2, k3, s0, s1, s2, s3, s4, s5, p, t_eval, out, win_t, win_y, win_coef,
                       cancel):
     """The entry of (``kind``, ``rset``) called where that kind and set are flagged
-    (``k<i>``: taylor, exact, salas-torque, split; ``s<i>``: RS index, RS_FIXED under
-    ``s0`` with RS_PLAIN (:func:`set_flag`); 0/1 constants
-    where the caller is compiled); any other pair is STATUS_ANCHOR.
+    (``k<i>``: taylor, exact, salas-torque, split, ``k0`` 1 for the general Taylor
+    entries, 2 for the default degree's, 3 for both; ``s<i>``: RS index, RS_FIXED under
+    ``s0`` with RS_PLAIN (:func:`set_flag`); constants where the caller is compiled);
+    any other pair is STATUS_ANCHOR.
 
     One call site, its flags constants: numba prunes the unflagged calls after inlining
     it, so only the flagged entries are typed and compiled.  (A site per set, each with
@@ -617,36 +662,20 @@ def _dispatch_flagged(kind, rset, k0, k1, k2, k3, s0, s1, s2, s3, s4, s5, p, t_e
     # fresh typed, not a literal (a literal False would compile each entry again).
     resume = np.bool_(False)
     if kind == KIND_TAYLOR:
-        if k0 == 1:
-            if rset == RS_PLAIN:
-                if s0 == 1:
-                    return _R_T0(buf, resume, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t, win_y, win_coef,
-                                 cancel)
-            elif rset == RS_DAMPED:
-                if s1 == 1:
-                    return _R_T1(buf, resume, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t, win_y, win_coef,
-                                 cancel)
-            elif rset == RS_CONSERVATIVE:
-                if s2 == 1:
-                    return _R_T2(buf, resume, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t, win_y, win_coef,
-                                 cancel)
-            elif rset == RS_DRIVEN:
-                if s3 == 1:
-                    return _R_T3(buf, resume, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t, win_y, win_coef,
-                                 cancel)
-            elif rset == RS_CYCLE:
-                if s4 == 1:
-                    return _R_T4(buf, resume, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t, win_y, win_coef,
-                                 cancel)
-            elif rset == RS_STROBE:
-                if s5 == 1:
-                    return _R_T5(buf, resume, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t, win_y, win_coef,
-                                 cancel)
-            elif rset == RS_FIXED:
-                if s0 == 1:
-                    return _R_T6(buf, resume, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t, win_y, win_coef,
-                                 cancel)
-    elif kind == KIND_SPLIT:
+        # k0: 1 the general entries, 2 the default degree's (SIMD_RUNNERS), 3 both, by
+        # the record's degree (a constant 2 compiles no general entry, 1 no default one).
+        n = -1
+        if k0 == 2 or k0 == 3:
+            if k0 == 2 or p[0].control.karg == SIMD_ORDER:
+                n = _taylor_flagged(True, rset, s0, s1, s2, s3, s4, s5, buf, resume, t_eval, out, win_t, win_y,
+                                    win_coef, cancel)
+        if k0 == 1 or k0 == 3:
+            if n < 0 and (k0 == 1 or p[0].control.karg != SIMD_ORDER):
+                n = _taylor_flagged(False, rset, s0, s1, s2, s3, s4, s5, buf, resume, t_eval, out, win_t, win_y,
+                                    win_coef, cancel)
+        if n >= 0:
+            return n
+    if kind == KIND_SPLIT:
         if k3 == 1:
             if rset == RS_PLAIN:
                 if s0 == 1:
@@ -728,8 +757,10 @@ def set_flag(rset):
 # (solve_njit, the batch).
 @kernel
 def run_taylor(p, t_eval, out, win_t, win_y, win_coef, cancel):
-    """:func:`_run_sets` through every set of kind ``"taylor"``; returns the windows taken."""
-    return _run_sets(KIND_TAYLOR, 1, 0, 0, 0, 1, 1, 1, 1, 1, 1, p, t_eval, out, win_t, win_y, win_coef, cancel)
+    """:func:`_run_sets` through every set of kind ``"taylor"`` at its default degree
+    SIMD_ORDER (:data:`SIMD_RUNNERS`; another degree ends STATUS_ANCHOR); returns the
+    windows taken."""
+    return _run_sets(KIND_TAYLOR, 2, 0, 0, 0, 1, 1, 1, 1, 1, 1, p, t_eval, out, win_t, win_y, win_coef, cancel)
 
 
 @kernel
