@@ -36,16 +36,20 @@ _IN_HELPER_ENV = "MBM_IN_COMPILE_HELPER"
 MANIFEST_FILE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "_warm_manifest.pkl")
 
 # The first calls the manifest covers (Python statements after the imports of _SCENE_SETUP),
-# keyed as prefetch looks them up: (path, entry table, entry key).  The second paper's
-# Example 1 (benchmarks.first_calls), its salas-torque window (the demo's), a driven scene.
+# keyed as prefetch looks them up: (path, where the entry is bound: module, name, items).
+# The second paper's Example 1 (benchmarks.first_calls), its salas-torque window (the
+# demo's), a driven scene, and the lanes of a damped batch.
+_LOOP = "mbm.core.loop"
 SCENES = {
-    ("solve", "SIMD_RUNNERS", 1): "mbm.solve(m, span, y0, rtol=1e-9, atol=1e-9, t_eval=t)",
-    ("ivp", "SIMD_RUNNERS", 1): "solve_ivp(m, span, y0, method=mbm.MBM, rtol=1e-9, atol=1e-9, t_eval=t, "
-                                "dense_output=True)",
-    ("ivp", "RUNNERS", (2, 0)): "solve_ivp(m, span, y0, method=mbm.MBM, approximant='salas-torque', tau=0.25, "
-                                "t_eval=t, dense_output=True)",
-    ("solve", "SIMD_RUNNERS", 3): "mbm.solve(mbm.Pendulum(0.1, 0.3, drive_amplitude=0.5, drive_frequency=0.8), "
-                                  "span, y0, rtol=1e-9, atol=1e-9, t_eval=t)",
+    ("solve", _LOOP, "SIMD_RUNNERS", (1,)): "mbm.solve(m, span, y0, rtol=1e-9, atol=1e-9, t_eval=t)",
+    ("ivp", _LOOP, "SIMD_RUNNERS", (1,)): "solve_ivp(m, span, y0, method=mbm.MBM, rtol=1e-9, atol=1e-9, t_eval=t, "
+                                          "dense_output=True)",
+    ("ivp", _LOOP, "RUNNERS", ((2, 0),)): "solve_ivp(m, span, y0, method=mbm.MBM, approximant='salas-torque', "
+                                          "tau=0.25, t_eval=t, dense_output=True)",
+    ("solve", _LOOP, "SIMD_RUNNERS", (3,)): "mbm.solve(mbm.Pendulum(0.1, 0.3, drive_amplitude=0.5, "
+                                            "drive_frequency=0.8), span, y0, rtol=1e-9, atol=1e-9, t_eval=t)",
+    ("batch", "mbm.core.lanes", "_run_lanes", ()): "mbm.solve_batch(0.1, np.linspace(0.05, 1.5, 64), 1.0, y0, "
+                                                   "span, t, rtol=1e-9, atol=1e-9)",
 }
 _SCENE_SETUP = """
 import math
@@ -83,15 +87,9 @@ def load_manifest():
 
 
 def entry_key(entry):
-    """``(table, key)`` of a loop entry in :data:`mbm.core.loop.SIMD_RUNNERS` or
-    :data:`mbm.core.loop.RUNNERS`, or None."""
-    from .core import loop
-
-    for table in ("SIMD_RUNNERS", "RUNNERS"):
-        for key, value in getattr(loop, table).items():
-            if value is entry:
-                return table, key
-    return None
+    """``(module, name, items)`` where the package binds compiled function ``entry`` (a
+    global, or an item of a global dict), or None."""
+    return _locations().get(id(entry))
 
 
 def _cold(entry):
@@ -114,8 +112,8 @@ def _cores():
 
 
 def prefetch(path, entry):
-    """Start the helper for ``path`` ("solve" or "ivp") about to call loop entry
-    ``entry`` from a cold cache, where the module docstring's conditions hold.
+    """Start the helper for ``path`` ("solve", "ivp" or "batch") about to call compiled
+    entry ``entry`` from a cold cache, where the module docstring's conditions hold.
 
     Returns
     -------
@@ -198,22 +196,30 @@ sys.stdout.buffer.write(pickle.dumps(_warm._recorded(order, eval(sys.argv[3]))))
 
 
 def _locations():
-    # Where each dispatcher of the package is bound: id -> (module, name, item path).
+    # Where each dispatcher of the package is bound: id -> (module, name, item path); of
+    # several bindings (a facade re-exports, a global aliases a table's item), the first
+    # in the module that defines it.
     found = {}
-    for modname, mod in list(sys.modules.items()):
+
+    def put(d, where):
+        home = d.py_func.__module__
+        if id(d) not in found or (found[id(d)][0] != home and where[0] == home):
+            found[id(d)] = where
+
+    for modname, mod in sorted(sys.modules.items(), key=lambda kv: kv[0]):
         if modname != "mbm" and not modname.startswith("mbm."):
             continue
         for name, value in list(vars(mod).items()):
             if hasattr(value, "overloads") and hasattr(value, "py_func"):
-                found.setdefault(id(value), (modname, name, ()))
+                put(value, (modname, name, ()))
             elif isinstance(value, dict):
                 for k, v in value.items():
-                    if hasattr(v, "overloads"):
-                        found.setdefault(id(v), (modname, name, (k,)))
+                    if hasattr(v, "overloads") and hasattr(v, "py_func"):
+                        put(v, (modname, name, (k,)))
                     elif isinstance(v, tuple):
-                        for i, x in enumerate(v):
-                            if hasattr(x, "overloads"):
-                                found.setdefault(id(x), (modname, name, (k, i)))
+                        for q, x in enumerate(v):
+                            if hasattr(x, "overloads") and hasattr(x, "py_func"):
+                                put(x, (modname, name, (k, q)))
     return found
 
 
@@ -222,9 +228,7 @@ def _recorded(order, key):
     # scene compiled before its entry (its callees) last first, then those it compiled
     # after it (the dense output's) in order, which the helper reaches while the call
     # lowers the entry; less the entry itself and numba's own implementations.
-    from .core import loop
-
-    entry = getattr(loop, key[1])[key[2]]
+    entry = _resolve(*key[1:])
     found = _locations()
     before, after = [], []
     rows = before

@@ -7,6 +7,7 @@ the run record                     :mod:`mbm.core.record` (RUN, init_run, new_ru
 the window (kinds, step, winding)  :mod:`mbm.core.window`
 the controllers                    :mod:`mbm.core.controller`
 the loop and its entries           :mod:`mbm.core.loop` (RUN_TABLE, RUNNERS, run)
+the compiled whole runs            :mod:`mbm.core.chains` (run_taylor, _run_sets)
 the lockstep lanes                 :mod:`mbm.core.lanes` (run_batch)
 stored windows at any times        :mod:`mbm.core.stored` (evaluate_windows)
 each regime                        :mod:`mbm.regimes` (locked, cycle and cycle_windows,
@@ -77,7 +78,6 @@ from .core.controller import (  # noqa: F401
     plan_windows,
 )
 from .core.loop import (  # noqa: F401
-    CHAINS,
     RS_CONSERVATIVE,
     RS_CYCLE,
     RS_DAMPED,
@@ -88,37 +88,24 @@ from .core.loop import (  # noqa: F401
     RUNNERS,
     RUN_TABLE,
     SIMD_RUNNERS,
-    _R_E0,
-    _R_E3,
-    _R_Q0,
-    _R_Q3,
-    _R_S0,
-    _R_S1,
-    _R_S2,
-    _R_S3,
-    _R_S4,
-    _R_T0,
-    _R_T1,
-    _R_T2,
-    _R_T3,
-    _R_T4,
-    _R_T5,
-    _record_set,
     _regime_set,
-    REACHES,
-    _run_sets,
     _runner,
     _store_window,
     _stored_value,
     regime_set,
     run,
+    runner_for,
+    entry_for,
+    set_of,
+)
+from .core.chains import (  # noqa: F401
+    CHAINS,
+    REACHES,
+    _run_sets,
     run_exact,
     run_salas_torque,
     run_split,
     run_taylor,
-    runner_for,
-    entry_for,
-    set_of,
 )
 from .core.lanes import (  # noqa: F401
     LANE,

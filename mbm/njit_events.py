@@ -16,7 +16,7 @@ from .approximants.taylor import HEADER, N_EXTRA
 from .choice import auto_name
 from . import loop
 from .core.event_batch import EVENTS_CAPACITY, FIRST_CHUNK, LAST_CHUNK, scene_events_for, stop_at
-from .core.loop import _run_sets
+from .core.chains import _run_sets
 from .core.event_watch import EV_ANGLE, EV_VELOCITY, EV_WIDTH
 from .crossings import as_events
 from .regimes.common import REGIMES_ALL, REGIMES_OFF, REGIMES_PERIODIC
@@ -294,8 +294,9 @@ def solve_njit_function_events(beta, gamma, omega, t0, theta0, v0, t_bound, t_ev
     first = True
     while True:
         before = r.progress.n_windows
-        # Regimes off: the plain (or driven) entry of the Taylor kind alone.
-        n = _run_sets(_KIND, 1, 0, 0, 0, 1, 0, 0, 1, 0, 0, p, t_eval, out, win_t[: chunk + 1], win_y[: chunk + 1],
+        # Regimes off: the plain (or driven) entry of the Taylor kind alone, at the
+        # default degree (Taylor flag 2: mbm.core.chains._dispatch_flagged).
+        n = _run_sets(_KIND, 2, 0, 0, 0, 1, 0, 0, 1, 0, 0, p, t_eval, out, win_t[: chunk + 1], win_y[: chunk + 1],
                       win_coef[:chunk], cancel)
         last = r.progress.status != STATUS_PAUSED
         rows, m = function_crossings(g, direction, win_t, np.ascontiguousarray(win_y[: n + 1, 0]), win_coef, n, ref,

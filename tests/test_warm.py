@@ -17,7 +17,7 @@ from mbm import _warm
 from mbm.core import loop
 
 ROOT = Path(__file__).resolve().parent.parent
-DAMPED_KEY = ("solve", "SIMD_RUNNERS", loop.RS_DAMPED)
+DAMPED_KEY = ("solve", "mbm.core.loop", "SIMD_RUNNERS", (loop.RS_DAMPED,))
 
 
 def _env(cache, **extra):
@@ -27,12 +27,21 @@ def _env(cache, **extra):
     return env
 
 
+def test_an_entry_is_keyed_where_its_own_module_binds_it():
+    # not under a facade's re-export (mbm.loop) or an alias (mbm.core.chains._R_V1)
+    assert _warm.entry_key(loop.SIMD_RUNNERS[loop.RS_DAMPED]) == DAMPED_KEY[1:]
+    assert _warm.entry_key(loop.RUNNERS[(2, 0)]) == ("mbm.core.loop", "RUNNERS", ((2, 0),))
+    from mbm.core import lanes
+
+    assert _warm.entry_key(lanes._run_lanes) == ("mbm.core.lanes", "_run_lanes", ())
+
+
 def test_every_manifest_row_names_a_kernel_of_the_package():
     paths = _warm.load_manifest()
     assert set(paths) == set(_warm.SCENES)
     for key, rows in paths.items():
         assert len(rows) > 20
-        entry = getattr(loop, key[1])[key[2]]
+        entry = _warm._resolve(*key[1:])
         for module, name, item, sig in rows:
             disp = _warm._resolve(module, name, item)
             assert disp is not entry and hasattr(disp, "compile")
@@ -103,12 +112,11 @@ def test_no_helper_for_a_compiled_entry_when_turned_off_or_inside_a_helper(monke
     assert entry.signatures and _warm.prefetch("solve", entry) is False
     monkeypatch.setattr(_warm, "_cold", lambda e: True)
 
-    class Fake:  # a cold entry of the table: signatures empty, found by entry_key
+    class Fake:  # a cold entry: nothing compiled, bound where the damped scene's entry is
         signatures = []
 
     fake = Fake()
-    monkeypatch.setattr(loop, "SIMD_RUNNERS", dict(loop.SIMD_RUNNERS))
-    loop.SIMD_RUNNERS[loop.RS_DAMPED] = fake
+    monkeypatch.setattr(_warm, "entry_key", lambda e: DAMPED_KEY[1:] if e is fake else None)
     started = []
     monkeypatch.setattr(_warm.subprocess, "Popen", lambda *a, **k: started.append(a) or object())
     monkeypatch.setattr(_warm, "_started", {})

@@ -79,6 +79,12 @@ from .salas2022_kernels import (  # noqa: F401  callers and tests import these f
 __all__ = ["SalasTorque", "cubic_equilibrium", "G_CUBIC_MAX"]
 
 
+# The largest undercut of ℘'s minimum by w = ℘(D) of (2.16) taken as rounding (D at the
+# half period): the turning points A, B are roots of the cubic (2.6), accurate only to
+# ~sqrt(eps) relative where two roots nearly coincide (small amplitudes: 1.4e-9 seen at
+# amplitude 1e-158); an undercut beyond this is an error, raised.
+W_MIN_SLACK = 1e-6
+
 _PARAM_NAMES = (
     "d", "p", "q", "r", "A", "B", "C", "g2", "g3", "beta_s", "omega", "y0", "ydot0",
 )
@@ -157,9 +163,9 @@ def _paper_D(pr):
         return float(wp_half_period(g2, g3))
     w = (y0 - A - B) / (C * (A - y0))
     # y0 at the upper turning point makes w the minimum of ℘ (at the half period),
-    # which rounding can undercut by a few ulps: clamp only such undercuts.
+    # which the turning points' rounding can undercut: clamp only such undercuts.
     w_min = float(wp(float(wp_half_period(g2, g3)), g2, g3))
-    if w_min - 1e-9 * abs(w_min) <= w < w_min:
+    if w_min - W_MIN_SLACK * abs(w_min) <= w < w_min:
         w = w_min
     z0 = float(wp_inverse(w, g2, g3))
     # (2.13) differentiated: y'(0) = −B C ℘′(D) / (1 + C℘(D))².

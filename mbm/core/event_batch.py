@@ -17,7 +17,7 @@ import numpy as np
 
 from ..special.jit import kernel
 from .event_watch import WATCH_CROWDED, WATCH_LOCKED, WATCH_OK, locate, taylor_events
-from .loop import _run_sets
+from .chains import _run_sets
 from .window import KIND_TAYLOR
 from ..regimes.common import REGIME_NONE
 from ..status import STATUS_CROWDED, STATUS_EVENT, STATUS_PAUSED

@@ -22,6 +22,7 @@ from ..approximants.taylor_simd import (
     horner24_lanes,
     taylor24_lanes,
 )
+from .. import _warm
 from ..special.jit import kernel
 from .controller import (
     CONTROLLER_ADAPTIVE,
@@ -30,7 +31,8 @@ from .controller import (
     accept_try,
     first_try,
 )
-from .loop import REACHES, _regime_set, _run_sets, damped_setup, emit_taylor, locked_test, set_flag
+from .chains import REACHES, _run_sets, set_flag
+from .loop import _regime_set, damped_setup, emit_taylor, locked_test
 from .window import (
     KIND_TAYLOR,
     _reduce_phi,
@@ -363,9 +365,9 @@ def eligible_rows(p):
 
 def batch_flags(p):
     """The kinds (taylor, exact, salas-torque, split) and regime sets (RS index) the
-    records ``p`` start in or may reach (:data:`mbm.core.loop.REACHES`), as ten flags:
+    records ``p`` start in or may reach (:data:`mbm.core.chains.REACHES`), as ten flags:
     0/1, but the Taylor kind's 1 (degrees other than SIMD_ORDER), 2 (SIMD_ORDER alone:
-    the default degree's entries) or 3 (both), as :func:`mbm.core.loop._dispatch_flagged`
+    the default degree's entries) or 3 (both), as :func:`mbm.core.chains._dispatch_flagged`
     takes it."""
     c, w, m = p["control"], p["switch"], p["model"]
     kinds = [0, 0, 0, 0]
@@ -398,6 +400,8 @@ def run_batch(p, t_eval, out, order, cancel, flags=None):
     """
     order = np.asarray(order, dtype=np.int64)
     lanes = eligible_rows(p)[order]
+    if lanes.any():  # from a cold cache, a helper process compiles the lanes beside them
+        _warm.prefetch("batch", _run_lanes)
     others = order[~lanes]
     none = no_events()
     tasks = [lambda ids=ids: _run_lanes(p, ids, t_eval, out, cancel, *none) for ids in groups(order[lanes])]
