@@ -168,3 +168,23 @@ def test_anchor_reproduced_exactly():
 def test_constants_agree_with_the_taylor_module():
     assert taylor_simd.HEADER == HEADER and taylor_simd.N_EXTRA == N_EXTRA
     assert taylor_simd.SIMD_ORDER == taylor.TAYLOR_DEFAULT_ORDER
+
+
+def test_the_default_degree_kernels_are_the_general_ones_at_that_degree_and_refuse_others():
+    # taylor24_coefficients_into (and its driven twin): what the default degree's loop
+    # entries anchor with; a bad degree or a non-finite input is a status, as in general
+    from mbm.approximants import taylor_series as ts
+    from mbm.approximants.taylor_simd import SIMD_ORDER
+
+    args = (0.1, 0.3, 1.0, 0.7, -0.2)
+    drive = (0.1, 0.3, 1.0, 0.4, 0.8, 0.3, 2.5, 0.7, -0.2)
+    for fn24, fn, a in ((ts.taylor24_coefficients_into, ts.taylor_coefficients_into, args),
+                        (ts.taylor24_driven_coefficients_into, ts.taylor_driven_coefficients_into, drive)):
+        ws, wg = ts.taylor_workspace(SIMD_ORDER), ts.taylor_workspace(SIMD_ORDER)
+        got = fn24(*a, SIMD_ORDER, *ws).copy()
+        np.testing.assert_array_equal(got, fn(*a, SIMD_ORDER, *wg))
+        assert got[0] == ts.STATUS_OK and got[1] == SIMD_ORDER
+        bad = fn24(*a, 16, *ts.taylor_workspace(16))
+        assert bad[0] == ts.STATUS_BAD_ORDER and bad.size == ts.HEADER
+        nan = fn24(*a[:-2], math.nan, a[-1], SIMD_ORDER, *ts.taylor_workspace(SIMD_ORDER))
+        assert nan[0] == ts.STATUS_BAD_STATE and np.isnan(nan[1:]).all()

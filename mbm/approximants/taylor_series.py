@@ -62,6 +62,19 @@ def _header(coef, scratch, n_order, beta, gamma, omega):
 
 
 @njit(cache=True, inline="always")
+def _prepared(coef, scratch, n_order, beta, gamma, omega, finite):
+    # (True, the vector's view with its header: _header), or (False, the status vector to
+    # return): a degree or buffer _header refuses, or a non-finite input (``finite``
+    # False: STATUS_BAD_STATE, NaN elsewhere).
+    ok, coef = _header(coef, scratch, n_order, beta, gamma, omega)
+    if ok and not finite:
+        coef[:] = np.nan
+        coef[0] = STATUS_BAD_STATE
+        return False, coef
+    return ok, coef
+
+
+@njit(cache=True, inline="always")
 def _header_into(coef, n_order, beta, gamma, omega):
     # The header of the layout at module top (status OK).
     coef[0] = STATUS_OK
@@ -204,12 +217,8 @@ def taylor_coefficients_into(beta, gamma, omega, theta0, v0, n_order, coef, scra
     if n_order == SIMD_ORDER:
         # The same recurrence in vector instructions (mbm.approximants.taylor_simd).
         return taylor24_coefficients_into(beta, gamma, omega, theta0, v0, n_order, coef, scratch)
-    ok, coef = _header(coef, scratch, n_order, beta, gamma, omega)
+    ok, coef = _prepared(coef, scratch, n_order, beta, gamma, omega, _finite5(beta, gamma, omega, theta0, v0))
     if not ok:
-        return coef
-    if not _finite5(beta, gamma, omega, theta0, v0):
-        coef[:] = np.nan
-        coef[0] = STATUS_BAD_STATE
         return coef
     series_loop(beta, gamma, omega, theta0, v0, n_order, coef[HEADER:], scratch)
     return coef
@@ -230,12 +239,8 @@ def taylor24_coefficients_into(beta, gamma, omega, theta0, v0, n_order, coef, sc
         _header_into(coef, n_order, beta, gamma, omega)
         taylor24_series(beta, gamma, omega, theta0, v0, coef)
         return coef
-    ok, coef = _header(coef, scratch, n_order, beta, gamma, omega)
+    ok, coef = _prepared(coef, scratch, n_order, beta, gamma, omega, _finite5(beta, gamma, omega, theta0, v0))
     if not ok:
-        return coef
-    if not _finite5(beta, gamma, omega, theta0, v0):
-        coef[:] = np.nan
-        coef[0] = STATUS_BAD_STATE
         return coef
     taylor24_series(beta, gamma, omega, theta0, v0, coef)
     return coef
@@ -338,12 +343,9 @@ def taylor_driven_coefficients_into(beta, gamma, omega, amp, freq, phase, t0, th
         # The same recurrence in vector instructions (mbm.approximants.taylor_simd).
         return taylor24_driven_coefficients_into(beta, gamma, omega, amp, freq, phase, t0, theta0, v0, n_order,
                                                  coef, scratch)
-    ok, coef = _header(coef, scratch, n_order, beta, gamma, omega)
+    ok, coef = _prepared(coef, scratch, n_order, beta, gamma, omega,
+                         _driven_finite(beta, gamma, omega, amp, freq, phase, t0, theta0, v0))
     if not ok:
-        return coef
-    if not _driven_finite(beta, gamma, omega, amp, freq, phase, t0, theta0, v0):
-        coef[:] = np.nan
-        coef[0] = STATUS_BAD_STATE
         return coef
     u, w = drive_phase_sincos(freq, phase, t0)
     driven_series_loop(beta, gamma, omega, amp, freq, u, w, theta0, v0, n_order, coef[HEADER:], scratch)
@@ -366,12 +368,8 @@ def taylor24_driven_coefficients_into(beta, gamma, omega, amp, freq, phase, t0, 
         u, w = drive_phase_sincos(freq, phase, t0)
         taylor24_driven_series(beta, gamma, omega, amp, freq, u, w, theta0, v0, coef)
         return coef
-    ok, coef = _header(coef, scratch, n_order, beta, gamma, omega)
+    ok, coef = _prepared(coef, scratch, n_order, beta, gamma, omega, finite)
     if not ok:
-        return coef
-    if not finite:
-        coef[:] = np.nan
-        coef[0] = STATUS_BAD_STATE
         return coef
     u, w = drive_phase_sincos(freq, phase, t0)
     taylor24_driven_series(beta, gamma, omega, amp, freq, u, w, theta0, v0, coef)
