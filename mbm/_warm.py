@@ -61,6 +61,7 @@ span, y0, t = (0.0, 80.0), [math.radians(30), 0.0], np.linspace(0.0, 80.0, 201)
 """
 
 _started = {}  # key -> the helper's Popen, one per key and process
+_checked = set()  # the entries prefetch has looked at: each once per process (a set lookup)
 _manifest = []  # the loaded manifest's paths, once (a list: loaded or not)
 
 
@@ -120,8 +121,11 @@ def prefetch(path, entry):
     bool
         Whether a helper was started.
     """
+    if entry in _checked:
+        return False  # (the check of every later call: a dispatcher's signatures cost ~20 us)
+    _checked.add(entry)
     if entry.signatures or _env_off(HELPER_ENV) or os.environ.get(_IN_HELPER_ENV) or not _cold(entry):
-        return False  # (compiled in this process: the check a warm call makes, first)
+        return False
     where = entry_key(entry)
     key = None if where is None else (path,) + where
     if key is None or key in _started or _cores() < 2 or key not in load_manifest():

@@ -109,6 +109,7 @@ def test_a_cold_first_call_starts_one_helper_and_its_answers_are_the_warm_ones(t
 def test_no_helper_for_a_compiled_entry_when_turned_off_or_inside_a_helper(monkeypatch):
     entry = loop.SIMD_RUNNERS[loop.RS_DAMPED]
     mbm.solve(mbm.Pendulum(0.1, 0.3), (0.0, 1.0), [0.1, 0.0])  # compiled in this process
+    monkeypatch.setattr(_warm, "_checked", set())
     assert entry.signatures and _warm.prefetch("solve", entry) is False
     monkeypatch.setattr(_warm, "_cold", lambda e: True)
 
@@ -120,17 +121,25 @@ def test_no_helper_for_a_compiled_entry_when_turned_off_or_inside_a_helper(monke
     started = []
     monkeypatch.setattr(_warm.subprocess, "Popen", lambda *a, **k: started.append(a) or object())
     monkeypatch.setattr(_warm, "_started", {})
+
+    def prefetch(path):  # a process that has not looked at the entry yet
+        _warm._checked.discard(fake)
+        return _warm.prefetch(path, fake)
+
     monkeypatch.setenv(_warm.HELPER_ENV, "0")
-    assert _warm.prefetch("solve", fake) is False
+    assert prefetch("solve") is False
     monkeypatch.delenv(_warm.HELPER_ENV)
     monkeypatch.setenv(_warm._IN_HELPER_ENV, "1")
-    assert _warm.prefetch("solve", fake) is False
+    assert prefetch("solve") is False
     monkeypatch.delenv(_warm._IN_HELPER_ENV)
-    assert _warm.prefetch("ivp-unknown", fake) is False  # no manifest path for it
+    assert prefetch("ivp-unknown") is False  # no manifest path for it
     if _warm._cores() >= 2:
-        assert _warm.prefetch("solve", fake) is True
-        assert _warm.prefetch("solve", fake) is False  # one helper per path and process
+        assert prefetch("solve") is True
+        assert prefetch("solve") is False  # one helper per path and process
         assert len(started) == 1 and "main" in started[0][0][2]
+    # an entry looked at once is not looked at again (a set lookup per later call)
+    monkeypatch.setattr(_warm, "_cold", lambda e: pytest.fail("looked at twice"))
+    assert _warm.prefetch("solve", fake) is False
 
 
 def test_a_manifest_of_another_numba_or_a_stale_row_is_ignored(monkeypatch, tmp_path):
