@@ -71,3 +71,21 @@ def scene_reference():
         return cache[key]
 
     return ref
+
+
+@pytest.fixture
+def user_sigint():
+    """Python's own SIGINT handler (KeyboardInterrupt in the main thread), as a user's
+    session has it, for a test that sends itself Ctrl-C; restored after.  The tests share
+    a worker process (pytest-xdist) with others, whose libraries may have replaced it:
+    what was there is the fixture's value, for a failure message."""
+    import signal
+    import threading
+
+    assert threading.current_thread() is threading.main_thread(), "Ctrl-C reaches the main thread only"
+    before = signal.getsignal(signal.SIGINT)
+    signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        yield before
+    finally:
+        signal.signal(signal.SIGINT, before)

@@ -364,7 +364,7 @@ def test_local_batches_do_not_change_results(monkeypatch, reference):
     _assert_identical_bits(sweep(**SWEEP), reference)
 
 
-def test_ctrl_c_stops_within_a_second(monkeypatch):
+def test_ctrl_c_stops_within_a_second(monkeypatch, user_sigint):
     # 8000 running scenes (seconds of work); Ctrl-C arrives 0.1 s into the second batch,
     # i.e. while solve_batch runs, however fast the kernels are.
     kw = dict(beta=np.linspace(0.05, 0.1, 80), gamma=np.linspace(1.2, 1.6, 100), t_span=(0.0, 1000.0),
