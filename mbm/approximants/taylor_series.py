@@ -214,6 +214,14 @@ def taylor_coefficients_into(beta, gamma, omega, theta0, v0, n_order, coef, scra
         or ``coef[:HEADER]`` with status STATUS_BAD_ORDER for a degree outside
         1 .. MAX_ORDER or buffers too small for it.
     """
+    if (n_order == SIMD_ORDER and coef.size == HEADER + SIMD_ORDER + N_EXTRA + 1
+            and _finite5(beta, gamma, omega, theta0, v0)):
+        # The run's own workspace at the vector kernel's degree, stored in place, here as
+        # in taylor24_coefficients_into: a stored period re-anchors its windows per
+        # output, so a call more per anchor costs ~5 % of a phase-locked run.
+        _header_into(coef, n_order, beta, gamma, omega)
+        taylor24_series(beta, gamma, omega, theta0, v0, coef)
+        return coef
     if n_order == SIMD_ORDER:
         # The same recurrence in vector instructions (mbm.approximants.taylor_simd).
         return taylor24_coefficients_into(beta, gamma, omega, theta0, v0, n_order, coef, scratch)
@@ -339,6 +347,13 @@ def taylor_driven_coefficients_into(beta, gamma, omega, amp, freq, phase, t0, th
     ndarray
         A view of ``coef`` (the layout at module top).
     """
+    if (n_order == SIMD_ORDER and coef.size == HEADER + SIMD_ORDER + N_EXTRA + 1
+            and _driven_finite(beta, gamma, omega, amp, freq, phase, t0, theta0, v0)):
+        # In place, as taylor_coefficients_into (and for the same reason).
+        _header_into(coef, n_order, beta, gamma, omega)
+        u, w = drive_phase_sincos(freq, phase, t0)
+        taylor24_driven_series(beta, gamma, omega, amp, freq, u, w, theta0, v0, coef)
+        return coef
     if n_order == SIMD_ORDER:
         # The same recurrence in vector instructions (mbm.approximants.taylor_simd).
         return taylor24_driven_coefficients_into(beta, gamma, omega, amp, freq, phase, t0, theta0, v0, n_order,
