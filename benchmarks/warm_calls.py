@@ -2,9 +2,9 @@
 
 Run from the root of each checkout, one after the other on the same machine::
 
-    python -m benchmarks.warm_calls [--repeats N]
+    python -m benchmarks.warm_calls [--repeats N] [--only TEXT]
 
-Each row is the median of ``repeats`` calls after one warm-up call (which compiles or
+Each row is the median (and the minimum) of ``repeats`` calls after one warm-up call (which compiles or
 loads the kernels), on scenes where the per-call and per-window costs show: P1 (a
 short locked run), a running scene, the second paper's Example 1 through ``solve_ivp``
 with dense output, a driven scene and a ``solve_batch`` ensemble.  The tolerance of
@@ -53,25 +53,35 @@ def cases():
     }
 
 
-def median_seconds(fn, repeats):
-    """The median wall time of ``repeats`` calls of ``fn`` after one warm-up call."""
+def call_seconds(fn, repeats):
+    """The wall times of ``repeats`` calls of ``fn`` after one warm-up call."""
     fn()
     times = []
     for _ in range(repeats):
         t0 = time.perf_counter()
         fn()
         times.append(time.perf_counter() - t0)
-    return statistics.median(times)
+    return times
+
+
+def median_seconds(fn, repeats):
+    """The median wall time of ``repeats`` calls of ``fn`` after one warm-up call."""
+    return statistics.median(call_seconds(fn, repeats))
 
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--repeats", type=int, default=REPEATS, help="warm calls per row (median)")
+    parser.add_argument("--only", default="", help="the rows whose label contains this text")
     args = parser.parse_args(argv)
     if args.repeats < 1:
         parser.error(f"--repeats must be >= 1, got {args.repeats}")
-    for label, fn in cases().items():
-        print(f"{label:46s} {median_seconds(fn, args.repeats) * 1e3:10.4f} ms", flush=True)
+    rows = {k: fn for k, fn in cases().items() if args.only in k}
+    if not rows:
+        parser.error(f"--only {args.only!r} matches no row")
+    for label, fn in rows.items():
+        times = call_seconds(fn, args.repeats)
+        print(f"{label:46s} {statistics.median(times) * 1e3:10.4f} ms  (min {min(times) * 1e3:.4f})", flush=True)
 
 
 if __name__ == "__main__":

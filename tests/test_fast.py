@@ -343,9 +343,12 @@ def test_ctrl_c_stops_a_long_run_within_a_second(path, user_sigint):
     calls[path](1.0)  # compiled before the interrupt is armed (never interrupt numba's compiler)
     timer = _interrupt_after(0.3)
     t0 = time.perf_counter()
-    with pytest.raises(KeyboardInterrupt):
+    try:
         calls[path](1e6)
-        print("SIGINT's handler before the test:", user_sigint)  # shown where it did not raise
+    except KeyboardInterrupt:
+        pass
+    else:
+        pytest.fail(f"Ctrl-C did not raise (SIGINT's handler before the test: {user_sigint!r})")
     elapsed = time.perf_counter() - t0
     timer.cancel()
     assert elapsed < 1.3, elapsed
