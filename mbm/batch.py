@@ -286,16 +286,16 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
         ``t`` (m,), ``y`` (N, 2, m), ``status`` (N,) per scene (0 ok), ``success``
         (N,) bool, ``n_windows`` (N,), ``approximant`` (N,) names, ``regime``,
         ``t_regime``, ``period``, ``mean_velocity`` (N,) as in :func:`mbm.solve`, ``winding``
-        (N, m) int64 with ``wrap=True`` (else None).  Each scene's
-        answer equals :func:`mbm.solve` for that scene.  A scene that fails at run time
-        (a status other than 0: its approximant's domain, ``max_windows``) keeps the
+        (N, m) int64 with ``wrap=True`` (else None).  Each scene's answer equals
+        :func:`mbm.solve` for that scene (a trapped scene's end apart).  A scene that
+        fails at run time (a status other than 0: its approximant's domain, ``max_windows``) keeps the
         outputs it reached and NaN after them; the other scenes are unaffected.
         With ``events``: ``t_events`` (N, n_events, K) and ``y_events``
         (N, n_events, K, 2), NaN past each scene's stored count, ``winding_events``
         (N, n_events, K) int64 (0 past it) and ``n_events`` (N, n_events), every
         occurrence counted; a scene stopped by a terminal event has status 6 (its
         outputs after the event NaN), one whose window held more crossings than the
-        watch takes status 7.
+        watch takes status 7; one trapped out of its events' reach ends early, locked (events guide).
 
     Raises
     ------

@@ -7,7 +7,10 @@ A terminal event stops its scene: the record's status is STATUS_EVENT, its state
 event's, its outputs past the event NaN and a regime taken after the event undone (as
 :func:`mbm.solve` reports it); the other scenes are unaffected.  A scene whose locked
 window may reach a level (WATCH_LOCKED) is marked in ``again`` with its events
-dropped, for the caller to run again without the locked regime.
+dropped, for the caller to run again without the locked regime.  A scene trapped in
+its well out of every event's reach, its outputs written
+(:func:`mbm.core.event_watch.trapped_unreachable`), ends before its next chunk, locked
+(the lanes test it before each window).
 """
 
 import math
@@ -16,11 +19,12 @@ import numba
 import numpy as np
 
 from ..special.jit import kernel
-from .event_watch import WATCH_CROWDED, WATCH_LOCKED, WATCH_OK, locate, taylor_events
+from .event_watch import (WATCH_CROWDED, WATCH_LOCKED, WATCH_OK, locate, taylor_events, trap_allowed,
+                          trapped_unreachable)
 from .chains import _run_sets
 from .window import KIND_TAYLOR
-from ..regimes.common import REGIME_NONE
-from ..status import STATUS_CROWDED, STATUS_EVENT, STATUS_PAUSED
+from ..regimes.common import REGIME_LOCKED, REGIME_NONE
+from ..status import STATUS_CROWDED, STATUS_EVENT, STATUS_OK, STATUS_PAUSED
 
 __all__ = ["scene_events_for", "events_rows_for", "events_entry", "lane_events", "stop_at", "stop_row", "FIRST_CHUNK", "LAST_CHUNK"]
 
@@ -116,6 +120,14 @@ def scene_events_for(flags):
         direction = 1.0 if r.state.t_bound >= r.state.t else -1.0
         chunk = FIRST_CHUNK
         while True:
+            if trap_allowed(r, direction, t_eval.size) and trapped_unreachable(
+                    r.state.theta, r.state.v, ev, r.model.gamma, r.model.omega, r.control.rtol, r.control.atol,
+                    math.asin(r.model.gamma / (r.model.omega * r.model.omega))):
+                # Trapped below every level, its outputs written: it ends here, locked.
+                r.progress.status = STATUS_OK
+                r.switch.regime = REGIME_LOCKED
+                r.switch.t_regime = r.state.t
+                break
             before = r.progress.n_windows
             n = _run_sets(KIND_TAYLOR, k0, 0, 0, 0, s0, s1, s2, s3, s4, s5, p[i:i + 1], t_eval, out_i,
                           win_t[: chunk + 1], win_y[: chunk + 1], win_coef[:chunk], cancel)

@@ -29,12 +29,13 @@ import numpy as np
 from ..approximants.taylor import HEADER
 from ..regimes.cycle import CYC_PERIOD, CYC_SIGN, CYC_T_OFF, CYC_WIND, CYCLE_TAG
 from ..regimes.cycle_windows import _period_store
+from ..regimes.common import REGIME_NONE, REGIMES_ALL
 from ..regimes.locked import LCK_V0, LCK_X0, LOCKED_TAG, _potential, locked_amplitude
 from ..special.jit import kernel
 from ..special.polyroots import crossings
 from .window import KIND_TAYLOR, evaluate, theta_of
 
-__all__ = ["locate", "taylor_events", "window_may_cross", "workspace", "EV_ANGLE", "EV_VELOCITY", "EV_SECTION", "EV_WIDTH", "WATCH_OK", "WATCH_CROWDED",
+__all__ = ["locate", "taylor_events", "window_may_cross", "workspace", "trap_allowed", "trapped_unreachable", "EV_ANGLE", "EV_VELOCITY", "EV_SECTION", "EV_WIDTH", "WATCH_OK", "WATCH_CROWDED",
            "WATCH_LOCKED"]
 
 # The event table's rows: (type, value, modulo, direction, terminal count).
@@ -53,6 +54,10 @@ _EPS = 2.0 ** -52
 # atol + rtol |θ|: the closed form is within SWITCH_SAFETY (0.1) of it from the exact
 # motion (L5), so 2 leaves a factor 20.
 LOCKED_MARGIN = 2.0
+# A trapped scene's margin, in tolerances of its state (trapped_unreachable): the state
+# carries the run's global error, which grows past the per-window tolerance over many
+# windows; a damped swing lowers the energy far more, so the trap waits a swing at most.
+TRAP_MARGIN = 1e3
 
 # locate's verdict on the windows it walked.
 WATCH_OK = 1
@@ -205,6 +210,25 @@ def _period_events(p_starts, p_coefs, p_n, ev, kn, alpha, beta_v, work, xs, ds, 
 
 
 @kernel
+def _levels_unreachable(lo, hi, v_max, ev, factor, rtol, atol):
+    # Whether no level of ``ev`` lies in θ ∈ [lo, hi] or at |θ'| ≤ v_max (a velocity
+    # level within ``factor`` tolerances of v_max counts as reached); a section event
+    # counts as reachable.
+    for e in range(ev.shape[0]):
+        kind, value, modulo = int(ev[e, 0]), ev[e, 1], ev[e, 2]
+        if kind == EV_ANGLE:
+            m = math.ceil((lo - value) / modulo)
+            if value + modulo * m <= hi or value + modulo * (m - 1.0) >= lo:
+                return False
+        elif kind == EV_VELOCITY:
+            if abs(value) <= v_max + factor * (atol + rtol * abs(value)):
+                return False
+        else:
+            return False
+    return True
+
+
+@kernel
 def locked_unreachable(theta, c, ev, lock):
     """Whether no event of ``ev`` can occur in a locked window (coefficients ``c``, its
     start's angle ``theta``) however long: the exact motion keeps |θ − θ*| ≤ A and
@@ -220,20 +244,39 @@ def locked_unreachable(theta, c, ev, lock):
     if not (amp < math.inf):
         return False
     margin = LOCKED_MARGIN * (atol + rtol * (abs(ts) + amp))
-    lo, hi = ts - amp - margin, ts + amp + margin
     v_max = math.sqrt(2.0 * max(0.0, 0.5 * v0 * v0 + _potential(w2, gamma, d, x0))) * (1.0 + 1e-8)
-    for e in range(ev.shape[0]):
-        kind, value, modulo = int(ev[e, 0]), ev[e, 1], ev[e, 2]
-        if kind == EV_ANGLE:
-            m = math.ceil((lo - value) / modulo)
-            if value + modulo * m <= hi or value + modulo * (m - 1.0) >= lo:
-                return False
-        elif kind == EV_VELOCITY:
-            if abs(value) <= v_max + LOCKED_MARGIN * (atol + rtol * abs(value)):
-                return False
-        else:
-            return False
-    return True
+    return _levels_unreachable(ts - amp - margin, ts + amp + margin, v_max, ev, LOCKED_MARGIN, rtol, atol)
+
+
+@kernel
+def trap_allowed(r, direction, n_out):
+    """Whether run record ``r`` may end where it is trapped (:func:`trapped_unreachable`):
+    forwards, undriven, β > 0, |γ| < ω², with the locked regime allowed for its events
+    (``regimes`` REGIMES_ALL: :func:`mbm.crossings.lock_allowed`), no regime taken yet
+    and its ``n_out`` outputs all written."""
+    m = r.model
+    return (direction > 0.0 and m.drive_amp == 0.0 and m.beta > 0.0 and abs(m.gamma) < m.omega * m.omega
+            and r.switch.regimes == REGIMES_ALL and r.switch.regime == REGIME_NONE and r.progress.j >= n_out)
+
+
+@kernel
+def trapped_unreachable(theta, v, ev, gamma, omega, rtol, atol, d):
+    """Whether the exact motion from (θ, θ') = (``theta``, ``v``) of an undriven scene
+    with β > 0 (forwards; ``d`` = arcsin(γ/ω²)) stays in its well and never reaches a
+    level of ``ev``: its energy H, raised by TRAP_MARGIN tolerances for the state's own
+    error, is below both barriers, so |θ − θ*| ≤ A and |θ'| ≤ sqrt(2H) for ever (L3), and
+    every level lies outside those bounds by TRAP_MARGIN tolerances.  Such a scene
+    tends to θ* (H decreases while θ' ≠ 0, and θ* is the well's only equilibrium): its
+    regime is locked, whatever the run's length."""
+    w2 = omega * omega
+    tol = atol + rtol * (abs(theta) + abs(v))
+    v_up = math.sqrt(v * v + 2.0 * TRAP_MARGIN * tol * (w2 + abs(gamma) + abs(v)))
+    ts, amp = locked_amplitude(gamma, omega, theta, v_up, d)
+    if not (amp < math.inf):
+        return False
+    margin = TRAP_MARGIN * (atol + rtol * (abs(ts) + amp))
+    v_max = math.sqrt(2.0 * max(0.0, 0.5 * v_up * v_up + _potential(w2, gamma, d, theta - ts))) * (1.0 + 1e-8)
+    return _levels_unreachable(ts - amp - margin, ts + amp + margin, v_max, ev, TRAP_MARGIN, rtol, atol)
 
 
 @numba.njit(cache=True)  # also called from Python

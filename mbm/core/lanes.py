@@ -40,11 +40,11 @@ from .window import (
     theta_of,
     window_log_eps,
 )
-from ..regimes.common import REGIME_NONE
+from ..regimes.common import REGIME_LOCKED, REGIME_NONE
 from ..regimes.cycle_windows import _TWO_PI, _watch_cycle
 from ..status import STATUS_ANCHOR, STATUS_OK
 from .event_batch import EVENTS_CAPACITY, lane_events
-from .event_watch import window_may_cross, workspace
+from .event_watch import trap_allowed, trapped_unreachable, window_may_cross, workspace
 
 # The per-window pieces of a lane are inlined (called, they made a 512-scene batch
 # ~16 % slower); the hand-off (once per scene, and the loop's entries behind it) and
@@ -113,18 +113,38 @@ def _lane_start(r, i, ln, coefs, lane):
 
 
 @kernel
-def _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel, handed):
-    # The lane's state written back as a paused run's, and the run finished by the loop
-    # (a lane's scene is in RS_DAMPED, or reached RS_CYCLE); with events (``handed`` not
-    # empty) marked in ``handed`` instead, for the event watch's loop to finish.
-    i = ln.scene
-    r = p[i]
+def _lane_write_back(r, ln):
+    # The lane's state written back to its record as a paused run's; the lane freed.
     r.state.t, r.state.theta, r.state.v, r.control.h_abs = ln.t, theta_of(ln.wind, ln.phi), ln.v, ln.h_abs
     r.winding.phi, r.winding.wind = ln.phi, ln.wind
     r.progress.n_windows = ln.n_windows
     r.progress.j = ln.j
     ln.scene = -1
     ln.ready = 0
+
+
+@kernel
+def _lane_trap(p, ln, n_out, ev):
+    # With events: a lane whose scene is trapped in its well below every level of ``ev``,
+    # with its outputs written, ends there (mbm.core.event_watch.trapped_unreachable):
+    # its regime locked from now, its status OK.
+    r = p[ln.scene]
+    c = r.control
+    if (trap_allowed(r, ln.direction, n_out)
+            and trapped_unreachable(theta_of(ln.wind, ln.phi), ln.v, ev, r.model.gamma, r.model.omega, c.rtol,
+                                    c.atol, ln.lk_d)):
+        _lane_write_back(r, ln)
+        r.switch.regime = REGIME_LOCKED
+        r.switch.t_regime = r.state.t
+
+
+@kernel
+def _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel, handed):
+    # The lane's state written back as a paused run's, and the run finished by the loop
+    # (a lane's scene is in RS_DAMPED, or reached RS_CYCLE); with events (``handed`` not
+    # empty) marked in ``handed`` instead, for the event watch's loop to finish.
+    i = ln.scene
+    _lane_write_back(p[i], ln)
     if handed.size:
         handed[i] = 1
         return
@@ -243,8 +263,10 @@ def _lanes_for(watch):
         With the watch, the events ``ev`` (at most ``cap`` of each stored, -1: all) are
         located on each window's polynomial as :func:`mbm.core.event_watch.locate`
         does (counts in ``hits_all``, ``stored_all``); a terminal event stops its scene
-        (:func:`mbm.core.event_batch.stop_at`), and a scene handed off is marked in
-        ``handed`` for the event watch's loop to finish.  Returns the stored events
+        (:func:`mbm.core.event_batch.stop_at`), a trapped scene ends before its next
+        window (:func:`_lane_trap`; the event watch's loop tests it before each chunk of
+        windows, so there such a scene may take a few windows more), and a scene handed
+        off is marked in ``handed`` for the event watch's loop to finish.  Returns the stored events
         (rows t, θ, θ', m; event; scene), empty without the watch.
         """
         win_t, win_y, win_coef = np.empty(0), np.empty((0, 2)), np.empty((0, 0))
@@ -280,6 +302,8 @@ def _lanes_for(watch):
                         p[i].progress.status = STATUS_ANCHOR
                 ln.ready = 1 if ln.scene >= 0 and _lane_before(p, ln, q, ins, t_eval, out, win_t, win_y, win_coef,
                                                                cancel, handed) else 0
+                if watch and ln.ready != 0 and ln.can_lock != 0:
+                    _lane_trap(p, ln, t_eval.size, ev)
                 live += ln.ready
             if live == 0:
                 if nxt >= ids.size:
