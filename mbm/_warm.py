@@ -9,6 +9,10 @@ in the reverse of the call's order, into the same on-disk cache.  When the call'
 compile reaches a kernel the helper has finished, numba loads it from the cache instead
 of compiling it; the two meet in the middle.
 
+A caller that knows its next first calls (``python -m mbm demo``: solve_ivp with "auto",
+then with "salas-torque") starts one helper for all of them with :func:`prefetch_keys`:
+it compiles the second call's kernels while this process is still on the first.
+
 The call compiles whatever it does not find, so its answers never depend on the helper
 (a helper that fails, is late or is absent changes only the wall time).  It is started
 only with a second core, the JIT on, a manifest written by this numba version, and not
@@ -26,7 +30,7 @@ import pickle
 import subprocess
 import sys
 
-__all__ = ["HELPER_ENV", "MANIFEST_FILE", "SCENES", "prefetch", "entry_key", "load_manifest"]
+__all__ = ["HELPER_ENV", "MANIFEST_FILE", "SCENES", "prefetch", "prefetch_keys", "entry_key", "load_manifest"]
 
 # Environment variable that turns the helper off when set to 0 / false / no / off.
 HELPER_ENV = "MBM_COMPILE_HELPER"
@@ -105,6 +109,11 @@ def _cold(entry):
         return False
 
 
+def _uncompiled(entry):
+    # Neither compiled in this process nor held by the cache.
+    return not entry.signatures and _cold(entry)
+
+
 def _cores():
     try:
         return len(os.sched_getaffinity(0))
@@ -124,11 +133,39 @@ def prefetch(path, entry):
     if entry in _checked:
         return False  # (the check of every later call: a dispatcher's signatures cost ~20 us)
     _checked.add(entry)
-    if entry.signatures or _env_off(HELPER_ENV) or os.environ.get(_IN_HELPER_ENV) or not _cold(entry):
-        return False
     where = entry_key(entry)
-    key = None if where is None else (path,) + where
-    if key is None or key in _started or _cores() < 2 or key not in load_manifest():
+    return where is not None and _start([((path,) + where, entry)])
+
+
+def prefetch_keys(keys):
+    """Start one helper for the manifest's ``keys`` (``(path, module, name, items)``, as
+    :data:`SCENES`), in order: for a caller that knows which first calls it makes next
+    (``python -m mbm demo``), so that the helper compiles a later call's kernels while
+    this process is still busy with an earlier one's.  The keys whose entries are
+    compiled or cached already are left out.
+
+    Returns
+    -------
+    bool
+        Whether a helper was started.
+    """
+    todo = []
+    for key in keys:
+        entry = _resolve(*key[1:])
+        if entry not in _checked:
+            _checked.add(entry)
+            todo.append((key, entry))
+    return _start(todo)
+
+
+def _start(pairs):
+    # One helper for the keys of ``pairs`` (key, entry) whose entries are cold (none
+    # started for them yet), where the module docstring's conditions hold.
+    if _env_off(HELPER_ENV) or os.environ.get(_IN_HELPER_ENV) or _cores() < 2:
+        return False
+    manifest = load_manifest()
+    keys = [k for k, e in pairs if k in manifest and k not in _started and _uncompiled(e)]
+    if not keys:
         return False
     import numba
 
@@ -138,12 +175,15 @@ def prefetch(path, entry):
     env = dict(os.environ, **{_IN_HELPER_ENV: "1", "MBM_COMPILE_NOTICE": "0"})
     env["PYTHONPATH"] = os.pathsep.join([root] + [p for p in env.get("PYTHONPATH", "").split(os.pathsep) if p])
     try:
-        _started[key] = subprocess.Popen(
-            [sys.executable, "-c", "import sys; from mbm._warm import main; sys.exit(main(sys.argv[1:]))", repr(key)],
+        proc = subprocess.Popen(
+            [sys.executable, "-c", "import sys; from mbm._warm import main; sys.exit(main(sys.argv[1:]))"]
+            + [repr(key) for key in keys],
             env=env, stdin=subprocess.DEVNULL,
             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     except OSError:
         return False
+    for key in keys:
+        _started[key] = proc
     return True
 
 
@@ -266,11 +306,12 @@ def regenerate(path=MANIFEST_FILE):
 
 
 def main(argv):
-    """A helper's body: ``main([repr(KEY)])`` compiles the manifest's path KEY."""
+    """A helper's body: ``main([repr(KEY), ...])`` compiles the manifest's paths KEY, in order."""
     import ast
     import importlib
 
     importlib.import_module("mbm")  # the package's import-time cache check first
 
-    compile_path(load_manifest().get(ast.literal_eval(argv[0]), []))
+    for text in argv:
+        compile_path(load_manifest().get(ast.literal_eval(text), []))
     return 0

@@ -142,6 +142,31 @@ def test_no_helper_for_a_compiled_entry_when_turned_off_or_inside_a_helper(monke
     assert _warm.prefetch("solve", fake) is False
 
 
+def test_prefetch_keys_starts_one_helper_for_the_cold_keys_in_order(monkeypatch):
+    if _warm._cores() < 2:
+        pytest.skip("the helper needs a second core")
+    keys = [key for key in _warm.SCENES if key[0] == "ivp"]  # the demo's: auto, then salas-torque
+    entries = [_warm._resolve(*key[1:]) for key in keys]
+    assert len(keys) == 2 and entries[0] is not entries[1]
+    started = []
+    monkeypatch.setattr(_warm.subprocess, "Popen", lambda *a, **k: started.append(a[0]) or object())
+    for cold, want in (({1}, [keys[1]]), ({0, 1}, keys)):
+        monkeypatch.setattr(_warm, "_uncompiled", lambda e, cold=cold: any(e is entries[j] for j in cold))
+        monkeypatch.setattr(_warm, "_started", {})
+        monkeypatch.setattr(_warm, "_checked", set())
+        started.clear()
+        assert _warm.prefetch_keys(keys) is True
+        # one helper, for the cold keys in order; each key is then taken
+        assert len(started) == 1 and started[0][3:] == [repr(k) for k in want]
+        assert set(_warm._started) == set(want)
+        assert _warm.prefetch_keys(keys) is False and _warm.prefetch("ivp", entries[1]) is False
+        assert len(started) == 1
+    monkeypatch.setattr(_warm, "_started", {})
+    monkeypatch.setattr(_warm, "_checked", set())
+    monkeypatch.setenv(_warm.HELPER_ENV, "0")
+    assert _warm.prefetch_keys(keys) is False and not _warm._started
+
+
 def test_a_manifest_of_another_numba_or_a_stale_row_is_ignored(monkeypatch, tmp_path):
     other = tmp_path / "m.pkl"
     other.write_bytes(pickle.dumps({"numba": "0.0.0", "paths": {DAMPED_KEY: []}}))
