@@ -120,7 +120,7 @@ def scene_events_for(flags):
         direction = 1.0 if r.state.t_bound >= r.state.t else -1.0
         chunk = FIRST_CHUNK
         while True:
-            if trap_allowed(r, direction, t_eval.size) and trapped_unreachable(
+            if trap_allowed(r, direction, r.progress.j, t_eval.size) and trapped_unreachable(
                     r.state.theta, r.state.v, ev, r.model.gamma, r.model.omega, r.control.rtol, r.control.atol,
                     math.asin(r.model.gamma / (r.model.omega * r.model.omega))):
                 # Trapped below every level, its outputs written: it ends here, locked.

@@ -249,14 +249,15 @@ def locked_unreachable(theta, c, ev, lock):
 
 
 @kernel
-def trap_allowed(r, direction, n_out):
+def trap_allowed(r, direction, j, n_out):
     """Whether run record ``r`` may end where it is trapped (:func:`trapped_unreachable`):
     forwards, undriven, β > 0, |γ| < ω², with the locked regime allowed for its events
     (``regimes`` REGIMES_ALL: :func:`mbm.crossings.lock_allowed`), no regime taken yet
-    and its ``n_out`` outputs all written."""
+    and its ``n_out`` outputs all written (``j`` of them are: the record's, or a lane's
+    own count while the lane holds the run)."""
     m = r.model
     return (direction > 0.0 and m.drive_amp == 0.0 and m.beta > 0.0 and abs(m.gamma) < m.omega * m.omega
-            and r.switch.regimes == REGIMES_ALL and r.switch.regime == REGIME_NONE and r.progress.j >= n_out)
+            and r.switch.regimes == REGIMES_ALL and r.switch.regime == REGIME_NONE and j >= n_out)
 
 
 @kernel

@@ -130,7 +130,7 @@ def _lane_trap(p, ln, n_out, ev):
     # its regime locked from now, its status OK.
     r = p[ln.scene]
     c = r.control
-    if (trap_allowed(r, ln.direction, n_out)
+    if (trap_allowed(r, ln.direction, ln.j, n_out)
             and trapped_unreachable(theta_of(ln.wind, ln.phi), ln.v, ev, r.model.gamma, r.model.omega, c.rtol,
                                     c.atol, ln.lk_d)):
         _lane_write_back(r, ln)
