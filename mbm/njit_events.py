@@ -116,7 +116,9 @@ def solve_njit_events(beta, gamma, omega, t0, theta0, v0, t_bound, t_eval, out, 
     The run and its events are those of ``mbm.solve(Pendulum(beta, gamma, omega,
     drive_amplitude, drive_frequency, drive_phase), (t0, t_bound), [theta0, v0],
     rtol=rtol, atol=atol, t_eval=t_eval, events=..., max_events=max_events)``, bit for
-    bit (the Taylor series, also at β = γ = 0).  Arguments are not validated (as a
+    bit (the Taylor series, also at β = γ = 0), but that a scene trapped out of its
+    events' reach with its outputs written ends there, as in :func:`mbm.solve_batch`
+    (fewer ``n_windows``; docs/guide/events.md).  Arguments are not validated (as a
     compiled kernel's), but for ``max_events``.
 
     Parameters

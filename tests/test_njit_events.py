@@ -46,6 +46,19 @@ def test_njit_events_equal_mbm_solve_bit_for_bit(scene):
     assert np.isnan(out[:, j:]).all()
 
 
+def test_njit_events_end_a_trapped_scene_as_the_batch_does():
+    # From rest at γ = 0.5 the scene never slips: with no outputs left it ends at once
+    # (its energy is below both barriers), where mbm.solve runs on to its locked form.
+    table = mbm.event_table(mbm.angle_event(math.pi, terminal=True))
+    te, out = np.empty(0), np.empty((2, 0))
+    status, nw, t_ev, y_ev, w_ev, n_ev = mbm.solve_njit_events(0.1, 0.5, 1.0, 0.0, 0.0, 0.0, 1000.0, te, out, 1e-9,
+                                                               1e-9, 10**7, table, 1)
+    r = mbm.solve(mbm.Pendulum(0.1, 0.5), (0.0, 1000.0), [0.0, 0.0], rtol=1e-9, atol=1e-9,
+                  events=mbm.angle_event(math.pi, terminal=True))
+    assert status == r.status == 0 and n_ev[0] == r.n_events[0] == 0 and np.isnan(t_ev).all()
+    assert nw == 0 < r.n_windows and r.regime == "locked"
+
+
 @numba.njit
 def _first_slips(gammas, ev):
     t, out = np.empty(0), np.empty((2, 0))
