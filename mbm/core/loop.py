@@ -77,7 +77,9 @@ from ..regimes.common import (
 )
 from ..regimes.cycle import CYCLE_WIDTH, cycle_coef, section_offset
 from ..regimes.cycle_windows import (
+    CYCLE_SWITCHED,
     _TWO_PI,
+    refine_period,
     _period_store,
     _period_value,
     _watch_cycle,
@@ -234,6 +236,8 @@ def _source_cycle(kind, r, t, direction, max_step, h_abs, per):
     first cycle window)."""
     m, c, y = r.model, r.control, r.cycle
     t_new = _window_end(t, direction, r.state.t_bound, max_step)
+    if y.cyc_k == CYCLE_SWITCHED:
+        refine_period(kind, r)  # (R4), once per run
     coef = cycle_coef(y.cyc_theta, y.cyc_v, y.cyc_T, t - y.cyc_t, m.beta, m.gamma, m.omega, c.rtol, c.atol,
                       y.cyc_sign, c.karg, c.error_order, y.cyc_wind, y.cyc_Tlo)
     if per[3] == -2:

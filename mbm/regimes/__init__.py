@@ -2,14 +2,14 @@
 
 A run whose motion has settled on its attractor ends with one last "window" to
 ``t_bound`` whose formula is the rest of the motion, so it costs its transient only.
-One module per regime; their derivations (items L1–L7, R1–R3, C1–C4, S1–S7, which
+One module per regime; their derivations (items L1–L7, R1–R4, C1–C4, S1–S7, which
 the code's comments cite) are in the documentation's theory page,
 ``docs/theory/regimes.md``:
 
 - :mod:`mbm.regimes.locked` (L1–L7): LOCKED (β > 0, |γ| < ω²), a run settling on a
   stable equilibrium: the linearized closed form, first or second order, with rigorous
   bounds on the neglected nonlinearity over any horizon.
-- :mod:`mbm.regimes.cycle` (R1–R3): RUNNING (β > 0), a rotation settling on its limit
+- :mod:`mbm.regimes.cycle` (R1–R4): RUNNING (β > 0), a rotation settling on its limit
   cycle θ(t + T_c) = θ(t) ± 2π: one stored period re-taken from an anchor crossing.
 - :mod:`mbm.regimes.libration` (C1–C4): LIBRATION (β = 0, |γ| < ω²), a conservative
   motion trapped in a well: its period by quadrature in double-double, stored as a cycle.

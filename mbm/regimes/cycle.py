@@ -8,7 +8,7 @@ the window :func:`cycle_coef`, evaluated by mbm.loop (``_cycle_phase``,
 ``_period_windows``).  A libration (:mod:`mbm.regimes.libration`, C3) is stored in the
 same layout, winding sign 0.
 
-The derivation, items R1–R3 (the comments below cite them), is in the
+The derivation, items R1–R4 (the comments below cite them), is in the
 documentation's theory page, ``docs/theory/regimes.md``.
 """
 

@@ -4,8 +4,10 @@ After each ordinary window the loop watches the return map of θ ≡ θ_s (mod 2
 (:func:`_cycle_watch_for`, R1, R2 of :mod:`mbm.regimes.cycle`); once it has converged,
 the windows are the stored period shifted (R3): the period's windows are re-taken once
 from the cycle's anchor (:func:`_period_windows_for`) and every value looked up in them
-(:func:`_period_lookup`).  A libration (:mod:`mbm.regimes.libration`) uses the same
-stored period with a double-double period (C3).
+(:func:`_period_lookup`); at the first cycle window the averaged period is refined
+once from two returns re-taken at a tight tolerance (:func:`refine_period`, R4).  A
+libration (:mod:`mbm.regimes.libration`) uses the same stored period with a
+double-double period (C3).
 """
 
 import math
@@ -25,6 +27,7 @@ from ..special.jit import kernel
 from .common import REGIME_RUNNING
 from .cycle import (
     CROSSING_ITERATIONS,
+    cycle_coef,
     CYCLE_AVERAGE_PERIODS,
     CYCLE_MAX_WINDOWS,
     cycle_switch,
@@ -46,6 +49,20 @@ CROSSING_NEWTON_SAFETY = 2.0
 
 _TWO_PI = 2.0 * math.pi
 
+
+# (R4): the refined period's re-take: its tolerance (far below the run's, so that the
+# two return times carry ~1e-15 of error), its span in periods (past the second return),
+# the least 1 − μ it extrapolates with (the error of (T₂ − μT₁)/(1 − μ) grows as 1/(1 − μ)),
+# and how far from the averaged period, in the run's tolerances, it may land (farther:
+# the re-take went wrong, and the averaged period stands).
+PERIOD_REFINE_RTOL = 1e-13
+PERIOD_REFINE_SPAN = 2.2
+PERIOD_REFINE_MIN_CONTRACTION = 1e-2
+PERIOD_REFINE_TRUST = 1e3
+# The record's cyc_k at the running cycle's switch (the averaging's count, done with),
+# and once its period is refined (R4).
+CYCLE_SWITCHED = CYCLE_AVERAGE_PERIODS + 1
+CYCLE_REFINED = -1
 
 # Windows a stored period's arrays hold at first (doubled as needed): a period takes
 # ~10-100 windows at the tolerances in use.
@@ -255,6 +272,56 @@ def _period_value(kind, c, starts, ends, coefs, n, t):
     if kind == KIND_SPLIT:
         return _period_lookup_split(c, starts, ends, coefs, n, t)
     return _period_lookup_taylor(c, starts, ends, coefs, n, t)
+
+
+@kernel
+def refine_period(kind, r):
+    """The running cycle's period refined once (R4), at the run's first cycle window: its
+    record's T_c (:func:`_refined_period`), ``cyc_k`` CYCLE_REFINED after.  Called by the
+    cycle's window source (RS_CYCLE), so that the damped set's entries do not compile the
+    period's re-take."""
+    y = r.cycle
+    if r.switch.regime == REGIME_RUNNING and y.cyc_k == CYCLE_SWITCHED:
+        y.cyc_T = _refined_period(kind, r, y.cyc_theta, y.cyc_v, y.cyc_T, y.cyc_sign, y.cyc_wind)
+        y.cyc_k = CYCLE_REFINED
+
+
+@numba.njit(**_INLINE)
+def _refined_period(kind, r, theta_c, v_c, period, sgn, wind):
+    """T_c from two returns to the section re-taken from the cycle's anchor (θ_c, v_c),
+    in time from the anchor and at PERIOD_REFINE_RTOL (R4): the return times T₁, T₂
+    approach T_c geometrically by the cycle's multiplier μ = e^{−βT_c} (the flow's
+    divergence is −β), so T_c = (T₂ − μT₁)/(1 − μ).  The averaged ``period`` (R2) where
+    μ is too close to 1 for that, the re-take fails, or its answer is not within
+    PERIOD_REFINE_TRUST of the averaged one."""
+    m, ctl = r.model, r.control
+    if not (1.0 - math.exp(-m.beta * period) >= PERIOD_REFINE_MIN_CONTRACTION):
+        return period
+    rt, at = min(ctl.rtol, PERIOD_REFINE_RTOL), min(ctl.atol, PERIOD_REFINE_RTOL)
+    c = cycle_coef(theta_c, v_c, PERIOD_REFINE_SPAN * period, 0.0, m.beta, m.gamma, m.omega, rt, at, sgn, ctl.karg,
+                   ctl.error_order, wind, 0.0)
+    starts, ends, coefs, n = _period_store(kind, c)
+    w2 = m.omega * m.omega
+    acc0 = m.gamma - w2 * math.sin(theta_c)  # θ'' = acc0 − βθ' on every level θ_c + 2πj
+    t1 = t2 = math.nan
+    i = 0
+    for j in range(1, 3):
+        level = theta_c + sgn * _TWO_PI * j
+        while i < n:
+            f0, f1 = ends[i, 0] - level, ends[i + 1, 0] - level
+            if f1 == 0.0 or (f0 < 0.0) != (f1 < 0.0):
+                sx = _crossing(kind, coefs[i], starts[i + 1] - starts[i], f0, f1, level, acc0, m.beta, w2)[0]
+                if j == 1:
+                    t1 = starts[i] + sx
+                else:
+                    t2 = starts[i] + sx
+                break
+            i += 1
+    mu = math.exp(-m.beta * (t2 - t1))
+    refined = ((t2 - t1) - mu * t1) / (1.0 - mu)
+    if not (abs(refined - period) <= PERIOD_REFINE_TRUST * (ctl.atol + ctl.rtol * period)):
+        return period
+    return refined
 
 
 def _cycle_crossing_for(kind):
