@@ -11,17 +11,20 @@ half a second); they are loaded on first use so that ``import mbm`` followed by
 At import, :mod:`mbm._cache` drops numba's cached kernels if any of mbm's sources
 changed since they were cached (``MBM_KEEP_CACHE=1`` skips this), and the first
 compilation of a kernel in a process writes one line to stderr (``MBM_COMPILE_NOTICE=0``
-silences it).
+silences it); while numba compiles mbm's kernels, :mod:`mbm._compile_gc` runs Python's
+garbage collector less often (``MBM_COMPILE_GC=0`` leaves it alone).
 """
 
 import importlib
 
-from . import _cache
+from . import _cache, _compile_gc
 
 # Before any compiled module: a kernel must not load from a cache older than its callees,
-# and a first compile should say so (MBM_KEEP_CACHE=1, MBM_COMPILE_NOTICE=0 turn these off).
+# and a first compile should say so (MBM_KEEP_CACHE=1, MBM_COMPILE_NOTICE=0 turn these off)
+# and not spend a tenth of its time in the garbage collector (MBM_COMPILE_GC=0).
 _cache.check_sources()
 _cache.install_compile_notice()
+_compile_gc.install()
 
 from . import choice  # noqa: F401  (mbm.choice: the "auto" rule, documented in the README)
 from .approximants import (

@@ -5,9 +5,11 @@ loop entry compiles its ~50 kernels one after the other on one core.  Where the 
 holds no compiled code for the entry a Python path is about to call,
 :func:`prefetch` starts one helper process (:func:`main` with KEY) that compiles
 the same kernels with the signatures recorded for that path in :data:`MANIFEST_FILE`,
-in the reverse of the call's order, into the same on-disk cache.  When the call's own
-compile reaches a kernel the helper has finished, numba loads it from the cache instead
-of compiling it; the two meet in the middle.
+into the same on-disk cache, in the mirror image of the call's order: the call compiles
+its call tree leftmost callee first, the helper rightmost first (each kernel after its
+callees in both).  When the call's own compile reaches a kernel the helper has finished,
+numba loads it from the cache instead of compiling it; the two meet in the middle of
+the tree.
 
 A caller that knows its next first calls (``python -m mbm demo``: solve_ivp with "auto",
 then with "salas-torque") starts one helper for all of them with :func:`prefetch_keys`:
@@ -223,19 +225,19 @@ def compile_path(entries):
 _CAPTURE = r'''
 import pickle, sys
 from numba.core import event
-order = []
+ends = []
 class Listener(event.Listener):
     def on_start(self, ev):
         pass
     def on_end(self, ev):
         d = (ev.data or {}).get("dispatcher")
-        if d is not None and d not in order:
-            order.append(d)
+        if d is not None and d not in ends:
+            ends.append(d)
 event.register("numba:compile", Listener())
 exec(sys.argv[1])
 exec(sys.argv[2])
 from mbm import _warm
-sys.stdout.buffer.write(pickle.dumps(_warm._recorded(order, eval(sys.argv[3]))))
+sys.stdout.buffer.write(pickle.dumps(_warm._recorded(ends, eval(sys.argv[3]))))
 '''
 
 
@@ -267,23 +269,52 @@ def _locations():
     return found
 
 
-def _recorded(order, key):
-    # The manifest's list for ``key``, in the helper's order: the package's kernels the
-    # scene compiled before its entry (its callees) last first, then those it compiled
-    # after it (the dense output's) in order, which the helper reaches while the call
-    # lowers the entry; less the entry itself and numba's own implementations.
+def _callees(d, by_library):
+    # The package's kernels that dispatcher ``d``'s compiled code calls (its linked libraries).
+    out = []
+    for cres in d.overloads.values():
+        for lib in getattr(cres.library, "_linking_libraries", ()):
+            c = by_library.get(id(lib))
+            if c is not None and c is not d and c not in out:
+                out.append(c)
+    return out
+
+
+def _recorded(ends, key):
+    # The manifest's list for ``key``, in the helper's order.  The call compiles the
+    # kernels depth first, each after its callees, leftmost callee first (``ends``: the
+    # order their compiles ended); the helper takes the mirror image of that order,
+    # rightmost callee first and still each after its callees (from the compiled call
+    # graph), so that the two meet in the middle of the tree rather than racing down the
+    # same branch.  The kernels the call compiled before its entry and out of the entry's
+    # reach come next, the last first; then those it compiled after the entry (the dense
+    # output's), in order, which the helper reaches while the call lowers the entry.  The
+    # entry itself and numba's own implementations are left out.
     entry = _resolve(*key[1:])
     found = _locations()
-    before, after = [], []
-    rows = before
+    by_library = {id(cres.library): d for d in ends for cres in d.overloads.values()}
+    pos = {id(d): q for q, d in enumerate(ends)}
+    split = pos.get(id(entry), len(ends))
+    order, seen = [], {id(entry)}
+
+    def visit(d):
+        seen.add(id(d))
+        for c in sorted(_callees(d, by_library), key=lambda c: pos.get(id(c), -1), reverse=True):
+            if id(c) not in seen:
+                visit(c)
+        order.append(d)
+
+    for root in [entry] + ends[:split][::-1]:
+        if id(root) not in seen or root is entry:
+            visit(root)
+    order.remove(entry)
+    order += [d for d in ends[split + 1:] if id(d) not in seen]
+    rows = []
     for d in order:
-        if d is entry:
-            rows = after
-            continue
         where = found.get(id(d))
         if where is not None:
             rows.extend(where + (sig,) for sig in d.overloads)
-    return before[::-1] + after
+    return rows
 
 
 def regenerate(path=MANIFEST_FILE):

@@ -352,7 +352,6 @@ class MBM(_MBMBase):
         self._store_size = None
         self._windows = None
         if self._kind is not None:
-            self._width = _coefficient_width(self.approximant, self._kind[1], self.model, self.y)
             self._store_size = min(WINDOW_BUFFER, wps or WINDOW_BUFFER)
             self._words = _new_record(
                 self.model, float(self.t), self.y, float(self.t_bound), self._kind, controller, h_abs,
@@ -367,6 +366,8 @@ class MBM(_MBMBase):
             self._runner = loop.runner_for(self._run[0])
             # From a cold cache, a helper process compiles the kernels beside it (mbm._warm).
             _warm.prefetch("ivp", self._runner)
+            # After the helper's start: the width may compile the kind's anchor kernel.
+            self._width = _coefficient_width(self.approximant, self._kind[1], self.model, self.y)
 
     def _step_impl(self):
         if self._run is None:

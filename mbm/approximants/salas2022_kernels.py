@@ -113,7 +113,9 @@ def _root_between(a, b, y0, f0, p, q, r):
 def _sorted3(a, n):
     """The first ``n`` ≤ 3 items of ``a`` in increasing order, NaN last (np.sort's order),
     as a new array: np.sort compiles numba's whole quicksort (~2 s of a first call)."""
-    out = a[:n].copy()
+    out = np.empty(n)
+    for i in range(n):
+        out[i] = a[i]
     for i in range(1, n):
         x = out[i]
         j = i - 1
