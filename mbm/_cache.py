@@ -37,7 +37,7 @@ KEEP_CACHE_ENV = "MBM_KEEP_CACHE"
 # Environment variable that silences the compile notice when set to 0 / false / no / off.
 NOTICE_ENV = "MBM_COMPILE_NOTICE"
 # What the notice says a first call compiles for (docs/first_calls.md, 2 cores).
-NOTICE_COST = "about 7 s on 2 cores with the compile helper, 10-12 s without"
+NOTICE_COST = "about 6 s on 2 cores with the compile helper, 7-9 s without"
 
 _PACKAGE_ROOT = os.path.dirname(os.path.abspath(__file__))
 _FALSE = ("0", "false", "no", "off")
