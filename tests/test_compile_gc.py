@@ -3,6 +3,7 @@ the outermost compile of an mbm kernel and all compiles inside it, restored afte
 (also when it fails), untouched for other compiles, for a warm cache and when turned off."""
 
 import gc
+import inspect
 import os
 import subprocess
 import sys
@@ -63,6 +64,19 @@ def test_a_higher_user_threshold_is_kept(thresholds):
     assert gc.get_threshold() == (10 ** 6, 5, 5)
 
 
+class _Probe(event.Listener):
+    """Registered after mbm's listener: the gen-0 threshold each compile starts with."""
+
+    def __init__(self):
+        self.seen = []
+
+    def on_start(self, ev):
+        self.seen.append(gc.get_threshold()[0])
+
+    def on_end(self, ev):
+        pass
+
+
 def test_restored_when_a_compile_fails(thresholds):
     import numba
 
@@ -74,23 +88,14 @@ def test_restored_when_a_compile_fails(thresholds):
         return x.no_such_attribute
 
     probe.__module__ = "mbm._probe_gc"  # an mbm kernel as the listener tells them
-    seen = []
-
-    class Probe(event.Listener):  # registered after mbm's: sees the threshold it set
-        def on_start(self, ev):
-            seen.append(gc.get_threshold()[0])
-
-        def on_end(self, ev):
-            pass
-
-    spy = Probe()
+    spy = _Probe()
     event.register("numba:compile", spy)
     try:
         with pytest.raises(numba.core.errors.TypingError):
             numba.njit(probe)(1.0)
     finally:
         event.unregister("numba:compile", spy)
-    assert seen == [_compile_gc.COMPILE_GEN0_THRESHOLD]
+    assert spy.seen == [_compile_gc.COMPILE_GEN0_THRESHOLD]
     assert gc.get_threshold() == (700, 10, 10) and listener.depth == 0
 
 
@@ -100,19 +105,12 @@ _CHILD = textwrap.dedent("""
     import mbm
     from numba.core import event
     from mbm import _compile_gc
-    seen = []
-
-    class Probe(event.Listener):  # registered after mbm's: sees the threshold it set
-        def on_start(self, ev):
-            seen.append(gc.get_threshold()[0])
-
-        def on_end(self, ev):
-            pass
-
-    event.register("numba:compile", Probe())
+""") + textwrap.dedent(inspect.getsource(_Probe)) + textwrap.dedent("""
+    spy = _Probe()
+    event.register("numba:compile", spy)
     before = gc.get_threshold()
     mbm.solve(mbm.Pendulum(0.1, 0.3), (0.0, 1.0), [0.1, 0.0], tau=0.5)
-    print(json.dumps({"before": before, "after": gc.get_threshold(), "seen": sorted(set(seen))}))
+    print(json.dumps({"before": before, "after": gc.get_threshold(), "seen": sorted(set(spy.seen))}))
 """)
 
 
