@@ -302,7 +302,7 @@ t = np.linspace(0.0, 80.0, 201)
 calls = [("MBM (solve_ivp), first call",
           lambda: solve_ivp(model, (0.0, 80.0), y0, method=mbm.MBM, model=model, t_eval=t,
                             rtol=1e-6, atol=1e-6)),
-         ("mbm.solve, first call",
+         ("mbm.solve after it (its own compile)",
           lambda: mbm.solve(model, (0.0, 80.0), y0, t_eval=t, rtol=1e-6, atol=1e-6))]
 for name, fn in calls:
     t0 = time.perf_counter()
@@ -326,7 +326,8 @@ def cold_first_call_seconds():
     Returns
     -------
     dict or None
-        ``{"import mbm": s, "MBM (solve_ivp), first call": s, "mbm.solve, first call": s}``,
+        ``{"import mbm": s, "MBM (solve_ivp), first call": s, "mbm.solve after it (its own
+        compile)": s}`` (the two paths share the loop's entries, so the second is ~0),
         or None if the subprocess failed.
     """
     import subprocess
