@@ -1,16 +1,18 @@
 """Python's cyclic garbage collector relaxed while numba compiles one of mbm's kernels.
 
 A first call's compile allocates about a million container objects (numba's IR, its
-types, the copies of inlined bodies) that live until the compile ends.  At Python's
+types, the copies of inlined bodies), most of them in reference cycles that only the
+collector frees.  At Python's
 default gen-0 threshold (700 allocations) the collector runs thousands of times while it
-compiles, each run walking the young objects, and that cost 10-15 % of a first call
-(``solve_ivp`` then salas-torque from an empty cache, one core: 9.5 + 7.1 s with the
-default, 8.3 + 6.5 s with the threshold below).  While the outermost compile of an mbm
+compiles, each run walking the young objects, and that cost about a tenth of a first
+call (``solve_ivp`` then salas-torque from an empty cache on one core: 8.6 + 6.9 s with
+the default, 7.9 + 6.0 s with the threshold below; docs/compile_gc.md, written by
+``python -m benchmarks.compile_gc``).  While the outermost compile of an mbm
 kernel runs, :func:`install`'s listener raises the gen-0 threshold to
 :data:`COMPILE_GEN0_THRESHOLD` and restores the thresholds it found when that compile
 ends, by an exception too.  Nothing else changes: the garbage is collected as before,
-by fewer runs (the peak memory of that first call rose from 289 to 301 MB), and a warm
-cache compiles nothing.  A user's own threshold, where higher, is kept;
+by fewer runs (the peak memory of those first calls rose from 290 to 316 MB), and a
+warm cache compiles nothing.  A user's own threshold, where higher, is kept;
 ``MBM_COMPILE_GC=0`` leaves the collector alone.
 """
 
@@ -20,7 +22,7 @@ import os
 __all__ = ["COMPILE_GEN0_THRESHOLD", "GC_ENV", "install"]
 
 # Gen-0 threshold while an mbm kernel compiles: about 70 times fewer collector runs than
-# the default 700, for ~12 MB more peak memory (measured; 100 000 was no faster).
+# the default 700, for ~26 MB more peak memory (docs/compile_gc.md).
 COMPILE_GEN0_THRESHOLD = 50_000
 # Environment variable that leaves the collector's thresholds alone when set to 0 / false / no / off.
 GC_ENV = "MBM_COMPILE_GC"

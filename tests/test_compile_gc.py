@@ -129,3 +129,13 @@ def test_a_first_call_compiles_with_it_unless_turned_off(tmp_path, setting):
     # a warm cache compiles nothing: a second process sees no compile at all
     proc = subprocess.run([sys.executable, "-c", _CHILD], env=env, capture_output=True, text=True, timeout=600)
     assert json.loads(proc.stdout.strip().splitlines()[-1])["seen"] == []
+
+
+def test_the_benchmark_page_takes_medians_and_marks_a_failed_setting():
+    from benchmarks import compile_gc
+
+    page = compile_gc.format_page({"relaxed": [[7.9, 6.0, 316.4], None, [8.1, 6.2, 311.0]],
+                                   "MBM_COMPILE_GC=0": [None]}, 3)
+    assert "| relaxed | 8.0 | 6.1 | 314 |" in page
+    assert "| MBM_COMPILE_GC=0 | failed | failed | failed |" in page
+    assert "median of 3" in page and "python -m benchmarks.compile_gc" in page
