@@ -295,7 +295,7 @@ def _recorded(ends, key):
     by_library = {id(cres.library): d for d in ends for cres in d.overloads.values()}
     pos = {id(d): q for q, d in enumerate(ends)}
     split = pos.get(id(entry), len(ends))
-    order, seen = [], {id(entry)}
+    order, seen = [], set()
 
     def visit(d):
         seen.add(id(d))
@@ -305,7 +305,7 @@ def _recorded(ends, key):
         order.append(d)
 
     for root in [entry] + ends[:split][::-1]:
-        if id(root) not in seen or root is entry:
+        if id(root) not in seen:
             visit(root)
     order.remove(entry)
     order += [d for d in ends[split + 1:] if id(d) not in seen]

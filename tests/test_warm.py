@@ -180,3 +180,31 @@ def test_a_manifest_of_another_numba_or_a_stale_row_is_ignored(monkeypatch, tmp_
     # a row naming a kernel that is gone, then one with a signature it no longer takes
     rows = [("mbm.core.loop", "no_such_kernel", (), ()), ("mbm.core.window", "theta_of", (), ())]
     assert _warm.compile_path(rows) == 0
+
+
+def test_the_helper_takes_the_mirror_image_of_the_calls_order(monkeypatch):
+    # A call tree entry -> (a -> (a1, a2), b -> (b1, a2)), compiled by the call leftmost
+    # first (ends: a1, a2, a, b1, b, entry), then x after the entry (the dense output's)
+    # and p before it out of the entry's reach (solve_ivp's width from Python).
+    class Lib:
+        def __init__(self, callees=()):
+            self._linking_libraries = [c.lib for c in callees]
+
+    class Res:
+        def __init__(self, lib):
+            self.library = lib
+
+    class Disp:
+        def __init__(self, name, *callees):
+            self.name, self.lib = name, Lib(callees)
+            self.overloads = {("sig", name): Res(self.lib)}
+
+    a1, a2, b1, p, x = (Disp(n) for n in ("a1", "a2", "b1", "p", "x"))
+    a, b = Disp("a", a1, a2), Disp("b", b1, a2)
+    entry = Disp("entry", a, b)
+    ends = [p, a1, a2, a, b1, b, entry, x]
+    monkeypatch.setattr(_warm, "_resolve", lambda *where: entry)
+    monkeypatch.setattr(_warm, "_locations", lambda: {id(d): ("m", d.name, ()) for d in ends})
+    rows = _warm._recorded(ends, ("ivp", "m", "entry", ()))
+    assert [name for _, name, _, _ in rows] == ["b1", "a2", "b", "a1", "a", "p", "x"]
+    assert rows[0][3] == ("sig", "b1")
