@@ -127,7 +127,8 @@ _COMPILED = textwrap.dedent("""
 NOT_FOR_DAMPED = ("_strobe", "taylor_driven_coefficients_into", "libration_period", "_period_windows",
                   "mbm.dense.")
 # Every regime's kernels: a fixed-window kind takes none.
-REGIME_KERNELS = NOT_FOR_DAMPED + ("locked_choice", "cycle_crossing", "locked_quick_reject", "_lock_setup")
+REGIME_KERNELS = NOT_FOR_DAMPED + ("locked_choice", "cycle_crossing", "locked_quick_reject", "_lock_setup",
+                                  "_form_damped")
 
 
 def _compiled_names(which, tmp_path):

@@ -6,6 +6,7 @@ import re
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 import mbm
 from mbm import loop
@@ -27,8 +28,10 @@ LAYOUT = {
     "strobe": ("str_t0", "str_n", "str_k", "str_phi", "str_v", "str_p", "str_m", "str_d1t", "str_d1v",
                "str_d2t", "str_d2v", "str_d3t", "str_d3v", "str_ta", "str_psi", "str_tau1", "str_tau2",
                "str_rho", "str_nw", "str_q", "str_ring", "str_qtau1", "str_qtau2", "str_qrho", "str_qb"),
+    "damped": ("dmp_beta", "dmp_gamma", "dmp_omega", "dmp_d", "dmp_wl2", "dmp_g0", "dmp_g1", "dmp_sd", "dmp_q2",
+               "dmp_sec_off", "dmp_sec_acc"),
 }
-SIZE = 1304
+SIZE = 1392
 
 
 def test_layout_is_the_named_groups():
@@ -102,3 +105,61 @@ def test_solve_njit_and_batch_build_records_with_the_initialiser():
     batch_src = (ROOT / "mbm" / "batch.py").read_text()
     assert "loop.init_run(" in njit_src and "loop.init_runs(" in batch_src
     assert "np.zeros(1, dtype=loop.RUN)" not in njit_src and 'p["' not in batch_src
+
+
+def test_a_fresh_record_has_no_damped_constants():
+    p = loop.new_run(0.1, 0.2, 1.5, 0.0, 0.4, -0.5, 9.0, loop.KIND_TAYLOR, 24, loop.CONTROLLER_ADAPTIVE, -1.0,
+                     math.inf, 1e-8, 1e-8, 24, 1000)
+    d = p[0]["damped"]
+    assert math.isnan(d["dmp_beta"]) and math.isnan(d["dmp_gamma"]) and math.isnan(d["dmp_omega"])
+
+
+# A damped scene (RS_DAMPED) that locks, and one whose return map is watched (running).
+_DAMPED_SCENES = [(0.5, 0.3, 1.2, 0.8, 0.0, 60.0), (0.2, 1.3, 1.0, 0.0, 0.0, 30.0)]
+
+
+def _damped_buffer(beta, gamma, omega):
+    p = loop.new_run(beta, gamma, omega, 0.0, 0.0, 0.0, 0.0, loop.KIND_TAYLOR, 24, loop.CONTROLLER_ADAPTIVE,
+                     -1.0, math.inf, 1e-9, 1e-9, 24, 10**6)
+    assert loop.set_of(p[0]) == loop.RS_DAMPED
+    buf = np.empty((2, loop.RUN.itemsize // 8))
+    buf[0] = p.view(np.float64)
+    return buf
+
+
+def _entry_run(buf, theta0, t1, t_eval):
+    entry = loop.entry_for(loop.KIND_TAYLOR, loop.RS_DAMPED, 24)
+    out = np.empty((2, t_eval.size))
+    no_t, no_y, no_coef = np.empty(0), np.empty((0, 2)), np.empty((0, 0))
+    entry(buf, True, 0.0, theta0, 0.0, t1, -1.0, t_eval, out, no_t, no_y, no_coef, np.zeros(1, dtype=np.int64))
+    return out, buf[1].copy()
+
+
+@pytest.mark.parametrize("beta,gamma,omega,theta0,_,t1", _DAMPED_SCENES)
+def test_damped_constants_are_formed_once_and_kept_in_the_template(beta, gamma, omega, theta0, _, t1):
+    buf = _damped_buffer(beta, gamma, omega)
+    t_eval = np.linspace(0.0, t1, 41)
+    out1, run1 = _entry_run(buf, theta0, t1, t_eval)
+    d = buf[0].view(loop.RUN)[0]["damped"]
+    # the run's model's constants, as the locked test (L1, L4, L7) and the section (R1) form them
+    want = mbm.regimes.locked._lock_setup.py_func(beta, gamma, omega, abs(gamma) < omega**2, True)[:6]
+    assert (d["dmp_beta"], d["dmp_gamma"], d["dmp_omega"]) == (beta, gamma, omega)
+    assert (d["dmp_d"], d["dmp_wl2"], d["dmp_g0"], d["dmp_g1"], d["dmp_sd"], d["dmp_q2"]) == want
+    assert d["dmp_sec_off"] == mbm.regimes.section_offset(gamma, omega)
+    assert d["dmp_sec_acc"] == gamma - omega * omega * math.sin(d["dmp_sec_off"])
+    # the next run from the template takes them as formed: the same run, bit for bit
+    out2, run2 = _entry_run(buf, theta0, t1, t_eval)
+    assert out1.tobytes() == out2.tobytes() and run1.tobytes() == run2.tobytes()
+
+
+def test_damped_constants_of_another_model_are_formed_again():
+    # a template whose model words change after a run (a swept γ) runs as a new record would
+    (beta, gamma, omega, theta0, _, t1), (_, gamma2, _, _, _, _) = _DAMPED_SCENES[0], _DAMPED_SCENES[1]
+    t_eval = np.linspace(0.0, t1, 41)
+    buf = _damped_buffer(beta, gamma, omega)
+    _entry_run(buf, theta0, t1, t_eval)
+    buf[0, loop.WORD["gamma"]] = gamma2
+    got, run = _entry_run(buf, theta0, t1, t_eval)
+    want, run_new = _entry_run(_damped_buffer(beta, gamma2, omega), theta0, t1, t_eval)
+    assert got.tobytes() == want.tobytes() and run.tobytes() == run_new.tobytes()
+    assert buf[0, loop.WORD["dmp_gamma"]] == gamma2

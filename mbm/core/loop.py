@@ -53,7 +53,7 @@ from .controller import (
     _window_end,
     fixed_window,
 )
-from .record import start_record, words_of
+from .record import RUN, WORD, start_record, words_of
 from .window import (
     KIND_EXACT,
     KIND_SALAS_TORQUE,
@@ -140,23 +140,61 @@ def _store_window(win_t, win_y, win_coef, n, coef, t_new, theta, v):
 
 
 @kernel
+def _form_damped(r):
+    """The damped set's constants of the model's β, γ, ω into the record's ``damped``
+    group (:data:`mbm.core.record.DAMPED`): the locked test's where |γ| < ω² (L1, L4,
+    L7's quick term) and the section's (R1)."""
+    m, q = r.model, r.damped
+    beta, gamma, omega = m.beta, m.gamma, m.omega
+    q.dmp_d, q.dmp_wl2, q.dmp_g0, q.dmp_g1, q.dmp_sd, q.dmp_q2, _ = _lock_setup(
+        beta, gamma, omega, abs(gamma) < omega * omega, True)
+    q.dmp_sec_off = section_offset(gamma, omega)
+    # θ'' = sec_acc − βθ' on a section level (sin θ there is sin θ_s): _crossing.
+    q.dmp_sec_acc = gamma - omega * omega * math.sin(q.dmp_sec_off)
+    q.dmp_beta, q.dmp_gamma, q.dmp_omega = beta, gamma, omega
+
+
+@kernel
 def damped_setup(r, may, width):
     """The damped regimes' constants of an RS_DAMPED run (record ``r``): whether the
     locked regime may apply (L5, where |γ| < ω², its formula fits the window store and
     ``regimes`` is not REGIMES_PERIODIC), the locked test's constants
     (:func:`mbm.regimes.locked._lock_setup`, the last whether the second-order form
     L6-L7 fits), whether the return map is watched (R1-R3), the
-    section level's offset θ_s and θ'' = sec_acc − βθ' on it.  Shared by the loop and
-    the lanes (:mod:`mbm.core.lanes`)."""
-    beta, gamma, omega = r.model.beta, r.model.gamma, r.model.omega
+    section level's offset θ_s and θ'' = sec_acc − βθ' on it.  The per-model constants
+    come from the record's ``damped`` group, formed first where they are not the
+    model's (:func:`_form_damped`).  Shared by the loop and the lanes
+    (:mod:`mbm.core.lanes`)."""
+    m, q = r.model, r.damped
+    beta, gamma, omega = m.beta, m.gamma, m.omega
+    if not (q.dmp_beta == beta and q.dmp_gamma == gamma and q.dmp_omega == omega):
+        _form_damped(r)
     can_lock = (may and r.switch.regimes != REGIMES_PERIODIC and abs(gamma) < omega * omega
                 and (width == 0 or width >= LOCKED_WIDTH))
-    lk = _lock_setup(beta, gamma, omega, can_lock, can_lock and (width == 0 or width >= LOCKED2_WIDTH))
+    lk = (0.0, 1.0, 0.0, 0.0, 0.0, 0.0, False)
+    if can_lock:
+        # L6-L7 only where the store has room for the second-order form.
+        q2 = q.dmp_q2 if width == 0 or width >= LOCKED2_WIDTH else 0.0
+        lk = (q.dmp_d, q.dmp_wl2, q.dmp_g0, q.dmp_g1, q.dmp_sd, q2, q2 > 0.0)
     can_cycle = may and (width == 0 or width >= CYCLE_WIDTH)
-    sec_off = section_offset(gamma, omega) if can_cycle else 0.0
-    # θ'' = sec_acc − βθ' on a section level (sin θ there is sin θ_s): _crossing.
-    sec_acc = gamma - omega * omega * math.sin(sec_off)
-    return can_lock, lk, can_cycle, sec_off, sec_acc
+    if can_cycle:
+        return can_lock, lk, can_cycle, q.dmp_sec_off, q.dmp_sec_acc
+    return can_lock, lk, can_cycle, 0.0, gamma - omega * omega * math.sin(0.0)
+
+
+_W_DMP = WORD["dmp_beta"]
+_DMP_WORDS = RUN.fields["damped"][0].itemsize // 8
+
+
+@kernel
+def _keep_damped(buf):
+    """The damped constants a fresh call formed kept in its template (``buf``'s row 0,
+    whose model is the run's), so the template's next runs find them formed."""
+    tpl, words = buf[0], buf[buf.shape[0] - 1]
+    if not (tpl[_W_DMP] == words[_W_DMP] and tpl[_W_DMP + 1] == words[_W_DMP + 1]
+            and tpl[_W_DMP + 2] == words[_W_DMP + 2]):
+        for i in range(_W_DMP, _W_DMP + _DMP_WORDS):
+            tpl[i] = words[i]
 
 
 # Inlined: as a call it costs ~5 us of a ~13 us short locked run (P1, 8 windows).
@@ -462,6 +500,8 @@ def _runner(kind, rset, simd=False):
         may = r.switch.regimes != 0 and r.control.controller == CONTROLLER_ADAPTIVE and direction > 0.0
         can_lock, lk, can_cycle, sec_off, sec_acc, can_librate, sp = _regime_setup(
             kind, rset, r, may, width, t, n_total)
+        if rset == RS_DAMPED and fresh:
+            _keep_damped(buf)
         ws = taylor_workspace(r.control.karg)  # one coefficient workspace for the call's windows
         per = (np.empty(0), np.empty((0, 2)), np.empty((0, 0)), -2)  # the stored period (R3)
         sp_next = sp[3]

@@ -85,12 +85,22 @@ STROBE = _group(
     ("str_qtau2", _F, (_STROBE_Q,)), ("str_qrho", _F, (_STROBE_Q,)),
     ("str_qb", _F, (_STROBE_Q * STROBE_MAX_PERIODS,)))
 
+#: The damped regimes' constants (RS_DAMPED): the locked test's (L1, L4 and L7's quick
+#: term: mbm.regimes.locked._lock_setup) and the return map's section θ_s with θ'' + βθ'
+#: on it (R1), formed for the model dmp_beta, dmp_gamma, dmp_omega (nan: none yet) and
+#: formed again by the loop where the model's words differ from those (a template whose
+#: model is set later, a swept parameter), so a stale set is never used.
+DAMPED = _group(("dmp_beta", _F), ("dmp_gamma", _F), ("dmp_omega", _F), ("dmp_d", _F), ("dmp_wl2", _F),
+                ("dmp_g0", _F), ("dmp_g1", _F), ("dmp_sd", _F), ("dmp_q2", _F), ("dmp_sec_off", _F),
+                ("dmp_sec_acc", _F))
+
 #: The run record, in named groups: ``r.model.beta``, ``r.state.t``, ``r.cycle.cyc_T``
 #: (numba and numpy alike).  One row per scene; :func:`mbm.loop.run` reads every group
 #: and writes the state, winding, progress and regimes' groups back.
 RUN = np.dtype(
     [("model", MODEL), ("state", STATE), ("winding", WINDING), ("control", CONTROL),
-     ("progress", PROGRESS), ("switch", SWITCH), ("cycle", CYCLE), ("strobe", STROBE)],
+     ("progress", PROGRESS), ("switch", SWITCH), ("cycle", CYCLE), ("strobe", STROBE),
+     ("damped", DAMPED)],
     align=True,
 )
 
@@ -130,7 +140,8 @@ def init_run(p, i, model, state, control, max_windows, call_windows, regimes):
     (kind, karg, controller, h_abs, max_step, max_dtheta, rtol, atol, error_order), as
     the groups :data:`MODEL`, :data:`STATE`, :data:`CONTROL`; progress, winding and the
     regimes' groups start empty (``n_windows = j = status = 0``, φ = θ0, ``regime``
-    none, ``t_regime`` nan; regime switching on unless ``regimes = 0``).
+    none, ``t_regime`` nan, no damped constants formed; regime switching on unless
+    ``regimes = 0``).
     """
     r = p[i]
     m = r.model
@@ -161,6 +172,10 @@ def init_run(p, i, model, state, control, max_windows, call_windows, regimes):
         b.str_qrho[q] = math.nan
     for q in range(b.str_qb.size):
         b.str_qb[q] = math.inf
+    a = r.damped
+    a.dmp_beta, a.dmp_gamma, a.dmp_omega = math.nan, math.nan, math.nan
+    a.dmp_d, a.dmp_wl2, a.dmp_g0, a.dmp_g1, a.dmp_sd, a.dmp_q2 = 0.0, 1.0, 0.0, 0.0, 0.0, 0.0
+    a.dmp_sec_off, a.dmp_sec_acc = 0.0, 0.0
 
 
 _WS_T, _WS_THETA, _WS_V, _WS_TBOUND, _WS_H = (WORD[k] for k in ("t", "theta", "v", "t_bound", "h_abs"))
