@@ -18,7 +18,9 @@ it compiles the second call's kernels while this process is still on the first.
 The call compiles whatever it does not find, so its answers never depend on the helper
 (a helper that fails, is late or is absent changes only the wall time).  It is started
 only with a second core, the JIT on, a manifest written by this numba version, and not
-from a helper; ``MBM_COMPILE_HELPER=0`` turns it off.  A helper still running when its
+from a helper; ``MBM_COMPILE_HELPER=0`` turns it off.  A helper stays up for
+HELPER_LINGER seconds after its last key, and a later cold entry of the same process
+sends its key to it rather than starting another; a helper still running when its
 parent exits is stopped (numba writes each cache file whole, by rename).
 
 The manifest is generated, never edited: ``python -m benchmarks.warm_manifest`` runs each
@@ -32,12 +34,17 @@ import pickle
 import subprocess
 import sys
 
-__all__ = ["HELPER_ENV", "MANIFEST_FILE", "SCENES", "prefetch", "prefetch_keys", "entry_key", "load_manifest"]
+__all__ = ["HELPER_ENV", "HELPER_LINGER", "MANIFEST_FILE", "SCENES", "prefetch", "prefetch_keys", "release", "entry_key",
+           "load_manifest"]
 
 # Environment variable that turns the helper off when set to 0 / false / no / off.
 HELPER_ENV = "MBM_COMPILE_HELPER"
 # Set in a helper's environment, so that a helper starts none of its own.
 _IN_HELPER_ENV = "MBM_IN_COMPILE_HELPER"
+# How long a helper waits for a further first call's keys after its last (a script's
+# next kind, a notebook's next cell): that call then finds it up, and skips a helper's
+# start (~1 s of a ~4 s first call: its interpreter and the imports of numba and mbm).
+HELPER_LINGER = 60.0
 # The generated manifest: {"numba": version, "paths": {key: [(module, name, item, signature)]}}.
 MANIFEST_FILE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "_warm_manifest.pkl")
 
@@ -173,20 +180,48 @@ def _start(pairs):
 
     if numba.config.DISABLE_JIT:
         return False
-    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-    env = dict(os.environ, **{_IN_HELPER_ENV: "1", "MBM_COMPILE_NOTICE": "0"})
-    env["PYTHONPATH"] = os.pathsep.join([root] + [p for p in env.get("PYTHONPATH", "").split(os.pathsep) if p])
-    try:
-        proc = subprocess.Popen(
-            [sys.executable, "-c", "import sys; from mbm._warm import main; sys.exit(main(sys.argv[1:]))"]
-            + [repr(key) for key in keys],
-            env=env, stdin=subprocess.DEVNULL,
-            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    except OSError:
-        return False
+    proc = _send(keys)
+    if proc is None:
+        root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+        env = dict(os.environ, **{_IN_HELPER_ENV: "1", "MBM_COMPILE_NOTICE": "0"})
+        env["PYTHONPATH"] = os.pathsep.join([root] + [p for p in env.get("PYTHONPATH", "").split(os.pathsep) if p])
+        try:
+            proc = subprocess.Popen(
+                [sys.executable, "-c", "import sys; from mbm._warm import main; sys.exit(main(sys.argv[1:]))"]
+                + [repr(key) for key in keys],
+                env=env, stdin=subprocess.PIPE,
+                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        except OSError:
+            return False
     for key in keys:
         _started[key] = proc
     return True
+
+
+def _send(keys):
+    # ``keys`` sent to a helper of this process that is still up (HELPER_LINGER), one
+    # line each; returns that helper, or None where none took them.
+    for proc in set(_started.values()):
+        if proc.poll() is None:
+            try:
+                proc.stdin.write("".join(repr(key) + "\n" for key in keys).encode())
+                proc.stdin.flush()
+                return proc
+            except (OSError, ValueError):  # it has just ended: start another
+                continue
+    return None
+
+
+def release():
+    """Tell this process's helpers that no keys follow: each ends once its work is done
+    (rather than HELPER_LINGER seconds later).  Returns them (``Popen`` objects)."""
+    helpers = list(set(_started.values()))
+    for proc in helpers:
+        try:
+            proc.stdin.close()
+        except (OSError, ValueError, AttributeError):
+            pass
+    return helpers
 
 
 @atexit.register
@@ -337,12 +372,34 @@ def regenerate(path=MANIFEST_FILE):
 
 
 def main(argv):
-    """A helper's body: ``main([repr(KEY), ...])`` compiles the manifest's paths KEY, in order."""
+    """A helper's body: ``main([repr(KEY), ...])`` compiles the manifest's paths KEY, in
+    order, then those of the keys its parent sends on stdin (a line each), until stdin
+    ends or none comes for HELPER_LINGER seconds."""
     import ast
     import importlib
+    import queue
+    import threading
 
     importlib.import_module("mbm")  # the package's import-time cache check first
 
+    todo = queue.Queue()
+
+    def read():
+        try:
+            for line in sys.stdin:
+                todo.put(line.strip())
+        finally:
+            todo.put(None)
+
+    threading.Thread(target=read, daemon=True).start()
     for text in argv:
         compile_path(load_manifest().get(ast.literal_eval(text), []))
-    return 0
+    while True:
+        try:
+            text = todo.get(timeout=HELPER_LINGER)
+        except queue.Empty:
+            return 0
+        if text is None:
+            return 0
+        if text:
+            compile_path(load_manifest().get(ast.literal_eval(text), []))

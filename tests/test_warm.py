@@ -82,7 +82,7 @@ _COLD_SOLVE = textwrap.dedent("""
     m = mbm.Pendulum(beta=0.1, gamma=0.3)
     t = np.linspace(0.0, 80.0, 201)
     r = mbm.solve(m, (0.0, 80.0), [math.radians(30), 0.0], rtol=1e-9, atol=1e-9, t_eval=t)
-    helpers = list(_warm._started.values())
+    helpers = _warm.release()  # no further keys: the helper ends once done
     codes = [h.wait(timeout=600) for h in helpers]
     # the entry the call compiled is in the cache now; another closure of the same
     # function (the salas-torque kind's entry, sharing its index file) is not
@@ -208,3 +208,63 @@ def test_the_helper_takes_the_mirror_image_of_the_calls_order(monkeypatch):
     rows = _warm._recorded(ends, ("ivp", "m", "entry", ()))
     assert [name for _, name, _, _ in rows] == ["b1", "a2", "b", "a1", "a", "p", "x"]
     assert rows[0][3] == ("sig", "b1")
+
+
+def test_a_helper_takes_further_keys_on_stdin_until_it_ends(monkeypatch):
+    # the helper's body in this process: its argv's keys, then each line of its stdin
+    import io
+
+    done = []
+    monkeypatch.setattr(_warm, "compile_path", lambda rows: done.append(rows) or len(rows))
+    monkeypatch.setattr(_warm, "load_manifest", lambda: {("a",): ["A"], ("b",): ["B"], ("c",): ["C"]})
+    monkeypatch.setattr(sys, "stdin", io.StringIO(repr(("b",)) + "\n\n" + repr(("c",)) + "\n"))
+    assert _warm.main([repr(("a",))]) == 0
+    assert done == [["A"], ["B"], ["C"]]
+
+
+def test_a_helper_without_a_further_key_ends_after_its_linger(monkeypatch):
+    import time
+
+    r, w = os.pipe()  # a stdin that stays open and silent
+    try:
+        monkeypatch.setattr(sys, "stdin", os.fdopen(r, "r"))
+        monkeypatch.setattr(_warm, "HELPER_LINGER", 0.2)
+        monkeypatch.setattr(_warm, "compile_path", lambda rows: 0)
+        t0 = time.perf_counter()
+        assert _warm.main([]) == 0
+        assert time.perf_counter() - t0 < 5.0
+    finally:
+        os.close(w)
+
+
+def test_a_further_cold_entry_sends_its_key_to_the_running_helper(monkeypatch):
+    import io
+
+    class Helper:  # a helper process: up until ``ended``
+        def __init__(self, *args, **kwargs):
+            self.args, self.stdin, self.ended = args, io.BytesIO(), False
+            started.append(self)
+
+        def poll(self):
+            return 0 if self.ended else None
+
+    started = []
+    keys = [key for key in _warm.SCENES if key[0] == "ivp"]
+    entries = [_warm._resolve(*key[1:]) for key in keys]
+    monkeypatch.setattr(_warm.subprocess, "Popen", Helper)
+    monkeypatch.setattr(_warm, "_cores", lambda: 2)
+    monkeypatch.setattr(_warm, "_uncompiled", lambda e: True)
+    monkeypatch.setattr(_warm, "_started", {})
+    monkeypatch.setattr(_warm, "_checked", set())
+    assert _warm.prefetch("ivp", entries[0]) is True and len(started) == 1
+    assert _warm.prefetch("ivp", entries[1]) is True and len(started) == 1  # sent, not started
+    assert started[0].stdin.getvalue().decode() == repr(keys[1]) + "\n"
+    assert _warm._started == {keys[0]: started[0], keys[1]: started[0]}
+    # a helper that has ended takes nothing: the next cold key starts another
+    started[0].ended = True
+    monkeypatch.setattr(_warm, "_started", {keys[0]: started[0]})
+    monkeypatch.setattr(_warm, "_checked", set())
+    assert _warm.prefetch("ivp", entries[1]) is True and len(started) == 2
+    assert started[1].args[0][3:] == [repr(keys[1])]
+    # release: no further keys, each helper's stdin closed
+    assert set(_warm.release()) == {started[0], started[1]} and started[1].stdin.closed
