@@ -9,8 +9,9 @@ paper's Example 1 (P2: β = 0.1, γ = 0.3, θ₀ = 30°, rtol = atol = 1e-9, 201
 * ``mbm.solve`` alone;
 * ``solve_ivp`` then ``mbm.solve`` in one process (the second's own compile);
 * ``mbm.solve`` with fixed windows (τ = 0.5, the step-size studies' runs) alone;
-* ``solve_ivp`` then a further approximant kind (``salas-torque``, τ = 0.25: the demo's
-  third row), the further kind's own compile;
+* ``solve_ivp`` then a further approximant kind, the further kind's own compile:
+  ``salas-torque`` (τ = 0.25: the demo's third row), ``split4`` (adaptive, rtol = atol
+  = 1e-9) and the exact flow (``auto`` on the undamped, untorqued scene β = γ = 0);
 * ``mbm.solve_batch`` alone on 64 damped scenes (locked and running ones);
 * ``python -m mbm demo`` as a whole (wall time of the command);
 * ``solve_ivp`` and ``mbm.solve`` alone again with ``MBM_COMPILE_HELPER=0``.
@@ -58,6 +59,10 @@ def fixed():
     mbm.solve(m, (0.0, 80.0), y0, tau=0.5, t_eval=t)
 def salas():
     solve_ivp(m, (0.0, 80.0), y0, method=mbm.MBM, approximant="salas-torque", tau=0.25, t_eval=t)
+def split():
+    solve_ivp(m, (0.0, 80.0), y0, method=mbm.MBM, approximant="split4", rtol=1e-9, atol=1e-9, t_eval=t)
+def exact():
+    solve_ivp(mbm.Pendulum(beta=0.0, gamma=0.0), (0.0, 80.0), y0, method=mbm.MBM, t_eval=t)
 def batch():
     mbm.solve_batch(0.1, np.linspace(0.05, 1.5, 64), 1.0, y0, (0.0, 80.0), t, rtol=1e-9, atol=1e-9)
 def timed(fn):
@@ -71,6 +76,8 @@ ROWS = {
     "mbm.solve after solve_ivp (its own compile)": "timed(ivp); print(json.dumps(timed(solve)))",
     "mbm.solve with fixed windows (tau = 0.5), first call": "print(json.dumps(timed(fixed)))",
     "salas-torque after solve_ivp (a further kind)": "timed(ivp); print(json.dumps(timed(salas)))",
+    "split4 after solve_ivp (a further kind)": "timed(ivp); print(json.dumps(timed(split)))",
+    "the exact flow (β = γ = 0) after solve_ivp (a further kind)": "timed(ivp); print(json.dumps(timed(exact)))",
     "mbm.solve_batch, first call (64 damped scenes, γ 0.05 to 1.5)": "print(json.dumps(timed(batch)))",
 }
 # The same first calls compiling on one core (the last rows of the table).

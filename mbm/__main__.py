@@ -62,7 +62,7 @@ def demo(rtol=1e-9, out=sys.stdout):
 
     # From a cold cache: one helper compiles both solve_ivp paths' kernels (auto's, then
     # salas-torque's) beside this process, the second while this one is still on the first.
-    _warm.prefetch_keys([key for key in _warm.SCENES if key[0] == "ivp"])
+    _warm.prefetch_keys(_warm.DEMO_KEYS)
     model = mbm.Pendulum(beta=0.1, gamma=0.3)
     y0 = [math.radians(30.0), 0.0]
     t_span = (0.0, 80.0)

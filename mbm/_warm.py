@@ -34,8 +34,8 @@ import pickle
 import subprocess
 import sys
 
-__all__ = ["HELPER_ENV", "HELPER_LINGER", "MANIFEST_FILE", "SCENES", "prefetch", "prefetch_keys", "release", "entry_key",
-           "load_manifest"]
+__all__ = ["DEMO_KEYS", "HELPER_ENV", "HELPER_LINGER", "MANIFEST_FILE", "SCENES", "prefetch", "prefetch_keys",
+           "release", "entry_key", "load_manifest"]
 
 # Environment variable that turns the helper off when set to 0 / false / no / off.
 HELPER_ENV = "MBM_COMPILE_HELPER"
@@ -51,7 +51,8 @@ MANIFEST_FILE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "_warm_
 # The first calls the manifest covers (Python statements after the imports of _SCENE_SETUP),
 # keyed as prefetch looks them up: (path, where the entry is bound: module, name, items).
 # The second paper's Example 1 (benchmarks.first_calls), its salas-torque window (the
-# demo's), a driven scene, and the lanes of a damped batch.
+# demo's) and a splitting kind's, the exact flow (β = γ = 0), a driven scene, and the
+# lanes of a damped batch.
 _LOOP = "mbm.core.loop"
 SCENES = {
     ("solve", _LOOP, "SIMD_RUNNERS", (1,)): "mbm.solve(m, span, y0, rtol=1e-9, atol=1e-9, t_eval=t)",
@@ -59,11 +60,19 @@ SCENES = {
                                           "dense_output=True)",
     ("ivp", _LOOP, "RUNNERS", ((2, 0),)): "solve_ivp(m, span, y0, method=mbm.MBM, approximant='salas-torque', "
                                           "tau=0.25, t_eval=t, dense_output=True)",
+    ("ivp", _LOOP, "RUNNERS", ((3, 1),)): "solve_ivp(m, span, y0, method=mbm.MBM, approximant='split4', rtol=1e-9, "
+                                          "atol=1e-9, t_eval=t, dense_output=True)",
+    ("ivp", _LOOP, "RUNNERS", ((1, 0),)): "solve_ivp(mbm.Pendulum(0.0, 0.0), span, y0, method=mbm.MBM, t_eval=t, "
+                                          "dense_output=True)",
+    ("solve", _LOOP, "RUNNERS", ((1, 0),)): "mbm.solve(mbm.Pendulum(0.0, 0.0), span, y0, t_eval=t)",
     ("solve", _LOOP, "SIMD_RUNNERS", (3,)): "mbm.solve(mbm.Pendulum(0.1, 0.3, drive_amplitude=0.5, "
                                             "drive_frequency=0.8), span, y0, rtol=1e-9, atol=1e-9, t_eval=t)",
     ("batch", "mbm.core.lanes", "_run_lanes", ()): "mbm.solve_batch(0.1, np.linspace(0.05, 1.5, 64), 1.0, y0, "
                                                    "span, t, rtol=1e-9, atol=1e-9)",
 }
+#: The demo's first calls (``python -m mbm demo``): solve_ivp with "auto", then with
+#: "salas-torque".
+DEMO_KEYS = (("ivp", _LOOP, "SIMD_RUNNERS", (1,)), ("ivp", _LOOP, "RUNNERS", ((2, 0),)))
 _SCENE_SETUP = """
 import math
 import numpy as np
