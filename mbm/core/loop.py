@@ -179,7 +179,7 @@ def damped_setup(r, may, width):
     can_cycle = may and (width == 0 or width >= CYCLE_WIDTH)
     if can_cycle:
         return can_lock, lk, can_cycle, q.dmp_sec_off, q.dmp_sec_acc
-    return can_lock, lk, can_cycle, 0.0, gamma - omega * omega * math.sin(0.0)
+    return can_lock, lk, can_cycle, 0.0, 0.0  # (no section watched: unused)
 
 
 _W_DMP = WORD["dmp_beta"]
