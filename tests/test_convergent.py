@@ -303,7 +303,7 @@ def test_finite_on_random_states(state, frac):
         assert et >= 0.0 and ev >= 0.0
         if not cls.name.startswith("taylor"):
             # A splitting's estimate is +inf past SPLIT_ERROR_MAX_SUBSTEPS Taylor substeps
-            # of a third of the radius (e.g. a rotation sped up to |θ'| ~ 40 over h = 9,
+            # of SPLIT_ERROR_RADIUS_FRACTION of the radius (e.g. a rotation sped up to |θ'| ~ 40 over h = 9,
             # found by this test): documented, and the controller shrinks the window.
             # One substep's window always has a finite estimate.
             tc = taylor.taylor_coefficients(b, g, w, th0, v0, splitting.SPLIT_ERROR_TAYLOR_DEGREE)

@@ -116,6 +116,9 @@ _COMPILED = textwrap.dedent("""
         mbm.solve(m, (0.0, 80.0), [math.radians(30), 0.0], rtol=1e-9, atol=1e-9, t_eval=t)
     elif sys.argv[1] == "fixed":
         mbm.solve(m, (0.0, 80.0), [math.radians(30), 0.0], tau=0.5, t_eval=t)
+    elif sys.argv[1] == "split":
+        solve_ivp(m, (0.0, 80.0), [math.radians(30), 0.0], method=mbm.MBM, approximant="split4", rtol=1e-9,
+                  atol=1e-9, t_eval=t)
     else:
         solve_ivp(m, (0.0, 80.0), [math.radians(30), 0.0], method=mbm.MBM, approximant="salas-torque",
                   tau=0.25, t_eval=t, dense_output=True)
@@ -155,6 +158,15 @@ def test_first_call_of_a_fixed_window_kind_compiles_no_regime(tmp_path):
     assert any("salas_torque_anchor" in n for n in names)
     assert [n for n in names if any(k in n for k in REGIME_KERNELS) and "mbm.dense." not in n] == []
     assert not any("_period" in n or "_strobe" in n for n in names)
+
+
+def test_a_splitting_s_estimate_compiles_no_loop_form_of_the_taylor_recurrence(tmp_path):
+    # Its reference solution takes the default degree's vector kernel, which a default
+    # Taylor run has compiled already (splitting.SPLIT_ERROR_TAYLOR_DEGREE).
+    names = _compiled_names("split", tmp_path)
+    assert any("split_error_kernel" in n for n in names)
+    assert any("taylor24_coefficients_into" in n for n in names)
+    assert not any("series_loop" in n or n.endswith(".taylor_coefficients") for n in names)
 
 
 # The adaptive controller's kernels and the locked window.

@@ -54,10 +54,11 @@ Error estimate
 --------------
 Compositions have no cheap embedded partner (the intermediate states depend on t,
 so no flow is shared between methods of different order).  :func:`split_error_kernel`
-compares Φ(h) with the true state at h computed by degree-30 Taylor polynomials
-(:mod:`mbm.approximants.taylor`) in substeps of at most a third of the series'
-radius (one substep unless h is large or the rotation fast); their error,
-~(1/3)^31, is far below Φ's O(h^{p+1}), so the estimate is the local error itself
+compares Φ(h) with the true state at h computed by degree-24 Taylor polynomials
+(:mod:`mbm.approximants.taylor`'s vector kernel, the one a default Taylor run has
+compiled already) in substeps of at most a quarter of the series' radius (one
+substep unless h is large or the rotation fast); their error, ~(1/4)^25, is far
+below Φ's O(h^{p+1}), so the estimate is the local error itself
 (``tests/test_convergent.py`` measures the ratio: 1.00).  It costs one more
 composition and a Taylor anchor or a few (the solver could reuse the composition it
 evaluates anyway, but the interface does not pass it in).
@@ -72,7 +73,8 @@ from ..special.dd import reduce_2pi
 from ..special.jit import NJIT_OPTIONS, kernel
 from ..special.pendulum_flow import pendulum_flow_kernel
 from .base import Approximant, register
-from .taylor import taylor_coefficients, taylor_eval_kernel, taylor_radius_kernel
+from .taylor import taylor24_coefficients_into, taylor_eval_kernel, taylor_radius_kernel
+from .taylor_series import SIMD_ORDER, taylor_workspace
 
 __all__ = [
     "drift_flow_kernel",
@@ -92,11 +94,12 @@ B_SERIES_MAX = 1.0
 B_SERIES_TERMS = 19
 # 1/k! for the drift-flow series.
 _INV_FACT = np.array([1.0 / math.factorial(k) for k in range(B_SERIES_TERMS + 2)])
-# The error estimate's reference solution: Taylor substeps of this degree, each at
-# most this fraction of its radius estimate, err ≈ (1/3)^31 ≈ 2e-15 relative:
-# below every splitting's local error at any window worth taking.
-SPLIT_ERROR_TAYLOR_DEGREE = 30
-SPLIT_ERROR_RADIUS_FRACTION = 1.0 / 3.0
+# The error estimate's reference solution: Taylor substeps of this degree (the vector
+# kernel's, which the default Taylor runs have compiled already), each at most this
+# fraction of its radius estimate, err ≈ (1/4)^25 ≈ 9e-16 relative: below every
+# splitting's local error at any window worth taking.
+SPLIT_ERROR_TAYLOR_DEGREE = SIMD_ORDER
+SPLIT_ERROR_RADIUS_FRACTION = 0.25
 # Substep cap (a window 64 radii long is no window for a splitting either):
 # beyond it the estimate is inf, i.e. "shrink the window".
 SPLIT_ERROR_MAX_SUBSTEPS = 64
@@ -339,8 +342,11 @@ def split_error_kernel(coef, h):
     tth, tv = coef[5], coef[6]
     done = 0.0
     sgn = 1.0 if h > 0.0 else -1.0
+    ws_coef, ws_scratch = taylor_workspace(SPLIT_ERROR_TAYLOR_DEGREE)
     for _ in range(SPLIT_ERROR_MAX_SUBSTEPS):
-        tc = taylor_coefficients(beta, gamma, omega, tth, tv, np.int64(SPLIT_ERROR_TAYLOR_DEGREE))  # int64: no literal recompile
+        # int64: a literal degree would compile the vector kernel a second time.
+        tc = taylor24_coefficients_into(beta, gamma, omega, tth, tv, np.int64(SPLIT_ERROR_TAYLOR_DEGREE), ws_coef,
+                                        ws_scratch)
         step = min(abs(h) - done, SPLIT_ERROR_RADIUS_FRACTION * taylor_radius_kernel(tc))
         tth, tv = taylor_eval_kernel(tc, sgn * step)
         done += step
