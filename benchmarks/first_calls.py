@@ -12,6 +12,8 @@ paper's Example 1 (P2: β = 0.1, γ = 0.3, θ₀ = 30°, rtol = atol = 1e-9, 201
 * ``solve_ivp`` then a further approximant kind, the further kind's own compile:
   ``salas-torque`` (τ = 0.25: the demo's third row), ``split4`` (adaptive, rtol = atol
   = 1e-9) and the exact flow (``auto`` on the undamped, untorqued scene β = γ = 0);
+* ``mbm.solve`` alone on a running scene (β = 0.1, γ = 1.2, from rest, 201 outputs on
+  [0, 400]): the run switches to its limit cycle's stored period (a second entry);
 * ``mbm.solve_batch`` alone on 64 damped scenes (locked and running ones);
 * ``python -m mbm demo`` as a whole (wall time of the command);
 * ``solve_ivp`` and ``mbm.solve`` alone again with ``MBM_COMPILE_HELPER=0``.
@@ -63,6 +65,9 @@ def split():
     solve_ivp(m, (0.0, 80.0), y0, method=mbm.MBM, approximant="split4", rtol=1e-9, atol=1e-9, t_eval=t)
 def exact():
     solve_ivp(mbm.Pendulum(beta=0.0, gamma=0.0), (0.0, 80.0), y0, method=mbm.MBM, t_eval=t)
+def running():
+    mbm.solve(mbm.Pendulum(beta=0.1, gamma=1.2), (0.0, 400.0), [0.0, 0.0], rtol=1e-9, atol=1e-9,
+              t_eval=np.linspace(0.0, 400.0, 201))
 def batch():
     mbm.solve_batch(0.1, np.linspace(0.05, 1.5, 64), 1.0, y0, (0.0, 80.0), t, rtol=1e-9, atol=1e-9)
 def timed(fn):
@@ -78,6 +83,8 @@ ROWS = {
     "salas-torque after solve_ivp (a further kind)": "timed(ivp); print(json.dumps(timed(salas)))",
     "split4 after solve_ivp (a further kind)": "timed(ivp); print(json.dumps(timed(split)))",
     "the exact flow (β = γ = 0) after solve_ivp (a further kind)": "timed(ivp); print(json.dumps(timed(exact)))",
+    "mbm.solve, first call on a running scene (γ = 1.2: it reaches its limit cycle)":
+        "print(json.dumps(timed(running)))",
     "mbm.solve_batch, first call (64 damped scenes, γ 0.05 to 1.5)": "print(json.dumps(timed(batch)))",
 }
 # The same first calls compiling on one core (the last rows of the table).

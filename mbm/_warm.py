@@ -51,8 +51,9 @@ MANIFEST_FILE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "_warm_
 # The first calls the manifest covers (Python statements after the imports of _SCENE_SETUP),
 # keyed as prefetch looks them up: (path, where the entry is bound: module, name, items).
 # The second paper's Example 1 (benchmarks.first_calls), its salas-torque window (the
-# demo's) and a splitting kind's, the exact flow (β = γ = 0), a driven scene, and the
-# lanes of a damped batch.
+# demo's) and a splitting kind's, the exact flow (β = γ = 0), a driven scene, a scene
+# that reaches the running cycle (its stored period's entry), and the lanes of a damped
+# batch.
 _LOOP = "mbm.core.loop"
 SCENES = {
     ("solve", _LOOP, "SIMD_RUNNERS", (1,)): "mbm.solve(m, span, y0, rtol=1e-9, atol=1e-9, t_eval=t)",
@@ -67,6 +68,10 @@ SCENES = {
     ("solve", _LOOP, "RUNNERS", ((1, 0),)): "mbm.solve(mbm.Pendulum(0.0, 0.0), span, y0, t_eval=t)",
     ("solve", _LOOP, "SIMD_RUNNERS", (3,)): "mbm.solve(mbm.Pendulum(0.1, 0.3, drive_amplitude=0.5, "
                                             "drive_frequency=0.8), span, y0, rtol=1e-9, atol=1e-9, t_eval=t)",
+    ("solve", _LOOP, "SIMD_RUNNERS", (4,)): "mbm.solve(running, long_span, [0.0, 0.0], rtol=1e-9, atol=1e-9, "
+                                            "t_eval=t_long)",
+    ("ivp", _LOOP, "SIMD_RUNNERS", (4,)): "solve_ivp(running, long_span, [0.0, 0.0], method=mbm.MBM, rtol=1e-9, "
+                                          "atol=1e-9, t_eval=t_long, dense_output=True)",
     ("batch", "mbm.core.lanes", "_run_lanes", ()): "mbm.solve_batch(0.1, np.linspace(0.05, 1.5, 64), 1.0, y0, "
                                                    "span, t, rtol=1e-9, atol=1e-9)",
 }
@@ -80,6 +85,7 @@ from scipy.integrate import solve_ivp
 import mbm
 m = mbm.Pendulum(beta=0.1, gamma=0.3)
 span, y0, t = (0.0, 80.0), [math.radians(30), 0.0], np.linspace(0.0, 80.0, 201)
+running, long_span, t_long = mbm.Pendulum(beta=0.1, gamma=1.2), (0.0, 400.0), np.linspace(0.0, 400.0, 201)
 """
 
 _started = {}  # key -> the helper's Popen, one per key and process

@@ -119,6 +119,10 @@ _COMPILED = textwrap.dedent("""
     elif sys.argv[1] == "split":
         solve_ivp(m, (0.0, 80.0), [math.radians(30), 0.0], method=mbm.MBM, approximant="split4", rtol=1e-9,
                   atol=1e-9, t_eval=t)
+    elif sys.argv[1] == "running":
+        res = mbm.solve(mbm.Pendulum(beta=0.1, gamma=1.2), (0.0, 400.0), [0.0, 0.0], rtol=1e-9, atol=1e-9,
+                        t_eval=np.linspace(0.0, 400.0, 201))
+        assert res.regime == "running", res.regime
     else:
         solve_ivp(m, (0.0, 80.0), [math.radians(30), 0.0], method=mbm.MBM, approximant="salas-torque",
                   tau=0.25, t_eval=t, dense_output=True)
@@ -167,6 +171,16 @@ def test_a_splitting_s_estimate_compiles_no_loop_form_of_the_taylor_recurrence(t
     assert any("split_error_kernel" in n for n in names)
     assert any("taylor24_coefficients_into" in n for n in names)
     assert not any("series_loop" in n or n.endswith(".taylor_coefficients") for n in names)
+
+
+# The other kinds' formulas (a Taylor run compiles none of them).
+OTHER_KINDS = ("splitting.", "salas2022", "belendez2007", "weierstrass", "pendulum_flow", "jacobi_kernels")
+
+
+def test_a_taylor_run_that_reaches_the_running_cycle_compiles_no_other_kind(tmp_path):
+    names = _compiled_names("running", tmp_path)
+    assert any("refine_period" in n for n in names) and any("period_windows" in n for n in names)
+    assert [n for n in names if any(k in n for k in OTHER_KINDS)] == []
 
 
 # The adaptive controller's kernels and the locked window.

@@ -274,16 +274,19 @@ def _period_value(kind, c, starts, ends, coefs, n, t):
     return _period_lookup_taylor(c, starts, ends, coefs, n, t)
 
 
-@kernel
-def refine_period(kind, r):
-    """The running cycle's period refined once (R4), at the run's first cycle window: its
-    record's T_c (:func:`_refined_period`), ``cyc_k`` CYCLE_REFINED after.  Called by the
-    cycle's window source (RS_CYCLE), so that the damped set's entries do not compile the
-    period's re-take."""
-    y = r.cycle
-    if r.switch.regime == REGIME_RUNNING and y.cyc_k == CYCLE_SWITCHED:
-        y.cyc_T = _refined_period(kind, r, y.cyc_theta, y.cyc_v, y.cyc_T, y.cyc_sign, y.cyc_wind)
-        y.cyc_k = CYCLE_REFINED
+def _refine_period_for(kind):
+    """:func:`refine_period`'s body compiled for kind ``kind`` (a constant of the closure:
+    numba prunes the other kinds' kernels; with the kind an argument, every kind's
+    period windows and evaluation were compiled into each cycle entry)."""
+
+    @kernel
+    def refine_period_of_kind(r):
+        y = r.cycle
+        if r.switch.regime == REGIME_RUNNING and y.cyc_k == CYCLE_SWITCHED:
+            y.cyc_T = _refined_period(kind, r, y.cyc_theta, y.cyc_v, y.cyc_T, y.cyc_sign, y.cyc_wind)
+            y.cyc_k = CYCLE_REFINED
+
+    return refine_period_of_kind
 
 
 @numba.njit(**_INLINE)
@@ -322,6 +325,25 @@ def _refined_period(kind, r, theta_c, v_c, period, sgn, wind):
     if not (abs(refined - period) <= PERIOD_REFINE_TRUST * (ctl.atol + ctl.rtol * period)):
         return period
     return refined
+
+
+_refine_period_taylor = _refine_period_for(KIND_TAYLOR)
+
+
+_refine_period_split = _refine_period_for(KIND_SPLIT)
+
+
+@numba.njit(**_INLINE)
+def refine_period(kind, r):
+    """The running cycle's period refined once (R4), at the run's first cycle window: its
+    record's T_c (:func:`_refined_period`), ``cyc_k`` CYCLE_REFINED after, through kind
+    ``kind``'s compiled entry (a kind that reaches no cycle: nothing).  Called by the
+    cycle's window source (RS_CYCLE), so that the damped set's entries do not compile the
+    period's re-take."""
+    if kind == KIND_TAYLOR:
+        _refine_period_taylor(r)
+    elif kind == KIND_SPLIT:
+        _refine_period_split(r)
 
 
 def _cycle_crossing_for(kind):
