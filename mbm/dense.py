@@ -24,6 +24,7 @@ import numpy as np
 
 from . import loop
 from .approximants.taylor import taylor_eval_range
+from .approximants.taylor_simd import SIMD_ORDER
 from .loop import (
     KIND_EXACT,
     KIND_SALAS_TORQUE,
@@ -109,10 +110,10 @@ def _strobe_run(kind, c, t, lo, hi, out_theta, out_v):
 
 
 @numba.njit(**_INLINE)
-def _cycle_run(kind, c, t0, t, lo, hi, out_theta, out_v):
+def _cycle_run(kind, simd, c, t0, t, lo, hi, out_theta, out_v):
     # A cycle window: the stored period (re-taken once for these times), shifted (its
     # own winding count).
-    p_starts, p_ends, p_coefs, p_n = _period_store(kind, c)
+    p_starts, p_ends, p_coefs, p_n = _period_store(kind, c, simd)
     for q in range(lo, hi):
         a, b, kc = _period_value(kind, c, p_starts, p_ends, p_coefs, p_n, t[q] - t0)
         out_theta[q] = theta_of(kc, a)
@@ -148,8 +149,10 @@ def _plain_run(kind, c, t0, start_theta_i, t, lo, hi, out_theta, out_v):
             out_v[q] = b
 
 
-def _entries(kind, dset):
-    """``(into, at)`` for windows of kind ``kind`` with the stored periods of ``dset``.
+def _entries(kind, dset, simd=False):
+    """``(into, at)`` for windows of kind ``kind`` with the stored periods of ``dset``;
+    ``simd``: of kind "taylor" at its default degree alone (a stored period re-taken by
+    the vector kernel, :func:`mbm.regimes.cycle_windows._period_store`).
 
     Both are constants of the closures, and the closures' own bodies branch on them:
     numba prunes those branches before it inlines the calls in them, so an entry
@@ -179,7 +182,7 @@ def _entries(kind, dset):
                     _nan_run(j, j2, out_theta, out_v)
             elif (kind == KIND_TAYLOR or kind == KIND_SPLIT) and c.size >= CYCLE_WIDTH and c[0] == CYCLE_TAG:
                 if dset == RS_CYCLE:
-                    _cycle_run(kind, c, starts[i], t, j, j2, out_theta, out_v)
+                    _cycle_run(kind, simd, c, starts[i], t, j, j2, out_theta, out_v)
                 else:
                     _nan_run(j, j2, out_theta, out_v)
             else:
@@ -203,7 +206,7 @@ def _entries(kind, dset):
                 _nan_run(lo, hi, out[0], out[1])
         elif (kind == KIND_TAYLOR or kind == KIND_SPLIT) and c.size >= CYCLE_WIDTH and c[0] == CYCLE_TAG:
             if dset == RS_CYCLE:
-                _cycle_run(kind, c, starts[i], t, lo, hi, out[0], out[1])
+                _cycle_run(kind, simd, c, starts[i], t, lo, hi, out[0], out[1])
             else:
                 _nan_run(lo, hi, out[0], out[1])
         else:
@@ -223,6 +226,8 @@ DENSE_TABLE = tuple(
     + [(KIND_TAYLOR, RS_CYCLE), (KIND_SPLIT, RS_CYCLE), (KIND_TAYLOR, RS_STROBE)]
 )
 _EVALUATORS = {key: _entries(*key) for key in DENSE_TABLE}
+#: The entries of the default Taylor degree, where they differ (a stored period's re-take).
+_EVALUATORS_SIMD = {(KIND_TAYLOR, RS_CYCLE): _entries(KIND_TAYLOR, RS_CYCLE, True)}
 
 
 def _fallback_into(kind):
@@ -264,11 +269,16 @@ def _windows_set(coefs, n):
     return RS_PLAIN
 
 
-def evaluators(kind, dset=RS_PLAIN):
+def evaluators(kind, dset=RS_PLAIN, simd=False):
     """``(into, at)``: the entries of :func:`evaluate_windows_into` and
     :func:`evaluate_windows_at` for kind ``kind`` (their arguments less ``kind``), for
     a caller that evaluates one kind many times; ``dset`` (:func:`dense_set`) names
-    the stored periods the windows may hold (RS_PLAIN: none)."""
+    the stored periods the windows may hold (RS_PLAIN: none); ``simd``: windows of kind
+    "taylor" at its default degree SIMD_ORDER alone (any degree where False)."""
+    if simd and kind == KIND_TAYLOR:
+        pair = _EVALUATORS_SIMD.get((kind, dset))
+        if pair is not None:
+            return pair
     return _EVALUATORS.get((kind, dset)) or (_fallback_into(kind), _fallback_at(kind))
 
 

@@ -449,7 +449,8 @@ class MBM(_MBMBase):
         if self._run is not None:
             starts, start_theta, coefs, n = self._windows
             return MBMWindowsDenseOutput(self.t_old, self.t, self._kind[0], starts, start_theta, coefs, n,
-                                         self.direction, self._ints.item(_W_REGIME))
+                                         self.direction, self._ints.item(_W_REGIME),
+                                         self._kind[0] == loop.KIND_TAYLOR and self._kind[1] == _dense.SIMD_ORDER)
         return MBMDenseOutput(self.t_old, self.t, self.approximant, self._coef)
 
 
@@ -745,9 +746,12 @@ class MBMWindowsDenseOutput(DenseOutput):
     regime : int, optional
         The run's regime code (``mbm.regimes.REGIME_*``) at the step's end: which
         stored period its windows may hold (default: none).
+    simd : bool, optional
+        Whether the run is of kind "taylor" at its default degree (its stored period is
+        then re-taken by the vector kernel; default False: any degree).
     """
 
-    def __init__(self, t_old, t, kind, starts, start_theta, coefs, n, direction, regime=REGIME_NONE):
+    def __init__(self, t_old, t, kind, starts, start_theta, coefs, n, direction, regime=REGIME_NONE, simd=False):
         super().__init__(t_old, t)
         self.kind = kind
         self.starts = starts
@@ -755,7 +759,7 @@ class MBMWindowsDenseOutput(DenseOutput):
         self.coefs = coefs
         self.n = n
         self.direction = float(direction)
-        self._into, self._at = _dense.evaluators(kind, _dense.dense_set(regime))
+        self._into, self._at = _dense.evaluators(kind, _dense.dense_set(regime), simd)
 
     def _call_impl(self, t):
         if t.ndim == 0:

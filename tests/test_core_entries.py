@@ -123,6 +123,9 @@ _COMPILED = textwrap.dedent("""
         res = mbm.solve(mbm.Pendulum(beta=0.1, gamma=1.2), (0.0, 400.0), [0.0, 0.0], rtol=1e-9, atol=1e-9,
                         t_eval=np.linspace(0.0, 400.0, 201))
         assert res.regime == "running", res.regime
+        sol = solve_ivp(mbm.Pendulum(beta=0.1, gamma=1.2), (0.0, 400.0), [0.0, 0.0], method=mbm.MBM, rtol=1e-9,
+                        atol=1e-9, t_eval=np.linspace(0.0, 400.0, 201), dense_output=True)
+        sol.sol(np.linspace(300.0, 400.0, 7))
     else:
         solve_ivp(m, (0.0, 80.0), [math.radians(30), 0.0], method=mbm.MBM, approximant="salas-torque",
                   tau=0.25, t_eval=t, dense_output=True)
@@ -178,9 +181,13 @@ OTHER_KINDS = ("splitting.", "salas2022", "belendez2007", "weierstrass", "pendul
 
 
 def test_a_taylor_run_that_reaches_the_running_cycle_compiles_no_other_kind(tmp_path):
+    # mbm.solve and solve_ivp with its dense output: the stored period's windows re-taken
+    # at the default degree by the vector kernel alone, no loop form of the recurrence
     names = _compiled_names("running", tmp_path)
     assert any("refine_period" in n for n in names) and any("period_windows" in n for n in names)
+    assert any("mbm.dense." in n for n in names)
     assert [n for n in names if any(k in n for k in OTHER_KINDS)] == []
+    assert not any("series_loop" in n for n in names)
 
 
 # The adaptive controller's kernels and the locked window.

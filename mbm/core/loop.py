@@ -268,18 +268,18 @@ def _stop_before(kind, rset, r, n, n_total, store, cap, seen, cancel):
 # an entry inlines the one source it takes.
 
 @numba.njit(**_INLINE)
-def _source_cycle(kind, r, t, direction, max_step, h_abs, per):
+def _source_cycle(kind, simd, r, t, direction, max_step, h_abs, per):
     """The running cycle's window (RS_CYCLE: the stored period shifted, R3), as
     :func:`_source` returns it (``per``: the period's windows, built at the call's
-    first cycle window)."""
+    first cycle window; ``simd``: the default degree's entry, :func:`_runner`)."""
     m, c, y = r.model, r.control, r.cycle
     t_new = _window_end(t, direction, r.state.t_bound, max_step)
     if y.cyc_k == CYCLE_SWITCHED:
-        refine_period(kind, r)  # (R4), once per run
+        refine_period(kind, r, simd)  # (R4), once per run
     coef = cycle_coef(y.cyc_theta, y.cyc_v, y.cyc_T, t - y.cyc_t, m.beta, m.gamma, m.omega, c.rtol, c.atol,
                       y.cyc_sign, c.karg, c.error_order, y.cyc_wind, y.cyc_Tlo)
     if per[3] == -2:
-        per = _period_store(kind, coef)
+        per = _period_store(kind, coef, simd)
     th, v, k_new = _period_value(kind, coef, per[0], per[1], per[2], per[3], t_new - t)
     st = STATUS_OK if math.isfinite(th) and math.isfinite(v) else STATUS_NONFINITE
     return st, coef, t_new, th, v, k_new, h_abs, h_abs, False, per
@@ -523,7 +523,7 @@ def _runner(kind, rset, simd=False):
                     break
             if rset == RS_CYCLE:  # (each branch on the constants inlines only its own callees)
                 st, coef, t_new, th, v, k_new, h_abs, h_next, is_locked, per = _source_cycle(
-                    kind, r, t, direction, max_step, h_abs, per)
+                    kind, simd, r, t, direction, max_step, h_abs, per)
             elif rset == RS_STROBE:
                 st, coef, t_new, th, v, k_new, h_abs, h_next, is_locked, per = _source_strobe(
                     kind, r, t, direction, max_step, h_abs, per)

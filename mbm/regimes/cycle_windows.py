@@ -134,11 +134,13 @@ def _cycle_phase(c, t):
     return n, min(max(s, 0.0), period)
 
 
-def _period_windows_for(kind):
+def _period_windows_for(kind, simd=False):
     """The stored period's windows (:func:`period_windows`) compiled for kind ``kind``: a
     constant of the closure, so numba prunes the other kinds' branches before it inlines
     their kernels (a whole controller and step: as an inlined callee, its every kind
-    would be copied and pruned only afterwards)."""
+    would be copied and pruned only afterwards).  ``simd``: kind "taylor" at its default
+    degree SIMD_ORDER alone, anchored by the vector kernel (no loop form of the
+    recurrence compiled; another degree fails the period, n = −1)."""
 
     @kernel
     def period_windows(c):
@@ -175,7 +177,7 @@ def _period_windows_for(kind):
         starts[0], ends[0, 0], ends[0, 1] = 0.0, theta_c, v_c
         tt, a0, a1, h = 0.0, theta_c, v_c, -1.0
         for n in range(CYCLE_MAX_WINDOWS):
-            coef = anchor(kind, karg, beta, gamma, omega, a0, a1, ws_coef, ws_scratch)
+            coef = anchor(kind, karg, beta, gamma, omega, a0, a1, ws_coef, ws_scratch, simd)
             if coef[0] != 0.0:
                 break
             if n == 0:
@@ -244,14 +246,21 @@ def _period_lookup(kind, c, starts, ends, coefs, n, t):
 _period_windows_taylor = _period_windows_for(KIND_TAYLOR)
 
 
+_period_windows_taylor24 = _period_windows_for(KIND_TAYLOR, True)
+
+
 _period_windows_split = _period_windows_for(KIND_SPLIT)
 
 
 @numba.njit(**_INLINE)
-def _period_store(kind, c):
-    """:func:`_period_windows_for` of kind ``kind`` through its compiled entry."""
+def _period_store(kind, c, simd=False):
+    """:func:`_period_windows_for` of kind ``kind`` through its compiled entry; ``simd`` (a
+    constant of the caller, whose runs are of the default Taylor degree): the vector
+    kernel's."""
     if kind == KIND_SPLIT:
         return _period_windows_split(c)
+    if simd:
+        return _period_windows_taylor24(c)
     return _period_windows_taylor(c)
 
 
@@ -274,23 +283,24 @@ def _period_value(kind, c, starts, ends, coefs, n, t):
     return _period_lookup_taylor(c, starts, ends, coefs, n, t)
 
 
-def _refine_period_for(kind):
+def _refine_period_for(kind, simd=False):
     """:func:`refine_period`'s body compiled for kind ``kind`` (a constant of the closure:
     numba prunes the other kinds' kernels; with the kind an argument, every kind's
-    period windows and evaluation were compiled into each cycle entry)."""
+    period windows and evaluation were compiled into each cycle entry); ``simd`` as
+    :func:`_period_store`'s."""
 
     @kernel
     def refine_period_of_kind(r):
         y = r.cycle
         if r.switch.regime == REGIME_RUNNING and y.cyc_k == CYCLE_SWITCHED:
-            y.cyc_T = _refined_period(kind, r, y.cyc_theta, y.cyc_v, y.cyc_T, y.cyc_sign, y.cyc_wind)
+            y.cyc_T = _refined_period(kind, simd, r, y.cyc_theta, y.cyc_v, y.cyc_T, y.cyc_sign, y.cyc_wind)
             y.cyc_k = CYCLE_REFINED
 
     return refine_period_of_kind
 
 
 @numba.njit(**_INLINE)
-def _refined_period(kind, r, theta_c, v_c, period, sgn, wind):
+def _refined_period(kind, simd, r, theta_c, v_c, period, sgn, wind):
     """T_c from two returns to the section re-taken from the cycle's anchor (θ_c, v_c),
     in time from the anchor and at PERIOD_REFINE_RTOL (R4): the return times T₁, T₂
     approach T_c geometrically by the cycle's multiplier μ = e^{−βT_c} (the flow's
@@ -303,7 +313,7 @@ def _refined_period(kind, r, theta_c, v_c, period, sgn, wind):
     rt, at = min(ctl.rtol, PERIOD_REFINE_RTOL), min(ctl.atol, PERIOD_REFINE_RTOL)
     c = cycle_coef(theta_c, v_c, PERIOD_REFINE_SPAN * period, 0.0, m.beta, m.gamma, m.omega, rt, at, sgn, ctl.karg,
                    ctl.error_order, wind, 0.0)
-    starts, ends, coefs, n = _period_store(kind, c)
+    starts, ends, coefs, n = _period_store(kind, c, simd)
     w2 = m.omega * m.omega
     acc0 = m.gamma - w2 * math.sin(theta_c)  # θ'' = acc0 − βθ' on every level θ_c + 2πj
     t1 = t2 = math.nan
@@ -330,18 +340,24 @@ def _refined_period(kind, r, theta_c, v_c, period, sgn, wind):
 _refine_period_taylor = _refine_period_for(KIND_TAYLOR)
 
 
+_refine_period_taylor24 = _refine_period_for(KIND_TAYLOR, True)
+
+
 _refine_period_split = _refine_period_for(KIND_SPLIT)
 
 
 @numba.njit(**_INLINE)
-def refine_period(kind, r):
+def refine_period(kind, r, simd=False):
     """The running cycle's period refined once (R4), at the run's first cycle window: its
     record's T_c (:func:`_refined_period`), ``cyc_k`` CYCLE_REFINED after, through kind
-    ``kind``'s compiled entry (a kind that reaches no cycle: nothing).  Called by the
-    cycle's window source (RS_CYCLE), so that the damped set's entries do not compile the
-    period's re-take."""
+    ``kind``'s compiled entry (a kind that reaches no cycle: nothing; ``simd`` as
+    :func:`_period_store`'s).  Called by the cycle's window source (RS_CYCLE), so that
+    the damped set's entries do not compile the period's re-take."""
     if kind == KIND_TAYLOR:
-        _refine_period_taylor(r)
+        if simd:
+            _refine_period_taylor24(r)
+        else:
+            _refine_period_taylor(r)
     elif kind == KIND_SPLIT:
         _refine_period_split(r)
 
