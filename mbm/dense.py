@@ -275,10 +275,8 @@ def evaluators(kind, dset=RS_PLAIN, simd=False):
     a caller that evaluates one kind many times; ``dset`` (:func:`dense_set`) names
     the stored periods the windows may hold (RS_PLAIN: none); ``simd``: windows of kind
     "taylor" at its default degree SIMD_ORDER alone (any degree where False)."""
-    if simd and kind == KIND_TAYLOR:
-        pair = _EVALUATORS_SIMD.get((kind, dset))
-        if pair is not None:
-            return pair
+    if simd and dset == RS_CYCLE and kind == KIND_TAYLOR:
+        return _EVALUATORS_SIMD[(kind, dset)]
     return _EVALUATORS.get((kind, dset)) or (_fallback_into(kind), _fallback_at(kind))
 
 

@@ -298,6 +298,9 @@ class MBM(_MBMBase):
             tau = min(check_positive("tau", tau), self.max_step)
         wps = _check_windows_per_step(windows_per_step)
         self._kind = loop.kind_of(self.approximant)
+        # Kind "taylor" at its default degree (its dense output's own entries).
+        self._simd = (self._kind is not None and self._kind[0] == loop.KIND_TAYLOR
+                      and self._kind[1] == _dense.SIMD_ORDER)
         #: Whether solve_ivp passed events: then each step is one short window.
         caller = _caller_solve_ivp()
         self.for_events = caller is not None and caller.get("events") is not None
@@ -449,8 +452,7 @@ class MBM(_MBMBase):
         if self._run is not None:
             starts, start_theta, coefs, n = self._windows
             return MBMWindowsDenseOutput(self.t_old, self.t, self._kind[0], starts, start_theta, coefs, n,
-                                         self.direction, self._ints.item(_W_REGIME),
-                                         self._kind[0] == loop.KIND_TAYLOR and self._kind[1] == _dense.SIMD_ORDER)
+                                         self.direction, self._ints.item(_W_REGIME), self._simd)
         return MBMDenseOutput(self.t_old, self.t, self.approximant, self._coef)
 
 
