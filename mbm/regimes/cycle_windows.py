@@ -285,9 +285,9 @@ def _period_value(kind, c, starts, ends, coefs, n, t):
 
 def _refine_period_for(kind, simd=False):
     """:func:`refine_period`'s body compiled for kind ``kind`` (a constant of the closure:
-    numba prunes the other kinds' kernels; with the kind an argument, every kind's
-    period windows and evaluation were compiled into each cycle entry); ``simd`` as
-    :func:`_period_store`'s."""
+    numba prunes the other kinds' kernels, where a kind passed as an argument would
+    compile every kind's period windows and evaluation into each cycle entry); ``simd``
+    as :func:`_period_store`'s."""
 
     @kernel
     def refine_period_of_kind(r):
