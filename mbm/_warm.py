@@ -241,13 +241,17 @@ def release():
 
 @atexit.register
 def _stop_helpers():
-    for proc in _started.values():
+    for proc in set(_started.values()):
         if proc.poll() is None:
             proc.terminate()
             try:
                 proc.wait(timeout=5)
             except subprocess.TimeoutExpired:  # pragma: no cover - a helper ignoring SIGTERM
                 proc.kill()
+        try:
+            proc.stdin.close()  # (its pipe's file, else an unclosed-file warning at exit)
+        except (OSError, ValueError, AttributeError):
+            pass
 
 
 def _resolve(module, name, item):

@@ -106,6 +106,18 @@ def test_a_cold_first_call_starts_one_helper_and_its_answers_are_the_warm_ones(t
     np.testing.assert_array_equal(np.array(got["y"]), want.y)
 
 
+def test_a_process_that_exits_with_its_helper_up_stops_it_and_leaves_no_file_open(tmp_path):
+    if _warm._cores() < 2:
+        pytest.skip("the helper needs a second core")
+    code = ("from mbm import _warm; print(_warm.prefetch_keys([_warm.DEMO_KEYS[0]]), "
+            "[p.poll() for p in _warm._started.values()])")
+    proc = subprocess.run([sys.executable, "-X", "dev", "-c", code], env=_env(tmp_path), cwd=ROOT,
+                          capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    assert proc.stdout.split() == ["True", "[None]"]  # started, and up when the process ended
+    assert "ResourceWarning" not in proc.stderr, proc.stderr[-2000:]
+
+
 def test_no_helper_for_a_compiled_entry_when_turned_off_or_inside_a_helper(monkeypatch):
     entry = loop.SIMD_RUNNERS[loop.RS_DAMPED]
     mbm.solve(mbm.Pendulum(0.1, 0.3), (0.0, 1.0), [0.1, 0.0])  # compiled in this process
