@@ -16,9 +16,9 @@ import math
 import numba
 import numpy as np
 
-from ..approximants.belendez2007 import belendez_anchor_kernel, belendez_eval_kernel
-from ..approximants.salas2022 import salas_torque_anchor, salas_torque_eval
-from ..approximants.splitting import split_anchor, split_error_kernel, split_eval_kernel
+from ..approximants.belendez2007 import belendez_eval_kernel
+from ..approximants.salas2022 import salas_torque_eval
+from ..approximants.splitting import split_eval_kernel
 from ..approximants.taylor import (
     taylor24_coefficients_into,
     taylor24_driven_coefficients_into,
@@ -29,6 +29,7 @@ from ..approximants.taylor import (
     taylor_window_log,
 )
 from ..special.jit import kernel
+from .kind_ops import OP_ANCHOR, OP_ERROR, OP_EVAL, OPS_PER_KIND, call_anchor, call_error, call_eval
 
 # Inlined only where a caller's constant kind or regime set must prune branches (numba
 # prunes an inlined constant, not a called function's literal argument) or where a call
@@ -125,12 +126,8 @@ def anchor(kind, karg, beta, gamma, omega, theta0, v0, ws_coef, ws_scratch, simd
         return taylor24_coefficients_into(beta, gamma, omega, theta0, v0, karg, ws_coef, ws_scratch)
     if kind == KIND_TAYLOR:
         return taylor_coefficients_into(beta, gamma, omega, theta0, v0, karg, ws_coef, ws_scratch)
-    elif kind == KIND_EXACT:
-        return belendez_anchor_kernel(beta, gamma, omega, theta0, v0)
-    elif kind == KIND_SPLIT:
-        return split_anchor(karg, beta, gamma, omega, theta0, v0)
-    elif kind == KIND_SALAS_TORQUE:
-        return salas_torque_anchor(beta, gamma, omega, theta0, v0)
+    elif kind == KIND_EXACT or kind == KIND_SPLIT or kind == KIND_SALAS_TORQUE:
+        return call_anchor(kind * OPS_PER_KIND + OP_ANCHOR, (karg, beta, gamma, omega, theta0, v0))
     # An unknown kind cannot be anchored: a status, never a formula of another kind.
     bad = np.full(1, np.nan)
     bad[0] = -1.0
@@ -160,12 +157,8 @@ def evaluate(kind, coef, t):
     """(θ, θ') of an anchored approximant at time ``t`` from its anchor."""
     if kind == KIND_TAYLOR:
         return taylor_eval_kernel(coef, t)
-    elif kind == KIND_EXACT:
-        return belendez_eval_kernel(coef, t)
-    elif kind == KIND_SPLIT:
-        return split_eval_kernel(coef, t)
-    elif kind == KIND_SALAS_TORQUE:
-        return salas_torque_eval(coef, t)
+    elif kind == KIND_EXACT or kind == KIND_SPLIT or kind == KIND_SALAS_TORQUE:
+        return call_eval(kind * OPS_PER_KIND + OP_EVAL, (coef, t))
     return math.nan, math.nan
 
 
@@ -179,7 +172,7 @@ def estimate(kind, coef, h):
     if kind == KIND_TAYLOR:
         return taylor_error_kernel(coef, h)
     elif kind == KIND_SPLIT:
-        return split_error_kernel(coef, h)
+        return call_error(kind * OPS_PER_KIND + OP_ERROR, (coef, h))
     return 0.0, 0.0
 
 
