@@ -11,6 +11,12 @@ callees in both).  When the call's own compile reaches a kernel the helper has f
 numba loads it from the cache instead of compiling it; the two meet in the middle of
 the tree.
 
+A kind other than "taylor" shares the loop's entries and has its own compiled pieces
+called through a table (:mod:`mbm.core.kind_ops`): its first call prefetches the key of
+its kind (``("kind", "mbm.core.kind_ops", "KINDS", (kind,))``), the pieces it loads, before
+its entry's, so that the helper compiles them while the call compiles the entry (or, the
+entry cached, the two share the kind's pieces).
+
 A caller that knows its next first calls (``python -m mbm demo``: solve_ivp with "auto",
 then with "salas-torque") starts one helper for all of them with :func:`prefetch_keys`:
 it compiles the second call's kernels while this process is still on the first.
@@ -55,17 +61,20 @@ MANIFEST_FILE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "_warm_
 # that reaches the running cycle (its stored period's entry), and the lanes of a damped
 # batch.
 _LOOP = "mbm.core.loop"
+_KINDS = "mbm.core.kind_ops"
 SCENES = {
     ("solve", _LOOP, "SIMD_RUNNERS", (1,)): "mbm.solve(m, span, y0, rtol=1e-9, atol=1e-9, t_eval=t)",
     ("ivp", _LOOP, "SIMD_RUNNERS", (1,)): "solve_ivp(m, span, y0, method=mbm.MBM, rtol=1e-9, atol=1e-9, t_eval=t, "
                                           "dense_output=True)",
-    ("ivp", _LOOP, "RUNNERS", ((2, 0),)): "solve_ivp(m, span, y0, method=mbm.MBM, approximant='salas-torque', "
+    ("ivp", _LOOP, "SIMD_RUNNERS", (6,)): "solve_ivp(m, span, y0, method=mbm.MBM, approximant='salas-torque', "
                                           "tau=0.25, t_eval=t, dense_output=True)",
-    ("ivp", _LOOP, "RUNNERS", ((3, 1),)): "solve_ivp(m, span, y0, method=mbm.MBM, approximant='split4', rtol=1e-9, "
-                                          "atol=1e-9, t_eval=t, dense_output=True)",
-    ("ivp", _LOOP, "RUNNERS", ((1, 0),)): "solve_ivp(mbm.Pendulum(0.0, 0.0), span, y0, method=mbm.MBM, t_eval=t, "
-                                          "dense_output=True)",
-    ("solve", _LOOP, "RUNNERS", ((1, 0),)): "mbm.solve(mbm.Pendulum(0.0, 0.0), span, y0, t_eval=t)",
+    ("solve", _LOOP, "SIMD_RUNNERS", (6,)): "mbm.solve(mbm.Pendulum(0.0, 0.0), span, y0, t_eval=t)",
+    ("kind", _KINDS, "KINDS", (2,)): "solve_ivp(m, span, y0, method=mbm.MBM, approximant='salas-torque', "
+                                     "tau=0.25, t_eval=t, dense_output=True)",
+    ("kind", _KINDS, "KINDS", (3,)): "solve_ivp(m, span, y0, method=mbm.MBM, approximant='split4', rtol=1e-9, "
+                                     "atol=1e-9, t_eval=t, dense_output=True)",
+    ("kind", _KINDS, "KINDS", (1,)): "solve_ivp(mbm.Pendulum(0.0, 0.0), span, y0, method=mbm.MBM, t_eval=t, "
+                                     "dense_output=True)",
     ("solve", _LOOP, "SIMD_RUNNERS", (3,)): "mbm.solve(mbm.Pendulum(0.1, 0.3, drive_amplitude=0.5, "
                                             "drive_frequency=0.8), span, y0, rtol=1e-9, atol=1e-9, t_eval=t)",
     ("solve", _LOOP, "SIMD_RUNNERS", (4,)): "mbm.solve(running, long_span, [0.0, 0.0], rtol=1e-9, atol=1e-9, "
@@ -76,8 +85,9 @@ SCENES = {
                                                    "span, t, rtol=1e-9, atol=1e-9)",
 }
 #: The demo's first calls (``python -m mbm demo``): solve_ivp with "auto", then with
-#: "salas-torque".
-DEMO_KEYS = (("ivp", _LOOP, "SIMD_RUNNERS", (1,)), ("ivp", _LOOP, "RUNNERS", ((2, 0),)))
+#: "salas-torque" (its kind's pieces, then the fixed windows' entry).
+DEMO_KEYS = (("ivp", _LOOP, "SIMD_RUNNERS", (1,)), ("kind", _KINDS, "KINDS", (2,)),
+             ("ivp", _LOOP, "SIMD_RUNNERS", (6,)))
 _SCENE_SETUP = """
 import math
 import numpy as np
@@ -145,20 +155,43 @@ def _cores():
         return os.cpu_count() or 1
 
 
-def prefetch(path, entry):
+def prefetch(path, entry, kind=None):
     """Start the helper for ``path`` ("solve", "ivp" or "batch") about to call compiled
-    entry ``entry`` from a cold cache, where the module docstring's conditions hold.
+    entry ``entry`` from a cold cache, where the module docstring's conditions hold;
+    with ``kind`` (a kind id other than "taylor"'s), for that kind's pieces first.
 
     Returns
     -------
     bool
         Whether a helper was started.
     """
-    if entry in _checked:
-        return False  # (the check of every later call: a dispatcher's signatures cost ~20 us)
-    _checked.add(entry)
-    where = entry_key(entry)
-    return where is not None and _start([((path,) + where, entry)])
+    pairs = []
+    if kind is not None and kind_key(kind) not in _started:
+        target = _key_target(kind_key(kind))
+        if target is not None and target not in _checked:
+            _checked.add(target)
+            pairs.append((kind_key(kind), target))
+    if entry not in _checked:  # (the check of every later call: a dispatcher's signatures cost ~20 us)
+        _checked.add(entry)
+        where = entry_key(entry)
+        if where is not None:
+            pairs.append(((path,) + where, entry))
+    return bool(pairs) and _start(pairs)
+
+
+def kind_key(kind):
+    """The manifest's key of kind id ``kind``'s pieces (:mod:`mbm.core.kind_ops`)."""
+    return ("kind", _KINDS, "KINDS", (int(kind),))
+
+
+def _key_target(key):
+    # The dispatcher whose compiled state says whether ``key`` is cold: an entry, or a
+    # kind's evaluation (None for a kind without one).
+    if key[0] == "kind":
+        from .core import kind_ops
+
+        return kind_ops.op_function(key[3][0], kind_ops.OP_EVAL)
+    return _resolve(*key[1:])
 
 
 def prefetch_keys(keys):
@@ -175,8 +208,8 @@ def prefetch_keys(keys):
     """
     todo = []
     for key in keys:
-        entry = _resolve(*key[1:])
-        if entry not in _checked:
+        entry = _key_target(key)
+        if entry is not None and entry not in _checked:
             _checked.add(entry)
             todo.append((key, entry))
     return _start(todo)
@@ -334,22 +367,17 @@ def _callees(d, by_library):
     return out
 
 
-def _recorded(ends, key):
-    # The manifest's list for ``key``, in the helper's order.  The call compiles the
-    # kernels depth first, each after its callees, leftmost callee first (``ends``: the
-    # order their compiles ended); the helper takes the mirror image of that order,
-    # rightmost callee first and still each after its callees (from the compiled call
-    # graph), so that the two meet in the middle of the tree rather than racing down the
-    # same branch.  The kernels the call compiled before its entry and out of the entry's
-    # reach come next, the last first; then those it compiled after the entry (the dense
-    # output's), in order, which the helper reaches while the call lowers the entry.  The
-    # entry itself and numba's own implementations are left out.
-    entry = _resolve(*key[1:])
-    found = _locations()
-    by_library = {id(cres.library): d for d in ends for cres in d.overloads.values()}
-    pos = {id(d): q for q, d in enumerate(ends)}
-    split = pos.get(id(entry), len(ends))
-    order, seen = [], set()
+def _op_kinds():
+    # id -> kind id of each kind's piece (mbm.core.kind_ops.OPS) this process imported.
+    from .core import kind_ops
+
+    return {id(kind_ops.op_function(k, op)): k for k, op in kind_ops.OPS}
+
+
+def _mirror(roots, by_library, pos, seen):
+    # ``roots`` and their callees, each after its callees, rightmost callee first (the
+    # mirror image of the call's order); ``seen`` the ids already placed.
+    order = []
 
     def visit(d):
         seen.add(id(d))
@@ -358,11 +386,39 @@ def _recorded(ends, key):
                 visit(c)
         order.append(d)
 
-    for root in [entry] + ends[:split][::-1]:
+    for root in roots:
         if id(root) not in seen:
             visit(root)
-    order.remove(entry)
-    order += [d for d in ends[split + 1:] if id(d) not in seen]
+    return order
+
+
+def _recorded(ends, key):
+    # The manifest's list for ``key``, in the helper's order.  The call compiles the
+    # kernels depth first, each after its callees, leftmost callee first (``ends``: the
+    # order their compiles ended); the helper takes the mirror image of that order,
+    # rightmost callee first and still each after its callees (from the compiled call
+    # graph), so that the two meet in the middle of the tree rather than racing down the
+    # same branch.  An entry's key: the kernels the call compiled before its entry and
+    # out of the entry's reach come next, the last first; then those it compiled after
+    # the entry (the dense output's), in order, which the helper reaches while the call
+    # lowers the entry.  The entry itself, numba's own implementations and the kinds'
+    # pieces are left out.  A kind's key: that kind's pieces (called through the table,
+    # each loaded at its first call), the last loaded first.
+    found = _locations()
+    by_library = {id(cres.library): d for d in ends for cres in d.overloads.values()}
+    pos = {id(d): q for q, d in enumerate(ends)}
+    kinds = _op_kinds()
+    ops = [d for d in ends if id(d) in kinds]
+    if key[0] == "kind":
+        order = _mirror([d for d in ops if kinds[id(d)] == key[3][0]][::-1], by_library, pos, set())
+    else:
+        entry = _resolve(*key[1:])
+        split = pos.get(id(entry), len(ends))
+        seen = set()
+        order = _mirror([entry] + [d for d in ends[:split][::-1] if id(d) not in kinds], by_library, pos, seen)
+        order.remove(entry)
+        pieces = {id(d) for d in _mirror(ops, by_library, pos, set(seen))}
+        order += [d for d in ends[split + 1:] if id(d) not in seen and id(d) not in pieces]
     rows = []
     for d in order:
         where = found.get(id(d))

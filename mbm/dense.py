@@ -149,21 +149,25 @@ def _plain_run(kind, c, t0, start_theta_i, t, lo, hi, out_theta, out_v):
             out_v[q] = b
 
 
-def _entries(kind, dset, simd=False):
-    """``(into, at)`` for windows of kind ``kind`` with the stored periods of ``dset``;
-    ``simd``: of kind "taylor" at its default degree alone (a stored period re-taken by
-    the vector kernel, :func:`mbm.regimes.cycle_windows._period_store`).
+def _entries(dset, simd=False):
+    """``(into, at)`` for windows of any kind (their first argument) with the stored
+    periods of ``dset``; ``simd``: of kind "taylor" at its default degree alone (a stored
+    period re-taken by the vector kernel, :func:`mbm.regimes.cycle_windows._period_store`),
+    the entries the other kinds share.
 
     Both are constants of the closures, and the closures' own bodies branch on them:
     numba prunes those branches before it inlines the calls in them, so an entry
     inlines only the window forms its set holds (a stored period's form is large; a
     branch inside an inlined helper would be pruned only after its calls were inlined).
-    A window is evaluated as :func:`mbm.loop._evaluate_windows` evaluates it per time; a
-    window of a stored period the entry lacks is NaN, never another formula.
+    The kind is an argument: kind "taylor"'s kernels are called directly, the other
+    kinds' through the table of :mod:`mbm.core.kind_ops`, so a further kind compiles
+    only its own formulas.  A window is evaluated as :func:`mbm.loop._evaluate_windows`
+    evaluates it per time; a window of a stored period the entry lacks is NaN, never
+    another formula.
     """
 
     @numba.njit(cache=True)
-    def into(starts, start_theta, coefs, n, direction, t, out):
+    def into(kind, starts, start_theta, coefs, n, direction, t, out):
         out_theta, out_v = out[0], out[1]
         m = t.size
         i = 0
@@ -190,7 +194,7 @@ def _entries(kind, dset, simd=False):
             j = j2
 
     @numba.njit(cache=True)
-    def at(starts, start_theta, coefs, n, direction, tj):
+    def at(kind, starts, start_theta, coefs, n, direction, tj):
         # One time: a new array [θ, θ'] (into's branches, for t = [tj]).
         i = _find(starts, n, direction, 0, tj)
         # Typed int64, as into's (a literal index compiles the kernels a second time).
@@ -225,25 +229,29 @@ DENSE_TABLE = tuple(
     [(kd, RS_PLAIN) for kd in (KIND_TAYLOR, KIND_EXACT, KIND_SALAS_TORQUE, KIND_SPLIT)]
     + [(KIND_TAYLOR, RS_CYCLE), (KIND_SPLIT, RS_CYCLE), (KIND_TAYLOR, RS_STROBE)]
 )
-_EVALUATORS = {key: _entries(*key) for key in DENSE_TABLE}
-#: The entries of the default Taylor degree, where they differ (a stored period's re-take).
-_EVALUATORS_SIMD = {(KIND_TAYLOR, RS_CYCLE): _entries(KIND_TAYLOR, RS_CYCLE, True)}
+#: The entries per (stored-period set, default degree): ``simd`` differs only where a
+#: stored period is re-taken (RS_CYCLE).
+_ENTRIES = {(RS_PLAIN, False): _entries(RS_PLAIN), (RS_STROBE, False): _entries(RS_STROBE),
+            (RS_CYCLE, False): _entries(RS_CYCLE), (RS_CYCLE, True): _entries(RS_CYCLE, True)}
 
 
-def _fallback_into(kind):
+def _fallback_into(starts, start_theta, coefs, n, direction, t, out, kind):
     # A kind without an entry here: mbm.loop's own evaluator.
-    def into(starts, start_theta, coefs, n, direction, t, out):
-        loop.evaluate_windows(kind, starts, np.ascontiguousarray(start_theta), coefs, n, direction, t,
-                              out[0], out[1])
-    return into
+    loop.evaluate_windows(kind, starts, np.ascontiguousarray(start_theta), coefs, n, direction, t, out[0], out[1])
 
 
-def _fallback_at(kind):
-    def at(starts, start_theta, coefs, n, direction, tj):
-        out = np.empty((2, 1))
-        _fallback_into(kind)(starts, start_theta, coefs, n, direction, np.array([tj]), out)
-        return out[:, 0].copy()
-    return at
+def _fallback_at(starts, start_theta, coefs, n, direction, tj, kind):
+    out = np.empty((2, 1))
+    _fallback_into(starts, start_theta, coefs, n, direction, np.array([tj]), out, kind)
+    return out[:, 0].copy()
+
+
+def _entry_of(kind, dset, simd):
+    # The shared entry a (kind, set) of DENSE_TABLE takes (the other kinds: the default
+    # Taylor degree's, which a default Taylor run has compiled), or None.
+    if (kind, dset) not in DENSE_TABLE:
+        return None
+    return _ENTRIES[(dset, dset == RS_CYCLE and (simd or kind != KIND_TAYLOR))]
 
 
 def dense_set(regime):
@@ -271,13 +279,15 @@ def _windows_set(coefs, n):
 
 def evaluators(kind, dset=RS_PLAIN, simd=False):
     """``(into, at)``: the entries of :func:`evaluate_windows_into` and
-    :func:`evaluate_windows_at` for kind ``kind`` (their arguments less ``kind``), for
-    a caller that evaluates one kind many times; ``dset`` (:func:`dense_set`) names
-    the stored periods the windows may hold (RS_PLAIN: none); ``simd``: windows of kind
-    "taylor" at its default degree SIMD_ORDER alone (any degree where False)."""
-    if simd and dset == RS_CYCLE and kind == KIND_TAYLOR:
-        return _EVALUATORS_SIMD[(kind, dset)]
-    return _EVALUATORS.get((kind, dset)) or (_fallback_into(kind), _fallback_at(kind))
+    :func:`evaluate_windows_at` for a caller that evaluates one kind many times, called
+    with the kind id first (``into(kind, starts, start_theta, coefs, n, direction, t,
+    out)``, ``at(kind, ..., tj)``); ``dset`` (:func:`dense_set`) names the stored
+    periods the windows may hold (RS_PLAIN: none); ``simd``: windows of kind "taylor"
+    at its default degree SIMD_ORDER alone (any degree where False)."""
+    entry = _entry_of(kind, dset, simd)
+    if entry is not None:
+        return entry
+    return (lambda kd, *a: _fallback_into(*a, kd)), (lambda kd, *a: _fallback_at(*a, kd))
 
 
 def evaluate_windows_into(kind, starts, start_theta, coefs, n, direction, t, out):
@@ -303,9 +313,9 @@ def evaluate_windows_into(kind, starts, start_theta, coefs, n, direction, t, out
         Filled with θ (row 0) and θ' (row 1): the values of
         :func:`mbm.loop.evaluate_windows` bit for bit.
     """
-    evaluators(kind, _windows_set(coefs, n))[0](starts, start_theta, coefs, n, direction, t, out)
+    evaluators(kind, _windows_set(coefs, n))[0](kind, starts, start_theta, coefs, n, direction, t, out)
 
 
 def evaluate_windows_at(kind, starts, start_theta, coefs, n, direction, tj):
     """:func:`evaluate_windows_into` at one time ``tj`` (a float): a new array ``[θ, θ']``."""
-    return evaluators(kind, _windows_set(coefs, n))[1](starts, start_theta, coefs, n, direction, tj)
+    return evaluators(kind, _windows_set(coefs, n))[1](kind, starts, start_theta, coefs, n, direction, tj)

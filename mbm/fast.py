@@ -261,7 +261,7 @@ class Integrator:
         # The entry of a fresh run (a regime switch resumes through its set's own).
         self._entry = _entry_of(self._words)
         # From a cold cache, a helper process compiles the kernels beside it (mbm._warm).
-        _warm.prefetch("solve", self._entry)
+        _warm.prefetch("solve", self._entry, None if kind == _KIND_TAYLOR else kind)
         run0 = template[0]
         self._set_fields = (kind, int(run0["control"]["controller"]), int(run0["switch"]["regimes"]),
                             float(run0["model"]["beta"]), float(run0["model"]["drive_amp"]))

@@ -368,7 +368,7 @@ class MBM(_MBMBase):
             # pause: a regime switch resumes through its own set's entry.
             self._runner = loop.runner_for(self._run[0])
             # From a cold cache, a helper process compiles the kernels beside it (mbm._warm).
-            _warm.prefetch("ivp", self._runner)
+            _warm.prefetch("ivp", self._runner, None if self._kind[0] == loop.KIND_TAYLOR else self._kind[0])
             # After the helper's start: the width may compile the kind's anchor kernel.
             self._width = _coefficient_width(self.approximant, self._kind[1], self.model, self.y)
 
@@ -765,8 +765,8 @@ class MBMWindowsDenseOutput(DenseOutput):
 
     def _call_impl(self, t):
         if t.ndim == 0:
-            return self._at(self.starts, self.start_theta, self.coefs, self.n, self.direction, float(t))
+            return self._at(self.kind, self.starts, self.start_theta, self.coefs, self.n, self.direction, float(t))
         t = np.ascontiguousarray(t, dtype=np.float64)
         out = np.empty((2, t.size))
-        self._into(self.starts, self.start_theta, self.coefs, self.n, self.direction, t, out)
+        self._into(self.kind, self.starts, self.start_theta, self.coefs, self.n, self.direction, t, out)
         return out

@@ -56,7 +56,7 @@ def test_regime_sets_of_the_scene_classes():
     assert rs(loop.KIND_SPLIT, loop.CONTROLLER_FIXED, 0, -0.1, 0.0, REGIME_NONE) == loop.RS_FIXED
     assert rs(T, loop.CONTROLLER_FIXED, 1, 0.1, 0.5, REGIME_NONE) == loop.RS_DRIVEN  # a drive's own anchor
     assert rs(T, A, 1, -0.1, 0.0, REGIME_NONE) == loop.RS_PLAIN  # β < 0: no regime applies
-    assert rs(loop.KIND_SALAS_TORQUE, loop.CONTROLLER_FIXED, 1, 0.1, 0.0, REGIME_NONE) == loop.RS_PLAIN
+    assert rs(loop.KIND_SALAS_TORQUE, loop.CONTROLLER_FIXED, 1, 0.1, 0.0, REGIME_NONE) == loop.RS_FIXED  # no estimate: fixed windows
 
 
 def test_an_entry_called_for_another_set_pauses_and_run_resumes_through_the_right_one():
@@ -119,6 +119,13 @@ _COMPILED = textwrap.dedent("""
     elif sys.argv[1] == "split":
         solve_ivp(m, (0.0, 80.0), [math.radians(30), 0.0], method=mbm.MBM, approximant="split4", rtol=1e-9,
                   atol=1e-9, t_eval=t)
+    elif sys.argv[1] == "split_after":
+        solve_ivp(m, (0.0, 80.0), [math.radians(30), 0.0], method=mbm.MBM, rtol=1e-9, atol=1e-9, t_eval=t,
+                  dense_output=True)
+        names.clear()
+        sol = solve_ivp(m, (0.0, 80.0), [math.radians(30), 0.0], method=mbm.MBM, approximant="split4",
+                        rtol=1e-9, atol=1e-9, t_eval=t, dense_output=True)
+        sol.sol(np.linspace(10.0, 70.0, 7))
     elif sys.argv[1] == "running":
         res = mbm.solve(mbm.Pendulum(beta=0.1, gamma=1.2), (0.0, 400.0), [0.0, 0.0], rtol=1e-9, atol=1e-9,
                         t_eval=np.linspace(0.0, 400.0, 201))
@@ -176,6 +183,18 @@ def test_a_splitting_s_estimate_compiles_no_loop_form_of_the_taylor_recurrence(t
     assert not any("series_loop" in n or n.endswith(".taylor_coefficients") for n in names)
 
 
+def test_a_further_kind_compiles_only_its_own_pieces(tmp_path):
+    # After a default Taylor solve_ivp, split4's solve_ivp with its dense output takes the
+    # same loop entry and dense entry (the kind read at run time, its pieces called
+    # through mbm.core.kind_ops' table): it compiles its formulas and its controller's
+    # first window (a rejection's retries only when one is rejected), and no entry of the
+    # loop or the dense output, and no regime's piece (the crossing: at a crossing only).
+    names = _compiled_names("split_after", tmp_path)
+    assert any("split_eval_kernel" in n for n in names) and any("first_window" in n for n in names)
+    assert any("kind_ops._split_anchor" in n for n in names)
+    assert [n for n in names if any(k in n for k in ("run_entry", "mbm.dense.", "mbm.core.loop", "mbm.regimes."))] == []
+
+
 # The other kinds' formulas (a Taylor run compiles none of them).
 OTHER_KINDS = ("splitting.", "salas2022", "belendez2007", "weierstrass", "pendulum_flow", "jacobi_kernels")
 
@@ -220,7 +239,8 @@ def test_a_dense_entry_without_a_stored_period_gives_nan_for_its_window():
     assert int(last.coefs[0, 0]) == 102  # regimes.CYCLE_TAG
     into, _ = dense.evaluators(loop.KIND_TAYLOR, loop.RS_PLAIN)
     out = np.empty((2, 1))
-    into(last.starts, last.start_theta, last.coefs, last.n, last.direction, np.array([last.t]), out)
+    into(loop.KIND_TAYLOR, last.starts, last.start_theta, last.coefs, last.n, last.direction,
+         np.array([last.t]), out)
     assert np.isnan(out).all()
     np.testing.assert_array_equal(last(np.array([last.t])).ravel(), sol.y[:, -1])
 

@@ -4,7 +4,8 @@
 :mod:`.record`         the run record (RUN) and its initialiser (new_run)
 :mod:`.window`         the approximant kinds and the approximant's step; winding
 :mod:`.controller`     the fixed and adaptive controllers
-:mod:`.loop`           the window loop and its entries per (kind, regime set)
+:mod:`.loop`           the window loop and its entries per regime set
+:mod:`.kind_ops`       the other kinds' pieces, called through a table of addresses
 :mod:`.lanes`          the lockstep lanes of solve_batch
 :mod:`.stored`         stored windows evaluated at any times
 =====================  ==========================================================

@@ -1,6 +1,6 @@
 """The compiled whole runs: a run through the loop's entries of its regime sets in turn.
 
-The loop (:mod:`mbm.core.loop`) has one entry per (kind, regime set); a run pauses at a
+The loop (:mod:`mbm.core.loop`) has one entry per regime set (RUNNERS per kind and set); a run pauses at a
 switch to another set, and Python resumes it through the new set's entry
 (:func:`mbm.core.loop.run`).  Compiled callers (the batch's rows and lanes, the batch
 events, :func:`mbm.solve_njit`) do the same in compiled code: :func:`_run_sets` calls
@@ -35,7 +35,7 @@ from .window import KIND_EXACT, KIND_SALAS_TORQUE, KIND_SPLIT, KIND_TAYLOR
 # numba calls a compiled function through a global: the table's entries as globals of
 # this module for _dispatch_flagged.
 (_R_T0, _R_T1, _R_T2, _R_T3, _R_T4, _R_T5, _R_T6, _R_S0, _R_S1, _R_S2, _R_S3, _R_S4, _R_S6,
- _R_E0, _R_E3, _R_Q0, _R_Q3) = (RUNNERS[key] for key in RUN_TABLE)
+ _R_E6, _R_E3, _R_Q6, _R_Q3) = (RUNNERS[key] for key in RUN_TABLE)
 (_R_V0, _R_V1, _R_V2, _R_V3, _R_V4, _R_V5, _R_V6) = (
     SIMD_RUNNERS[s] for s in (RS_PLAIN, RS_DAMPED, RS_CONSERVATIVE, RS_DRIVEN, RS_CYCLE, RS_STROBE, RS_FIXED))
 
@@ -147,9 +147,9 @@ def _dispatch_flagged(kind, rset, k0, k1, k2, k3, s0, s1, s2, s3, s4, s5, p, t_e
                                  cancel)
     elif kind == KIND_EXACT:
         if k1 == 1:
-            if rset == RS_PLAIN:
+            if rset == RS_FIXED:
                 if s0 == 1:
-                    return _R_E0(buf, resume, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t, win_y, win_coef,
+                    return _R_E6(buf, resume, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t, win_y, win_coef,
                                  cancel)
             elif rset == RS_DRIVEN:
                 if s3 == 1:
@@ -157,9 +157,9 @@ def _dispatch_flagged(kind, rset, k0, k1, k2, k3, s0, s1, s2, s3, s4, s5, p, t_e
                                  cancel)
     elif kind == KIND_SALAS_TORQUE:
         if k2 == 1:
-            if rset == RS_PLAIN:
+            if rset == RS_FIXED:
                 if s0 == 1:
-                    return _R_Q0(buf, resume, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t, win_y, win_coef,
+                    return _R_Q6(buf, resume, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t, win_y, win_coef,
                                  cancel)
             elif rset == RS_DRIVEN:
                 if s3 == 1:

@@ -13,6 +13,7 @@ import numba
 import numpy as np
 
 from ..special.jit import kernel
+from .kind_ops import OP_ADAPTIVE, OP_FIRST, OPS_PER_KIND, call_adaptive, call_first
 from .window import (
     KIND_EXACT,
     KIND_SALAS_TORQUE,
@@ -216,14 +217,15 @@ _adaptive_window_split = adaptive_window_for(KIND_SPLIT)
 
 @numba.njit(**_INLINE)
 def _first(kind, coef, t, y0, y1, off, direction, t_bound, omega, max_step, rtol, atol, error_order, log_eps):
-    """:func:`first_window` of kind ``kind`` through its compiled entry; h = −1 (no
-    window) for a kind without an error estimate."""
+    """:func:`first_window` of kind ``kind`` through its compiled entry (a splitting's through
+    the table of :mod:`mbm.core.kind_ops`); h = −1 (no window) for a kind without an
+    error estimate."""
     if kind == KIND_TAYLOR:
         return _first_window_taylor(coef, t, y0, y1, off, direction, t_bound, omega, max_step, rtol, atol,
                                     error_order, log_eps)
     if kind == KIND_SPLIT:
-        return _first_window_split(coef, t, y0, y1, off, direction, t_bound, omega, max_step, rtol, atol,
-                                   error_order, log_eps)
+        return call_first(KIND_SPLIT * OPS_PER_KIND + OP_FIRST, (coef, t, y0, y1, off, direction, t_bound, omega,
+                                                                 max_step, rtol, atol, error_order, log_eps))
     return -1.0
 
 
@@ -257,7 +259,8 @@ def _adaptive(kind, coef, t, y0, y1, off, direction, t_bound, h_abs, max_step, r
               log_eps):
     """:func:`adaptive_window` of kind ``kind``: its first try here (inlined: the common
     window, accepted at once), and on a rejection the kind's compiled controller from
-    the start (the same first try again, then its retries: the same bits).  A kind
+    the start (the same first try again, then its retries: the same bits; a splitting's
+    through the table of :mod:`mbm.core.kind_ops`).  A kind
     without an error estimate cannot run adaptive windows (STATUS_TOO_SMALL)."""
     if kind == KIND_EXACT:
         return STATUS_TOO_SMALL, t, y0, y1, h_abs
@@ -271,7 +274,8 @@ def _adaptive(kind, coef, t, y0, y1, off, direction, t_bound, h_abs, max_step, r
         if accepted:
             return STATUS_OK, t_new, theta, v, h_next
     if kind == KIND_SPLIT:
-        return _adaptive_window_split(coef, t, y0, y1, off, direction, t_bound, h_abs, max_step, rtol,
-                                      atol, error_order, log_eps)
+        return call_adaptive(KIND_SPLIT * OPS_PER_KIND + OP_ADAPTIVE, (coef, t, y0, y1, off, direction, t_bound,
+                                                                       h_abs, max_step, rtol, atol, error_order,
+                                                                       log_eps))
     return _adaptive_window_taylor(coef, t, y0, y1, off, direction, t_bound, h_abs, max_step, rtol,
                                    atol, error_order, log_eps)

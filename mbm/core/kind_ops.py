@@ -1,19 +1,22 @@
-"""The formulas of the kinds other than "taylor", called through a table of addresses.
+"""The compiled pieces of the kinds other than "taylor", called through a table of addresses.
 
 numba links the code of every compiled function a kernel calls into that kernel and
 optimises and emits it again there: a loop entry, a controller or a crossing that called
 a splitting's evaluation directly re-compiled the elliptic flow, the Jacobi functions
 and double-double arithmetic in each of them.  The kinds exact, salas-torque and split
-are instead called through :func:`call_anchor`, :func:`call_eval` and
-:func:`call_error`: an indirect call through slot ``(kind, op)`` of one process-wide
-table of addresses (:data:`OPS`).  A slot is filled on its first call, from compiled
-code: the op is compiled then (or loaded from numba's cache) by :func:`_load_slot`, a
-callback into Python.  So a kernel of the loop compiles none of those formulas, a run
-compiles only the formulas of its own kind, and a kernel that calls one stays cached
-(the table's address is resolved by name when the cached code is loaded).
+are instead called through the intrinsics of this module (:func:`call_anchor`,
+:func:`call_eval`, ...): an indirect call through slot ``(kind, op)`` of one
+process-wide table of addresses (:data:`OPS`).  A slot is filled on its first call, from
+compiled code: the op is compiled then (or loaded from numba's cache) by
+:func:`_load_slot`, a callback into Python.  So the loop's entries are shared by every
+kind (:mod:`mbm.core.loop`) and compile none of those kinds' code, a run compiles only
+its own kind's, and a kernel that calls one stays cached (the table's address is
+resolved by name when the cached code is loaded).
 
-Each op has one signature (:data:`SIGNATURES`); the ops of a kind are thin kernels with
-that signature over the kind's own formulas (the same calls, so the same bits).
+Each op has one signature (:data:`SIGNATURES`): the formulas (anchor, evaluation,
+estimate; thin kernels over the kind's own, the same calls, so the same bits) and the
+pieces compiled once per kind (the adaptive controller's first and later windows, the
+return map's crossing, and the stored period's windows, look-up and refinement).
 """
 
 import ctypes
@@ -26,29 +29,47 @@ from numba import types
 from numba.core import cgutils
 from numba.extending import intrinsic
 
-from ..approximants.belendez2007 import belendez_anchor_kernel, belendez_eval_kernel
-from ..approximants.salas2022 import salas_torque_anchor, salas_torque_eval
-from ..approximants.splitting import split_anchor, split_error_kernel, split_eval_kernel
-from ..special.jit import kernel
+import importlib
 
-__all__ = ["OPS", "SIGNATURES", "call_anchor", "call_error", "call_eval", "slot_of"]
+import numba
+
+from ..approximants.belendez2007 import belendez_anchor_kernel
+from ..approximants.salas2022 import salas_torque_anchor
+from ..approximants.splitting import split_anchor
+from ..special.jit import kernel
+from .record import RUN
+
+__all__ = ["OPS", "SIGNATURES", "call_adaptive", "call_anchor", "call_crossing", "call_error", "call_eval",
+           "call_first", "call_period_store", "call_period_value", "call_refine", "slot_of"]
 
 # The ops of a kind, each a column of the table.
-OP_ANCHOR, OP_EVAL, OP_ERROR = 0, 1, 2
+OP_ANCHOR, OP_EVAL, OP_ERROR, OP_FIRST, OP_ADAPTIVE, OP_CROSSING = 0, 1, 2, 3, 4, 5
+OP_PERIOD_STORE, OP_PERIOD_VALUE, OP_REFINE = 6, 7, 8
 # Columns per kind (room for further ops without moving the slots).
-OPS_PER_KIND = 8
+OPS_PER_KIND = 16
 # Rows: the kind ids of mbm.core.window (0 "taylor" .. 3 "split") and room for more.
 TABLE_KINDS = 8
 
-_F8 = types.float64
+_F8, _I8 = types.float64, types.int64
 _COEF = types.Array(_F8, 1, "C")
 _PAIR = types.UniTuple(_F8, 2)
+_RECORD = numba.from_dtype(RUN)
+# The controllers' arguments (mbm.core.controller.first_window_for, adaptive_window_for).
+_CONTROL_ARGS = (_COEF,) + (_F8,) * 10 + (_I8, _F8)
 #: Each op's signature: an anchor (karg, β, γ, ω, θ₀, θ̇₀) -> coefficients (coef[0] the
-#: status), an evaluation (coef, t) -> (θ, θ'), an estimate (coef, h) -> (err_θ, err_θ').
+#: status), an evaluation (coef, t) -> (θ, θ'), an estimate (coef, h) -> (err_θ, err_θ');
+#: the controllers', the crossing's, the stored period's as their kernels'.
 SIGNATURES = {
-    OP_ANCHOR: _COEF(types.int64, _F8, _F8, _F8, _F8, _F8),
+    OP_ANCHOR: _COEF(_I8, _F8, _F8, _F8, _F8, _F8),
     OP_EVAL: _PAIR(_COEF, _F8),
     OP_ERROR: _PAIR(_COEF, _F8),
+    OP_FIRST: _F8(*_CONTROL_ARGS),
+    OP_ADAPTIVE: types.Tuple((_I8, _F8, _F8, _F8, _F8))(*_CONTROL_ARGS),
+    OP_CROSSING: types.none(_RECORD, _COEF, *((_F8,) * 15), _I8, _I8),
+    OP_PERIOD_STORE: types.Tuple((_COEF, types.Array(_F8, 2, "C"), types.Array(_F8, 2, "C"), _I8))(_COEF),
+    OP_PERIOD_VALUE: types.UniTuple(_F8, 3)(_COEF, _COEF, types.Array(_F8, 2, "C"), types.Array(_F8, 2, "C"),
+                                            _I8, _F8),
+    OP_REFINE: types.none(_RECORD),
 }
 
 
@@ -71,16 +92,33 @@ def _split_anchor(karg, beta, gamma, omega, theta0, v0):
 # restated here; tests/test_kind_ops.py checks them against window's).
 _EXACT, _SALAS_TORQUE, _SPLIT = 1, 2, 3
 
-#: (kind id, op) -> the compiled function of that slot.
+#: The kinds with pieces in the table, by id (the compile helper's keys, mbm._warm).
+KINDS = {_EXACT: "exact", _SALAS_TORQUE: "salas-torque", _SPLIT: "split"}
+
+_M = "mbm.core.kind_ops"
+#: (kind id, op) -> (module, name) of the compiled function of that slot, imported at the
+#: slot's first call (the controllers' and regimes' modules import this one).
 OPS = {
-    (_EXACT, OP_ANCHOR): _exact_anchor,
-    (_EXACT, OP_EVAL): belendez_eval_kernel,
-    (_SALAS_TORQUE, OP_ANCHOR): _salas_torque_anchor,
-    (_SALAS_TORQUE, OP_EVAL): salas_torque_eval,
-    (_SPLIT, OP_ANCHOR): _split_anchor,
-    (_SPLIT, OP_EVAL): split_eval_kernel,
-    (_SPLIT, OP_ERROR): split_error_kernel,
+    (_EXACT, OP_ANCHOR): (_M, "_exact_anchor"),
+    (_EXACT, OP_EVAL): ("mbm.approximants.belendez2007", "belendez_eval_kernel"),
+    (_SALAS_TORQUE, OP_ANCHOR): (_M, "_salas_torque_anchor"),
+    (_SALAS_TORQUE, OP_EVAL): ("mbm.approximants.salas2022", "salas_torque_eval"),
+    (_SPLIT, OP_ANCHOR): (_M, "_split_anchor"),
+    (_SPLIT, OP_EVAL): ("mbm.approximants.splitting", "split_eval_kernel"),
+    (_SPLIT, OP_ERROR): ("mbm.approximants.splitting", "split_error_kernel"),
+    (_SPLIT, OP_FIRST): ("mbm.core.controller", "_first_window_split"),
+    (_SPLIT, OP_ADAPTIVE): ("mbm.core.controller", "_adaptive_window_split"),
+    (_SPLIT, OP_CROSSING): ("mbm.regimes.cycle_windows", "_cycle_crossing_split"),
+    (_SPLIT, OP_PERIOD_STORE): ("mbm.regimes.cycle_windows", "_period_windows_split"),
+    (_SPLIT, OP_PERIOD_VALUE): ("mbm.regimes.cycle_windows", "_period_lookup_split"),
+    (_SPLIT, OP_REFINE): ("mbm.regimes.cycle_windows", "_refine_period_split"),
 }
+
+
+def op_function(kind, op):
+    """The compiled function of slot (``kind``, ``op``), or None where it has none."""
+    where = OPS.get((kind, op))
+    return None if where is None else getattr(importlib.import_module(where[0]), where[1])
 
 
 def slot_of(kind, op):
@@ -110,7 +148,7 @@ def _load_slot(slot):
     try:
         if _TABLE[slot] == 0:
             kind, op = divmod(int(slot), OPS_PER_KIND)
-            disp = OPS.get((kind, op))
+            disp = op_function(kind, op)
             if disp is None:
                 return 0
             _TABLE[slot] = _address(disp, SIGNATURES[op])
@@ -177,3 +215,27 @@ call_anchor = _table_call(OP_ANCHOR)
 call_eval = _table_call(OP_EVAL)
 #: ``call_error(slot, (coef, h))`` -> (err_θ, err_θ').
 call_error = _table_call(OP_ERROR)
+#: The controllers: ``call_first(slot, args)`` -> h, ``call_adaptive(slot, args)`` ->
+#: (status, t_new, θ, θ', h_next), args as mbm.core.controller.first_window's.
+call_first = _table_call(OP_FIRST)
+call_adaptive = _table_call(OP_ADAPTIVE)
+#: The return map's step at a crossing (mbm.regimes.cycle_windows._cycle_crossing_for).
+call_crossing = _table_call(OP_CROSSING)
+#: The stored period: its windows from a cycle window's coefficients, the value at a
+#: time, the refinement of the record's period (mbm.regimes.cycle_windows).
+call_period_store = _table_call(OP_PERIOD_STORE)
+call_period_value = _table_call(OP_PERIOD_VALUE)
+call_refine = _table_call(OP_REFINE)
+
+
+def _python_call(slot, args):
+    # Under NUMBA_DISABLE_JIT the kernels run as Python: the slot's function called directly.
+    fn = op_function(*divmod(int(slot), OPS_PER_KIND))
+    if fn is None:
+        raise RuntimeError("mbm: a kind's compiled formula could not be loaded (mbm.core.kind_ops.LOAD_ERRORS)")
+    return fn(*args)
+
+
+if numba.config.DISABLE_JIT:
+    call_anchor = call_eval = call_error = call_first = call_adaptive = call_crossing = _python_call
+    call_period_store = call_period_value = call_refine = _python_call

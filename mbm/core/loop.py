@@ -11,9 +11,13 @@ closed form, or the approximant anchored at the state reached, under its control
 :mod:`mbm.core.window`, :mod:`mbm.core.controller`), emits the outputs in the window,
 runs the regime watches, and stores the window.  The regimes (:mod:`mbm.regimes`) are
 grouped in regime sets (``RS_*``, :func:`regime_set`); the loop has one compiled entry
-per (kind, regime set) of :data:`RUN_TABLE` (:data:`RUNNERS`), both constants of the
-entry's closure, so numba prunes the other kinds' and sets' branches and a scene
-compiles only the kernels and regimes it can reach.  A run whose regime set changes
+per regime set (and Taylor degree: the default's or any), the set a constant of the
+entry's closure, so numba prunes the other sets' branches and a scene compiles only the
+regimes it can reach.  Every (kind, set) of :data:`RUN_TABLE` has its entry
+(:data:`RUNNERS`): the kind is read from the record, kind "taylor"'s kernels called
+directly and the other kinds' pieces through the table of :mod:`mbm.core.kind_ops`, so
+the kinds share the default degree's entries and a further kind compiles only its own
+formulas.  A run whose regime set changes
 (a switch to a stored period) pauses, and its caller resumes it through the new set's
 entry (:func:`run`; in compiled code :func:`mbm.core.chains._run_sets`).
 
@@ -459,15 +463,15 @@ def _finish(r, status, t, y0, y1, k, h_abs, n_total, j, t_eval, out_theta, out_v
 # the windows this call took.
 
 
-def _runner(kind, rset, simd=False):
-    """The loop's compiled entry for kind ``kind`` and regime set ``rset`` (:func:`regime_set`).
+def _runner(rset, simd=False):
+    """The loop's compiled entry for regime set ``rset`` (:func:`regime_set`), any kind.
 
-    Both are constants of the closure, so numba prunes the other kinds' and sets'
-    branches before it compiles (a first run compiles the kernels and regimes its scene
-    class uses), and caches each closure apart (its constants are in the cache's key).
-    ``simd`` (kind "taylor"): the entry of the default degree SIMD_ORDER, which anchors
-    with the vector kernel alone and compiles no loop form of the recurrence (another
-    degree's run would end STATUS_ANCHOR: :func:`entry_for` chooses)."""
+    The set is a constant of the closure: numba prunes the other sets' branches before
+    it compiles, and caches each closure apart.  The kind is read from the record (kind
+    "taylor"'s kernels called directly, the others' through :mod:`mbm.core.kind_ops`).
+    ``simd``: kind "taylor" at the default degree SIMD_ORDER alone, anchored by the
+    vector kernel (no loop form of the recurrence compiled; another degree would end
+    STATUS_ANCHOR: :func:`entry_for` chooses), the entry the other kinds share."""
 
     @numba.njit(cache=True)
     def run_entry(buf, fresh, t0, theta0, v0, t1, h, t_eval, out, win_t, win_y, win_coef, cancel):
@@ -481,6 +485,7 @@ def _runner(kind, rset, simd=False):
                 return -problem
         p = start_record(buf, fresh, t0, theta0, v0, t1, h)
         r = p[0]
+        kind = r.control.kind
         t, y0, y1, t_bound = r.state.t, r.state.theta, r.state.v, r.state.t_bound
         h_abs = r.control.h_abs
         log_eps = window_log_eps(r.control.rtol)
@@ -580,7 +585,7 @@ RS_CYCLE = 4  # in the running cycle or a libration: the stored period's windows
 RS_STROBE = 5  # phase-locked to the drive: the stored drive period's windows (S6, S7)
 
 
-RS_FIXED = 6  # fixed windows (τ given) of a kind with an estimate, undriven: no regime, no adaptive controller
+RS_FIXED = 6  # fixed windows (τ given, or a kind without an estimate), undriven: no regime, no adaptive controller
 
 
 @kernel
@@ -589,10 +594,11 @@ def regime_set(kind, controller, regimes, beta, amp, regime):
 
     A run's set changes only at a regime switch (to RS_CYCLE or RS_STROBE), where the
     loop pauses so that the caller resumes it through the new set's entry.  The kinds
-    without an error estimate run fixed windows and take no regime.
+    without an error estimate run fixed windows and take no regime (RS_FIXED's entry,
+    which compiles no adaptive controller).
     """
     if kind == KIND_EXACT or kind == KIND_SALAS_TORQUE:
-        return RS_DRIVEN if amp != 0.0 else RS_PLAIN
+        return RS_DRIVEN if amp != 0.0 else RS_FIXED
     if regime == REGIME_RUNNING or regime == REGIME_LIBRATION:
         return RS_CYCLE
     if regime == REGIME_PHASE_LOCKED and kind == KIND_TAYLOR:
@@ -610,16 +616,17 @@ def regime_set(kind, controller, regimes, beta, amp, regime):
 RUN_TABLE = tuple(
     [(KIND_TAYLOR, s) for s in (RS_PLAIN, RS_DAMPED, RS_CONSERVATIVE, RS_DRIVEN, RS_CYCLE, RS_STROBE, RS_FIXED)]
     + [(KIND_SPLIT, s) for s in (RS_PLAIN, RS_DAMPED, RS_CONSERVATIVE, RS_DRIVEN, RS_CYCLE, RS_FIXED)]
-    + [(kd, s) for kd in (KIND_EXACT, KIND_SALAS_TORQUE) for s in (RS_PLAIN, RS_DRIVEN)]
+    + [(kd, s) for kd in (KIND_EXACT, KIND_SALAS_TORQUE) for s in (RS_FIXED, RS_DRIVEN)]
 )
 
 
-#: The loop's entry for each (kind id, regime set) of RUN_TABLE, any degree.
-RUNNERS = {key: _runner(*key) for key in RUN_TABLE}
+#: The entries of kind "taylor" at its default degree SIMD_ORDER, per regime set, which
+#: the other kinds share (:func:`_runner`).
+SIMD_RUNNERS = {rset: _runner(rset, True) for kind, rset in RUN_TABLE if kind == KIND_TAYLOR}
 
-#: The entries of kind "taylor" at its default degree SIMD_ORDER, per regime set: what
-#: the Python paths call (:func:`entry_for`; the compiled whole runs call RUNNERS').
-SIMD_RUNNERS = {rset: _runner(kind, rset, True) for kind, rset in RUN_TABLE if kind == KIND_TAYLOR}
+#: The loop's entry for each (kind id, regime set) of RUN_TABLE: kind "taylor" of any
+#: degree its own, the other kinds SIMD_RUNNERS'.
+RUNNERS = {(kind, rset): _runner(rset) if kind == KIND_TAYLOR else SIMD_RUNNERS[rset] for kind, rset in RUN_TABLE}
 
 
 def entry_for(kind, rset, karg):

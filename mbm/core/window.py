@@ -122,9 +122,10 @@ def anchor(kind, karg, beta, gamma, omega, theta0, v0, ws_coef, ws_scratch, simd
     ``simd`` (a constant of the caller) anchors "taylor" at degree SIMD_ORDER alone,
     compiling no loop form of the recurrence (another ``karg``: STATUS_BAD_ORDER).
     """
-    if kind == KIND_TAYLOR and simd:
-        return taylor24_coefficients_into(beta, gamma, omega, theta0, v0, karg, ws_coef, ws_scratch)
     if kind == KIND_TAYLOR:
+        # (nested: with a kind read at run time, ``simd`` alone prunes the loop form)
+        if simd:
+            return taylor24_coefficients_into(beta, gamma, omega, theta0, v0, karg, ws_coef, ws_scratch)
         return taylor_coefficients_into(beta, gamma, omega, theta0, v0, karg, ws_coef, ws_scratch)
     elif kind == KIND_EXACT or kind == KIND_SPLIT or kind == KIND_SALAS_TORQUE:
         return call_anchor(kind * OPS_PER_KIND + OP_ANCHOR, (karg, beta, gamma, omega, theta0, v0))
@@ -141,10 +142,10 @@ def anchor_driven(kind, karg, beta, gamma, omega, amp, freq, phase, t0, theta0, 
     starting at time ``t0``, into the workspace as :func:`anchor` (``simd`` as there);
     only kind "taylor" integrates a drive (the others: a bad status, never the
     autonomous formula)."""
-    if kind == KIND_TAYLOR and simd:
-        return taylor24_driven_coefficients_into(beta, gamma, omega, amp, freq, phase, t0, theta0, v0, karg,
-                                                 ws_coef, ws_scratch)
     if kind == KIND_TAYLOR:
+        if simd:
+            return taylor24_driven_coefficients_into(beta, gamma, omega, amp, freq, phase, t0, theta0, v0, karg,
+                                                     ws_coef, ws_scratch)
         return taylor_driven_coefficients_into(beta, gamma, omega, amp, freq, phase, t0, theta0, v0, karg,
                                                ws_coef, ws_scratch)
     bad = np.full(1, np.nan)

@@ -23,6 +23,17 @@ from ..core.window import (
     evaluate,
     window_log_eps,
 )
+from ..core.kind_ops import (
+    OP_CROSSING,
+    OP_PERIOD_STORE,
+    OP_PERIOD_VALUE,
+    OP_REFINE,
+    OPS_PER_KIND,
+    call_crossing,
+    call_period_store,
+    call_period_value,
+    call_refine,
+)
 from ..special.jit import kernel
 from .common import REGIME_RUNNING
 from .cycle import (
@@ -258,7 +269,7 @@ def _period_store(kind, c, simd=False):
     constant of the caller, whose runs are of the default Taylor degree): the vector
     kernel's."""
     if kind == KIND_SPLIT:
-        return _period_windows_split(c)
+        return call_period_store(KIND_SPLIT * OPS_PER_KIND + OP_PERIOD_STORE, (c,))
     if simd:
         return _period_windows_taylor24(c)
     return _period_windows_taylor(c)
@@ -279,7 +290,7 @@ def _period_lookup_split(c, starts, ends, coefs, n, t):
 def _period_value(kind, c, starts, ends, coefs, n, t):
     """:func:`_period_lookup` of kind ``kind`` through its compiled entry."""
     if kind == KIND_SPLIT:
-        return _period_lookup_split(c, starts, ends, coefs, n, t)
+        return call_period_value(KIND_SPLIT * OPS_PER_KIND + OP_PERIOD_VALUE, (c, starts, ends, coefs, n, t))
     return _period_lookup_taylor(c, starts, ends, coefs, n, t)
 
 
@@ -359,7 +370,7 @@ def refine_period(kind, r, simd=False):
         else:
             _refine_period_taylor(r)
     elif kind == KIND_SPLIT:
-        _refine_period_split(r)
+        call_refine(KIND_SPLIT * OPS_PER_KIND + OP_REFINE, (r,))
 
 
 def _cycle_crossing_for(kind):
@@ -428,7 +439,8 @@ def _watch_cycle(kind, r, coef, t, t_new, y0, th, v, k, off, sec_off, sec_acc, b
             _cycle_crossing_taylor(r, coef, t, t_new, y0, th, v, k, off, sec_off, sec_acc, beta, gamma, omega,
                                    t_bound, rtol, atol, m0, m1)
         elif kind == KIND_SPLIT:
-            _cycle_crossing_split(r, coef, t, t_new, y0, th, v, k, off, sec_off, sec_acc, beta, gamma, omega,
-                                  t_bound, rtol, atol, m0, m1)
+            call_crossing(KIND_SPLIT * OPS_PER_KIND + OP_CROSSING, (r, coef, t, t_new, y0, th, v, k, off, sec_off,
+                                                                   sec_acc, beta, gamma, omega, t_bound, rtol,
+                                                                   atol, m0, m1))
     elif m1 != m0:
         cy.sec_n, cy.cyc_k = 0, 0
