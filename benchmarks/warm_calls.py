@@ -50,6 +50,12 @@ def cases():
                                                                        atol=1e-9, t_eval=t4),
         "solve_batch 512 scenes, T 80, 1e-9": lambda: mbm.solve_batch(0.1, gammas, 1.0, y3, (0.0, 80.0), t3,
                                                                       rtol=1e-9, atol=1e-9),
+        # The kinds other than taylor (their pieces called through mbm.core.kind_ops' table).
+        "Example 1 mbm.solve split4, 1e-9": lambda: mbm.solve(ex1, (0, 80), y3, approximant="split4", rtol=1e-9,
+                                                              atol=1e-9, t_eval=t3),
+        "Example 1 mbm.solve salas-torque, τ 0.25": lambda: mbm.solve(ex1, (0, 80), y3, approximant="salas-torque",
+                                                                      tau=0.25, t_eval=t3),
+        "exact flow mbm.solve, T 80": lambda: mbm.solve(mbm.Pendulum(0.0, 0.0), (0, 80), y3, t_eval=t3),
     }
 
 

@@ -99,7 +99,7 @@ running, long_span, t_long = mbm.Pendulum(beta=0.1, gamma=1.2), (0.0, 400.0), np
 """
 
 _started = {}  # key -> the helper's Popen, one per key and process
-_checked = set()  # the entries prefetch has looked at: each once per process (a set lookup)
+_checked = set()  # the entries and kind ids prefetch has looked at: each once per process (a set lookup)
 _manifest = []  # the loaded manifest's paths, once (a list: loaded or not)
 
 
@@ -166,10 +166,10 @@ def prefetch(path, entry, kind=None):
         Whether a helper was started.
     """
     pairs = []
-    if kind is not None and kind_key(kind) not in _started:
+    if kind is not None and kind not in _checked:  # (a set lookup for every later call)
+        _checked.add(kind)
         target = _key_target(kind_key(kind))
-        if target is not None and target not in _checked:
-            _checked.add(target)
+        if target is not None:
             pairs.append((kind_key(kind), target))
     if entry not in _checked:  # (the check of every later call: a dispatcher's signatures cost ~20 us)
         _checked.add(entry)

@@ -11,9 +11,11 @@ def test_median_seconds_calls_once_more_than_repeats():
     assert len(calls) == 6 and got >= 0.0
 
 
-def test_rows_state_their_tolerance():
+def test_rows_state_their_tolerance_or_window():
     labels = list(warm_calls.cases())
-    assert len(labels) == 5 and all("1e-" in label for label in labels)
+    assert len(labels) == 8
+    # an adaptive row its tolerance, a fixed-window row its τ, the exact flow neither
+    assert all("1e-" in label or "τ" in label or "exact" in label for label in labels)
 
 
 def test_bad_repeats_refused():

@@ -532,9 +532,9 @@ def _runner(rset, simd=False):
             elif rset == RS_STROBE:
                 st, coef, t_new, th, v, k_new, h_abs, h_next, is_locked, per = _source_strobe(
                     kind, r, t, direction, max_step, h_abs, per)
-            elif (rset == RS_FIXED or kind == KIND_EXACT or kind == KIND_SALAS_TORQUE
-                  or (rset != RS_DAMPED and rset != RS_CONSERVATIVE  # (always adaptive: regime_set)
-                      and r.control.controller != CONTROLLER_ADAPTIVE)):
+            elif (rset == RS_FIXED or (rset != RS_DAMPED and rset != RS_CONSERVATIVE  # (adaptive: regime_set)
+                                       and (kind == KIND_EXACT or kind == KIND_SALAS_TORQUE
+                                            or r.control.controller != CONTROLLER_ADAPTIVE))):
                 st, coef, t_new, th, v, k_new, h_abs, h_next, is_locked, per = _source_fixed(
                     kind, rset, simd, r, t, y0, y1, k, direction, max_step, h_abs, ws, per)
             else:
