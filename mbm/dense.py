@@ -246,12 +246,11 @@ def _fallback_at(starts, start_theta, coefs, n, direction, tj, kind):
     return out[:, 0].copy()
 
 
-def _entry_of(kind, dset, simd):
-    # The shared entry a (kind, set) of DENSE_TABLE takes (the other kinds: the default
-    # Taylor degree's, which a default Taylor run has compiled), or None.
-    if (kind, dset) not in DENSE_TABLE:
-        return None
-    return _ENTRIES[(dset, dset == RS_CYCLE and (simd or kind != KIND_TAYLOR))]
+#: The entry per (kind, set, default degree) of DENSE_TABLE: the other kinds take the
+#: default Taylor degree's (which a default Taylor run has compiled); one look-up per
+#: step of solve_ivp.
+_EVALUATORS = {(kd, ds, simd): _ENTRIES[(ds, ds == RS_CYCLE and (simd or kd != KIND_TAYLOR))]
+               for kd, ds in DENSE_TABLE for simd in (False, True)}
 
 
 def dense_set(regime):
@@ -284,7 +283,7 @@ def evaluators(kind, dset=RS_PLAIN, simd=False):
     out)``, ``at(kind, ..., tj)``); ``dset`` (:func:`dense_set`) names the stored
     periods the windows may hold (RS_PLAIN: none); ``simd``: windows of kind "taylor"
     at its default degree SIMD_ORDER alone (any degree where False)."""
-    entry = _entry_of(kind, dset, simd)
+    entry = _EVALUATORS.get((kind, dset, simd))
     if entry is not None:
         return entry
     return (lambda kd, *a: _fallback_into(*a, kd)), (lambda kd, *a: _fallback_at(*a, kd))

@@ -74,3 +74,43 @@ def test_a_failed_load_is_reported():
     finally:
         del kind_ops.OPS[key]
     assert len(kind_ops.LOAD_ERRORS) == n + 1 and isinstance(kind_ops.LOAD_ERRORS[-1], KeyError)
+
+
+_NJIT_FIRST = """
+import json, numba, numpy as np, mbm
+from mbm.core import kind_ops
+slot = kind_ops.slot_of(kind_ops._EXACT, kind_ops.OP_EVAL)
+empty = int(kind_ops._TABLE[slot]) == 0
+
+@numba.njit
+def user_code(t, out):
+    # the exact flow (beta = gamma = 0) from the user's own compiled code, first of all
+    return mbm.solve_njit(0.0, 0.0, 1.0, 0.0, 0.5, 0.2, 10.0, t, out, 1e-9, 1e-9, 10**6)
+
+t = np.linspace(0.0, 10.0, 11)
+out = np.empty((2, t.size))
+status, n = user_code(t, out)
+ref = mbm.solve(mbm.Pendulum(0.0, 0.0), (0.0, 10.0), [0.5, 0.2], rtol=1e-9, atol=1e-9, t_eval=t)
+print(json.dumps({"empty": empty, "filled": int(kind_ops._TABLE[slot]) != 0, "status": int(status),
+                  "same": bool(np.array_equal(out, ref.y))}))
+"""
+
+
+def test_compiled_code_fills_a_slot_at_its_first_call():
+    # A fresh process's table is empty; solve_njit called from the user's compiled code
+    # (no Python step of mbm before it) fills the exact flow's slots itself and gives
+    # mbm.solve's answer.
+    import json
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parent.parent
+    env = dict(os.environ, MBM_COMPILE_HELPER="0")
+    env["PYTHONPATH"] = os.pathsep.join([str(root)] + [p for p in env.get("PYTHONPATH", "").split(os.pathsep) if p])
+    proc = subprocess.run([sys.executable, "-c", _NJIT_FIRST], env=env, cwd=root, capture_output=True, text=True,
+                          timeout=900)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    got = json.loads(proc.stdout.strip().splitlines()[-1])
+    assert got == {"empty": True, "filled": True, "status": 0, "same": True}
