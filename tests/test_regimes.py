@@ -520,3 +520,61 @@ def test_quick_rejection_never_refuses_a_state_the_full_test_takes(seed):
             spared += reject
     assert passed > 100 and failed > 100, (passed, failed)
     assert spared > 0.5 * failed, (spared, failed)
+
+
+def _first_stage_rejects(lk, theta, v, d, sd, wl2, g0, omega, tol, q2):
+    # locked_quick_reject's first stage, as it forms it (quotients, _nearest_k).
+    k = lk._nearest_k.py_func(theta, d)
+    ts = d + 2.0 * math.pi * k
+    x = theta - ts
+    a = lk.QUICK_FACTOR * math.sqrt(x * x + v * v / wl2)
+    tol_t = regimes.SWITCH_SAFETY * (tol + tol * abs(ts))
+    return omega * omega * lk._rho.py_func(sd, a) * g0 > tol_t and not (q2 > 0.0 and q2 * a**3 <= tol_t)
+
+
+def _threshold_amplitude(lk, d, sd, wl2, g0, omega, tol, q2, k):
+    # The linear amplitude (x alone, v = 0) where the first stage's test turns, by bisection.
+    lo, hi = 0.0, 3.0
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        theta = d + 2.0 * math.pi * k + mid
+        lo, hi = (lo, mid) if _first_stage_rejects(lk, theta, 0.0, d, sd, wl2, g0, omega, tol, q2) else (mid, hi)
+    return hi
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_far_pretest_rejects_only_where_the_quick_test_rejects(seed):
+    # locked_far runs before locked_quick_reject on every window: wherever it answers
+    # True, the quick test's first stage must answer True too (so the windows stay bit
+    # for bit), at that stage's threshold (amplitudes a few ulps either side), in wells
+    # far from θ = 0, and on a saddle's level (θ − d an odd multiple of π, where a
+    # product and a quotient may choose different wells); and it must take most of the
+    # first stage's rejections away from the threshold (its point).
+    rng = np.random.default_rng(100 + seed)
+    lk = regimes.locked
+    far_count = first_count = 0
+    for _ in range(3000):
+        beta, gamma, omega = rng.uniform(0.02, 1.0), rng.uniform(-0.95, 0.95), rng.uniform(0.5, 2.0)
+        tol = 10.0 ** rng.uniform(-12, -2)
+        d, wl2, g0, g1, sd, q2, _ = lk._lock_setup.py_func(beta, gamma * omega**2, omega, True, True)
+        k = float(rng.integers(-10**6, 10**6)) if rng.uniform() < 0.3 else 0.0
+        where = rng.uniform()
+        if where < 0.3:  # at the first stage's threshold
+            a_star = _threshold_amplitude(lk, d, sd, wl2, g0, omega, tol, q2, k)
+            x, v = a_star * (1.0 + rng.uniform(-1e-13, 1e-13)), 0.0
+        elif where < 0.45:  # on a saddle's level
+            x, v = math.pi * rng.choice([-1.0, 1.0]) * (1.0 + rng.uniform(-1e-15, 1e-15)), rng.uniform(-3, 3)
+        else:
+            amp = 10.0 ** rng.uniform(-8, 0.5)
+            phase = rng.uniform(0.0, 2.0 * math.pi)
+            x, v = amp * math.cos(phase), amp * math.sqrt(wl2) * math.sin(phase)
+        theta = d + 2.0 * math.pi * k + x
+        far = lk.locked_far.py_func(theta, v, d, sd, wl2, g0, omega, tol, tol, q2)
+        reject = lk.locked_quick_reject.py_func(theta, v, d, sd, wl2, g0, g1, omega, tol, tol, q2)
+        first = _first_stage_rejects(lk, theta, v, d, sd, wl2, g0, omega, tol, q2)
+        assert not far or (first and reject), (beta, gamma, omega, tol, k, x, v)
+        if where >= 0.3 and abs(x) <= lk.FAR_X and first:
+            first_count += 1
+            far_count += far
+    assert first_count > 300, first_count
+    assert far_count > 0.99 * first_count, (far_count, first_count)

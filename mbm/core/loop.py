@@ -96,6 +96,7 @@ from ..regimes.locked import (
     locked_choice,
     locked_coef,
     locked_eval,
+    locked_far,
     locked_quick_reject,
 )
 from ..regimes.strobe import STROBE_WIDTH, strobe_coef
@@ -209,8 +210,12 @@ def locked_test(r, y0, y1, off, lk):
     rejection is skipped.  Shared by the loop and the lanes."""
     m, c = r.model, r.control
     lk_d, lk_wl2, lk_g0, lk_g1, lk_sd, lk_q2, can_lock2 = lk
-    if r.switch.regime == REGIME_LOCKED or not locked_quick_reject(
-            off + y0, y1, lk_d, lk_sd, lk_wl2, lk_g0, lk_g1, m.omega, c.rtol, c.atol, lk_q2):
+    locked = r.switch.regime == REGIME_LOCKED
+    # The far pre-test first: most windows stop there, with no quotient on their path.
+    if not locked and locked_far(off + y0, y1, lk_d, lk_sd, lk_wl2, lk_g0, m.omega, c.rtol, c.atol, lk_q2):
+        return 0, 0.0
+    if locked or not locked_quick_reject(off + y0, y1, lk_d, lk_sd, lk_wl2, lk_g0, lk_g1, m.omega, c.rtol, c.atol,
+                                         lk_q2):
         return locked_choice(m.beta, m.gamma, m.omega, y0, y1, lk_d, lk_wl2, lk_g0, lk_g1, c.rtol, c.atol, off,
                              can_lock2)
     return 0, 0.0

@@ -23,7 +23,8 @@ How a regime plugs into the window loop (:func:`mbm.loop._run`):
 switch rule
     Tested between windows; it passes only where every output after the switch stays
     within SWITCH_SAFETY of the tolerance scale, whatever the horizon.  Locked:
-    :func:`locked_quick_reject` (cheap, every window), then :func:`locked_choice`
+    :func:`locked_far` (cheapest, every window), :func:`locked_quick_reject` (cheap),
+    then :func:`locked_choice`
     (L5, L7).  Running: :func:`cycle_switch` on the section crossings (R1, R2).
     Libration: C4 at the run's first window, from :func:`libration_period`.
     Phase-locked: :func:`strobe_switch` on the stroboscopic samples (S3–S5, S7).  The
@@ -71,6 +72,7 @@ from .locked import (  # noqa: F401
     _x_minus_sin,
     _potential,
     _nearest_k,
+    locked_far,
     locked_quick_reject,
     _amplitude_newton,
     locked_bound,
@@ -185,6 +187,7 @@ __all__ = [
     "LOCKED_WIDTH",
     "locked_constants",
     "section_offset",
+    "locked_far",
     "locked_quick_reject",
     "locked_amplitude",
     "locked2_terms",

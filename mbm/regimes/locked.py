@@ -39,6 +39,13 @@ QUICK_FACTOR = 0.5
 # few ulps of them (the full test's reduced x by fewer); this many, with room to spare.
 X_ROUNDING = 8.0
 _EPS = 2.220446049250313e-16
+# :func:`locked_far`'s margin over its rounding against the quick test's first stage
+# (a few ulps apart): it rejects only where that stage surely does.
+FAR_MARGIN = 1e-12
+# Beyond this |x| (rad, below π) the nearest well by a product may differ from
+# :func:`_nearest_k`'s by a quotient (θ on a saddle's level): the quick test decides.
+FAR_X = 3.0
+_INV_TWO_PI = 1.0 / (2.0 * math.pi)
 
 # A locked window's coefficient vector, as stored in a run's window store:
 # [LOCKED_TAG, θ₀, x₀ = θ₀ − θ*, v₀, β/2, s², ω_l²], θ = θ₀ + (x − x₀) so that the
@@ -160,6 +167,22 @@ def _bounds_fail(a, sd, cd, g0, g1, omega, tol, tol_v, second):
         return True
     rho3 = cd * a * a * a / 6.0 + sd * a * a * a * a / 24.0
     return w2 * g0 * rho3 > tol or w2 * g1 * rho3 > tol_v
+
+
+@numba.njit(cache=True, inline="always")
+def locked_far(theta, v, d, sd, wl2, g0, omega, rtol, atol, q2):
+    """True where :func:`locked_quick_reject`'s first stage surely rejects: its test by
+    products in place of its quotients (off the window's critical path: 1/ω_l²
+    is the run's constant), with :data:`FAR_MARGIN` on the tolerance; False leaves the
+    answer to :func:`locked_quick_reject`.  Arguments as there."""
+    k = np.floor((theta - d) * _INV_TWO_PI + 0.5)
+    ts = d + 2.0 * math.pi * k
+    x = theta - ts
+    a = QUICK_FACTOR * math.sqrt(x * x + v * v * (1.0 / wl2))
+    tol = SWITCH_SAFETY * (atol + rtol * abs(ts)) * (1.0 + FAR_MARGIN)
+    a2 = a * a
+    return (abs(x) <= FAR_X and omega * omega * g0 * (a2 * (0.5 * sd + a * (1.0 / 6.0))) > tol
+            and not (q2 > 0.0 and q2 * a2 * a <= tol))
 
 
 @kernel
