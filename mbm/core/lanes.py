@@ -167,7 +167,7 @@ def _lane_before(p, ln, q, ins, t_eval, out, win_t, win_y, win_coef, cancel, han
     ln.wind, ln.phi = k, y0
     if ln.can_lock != 0:
         lk = (ln.lk_d, ln.lk_wl2, ln.lk_g0, ln.lk_g1, ln.lk_sd, ln.lk_q2, ln.can_lock2 != 0)
-        if locked_test(r, y0, y1, k * _TWO_PI, lk)[0] > 0:
+        if locked_test(r, y0, y1, k * _TWO_PI, lk, False)[0] > 0:
             _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel, handed)
             return False
     ins[0, q] = r.model.beta

@@ -204,15 +204,19 @@ def _keep_damped(buf):
 
 # Inlined: as a call it costs ~5 us of a ~13 us short locked run (P1, 8 windows).
 @numba.njit(**_INLINE)
-def locked_test(r, y0, y1, off, lk):
+def locked_test(r, y0, y1, off, lk, far):
     """``(order, t_s)`` of the locked closed form from φ = ``y0``, θ' = ``y1`` (L5-L7; order
     0: not locked), ``lk`` the constants of :func:`damped_setup`; once locked the quick
-    rejection is skipped.  Shared by the loop and the lanes."""
+    rejection is skipped.  ``far``: screen by :func:`mbm.regimes.locked.locked_far`
+    first (the loop, whose 1/ω_l² is the run's constant; the lanes' is each lane's, a
+    quotient per window again, and their pass measured 2-4 % slower with it).  Shared
+    by the loop and the lanes."""
     m, c = r.model, r.control
     lk_d, lk_wl2, lk_g0, lk_g1, lk_sd, lk_q2, can_lock2 = lk
     locked = r.switch.regime == REGIME_LOCKED
     # The far pre-test first: most windows stop there, with no quotient on their path.
-    if not locked and locked_far(off + y0, y1, lk_d, lk_sd, lk_wl2, lk_g0, m.omega, c.rtol, c.atol, lk_q2):
+    if far and not locked and locked_far(off + y0, y1, lk_d, lk_sd, lk_wl2, lk_g0, m.omega, c.rtol, c.atol,
+                                         lk_q2):
         return 0, 0.0
     if locked or not locked_quick_reject(off + y0, y1, lk_d, lk_sd, lk_wl2, lk_g0, lk_g1, m.omega, c.rtol, c.atol,
                                          lk_q2):
@@ -341,7 +345,7 @@ def _source(kind, rset, simd, r, t, y0, y1, k, off, direction, max_step, h_abs, 
     t_bound = r.state.t_bound
     lk_order, lk_ts = 0, 0.0
     if rset == RS_DAMPED and can_lock:
-        lk_order, lk_ts = locked_test(r, y0, y1, off, lk)
+        lk_order, lk_ts = locked_test(r, y0, y1, off, lk, True)
     if rset == RS_DAMPED and lk_order > 0:  # (the other sets' entries compile no locked window)
         coef = locked_coef(beta, lk[1], lk_ts, y0, y1, gamma, lk_order)
         t_new = _window_end(t, direction, t_bound, max_step)
