@@ -7,7 +7,8 @@ Run from the root of each checkout, one after the other on the same machine::
 Each row is the median (and the minimum) of ``repeats`` calls after one warm-up call (which compiles or
 loads the kernels), on scenes where the per-call and per-window costs show: P1 (a
 short locked run), a running scene, the second paper's Example 1 through ``solve_ivp``
-with dense output, a driven scene and a ``solve_batch`` ensemble.  The tolerance of
+with dense output, a driven scene, a ``solve_batch`` ensemble, the other kinds, and
+the benchmark's damped scenes P2-P4 (every window takes the locked test).  The tolerance of
 each row is in its label.  mbm alone: heyoka's figures at matched error are in
 ``python -m benchmarks``.
 """
@@ -56,7 +57,23 @@ def cases():
         "Example 1 mbm.solve salas-torque, τ 0.25": lambda: mbm.solve(ex1, (0, 80), y3, approximant="salas-torque",
                                                                       tau=0.25, t_eval=t3),
         "exact flow mbm.solve, T 80": lambda: mbm.solve(mbm.Pendulum(0.0, 0.0), (0, 80), y3, t_eval=t3),
+        # The benchmark's damped scenes whose every window takes the locked test.
+        **{f"{name} mbm.solve, 1e-6": _scene_call(name) for name in LOCKED_TEST_SCENES},
     }
+
+
+#: The benchmark's scenes (benchmarks.scenes) with a row of their own: damped, |γ| < ω².
+LOCKED_TEST_SCENES = ("P2", "P3", "P4")
+
+
+def _scene_call(name, tol=1e-6):
+    """mbm.solve on the benchmark's scene ``name`` at rtol = atol = ``tol``, its outputs."""
+    import mbm
+
+    from .scenes import SCENES
+
+    s = SCENES[name]
+    return lambda: mbm.solve(s.model, s.t_span, s.y0, rtol=tol, atol=tol, t_eval=s.t_eval)
 
 
 def call_seconds(fn, repeats):

@@ -13,7 +13,7 @@ def test_median_seconds_calls_once_more_than_repeats():
 
 def test_rows_state_their_tolerance_or_window():
     labels = list(warm_calls.cases())
-    assert len(labels) == 8
+    assert len(labels) == 8 + len(warm_calls.LOCKED_TEST_SCENES)
     # an adaptive row its tolerance, a fixed-window row its τ, the exact flow neither
     assert all("1e-" in label or "τ" in label or "exact" in label for label in labels)
 
