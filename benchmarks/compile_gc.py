@@ -1,4 +1,4 @@
-"""What relaxing the garbage collector during compiles saves (mbm._compile_gc), measured.
+"""What relaxing the garbage collector during compiles saves (mbm.compile.gc), measured.
 
 Each sample is a fresh process with an empty ``NUMBA_CACHE_DIR`` and the compile helper
 off (one core, so the figure is the compile's own), on the second paper's Example 1:

@@ -5,7 +5,7 @@ apart), from numba's ``numba:compile`` events, in a fresh process with an empty 
 
 CODE runs after ``import math, numpy as np, mbm`` (and ``--setup``, timed apart);
 the table lists the kernels CODE compiled, longest first, with the wall time of CODE.
-The compile helper (:mod:`mbm._warm`) is off, so that every kernel is compiled here.
+The compile helper (:mod:`mbm.compile.warm`) is off, so that every kernel is compiled here.
 """
 
 import argparse

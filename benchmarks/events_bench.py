@@ -73,7 +73,7 @@ def _heyoka(tol, fp):
 
 
 def _slip_function():
-    # The slip as a numba.njit event function g(t, θ, θ') (mbm.user_events).
+    # The slip as a numba.njit event function g(t, θ, θ') (mbm.events.functions).
     import numba
 
     @numba.njit

@@ -26,7 +26,7 @@ import time
 
 import numpy as np
 
-from mbm.cli_progress import Progress
+from mbm.junction.progress import Progress
 
 from . import peers, references
 from .registry import solver_registry
@@ -115,7 +115,7 @@ def gc_paused():
 
 
 def entry_calls(entry):
-    """A compiled loop that calls the loop entry ``entry`` (``mbm.loop.entry_for``'s) ``n``
+    """A compiled loop that calls the loop entry ``entry`` (``mbm.core.loop.entry_for``'s) ``n``
     times as a fresh run: ``calls(n, buf, t0, theta0, v0, t1, h, t_eval, out, win_t,
     win_y, win_coef, cancel)`` returns the sum of its returns; the entry's cost without
     Python's dispatch (``entry`` is a constant of the loop)."""

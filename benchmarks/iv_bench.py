@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 import mbm
-from mbm import junction
+from mbm.junction import iv as junction
 
 __all__ = ["run", "render", "main"]
 

@@ -11,7 +11,7 @@ approximant "auto", the Taylor series), calls with one output time:
   Integrators, argument checks) on a zero-length span (no window: the fixed cost
   before the first window) and on a span of 1e-9 (one window);
 * the compiled part alone: Integrator.solve's compiled entry (the loop's own,
-  ``mbm.loop.entry_for``: the t_eval check, the record set-up, the loop) called from
+  ``mbm.core.loop.entry_for``: the t_eval check, the record set-up, the loop) called from
   Python with its arguments ready (dispatch included), and called from a compiled loop
   (no dispatch);
 * for scale, P1 whole (0 ≤ t ≤ 20) with its 201 outputs.
@@ -38,7 +38,8 @@ from pathlib import Path
 import numpy as np
 
 import mbm
-from mbm import fast, loop
+from mbm.frontends import solve as fast
+from mbm.core import loop
 
 from . import harness
 from .report import block

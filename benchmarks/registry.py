@@ -122,7 +122,7 @@ def _mbm_options(knob, value):
 
 def _mbm_solve_ivp_runner(name, knob, windows_per_step="auto"):
     # windows_per_step="auto" is MBM's default: with t_eval and no events, up to
-    # mbm.solver.WINDOWS_PER_STEP windows a step.
+    # mbm.frontends.ivp.WINDOWS_PER_STEP windows a step.
     from scipy.integrate import solve_ivp
 
     def run(scene, value):

@@ -121,7 +121,7 @@ def _solve_batch(beta, gamma):
 def _sweep(beta, gamma, chunks=None):
     import dask
 
-    from mbm.sweeps import sweep
+    from mbm.junction.sweeps import sweep
 
     ds = sweep(beta=beta, gamma=gamma, t_span=(0.0, T_END), reduce="mean_velocity", chunks=chunks)
     if chunks is not None:
@@ -138,7 +138,7 @@ def one(path, n, out):
     dict
         ``wall`` (s) and ``rss_growth`` (bytes: peak RSS above the RSS before the run).
     """
-    from mbm.sweeps import sweep
+    from mbm.junction.sweeps import sweep
 
     sweep(beta=[0.1, 0.2], gamma=[0.3, 1.2], t_span=(0.0, 10.0), reduce="mean_velocity")  # kernels
     beta, gamma = grid(n)
@@ -171,7 +171,7 @@ def run_subprocess(path, n, tmp):
 
 
 def run_cluster(client, beta, gamma, chunks):
-    from mbm.sweeps import sweep
+    from mbm.junction.sweeps import sweep
 
     client.run(_start_sampler)
     t = time.perf_counter()
@@ -208,7 +208,7 @@ def main(argv=None):
     import numba
 
     import mbm
-    from mbm.sweeps import LOCAL_BATCH, sweep
+    from mbm.junction.sweeps import LOCAL_BATCH, sweep
 
     load_before = os.getloadavg()
     sweep(beta=[0.1, 0.2], gamma=[0.3, 1.2], t_span=(0.0, 10.0), reduce="mean_velocity")  # kernels

@@ -8,7 +8,7 @@ A damped undriven run (RS_DAMPED) tests the locked regime before each window and
 watches the return map after it (:mod:`mbm.regimes`); a run without regimes (RS_PLAIN)
 takes the same windows without either.  For P1–P3 (:mod:`benchmarks.scenes`) at each
 tolerance, both compiled entries of the Taylor kind at its default degree
-(``mbm.loop.SIMD_RUNNERS``) run the scene's windows before its switch to a regime:
+(``mbm.core.loop.SIMD_RUNNERS``) run the scene's windows before its switch to a regime:
 the span is cut at ``t_regime`` of ``mbm.solve`` (the whole span where the scene never
 switches), so both runs take the same windows; the script checks that they do (window count and end state bit for bit)
 and refuses to report otherwise.  The entries are called from a compiled loop (no
@@ -32,7 +32,9 @@ from pathlib import Path
 import numpy as np
 
 import mbm
-from mbm import fast, loop
+from mbm.frontends import solve as fast
+from mbm.core import loop
+from mbm import status
 from mbm.core.record import WORD
 
 from . import harness
@@ -84,7 +86,7 @@ def _same_windows(scene, watched, plain, h, cut):
     n_p = _calls_plain(1, plain, 0.0, th0, v0, cut, h, *_EMPTY)
     ends = [(b[1].view(np.int64)[WORD["status"]], b[1].view(np.int64)[WORD["regime"]], b[1][WORD["t"]],
              b[1][WORD["theta"]], b[1][WORD["v"]]) for b in (watched, plain)]
-    if n_w != n_p or ends[0] != ends[1] or ends[0][0] != loop.STATUS_OK:
+    if n_w != n_p or ends[0] != ends[1] or ends[0][0] != status.STATUS_OK:
         raise RuntimeError(f"{scene.name}: the entries took different windows ({n_w}: {ends[0]}; "
                            f"{n_p}: {ends[1]})")
     return n_w

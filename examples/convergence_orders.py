@@ -9,7 +9,7 @@ their largest error over the integer times against the fixed-point reference of
 error as measured against heyoka in long double, ~1e-19, is that check's own floor), for
 τ from 4 down to where the error reaches mbm's own round-off.
 
-Each family's order is fitted by the study's rule (:mod:`mbm.orderfit`, as
+Each family's order is fitted by the study's rule (:mod:`mbm.cli.orderfit`, as
 ``mbm study``): points within 10× the reference's own error (measured against heyoka
 in long double, or mbm at its tightest tolerance without heyoka) are at its floor, and
 points outside the study's fit band are not fitted; the order is the least-squares
@@ -46,7 +46,7 @@ def compute(scene=SCENE, methods=METHODS):
     dict
         ``ref_error`` (the reference's own error) and ``curves``: method ->
         dict with ``tau``, ``error`` (arrays, τ ascending), ``fit``
-        (:class:`mbm.orderfit.OrderFit`).
+        (:class:`mbm.cli.orderfit.OrderFit`).
     """
     ref = study.load_reference()
     ref_error = study.reference_error(scene, ref)

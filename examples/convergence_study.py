@@ -34,7 +34,8 @@ sys.path.insert(0, str(ROOT / "tests" / "data"))
 
 import mbm  # noqa: E402
 import mbm.scenes  # noqa: E402
-from mbm import cli_study, orderfit  # noqa: E402
+from mbm.cli import study as cli_study
+from mbm.cli import orderfit  # noqa: E402
 from mbm.approximants import splitting, taylor  # noqa: E402
 
 REFERENCE_PATH = ROOT / "tests" / "data" / "convergent_reference.npz"
@@ -167,7 +168,7 @@ def rk4_fixed_run(beta, gamma, omega, theta0, v0, h, n, every):
 def reference_error(scene, ref):
     """The fixed-point reference's own error: max over its samples of max(|Δθ|, |Δθ'|)
     against heyoka in long double (tol 1e-19), or against mbm at its tightest tolerance
-    without heyoka (:func:`mbm.cli_study.study_reference`'s references)."""
+    without heyoka (:func:`mbm.cli.study.study_reference`'s references)."""
     b, g, w, th0, v0, t_end = SCENES[scene]
     model = mbm.Pendulum(b, g, w)
     t = np.arange(ref[scene].shape[0], dtype=float)
@@ -188,7 +189,7 @@ def reference_error(scene, ref):
 def fit_order(taus, errs, ref_error=0.0):
     """Order p ± its standard error and constant C of err ≈ C τ^p, and the points fitted.
 
-    :func:`mbm.orderfit.fit_order` (the rule of ``mbm study``): errors within 10× the
+    :func:`mbm.cli.orderfit.fit_order` (the rule of ``mbm study``): errors within 10× the
     reference's error are at its floor, errors outside FIT_BAND are left out (below:
     mbm's own round-off, far above the fixed-point reference's error; above: no
     C τ^p regime), then the longest run of consecutive τ whose local slopes agree and
@@ -400,7 +401,7 @@ if __name__ == "__main__":
     elif cmd == "cvode":
         # How far mbm.reference (CVODE, rtol = atol = 1e-12) is from the fixed-point reference.
         from mbm import Pendulum
-        from mbm.references import reference
+        from mbm.frontends.reference import reference
 
         ref = load_reference()
         print("| scene | max abs Δθ | max abs Δθ' |")

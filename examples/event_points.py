@@ -22,13 +22,13 @@ from scipy.integrate import solve_ivp
 
 import mbm
 import mbm.scenes
-from mbm.events import (
+from mbm.events.points import (
     analytic_event_points,
     event_function_d,
     event_point_solution,
     hybrid_event_points,
 )
-from mbm.references import reference
+from mbm.frontends.reference import reference
 
 # The paper's Examples 1 and 2 (mbm.scenes: P2 and P3).
 SCENES = {"Example 1": mbm.scenes.get("ex1"), "Example 2": mbm.scenes.get("ex2")}

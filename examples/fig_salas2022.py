@@ -25,7 +25,7 @@ from _common import cli_out, out_dir, pyplot
 
 import mbm
 import mbm.scenes
-from mbm.events import (
+from mbm.events.points import (
     KIND_BOTH,
     KIND_CROSSING,
     KIND_TURNING,

@@ -24,7 +24,7 @@ import numpy as np
 
 from _common import cli_out, out_dir, pyplot
 
-from mbm.sweeps import sweep
+from mbm.junction.sweeps import sweep
 
 # Damping range: from the weakly damped (strong hysteresis) to β = 1, where the
 # bistable band has closed to a sliver below γ = 1.

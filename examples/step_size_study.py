@@ -1,7 +1,7 @@
 """Step-size study: MBM error against the window length τ, with fitted orders
 ==========================================================================
 
-Runs :func:`mbm.cli_study.run_study` (the engine of ``mbm study``) on the second
+Runs :func:`mbm.cli.study.run_study` (the engine of ``mbm study``) on the second
 paper's Example 1 for a convergent Taylor approximant, a 4th-order splitting and the
 paper's own ℘ approximant, prints the table and saves error-vs-τ and error-vs-time
 plots.  The ℘ approximant levels off at the model error of the Chebyshev cubic (2.3)
@@ -10,7 +10,7 @@ plots.  The ℘ approximant levels off at the model error of the Chebyshev cubic
 The table states the reference's own error (heyoka in long double, or DOP853 without
 heyoka, checked against mbm at its tightest tolerance), marks the points within 10× of
 it as at the reference's floor and fits the order over the asymptotic range only, with
-its standard error (:mod:`mbm.orderfit`).
+its standard error (:mod:`mbm.cli.orderfit`).
 
 Usage::
 
@@ -19,7 +19,7 @@ Usage::
 
 from _common import cli_out, out_dir, pyplot
 
-from mbm import cli_study
+from mbm.cli import study as cli_study
 
 # Scene: the second paper's Example 1 (β = 0.1, γ = 0.3, θ₀ = 30°, 0 ≤ t ≤ 80).
 SCENE = cli_study.SCENES["ex1"]
@@ -41,7 +41,7 @@ def compute(taus=TAUS, approximants=APPROXIMANTS, n_out=201):
     Returns
     -------
     dict
-        As :func:`mbm.cli_study.run_study` (``rows``, ``fits``, ``orders``, ``curves``, ``t``,
+        As :func:`mbm.cli.study.run_study` (``rows``, ``fits``, ``orders``, ``curves``, ``t``,
         ``ref``, ``ref_error``).
     """
     return cli_study.run_study(SCENE, list(approximants), taus=list(taus), n_out=n_out,

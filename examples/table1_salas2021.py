@@ -20,8 +20,8 @@ Run:  python examples/table1_salas2021.py
 import numpy as np
 
 from mbm.approximants.salas2021 import Johannessen, JohannessenTrig, SalasDamped, SalasDampedLinear
-from mbm.problem import Pendulum
-from mbm.references import reference
+from mbm.model import Pendulum
+from mbm.frontends.reference import reference
 
 # The printed Table 1 (first paper), columns Error_Johannessen and Error_Our Solution.
 TWO_EPS = np.round(np.linspace(0.02, 0.4, 11), 3)

@@ -4,20 +4,21 @@
 drop-in ``scipy.integrate.solve_ivp`` method (:class:`MBM`) and as a compiled
 whole-run solver (:func:`solve`, :func:`solve_batch`).
 
-:class:`MBM` and the :mod:`mbm.events` module import ``scipy.integrate`` (about
+:class:`MBM` and the :mod:`mbm.events.points` module import ``scipy.integrate`` (about
 half a second); they are loaded on first use so that ``import mbm`` followed by
 :func:`solve` stays fast.
 
-At import, :mod:`mbm._cache` drops numba's cached kernels if any of mbm's sources
+At import, :mod:`mbm.compile.cache` drops numba's cached kernels if any of mbm's sources
 changed since they were cached (``MBM_KEEP_CACHE=1`` skips this), and the first
 compilation of a kernel in a process writes one line to stderr (``MBM_COMPILE_NOTICE=0``
-silences it); while numba compiles mbm's kernels, :mod:`mbm._compile_gc` runs Python's
+silences it); while numba compiles mbm's kernels, :mod:`mbm.compile.gc` runs Python's
 garbage collector less often (``MBM_COMPILE_GC=0`` leaves it alone).
 """
 
 import importlib
 
-from . import _cache, _compile_gc
+from .compile import cache as _cache
+from .compile import gc as _compile_gc
 
 # Before any compiled module: a kernel must not load from a cache older than its callees,
 # and a first compile should say so (MBM_KEEP_CACHE=1, MBM_COMPILE_NOTICE=0 turn these off)
@@ -35,13 +36,14 @@ from .approximants import (
     get_approximant,
 )
 from .special.pendulum_flow import pendulum_flow, period
-from .fast import Integrator, solve, solve_batch, solve_njit
-from .crossings import Event, angle_event, section_event, velocity_event
-from .njit_events import event_table, solve_njit_events, solve_njit_function_events
-from .junction import IVCurve, iv_curve
-from .problem import Pendulum, identify_model
-from .shapiro import ShapiroStep, ShapiroSteps, shapiro_steps
-from .references import reference
+from .frontends.solve import Integrator, solve, solve_njit
+from .frontends.batch import solve_batch
+from .events.compiled import Event, angle_event, section_event, velocity_event
+from .events.njit import event_table, solve_njit_events, solve_njit_function_events
+from .junction.iv import IVCurve, iv_curve
+from .model import Pendulum, identify_model
+from .junction.shapiro import ShapiroStep, ShapiroSteps, shapiro_steps
+from .frontends.reference import reference
 
 __version__ = "0.1.0"
 
@@ -80,14 +82,14 @@ __all__ = [
 
 # name -> (module, attribute or None for the module itself)
 _LAZY = {
-    "MBM": ("mbm.solver", "MBM"),
-    "MBMEventPoints": ("mbm.solver", "MBMEventPoints"),
-    "events": ("mbm.events", None),
+    "MBM": ("mbm.frontends.ivp", "MBM"),
+    "MBMEventPoints": ("mbm.frontends.ivp", "MBMEventPoints"),
+    "events": ("mbm.events.points", None),
     "scenes": ("mbm.scenes", None),
-    "successive": ("mbm.events", "successive"),
-    "solver": ("mbm.solver", None),
+    "successive": ("mbm.events.points", "successive"),
+    "solver": ("mbm.frontends.ivp", None),
     # xarray and dask are optional (pip install "mbm[dask]"): loaded on first use
-    "sweep": ("mbm.sweeps", "sweep"),
+    "sweep": ("mbm.junction.sweeps", "sweep"),
 }
 
 

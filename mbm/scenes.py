@@ -40,7 +40,7 @@ import math
 
 import numpy as np
 
-from .problem import Pendulum
+from .model import Pendulum
 
 __all__ = ["Scene", "CATALOGUE", "N_OUTPUT", "get", "names"]
 
@@ -175,7 +175,7 @@ class Scene:
     def params(self):
         """``(beta, gamma, omega, theta0, v0, t_end)`` as floats.
 
-        The flat form some tables and ``mbm.cli_study.run_study`` take.
+        The flat form some tables and ``mbm.cli.study.run_study`` take.
         """
         return (self.beta, self.gamma, self.omega, self.theta0, self.v0, self.t_end)
 

@@ -1,6 +1,6 @@
 """The run statuses: one table of (code, name, flag, message) for every path.
 
-A run of the compiled loop (:mod:`mbm.loop`) ends with one of these codes in its
+A run of the compiled loop (:mod:`mbm.core.loop`) ends with one of these codes in its
 record's ``status``; :func:`mbm.solve`, :class:`mbm.Integrator`, :func:`mbm.solve_batch`
 report it as ``status`` with its ``message``, :class:`mbm.MBM` turns a failure into
 solve_ivp's message, and :func:`mbm.sweep` writes it as a CF flag variable (its
@@ -50,7 +50,7 @@ STATUS_ANCHOR = 2
 STATUS_NONFINITE = 3
 STATUS_MAX_WINDOWS = 4
 STATUS_INTERRUPTED = 5
-# A terminal event of mbm.crossings stopped the run (a success, as scipy's status 1).
+# A terminal event of mbm.events.compiled stopped the run (a success, as scipy's status 1).
 STATUS_EVENT = 6
 # A window of an event watch held more crossings of one level than it takes.
 STATUS_CROWDED = 7

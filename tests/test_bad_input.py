@@ -507,7 +507,7 @@ def test_tiny_fixed_window_refused_naming_tau():
     ((0.5, 1e12, 1.0, 1.0, 1.0), 10.0, {}),  # nor driven ones
 ])
 def test_budget_does_not_refuse_what_it_cannot_bound(params, span, kw):
-    from mbm._validate import DEFAULT_MAX_WINDOWS, check_window_budget
+    from mbm.validate import DEFAULT_MAX_WINDOWS, check_window_budget
     m = mbm.Pendulum(*params)
     t0, t1 = (0.0, span) if np.ndim(span) == 0 else span
     check_window_budget(m.beta, m.gamma, m.omega, m.drive_amplitude, t0, t1, 0.0, kw.get("tau"), math.inf,

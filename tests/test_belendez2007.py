@@ -18,7 +18,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from mbm.approximants import ApproximantDomainError, get_approximant
-from mbm.problem import Pendulum
+from mbm.model import Pendulum
 from mbm.special.pendulum_flow import (
     REGIME_LIBRATION,
     REGIME_ROTATION,
@@ -434,7 +434,7 @@ def test_period_validation():
     for bad in ([0.1], [0.1, 0.2, 0.3], [[0.1, 0.0]], [np.nan, 0.0], [0.0, np.inf]):
         with pytest.raises(ValueError, match="y0"):
             period(Pendulum(), bad)
-    # what is not a real number is a TypeError (mbm._validate's one policy)
+    # what is not a real number is a TypeError (mbm.validate's one policy)
     with pytest.raises(TypeError, match="y0 must be array_like of 2 real numbers"):
         period(Pendulum(), ["a", "b"])
 

@@ -1,4 +1,4 @@
-"""numba's disk cache follows edits of mbm's sources, and a compile says so (mbm._cache).
+"""numba's disk cache follows edits of mbm's sources, and a compile says so (mbm.compile.cache).
 
 The cache tests run a copy of the package in subprocesses, so that editing a source
 and emptying a cache touch neither the installed package nor its cache.  Two probe
@@ -16,7 +16,7 @@ import numba
 import pytest
 
 import mbm
-from mbm import _cache
+from mbm.compile import cache as _cache
 
 PACKAGE = pathlib.Path(mbm.__file__).resolve().parent
 NOTICE = "mbm: compiling numba kernels for "

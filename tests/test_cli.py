@@ -6,7 +6,7 @@ import sys
 
 import pytest
 
-from mbm.__main__ import demo, main
+from mbm.cli.main import demo, main
 
 
 def test_demo_reports_errors_and_times():
@@ -38,8 +38,8 @@ import math  # noqa: E402
 import numpy as np  # noqa: E402
 
 import mbm  # noqa: E402
-from mbm.__main__ import parse_angle  # noqa: E402
-from mbm.cli_progress import Progress, progress  # noqa: E402
+from mbm.cli.main import parse_angle  # noqa: E402
+from mbm.junction.progress import Progress, progress  # noqa: E402
 
 SOLVE_ARGS = ["solve", "--beta", "0.1", "--gamma", "0.3", "--theta0", "30deg", "--t-end", "20",
               "--n-out", "41", "--rtol", "1e-10", "--atol", "1e-10"]
@@ -199,7 +199,7 @@ def test_progress_message_goes_above_the_bar():
 
 
 def test_iv_command(tmp_path, capsys):
-    from mbm.__main__ import main
+    from mbm.cli.main import main
 
     csv, png = tmp_path / "iv.csv", tmp_path / "iv.png"
     assert main(["iv", "--beta", "2", "--points", "6", "--csv", str(csv), "--plot", str(png)]) == 0
@@ -209,7 +209,7 @@ def test_iv_command(tmp_path, capsys):
 
 
 def test_iv_command_with_a_drive(tmp_path, capsys):
-    from mbm.__main__ import main
+    from mbm.cli.main import main
 
     csv = tmp_path / "iv.csv"
     assert main(["iv", "--beta", "2", "--gamma-max", "2.2", "--points", "3", "--drive-amplitude", "1",
@@ -230,7 +230,7 @@ def test_iv_command_with_a_drive(tmp_path, capsys):
 
 
 def test_solve_reports_phase_slips_and_mean_velocity(tmp_path, capsys):
-    from mbm.__main__ import main
+    from mbm.cli.main import main
 
     png = tmp_path / "run.png"
     assert main(["solve", "--beta", "0.1", "--gamma", "1.2", "--t-end", "1000", "--out",
@@ -247,7 +247,7 @@ def test_solve_reports_phase_slips_and_mean_velocity(tmp_path, capsys):
 
 def test_cli_wording_is_the_library_wording(capsys):
     # argparse names the option; the rule is worded as every entry point words it.
-    from mbm.__main__ import main
+    from mbm.cli.main import main
 
     for argv, words in ((["solve", "--omega", "-1"], "must be > 0, got '-1'"),
                         (["solve", "--beta", "x"], "must be a real number, got 'x'"),
@@ -260,7 +260,7 @@ def test_cli_wording_is_the_library_wording(capsys):
 def test_iv_report_flags_an_unsettled_bracket(monkeypatch):
     # The report on stdout says what iv_curve's warnings say (a saved report keeps it): a
     # bracket resting on probes that changed voltage state, and the points not settled.
-    from mbm.__main__ import iv_command
+    from mbm.cli.main import iv_command
 
     g = np.array([0.0, 1.0, 1.0, 0.0])
     curve = mbm.IVCurve(gamma=g, mean_velocity=np.array([0.0, 1.1, 1.1, 0.0]), regime=np.array(["locked",

@@ -1,4 +1,4 @@
-"""The collector relaxed while numba compiles mbm's kernels (mbm._compile_gc): raised for
+"""The collector relaxed while numba compiles mbm's kernels (mbm.compile.gc): raised for
 the outermost compile of an mbm kernel and all compiles inside it, restored after it
 (also when it fails), untouched for other compiles, for a warm cache and when turned off."""
 
@@ -13,7 +13,7 @@ from pathlib import Path
 import pytest
 from numba.core import event
 
-from mbm import _compile_gc
+from mbm.compile import gc as _compile_gc
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -60,7 +60,7 @@ def test_raised_for_an_mbm_kernel_and_what_it_compiles_then_restored(thresholds)
 
 def test_a_higher_user_threshold_is_kept(thresholds):
     gc.set_threshold(10 ** 6, 5, 5)
-    assert _compile(_compile_gc._listener_class()(), "mbm.fast") == [10 ** 6]
+    assert _compile(_compile_gc._listener_class()(), "mbm.frontends.solve") == [10 ** 6]
     assert gc.get_threshold() == (10 ** 6, 5, 5)
 
 
@@ -104,7 +104,7 @@ _CHILD = textwrap.dedent("""
     import numpy as np
     import mbm
     from numba.core import event
-    from mbm import _compile_gc
+    from mbm.compile import gc as _compile_gc
 """) + textwrap.dedent(inspect.getsource(_Probe)) + textwrap.dedent("""
     spy = _Probe()
     event.register("numba:compile", spy)

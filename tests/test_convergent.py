@@ -119,7 +119,7 @@ def fitted_order(method, scene, ref, t_end=None):
     longest run of consecutive τ whose errors lie in FIT_BAND and grow at least
     linearly with τ (below: round-off floor; above: pre-asymptotic); p is the
     Theil–Sen slope over it (the earlier rule of docs/convergent.md's table; its
-    Taylor rows now use mbm.orderfit's least-squares rule).
+    Taylor rows now use mbm.cli.orderfit's least-squares rule).
     """
     errs = []
     below = 0
@@ -488,7 +488,7 @@ def test_registered_names_and_attributes():
         is_taylor = isinstance(ap, taylor.Taylor)
         assert ap.measured_order == ap.error_order - (1 if is_taylor else 0)
         assert callable(ap.error_kernel) and not ap.exact
-        assert mbm.loop.kind_of(ap) is not None
+        assert mbm.core.window.kind_of(ap) is not None
         ap.check_model(mbm.Pendulum(beta=2.0, gamma=-5.0, omega=3.0))  # no domain limits
     assert mbm.get_approximant("taylor").error_order == taylor.TAYLOR_DEFAULT_ORDER
 

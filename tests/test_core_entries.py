@@ -12,7 +12,11 @@ import numpy as np
 import pytest
 
 import mbm
-from mbm import dense, fast, loop
+from mbm.frontends import dense
+from mbm.frontends import solve as fast
+from mbm.core import chains, loop, record, window
+from mbm.core.controller import CONTROLLER_ADAPTIVE, CONTROLLER_FIXED
+from mbm.status import STATUS_ANCHOR, STATUS_OK, STATUS_PAUSED
 from mbm.regimes import (
     REGIME_LIBRATION,
     REGIME_LOCKED,
@@ -22,28 +26,28 @@ from mbm.regimes import (
 )
 
 ROOT = Path(__file__).resolve().parent.parent
-KINDS = (loop.KIND_TAYLOR, loop.KIND_EXACT, loop.KIND_SALAS_TORQUE, loop.KIND_SPLIT)
+KINDS = (window.KIND_TAYLOR, window.KIND_EXACT, window.KIND_SALAS_TORQUE, window.KIND_SPLIT)
 REGIMES = (REGIME_NONE, REGIME_LOCKED, REGIME_RUNNING, REGIME_LIBRATION, REGIME_PHASE_LOCKED)
 
 
 def test_every_record_has_an_entry_and_a_dense_evaluator():
     # regime_set over every combination of the fields it reads lands in the table
     for kind, ctl, regimes, beta, amp, regime in itertools.product(
-            KINDS, (loop.CONTROLLER_FIXED, loop.CONTROLLER_ADAPTIVE), (0, 1), (-0.1, 0.0, 0.1), (0.0, 0.5),
+            KINDS, (CONTROLLER_FIXED, CONTROLLER_ADAPTIVE), (0, 1), (-0.1, 0.0, 0.1), (0.0, 0.5),
             REGIMES):
-        if regime == REGIME_PHASE_LOCKED and kind != loop.KIND_TAYLOR:
+        if regime == REGIME_PHASE_LOCKED and kind != window.KIND_TAYLOR:
             continue  # only Taylor integrates a drive, so only it can phase-lock
         rset = loop.regime_set.py_func(kind, ctl, regimes, beta, amp, regime)
         assert (kind, rset) in loop.RUN_TABLE
         assert (kind, rset) in loop.RUNNERS
-        assert (kind, dense.dense_set(regime)) in dense.DENSE_TABLE or kind in (loop.KIND_EXACT,
-                                                                             loop.KIND_SALAS_TORQUE)
+        assert (kind, dense.dense_set(regime)) in dense.DENSE_TABLE or kind in (window.KIND_EXACT,
+                                                                             window.KIND_SALAS_TORQUE)
     assert set(loop.RUNNERS) == set(loop.RUN_TABLE)
 
 
 def test_regime_sets_of_the_scene_classes():
     rs = loop.regime_set.py_func
-    T, A = loop.KIND_TAYLOR, loop.CONTROLLER_ADAPTIVE
+    T, A = window.KIND_TAYLOR, CONTROLLER_ADAPTIVE
     assert rs(T, A, 1, 0.1, 0.0, REGIME_NONE) == loop.RS_DAMPED
     assert rs(T, A, 1, 0.1, 0.0, REGIME_LOCKED) == loop.RS_DAMPED  # the locked window is the set's own
     assert rs(T, A, 1, 0.1, 0.0, REGIME_RUNNING) == loop.RS_CYCLE
@@ -52,11 +56,11 @@ def test_regime_sets_of_the_scene_classes():
     assert rs(T, A, 1, 0.1, 0.5, REGIME_NONE) == loop.RS_DRIVEN
     assert rs(T, A, 1, 0.1, 0.5, REGIME_PHASE_LOCKED) == loop.RS_STROBE
     assert rs(T, A, 0, 0.1, 0.0, REGIME_NONE) == loop.RS_PLAIN  # regimes off
-    assert rs(T, loop.CONTROLLER_FIXED, 1, 0.1, 0.0, REGIME_NONE) == loop.RS_FIXED  # fixed windows
-    assert rs(loop.KIND_SPLIT, loop.CONTROLLER_FIXED, 0, -0.1, 0.0, REGIME_NONE) == loop.RS_FIXED
-    assert rs(T, loop.CONTROLLER_FIXED, 1, 0.1, 0.5, REGIME_NONE) == loop.RS_DRIVEN  # a drive's own anchor
+    assert rs(T, CONTROLLER_FIXED, 1, 0.1, 0.0, REGIME_NONE) == loop.RS_FIXED  # fixed windows
+    assert rs(window.KIND_SPLIT, CONTROLLER_FIXED, 0, -0.1, 0.0, REGIME_NONE) == loop.RS_FIXED
+    assert rs(T, CONTROLLER_FIXED, 1, 0.1, 0.5, REGIME_NONE) == loop.RS_DRIVEN  # a drive's own anchor
     assert rs(T, A, 1, -0.1, 0.0, REGIME_NONE) == loop.RS_PLAIN  # β < 0: no regime applies
-    assert rs(loop.KIND_SALAS_TORQUE, loop.CONTROLLER_FIXED, 1, 0.1, 0.0, REGIME_NONE) == loop.RS_FIXED  # no estimate: fixed windows
+    assert rs(window.KIND_SALAS_TORQUE, CONTROLLER_FIXED, 1, 0.1, 0.0, REGIME_NONE) == loop.RS_FIXED  # no estimate: fixed windows
 
 
 def test_an_entry_called_for_another_set_pauses_and_run_resumes_through_the_right_one():
@@ -67,33 +71,33 @@ def test_an_entry_called_for_another_set_pauses_and_run_resumes_through_the_righ
     want = mbm.solve(model, span, y0, rtol=1e-8, atol=1e-8, t_eval=te)
     assert want.regime == "running"
     ig = mbm.Integrator(model, rtol=1e-8, atol=1e-8)
-    p = np.array(ig._words.copy().view(loop.RUN))
-    f = loop.flat(p)
+    p = np.array(ig._words.copy().view(record.RUN))
+    f = record.flat(p)
     f[0]["t"], f[0]["theta"], f[0]["v"], f[0]["t_bound"] = span[0], y0[0], y0[1], span[1]
     f[0]["call_windows"] = 0
     out = np.empty((2, te.size))
     args = (te, out, np.empty(0), np.empty((0, 2)), np.empty((0, 0)), np.zeros(1, np.int64))
     n = loop.run(p, *args)
-    assert f[0]["status"] == loop.STATUS_OK and f[0]["regime"] == REGIME_RUNNING
+    assert f[0]["status"] == STATUS_OK and f[0]["regime"] == REGIME_RUNNING
     np.testing.assert_array_equal(out, want.y)
     assert n == want.n_windows
     # now rewound to just after the switch: the damped entry refuses to go on
-    damped = loop.RUNNERS[(loop.KIND_TAYLOR, loop.RS_DAMPED)]
+    damped = loop.RUNNERS[(window.KIND_TAYLOR, loop.RS_DAMPED)]
     p2 = p.copy()
-    f2 = loop.flat(p2)
-    f2[0]["status"] = loop.STATUS_OK
+    f2 = record.flat(p2)
+    f2[0]["status"] = STATUS_OK
     f2[0]["t_bound"] = span[1] + 10.0
-    assert damped(loop.words_of(p2), False, 0.0, 0.0, 0.0, 0.0, 0.0, np.empty(0), np.empty((2, 0)), *args[2:]) == 0
-    assert f2[0]["status"] == loop.STATUS_PAUSED and f2[0]["t"] == f[0]["t"]
+    assert damped(record.words_of(p2), False, 0.0, 0.0, 0.0, 0.0, 0.0, np.empty(0), np.empty((2, 0)), *args[2:]) == 0
+    assert f2[0]["status"] == STATUS_PAUSED and f2[0]["t"] == f[0]["t"]
 
 
 def test_an_unknown_kind_is_a_status():
-    p = mbm.Integrator(mbm.Pendulum(0.1, 0.3))._words.copy().view(loop.RUN)
-    f = loop.flat(p)
+    p = mbm.Integrator(mbm.Pendulum(0.1, 0.3))._words.copy().view(record.RUN)
+    f = record.flat(p)
     f[0]["kind"] = 99
     assert loop.run(p, np.empty(0), np.empty((2, 0)), np.empty(0), np.empty((0, 2)), np.empty((0, 0)),
                     np.zeros(1, np.int64)) == 0
-    assert f[0]["status"] == loop.STATUS_ANCHOR
+    assert f[0]["status"] == STATUS_ANCHOR
 
 
 _COMPILED = textwrap.dedent("""
@@ -142,7 +146,7 @@ _COMPILED = textwrap.dedent("""
 # Kernels an undriven damped scene can never use (the drive, the libration) or uses
 # only after a switch to a stored period (its windows), and the dense output's store.
 NOT_FOR_DAMPED = ("_strobe", "taylor_driven_coefficients_into", "libration_period", "_period_windows",
-                  "mbm.dense.")
+                  "mbm.frontends.dense.")
 # Every regime's kernels: a fixed-window kind takes none.
 REGIME_KERNELS = NOT_FOR_DAMPED + ("locked_choice", "cycle_crossing", "locked_quick_reject", "_lock_setup",
                                   "_form_damped")
@@ -170,7 +174,7 @@ def test_first_solve_of_a_damped_scene_compiles_only_its_regimes(tmp_path):
 def test_first_call_of_a_fixed_window_kind_compiles_no_regime(tmp_path):
     names = _compiled_names("salas", tmp_path)
     assert any("salas_torque_anchor" in n for n in names)
-    assert [n for n in names if any(k in n for k in REGIME_KERNELS) and "mbm.dense." not in n] == []
+    assert [n for n in names if any(k in n for k in REGIME_KERNELS) and "mbm.frontends.dense." not in n] == []
     assert not any("_period" in n or "_strobe" in n for n in names)
 
 
@@ -192,7 +196,7 @@ def test_a_further_kind_compiles_only_its_own_pieces(tmp_path):
     names = _compiled_names("split_after", tmp_path)
     assert any("split_eval_kernel" in n for n in names) and any("first_window" in n for n in names)
     assert any("kind_ops._split_anchor" in n for n in names)
-    assert [n for n in names if any(k in n for k in ("run_entry", "mbm.dense.", "mbm.core.loop", "mbm.regimes."))] == []
+    assert [n for n in names if any(k in n for k in ("run_entry", "mbm.frontends.dense.", "mbm.core.loop", "mbm.regimes."))] == []
 
 
 # The other kinds' formulas (a Taylor run compiles none of them).
@@ -204,7 +208,7 @@ def test_a_taylor_run_that_reaches_the_running_cycle_compiles_no_other_kind(tmp_
     # at the default degree by the vector kernel alone, no loop form of the recurrence
     names = _compiled_names("running", tmp_path)
     assert any("refine_period" in n for n in names) and any("period_windows" in n for n in names)
-    assert any("mbm.dense." in n for n in names)
+    assert any("mbm.frontends.dense." in n for n in names)
     assert [n for n in names if any(k in n for k in OTHER_KINDS)] == []
     assert not any("series_loop" in n for n in names)
 
@@ -237,9 +241,9 @@ def test_a_dense_entry_without_a_stored_period_gives_nan_for_its_window():
     sol = solve_ivp(model, span, y0, method=mbm.MBM, rtol=1e-8, atol=1e-8, dense_output=True)
     last = sol.sol.interpolants[-1]
     assert int(last.coefs[0, 0]) == 102  # regimes.CYCLE_TAG
-    into, _ = dense.evaluators(loop.KIND_TAYLOR, loop.RS_PLAIN)
+    into, _ = dense.evaluators(window.KIND_TAYLOR, loop.RS_PLAIN)
     out = np.empty((2, 1))
-    into(loop.KIND_TAYLOR, last.starts, last.start_theta, last.coefs, last.n, last.direction,
+    into(window.KIND_TAYLOR, last.starts, last.start_theta, last.coefs, last.n, last.direction,
          np.array([last.t]), out)
     assert np.isnan(out).all()
     np.testing.assert_array_equal(last(np.array([last.t])).ravel(), sol.y[:, -1])
@@ -257,21 +261,21 @@ def test_first_calls_page_is_a_quotable_block():
 def test_the_default_degree_takes_its_own_entry_and_other_degrees_the_general_one():
     for name, table in (("taylor", loop.SIMD_RUNNERS), ("taylor24", loop.SIMD_RUNNERS), ("taylor16", None)):
         ig = mbm.Integrator(mbm.Pendulum(0.1, 0.3), approximant=name)
-        want = table[loop.RS_DAMPED] if table else loop.RUNNERS[(loop.KIND_TAYLOR, loop.RS_DAMPED)]
+        want = table[loop.RS_DAMPED] if table else loop.RUNNERS[(window.KIND_TAYLOR, loop.RS_DAMPED)]
         assert ig._entry is want
-    assert loop.entry_for(loop.KIND_SPLIT, loop.RS_DAMPED, 24) is loop.RUNNERS[(loop.KIND_SPLIT, loop.RS_DAMPED)]
-    assert loop.entry_for(loop.KIND_EXACT, loop.RS_DAMPED, 0) is None  # no such pair
-    assert set(loop.SIMD_RUNNERS) == {s for k, s in loop.RUN_TABLE if k == loop.KIND_TAYLOR}
+    assert loop.entry_for(window.KIND_SPLIT, loop.RS_DAMPED, 24) is loop.RUNNERS[(window.KIND_SPLIT, loop.RS_DAMPED)]
+    assert loop.entry_for(window.KIND_EXACT, loop.RS_DAMPED, 0) is None  # no such pair
+    assert set(loop.SIMD_RUNNERS) == {s for k, s in loop.RUN_TABLE if k == window.KIND_TAYLOR}
 
 
 def _entry_outputs(entry, model, y0, span, te, **kw):
     ig = mbm.Integrator(model, rtol=1e-9, atol=1e-9, **kw)
-    p = np.array(ig._words.copy().view(loop.RUN))
-    f = loop.flat(p)
+    p = np.array(ig._words.copy().view(record.RUN))
+    f = record.flat(p)
     f[0]["t"], f[0]["theta"], f[0]["v"], f[0]["t_bound"] = span[0], y0[0], y0[1], span[1]
     f[0]["call_windows"] = 0
     out = np.empty((2, te.size))
-    n = entry(loop.words_of(p), False, 0.0, 0.0, 0.0, 0.0, 0.0, te, out, np.empty(0), np.empty((0, 2)),
+    n = entry(record.words_of(p), False, 0.0, 0.0, 0.0, 0.0, 0.0, te, out, np.empty(0), np.empty((0, 2)),
               np.empty((0, 0)), np.zeros(1, np.int64))
     return int(f[0]["status"]), n, out
 
@@ -283,8 +287,8 @@ def test_the_default_degree_entry_gives_the_general_entry_s_answers_bit_for_bit(
     span, y0 = (0.0, 40.0), [0.5, 0.0]
     te = np.linspace(*span, 57)
     simd = _entry_outputs(loop.SIMD_RUNNERS[rset], model, y0, span, te)
-    general = _entry_outputs(loop.RUNNERS[(loop.KIND_TAYLOR, rset)], model, y0, span, te)
-    assert simd[0] == loop.STATUS_OK and simd[1] > 5
+    general = _entry_outputs(loop.RUNNERS[(window.KIND_TAYLOR, rset)], model, y0, span, te)
+    assert simd[0] == STATUS_OK and simd[1] > 5
     assert simd[:2] == general[:2]
     np.testing.assert_array_equal(simd[2], general[2])
 
@@ -293,14 +297,14 @@ def test_the_default_degree_entry_refuses_another_degree_with_a_status():
     # handed a degree-16 record (bypassing entry_for) it anchors nothing: STATUS_ANCHOR
     status, n, _ = _entry_outputs(loop.SIMD_RUNNERS[loop.RS_DAMPED], mbm.Pendulum(0.1, 0.3), [0.5, 0.0],
                                   (0.0, 10.0), np.empty(0), approximant="taylor16")
-    assert status == loop.STATUS_ANCHOR and n == 0
+    assert status == STATUS_ANCHOR and n == 0
 
 
 def test_solve_njit_runs_the_default_degree_that_run_taylor_compiles():
-    # loop.run_taylor compiles the default degree's entries alone (flag 2)
+    # chains.run_taylor compiles the default degree's entries alone (flag 2)
     from mbm.approximants.taylor_simd import SIMD_ORDER
 
-    assert fast._AUTO_TAYLOR == (loop.KIND_TAYLOR, SIMD_ORDER)
+    assert fast._AUTO_TAYLOR == (window.KIND_TAYLOR, SIMD_ORDER)
     t = np.array([5.0])
     out = np.empty((2, 1))
     status, n = mbm.solve_njit(0.1, 0.3, 1.0, 0.0, 0.5, 0.0, 5.0, t, out, 1e-8, 1e-8, 10**6)

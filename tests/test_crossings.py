@@ -1,4 +1,4 @@
-"""Events of the compiled runs (mbm.crossings): located on the windows' formulas.
+"""Events of the compiled runs (mbm.events.compiled): located on the windows' formulas.
 
 References: heyoka in long double at tol 1e-19 (nt_event), the exact section times,
 the dense output of the same run, and numpy's polynomial roots for the isolation.

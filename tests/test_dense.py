@@ -1,5 +1,5 @@
-"""`mbm.dense`, the compiled dense output of MBM's steps: the values of
-`mbm.loop.evaluate_windows` bit for bit, for every kind, regime window and order of
+"""`mbm.frontends.dense`, the compiled dense output of MBM's steps: the values of
+`mbm.core.stored.evaluate_windows` bit for bit, for every kind, regime window and order of
 times."""
 
 import math
@@ -9,7 +9,8 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import mbm
-from mbm import dense, loop
+from mbm.frontends import dense
+from mbm.core import stored
 from mbm.scenes import get as scene
 
 
@@ -61,7 +62,7 @@ def test_same_bits_as_loop_evaluate_windows(name, kw):
     contiguous = np.ascontiguousarray(start_theta)
     for t in _times(starts, n, rng):
         th, v = np.empty(t.size), np.empty(t.size)
-        loop.evaluate_windows(kind, starts, contiguous, coefs, n, 1.0, t, th, v)
+        stored.evaluate_windows(kind, starts, contiguous, coefs, n, 1.0, t, th, v)
         for theta_starts in (start_theta, contiguous):  # a strided view, as MBM passes, or not
             out = np.empty((2, t.size))
             dense.evaluate_windows_into(kind, starts, theta_starts, coefs, n, 1.0, t, out)
@@ -83,7 +84,7 @@ def test_same_bits_backwards(kw):
     solver, kind, starts, start_theta, coefs, n = _store(model, (40.0, 0.0), np.array([2.0, -1.5]), **kw)
     t = np.concatenate((np.linspace(40.0, 0.0, 301), np.random.default_rng(3).uniform(-1.0, 41.0, 200)))
     th, v = np.empty(t.size), np.empty(t.size)
-    loop.evaluate_windows(kind, starts, np.ascontiguousarray(start_theta), coefs, n, -1.0, t, th, v)
+    stored.evaluate_windows(kind, starts, np.ascontiguousarray(start_theta), coefs, n, -1.0, t, th, v)
     out = np.empty((2, t.size))
     dense.evaluate_windows_into(kind, starts, start_theta, coefs, n, -1.0, t, out)
     np.testing.assert_array_equal(_bits(out), _bits(np.vstack((th, v))))
@@ -95,7 +96,7 @@ def test_driven_windows_same_bits():
                                                          rtol=1e-8, atol=1e-8)
     t = np.linspace(0.0, 60.0, 1001)
     th, v = np.empty(t.size), np.empty(t.size)
-    loop.evaluate_windows(kind, starts, np.ascontiguousarray(start_theta), coefs, n, 1.0, t, th, v)
+    stored.evaluate_windows(kind, starts, np.ascontiguousarray(start_theta), coefs, n, 1.0, t, th, v)
     out = np.empty((2, t.size))
     dense.evaluate_windows_into(kind, starts, start_theta, coefs, n, 1.0, t, out)
     np.testing.assert_array_equal(_bits(out), _bits(np.vstack((th, v))))

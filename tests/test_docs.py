@@ -59,7 +59,7 @@ def test_numpydoc_parameters_match_signatures():
     _need("numpydoc")
     from numpydoc.validate import validate
 
-    names = _public_objects() + ["mbm.junction.integrate_mbm", "mbm.junction.driven_mean_velocity"]
+    names = _public_objects() + ["mbm.junction.iv.integrate_mbm", "mbm.junction.iv.driven_mean_velocity"]
     assert "mbm.MBM" in names and "mbm.Pendulum.energy" in names
     bad = [(n, code, msg) for n in names for code, msg in validate(n)["errors"]
            if code in PARAMETER_MISMATCH]

@@ -227,24 +227,24 @@ def test_paths_agree_bit_for_bit(model, y0, T, tol):
 def test_dense_output_is_the_window_formula():
     # Each step (one window) of the solver: its dense output is the driven formula
     # anchored at the window's start, θ = 2πk + φ with φ the reduced angle the loop
-    # anchors at (mbm.loop "Winding": reduced where θ's value is unchanged).
-    from mbm import loop
+    # anchors at (mbm.core.window "Winding": reduced where θ's value is unchanged).
+    from mbm.core import window
 
     solver = mbm.MBM(DRIVEN, 0.0, np.array(Y0, dtype=float), 30.0, rtol=1e-10, atol=1e-10)
     ap = mbm.get_approximant("taylor")
     steps = 0
     while solver.status == "running":
-        rec = mbm.loop.flat(solver._run)[0]
+        rec = mbm.core.record.flat(solver._run)[0]
         k, phi = (float(rec["wind"]), float(rec["phi"])) if rec["n_windows"] else (0.0, solver.y[0])
-        k2, phi2 = loop.wrap(k, phi)
-        if loop.theta_of(k2, phi2) == loop.theta_of(k, phi):
+        k2, phi2 = window.wrap(k, phi)
+        if window.theta_of(k2, phi2) == window.theta_of(k, phi):
             k, phi = k2, phi2
         v0, t0 = solver.y[1], solver.t
         solver.step()
         formula = ap.anchor(DRIVEN, phi, v0, t0=t0)
         tm = np.linspace(t0, solver.t, 7)
         th, v = formula(tm - t0)
-        want = np.array([[loop.theta_of(k, x) for x in np.atleast_1d(th)], v])
+        want = np.array([[window.theta_of(k, x) for x in np.atleast_1d(th)], v])
         np.testing.assert_array_equal(solver.dense_output()(tm), want)
         assert tuple(solver.dense_output()(solver.t)) == tuple(solver.y)
         steps += 1

@@ -7,7 +7,7 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import mbm
-from mbm import events
+from mbm.events import points as events
 from mbm.approximants.salas2022 import SalasTorque, cubic_equilibrium
 
 EX2 = mbm.Pendulum(beta=0.1, gamma=0.6)

@@ -1,4 +1,4 @@
-"""Event points of the moving boundary method, (3.31)–(3.32): `mbm.events`.
+"""Event points of the moving boundary method, (3.31)–(3.32): `mbm.events.points`.
 
 Scenes are the second paper's Example 1 (β = 0.1, γ = 0.3, θ0 = 30°) and Example 2
 (β = 0.1, γ = 0.6, θ0 = 90°), θ̇0 = 0, 0 ≤ t ≤ 80 (``mbm.scenes``: ex1, ex2).
@@ -13,7 +13,7 @@ from scipy.integrate import solve_ivp
 import mbm
 import mbm.scenes
 from mbm.approximants.salas2022 import cubic_equilibrium
-from mbm.events import (
+from mbm.events.points import (
     KIND_CROSSING,
     KIND_NONE,
     KIND_TURNING,
@@ -25,7 +25,7 @@ from mbm.events import (
     next_event_analytic,
     successive,
 )
-from mbm.references import reference
+from mbm.frontends.reference import reference
 
 AP = mbm.get_approximant("salas-torque")
 EX1 = mbm.scenes.get("ex1").model

@@ -67,7 +67,7 @@ def test_salas2022_figures(tmp_path):
     # The marked event points lie on the solution: θ = d or θ' = 0 there.
     te, kinds = e2["event_t"], e2["event_kind"]
     y_at = mbm.reference(m2, (0.0, 80.0), [math.radians(90), 0.0], t_eval=te).y
-    from mbm.events import KIND_CROSSING, KIND_TURNING
+    from mbm.events.points import KIND_CROSSING, KIND_TURNING
 
     assert np.all(np.abs(y_at[0, kinds == KIND_CROSSING] - e2["d"]) < 1e-7)
     assert np.all(np.abs(y_at[1, kinds == KIND_TURNING]) < 1e-7)
@@ -175,7 +175,7 @@ def test_shapiro_steps(tmp_path):
     ref = _ref(model, c.start_state[i], np.r_[0.0, t])[0]
     assert (ref[2] - ref[1]) / (100 * period) == pytest.approx(ex.FREQ, abs=1e-8)
     # and an off-step point of the same curve: CVODE's weighted average of the
-    # stroboscopic increments over drive periods 200-300 (mbm.junction's weights; the
+    # stroboscopic increments over drive periods 200-300 (mbm.junction.iv's weights; the
     # two agreed to 1.1e-6 at γ = 2.6, the first such point, when measured)
     j = int(np.flatnonzero(np.abs(c.mean_velocity / ex.FREQ - 1.5) < 0.3)[0])
     model = mbm.Pendulum(ex.BETA, c.gamma[j], 1.0, 1.0, ex.FREQ)

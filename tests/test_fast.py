@@ -26,7 +26,7 @@ BENCH_SCENES = {
 @pytest.mark.parametrize("name", sorted(BENCH_SCENES))
 @pytest.mark.parametrize("tol", [1e-3, 1e-6, 1e-9])
 def test_solve_equals_solve_ivp_on_benchmark_scenes(name, tol):
-    # One loop (mbm.loop.run) behind both paths: equal bit for bit, outputs and windows.
+    # One loop (mbm.core.loop.run) behind both paths: equal bit for bit, outputs and windows.
     model, y0, T = BENCH_SCENES[name]
     t = np.linspace(0.0, T, 201)
     fast = mbm.solve(model, (0.0, T), y0, t_eval=t, rtol=tol, atol=tol)
@@ -130,7 +130,7 @@ def test_batch_order_balances_contiguous_blocks():
     # numba splits a prange into contiguous blocks; sweeps list scenes by cost.  Every
     # block of the order must sample the whole batch: here each quarter's mean position
     # is within 2 % of the middle, and the order is a permutation.
-    from mbm.fast import _balanced_order
+    from mbm.frontends.batch import _balanced_order
 
     for n in (1, 2, 7, 1000, 10_000):
         order = _balanced_order(n)
@@ -144,13 +144,13 @@ def test_max_windows_is_a_status_on_every_path():
     model, y0, T = BENCH_SCENES["P5"]
     t = np.linspace(0.0, T, 11)
     r = mbm.solve(model, (0.0, T), y0, t_eval=t, max_windows=50)
-    assert r.status == mbm.loop.STATUS_MAX_WINDOWS and not r.success
+    assert r.status == mbm.status.STATUS_MAX_WINDOWS and not r.success
     assert r.n_windows == 50 and "max_windows" in r.message
     assert 0 < r.t.size < t.size and np.all(np.isfinite(r.y))
     ends = mbm.solve(model, (0.0, T), y0, max_windows=50)
-    assert ends.status == mbm.loop.STATUS_MAX_WINDOWS and ends.t.size == 51
+    assert ends.status == mbm.status.STATUS_MAX_WINDOWS and ends.t.size == 51
     b = mbm.solve_batch([0.1, 0.1], [1.2, 0.0], 1.0, [0.0, 0.0], (0.0, T), t, max_windows=50)
-    assert list(b.status) == [mbm.loop.STATUS_MAX_WINDOWS, 0]
+    assert list(b.status) == [mbm.status.STATUS_MAX_WINDOWS, 0]
     # the failed scene keeps what it reached and says so; NaN only after it
     np.testing.assert_array_equal(b.y[0][:, : r.t.size], r.y)
     assert np.isnan(b.y[0][:, r.t.size:]).all()
@@ -167,8 +167,8 @@ def test_long_run_is_chunked_and_resumes_bit_for_bit(monkeypatch):
     t = np.linspace(0.0, T, 201)
     whole = mbm.solve(model, (0.0, T), y0, t_eval=t, rtol=1e-9, atol=1e-9)
     ends = mbm.solve(model, (0.0, T), y0, rtol=1e-9, atol=1e-9)
-    monkeypatch.setattr(mbm.fast, "CALL_WINDOWS", 7)
-    monkeypatch.setattr(mbm.fast, "ENDS_CAPACITY", 3)
+    monkeypatch.setattr(mbm.frontends.solve, "CALL_WINDOWS", 7)
+    monkeypatch.setattr(mbm.frontends.solve, "ENDS_CAPACITY", 3)
     np.testing.assert_array_equal(mbm.solve(model, (0.0, T), y0, t_eval=t, rtol=1e-9, atol=1e-9).y, whole.y)
     chunked = mbm.solve(model, (0.0, T), y0, rtol=1e-9, atol=1e-9)
     np.testing.assert_array_equal(chunked.t, ends.t)
@@ -178,16 +178,16 @@ def test_long_run_is_chunked_and_resumes_bit_for_bit(monkeypatch):
 def test_batch_cancel_flag_stops_every_scene():
     # The flag solve_batch's waiting thread sets on Ctrl-C: every scene stops at its
     # next window with STATUS_INTERRUPTED.
-    p = np.zeros(3, dtype=mbm.loop.RUN)
-    f = mbm.loop.flat(p)
+    p = np.zeros(3, dtype=mbm.core.record.RUN)
+    f = mbm.core.record.flat(p)
     f["beta"], f["gamma"], f["omega"], f["t_bound"] = 0.1, 1.2, 1.0, 100.0
-    f["kind"], f["karg"] = mbm.loop.kind_of(mbm.get_approximant("taylor"))
-    f["controller"], f["h_abs"], f["error_order"] = mbm.loop.CONTROLLER_ADAPTIVE, -1.0, 24
+    f["kind"], f["karg"] = mbm.core.window.kind_of(mbm.get_approximant("taylor"))
+    f["controller"], f["h_abs"], f["error_order"] = mbm.core.controller.CONTROLLER_ADAPTIVE, -1.0, 24
     f["max_step"], f["rtol"], f["atol"], f["max_windows"] = np.inf, 1e-8, 1e-8, 10**7
     f["max_dtheta"] = np.inf
     out = np.full((3, 2, 5), np.nan)
-    mbm.loop.run_batch(p, np.linspace(0.0, 100.0, 5), out, np.arange(3), np.ones(1, dtype=np.int64))
-    assert list(f["status"]) == [mbm.loop.STATUS_INTERRUPTED] * 3 and list(f["n_windows"]) == [0] * 3
+    mbm.core.lanes.run_batch(p, np.linspace(0.0, 100.0, 5), out, np.arange(3), np.ones(1, dtype=np.int64))
+    assert list(f["status"]) == [mbm.status.STATUS_INTERRUPTED] * 3 and list(f["n_windows"]) == [0] * 3
 
 
 def test_batch_bad_input_names_the_argument():
@@ -359,14 +359,14 @@ def test_batch_honours_the_callers_numba_thread_count(monkeypatch):
     import numba
 
     seen = []
-    real = mbm.loop.run_batch
+    real = mbm.core.lanes.run_batch
 
     class Spy:
         def __call__(self, *args):
             seen.append(numba.get_num_threads())
             return real(*args)
 
-    monkeypatch.setattr(mbm.loop, "run_batch", Spy())
+    monkeypatch.setattr(mbm.core.lanes, "run_batch", Spy())
     before = numba.get_num_threads()
     try:
         numba.set_num_threads(1)

@@ -1,4 +1,4 @@
-"""Integrator.solve's compiled entry (the loop's own, mbm.loop.entry_for): one dispatch
+"""Integrator.solve's compiled entry (the loop's own, mbm.core.loop.entry_for): one dispatch
 checks t_eval, sets up the run record and runs the loop.  They must refuse what check_t_eval refuses,
 with its messages and in the same order of checks, resume a paused run bit for bit and
 never make numba compile the loop again for an unusual t_eval."""
@@ -10,8 +10,10 @@ import numpy as np
 import pytest
 
 import mbm
-from mbm import fast, loop
-from mbm._validate import check_t_eval
+from mbm.frontends import solve as fast
+from mbm.core import loop, record, window
+from mbm import status
+from mbm.validate import check_t_eval
 
 DAMPED = mbm.Pendulum(0.1, 0.3)
 Y0 = [0.5, 0.0]
@@ -45,9 +47,9 @@ BAD_T_EVAL = [
 def test_entries_refuse_bad_t_eval_as_check_t_eval(kind, span, t_eval, message):
     model, kw = KINDS[kind]
     ig = mbm.Integrator(model, **kw)
-    # the entry of a fresh run of its kind and regime set (mbm.loop.regime_set)
-    words = ig._words.view(loop.RUN)[0]
-    kind, karg = loop.kind_of(ig.approximant)
+    # the entry of a fresh run of its kind and regime set (mbm.core.loop.regime_set)
+    words = ig._words.view(record.RUN)[0]
+    kind, karg = window.kind_of(ig.approximant)
     assert loop.entry_for(kind, loop.set_of(words), karg) is ig._entry
     with pytest.raises(ValueError) as want:
         check_t_eval(t_eval, *span)
@@ -140,7 +142,7 @@ def test_paused_runs_resume_bit_for_bit(small_chunks, monkeypatch, wrap):
     te = np.linspace(0.0, T, 201)
     kw = dict(rtol=1e-9, atol=1e-9)
     whole = mbm.Integrator(model, **kw)
-    whole._words[loop.WORD["call_windows"]] = 0  # no budget: one call
+    whole._words[record.WORD["call_windows"]] = 0  # no budget: one call
     want = whole.solve((0.0, T), y0, t_eval=te, wrap=wrap)
     monkeypatch.setattr(fast, "ENDS_CAPACITY", 10**5)  # a store for every window: one call
     want_ends = whole.solve((0.0, T), y0)
@@ -182,4 +184,4 @@ def test_result_keys_and_regime_fields():
     short = ig.solve((0.0, 1.0), [0.0, 0.0], t_eval=[1.0])
     assert short.regime is None and math.isnan(short.t_regime)
     assert math.isnan(short.period) and math.isnan(short.mean_velocity)
-    assert short.message == loop.STATUS_MESSAGES[0] and short.success and short.status == 0
+    assert short.message == status.STATUS_MESSAGES[0] and short.success and short.status == 0

@@ -1,4 +1,4 @@
-"""mbm.special.jit.kernel: compiled kernels without CPython wrapper.
+"""mbm.compile.jit.kernel: compiled kernels without CPython wrapper.
 
 A kernel called from compiled code runs as an ``@njit`` function; called from Python
 it runs a twin (compiled with the wrapper, not cached) and gives the same bits; the
@@ -19,7 +19,7 @@ import pytest
 import mbm
 from mbm.approximants import taylor_series
 from mbm.core import controller, loop as core_loop
-from mbm.special import jit
+from mbm.compile import jit
 
 
 def test_kernels_are_compiled_without_wrappers():
@@ -64,7 +64,7 @@ _PATHS = textwrap.dedent("""
     import numpy as np
     from scipy.integrate import solve_ivp
     import mbm
-    from mbm.special.jit import TWINS
+    from mbm.compile.jit import TWINS
     damped, running = mbm.Pendulum(0.1, 0.3), mbm.Pendulum(0.1, 1.2)
     te = np.linspace(0.0, 20.0, 11)
     for m in (damped, running, mbm.Pendulum(0.0, 0.0), mbm.Pendulum(0.0, 0.2),

@@ -1,4 +1,4 @@
-"""mbm.junction: I–V curves of the RCSJ junction against an independent reference.
+"""mbm.junction.iv: I–V curves of the RCSJ junction against an independent reference.
 
 The reference is heyoka in 80-bit long double at tol 1e-19 (tests/data/oracle_heyoka.py
 is the oracle of the tests; here its integrator is used with terminal events): from
@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 import mbm
-from mbm import junction
+from mbm.junction import iv as junction
 
 import heyoka as hy  # noqa: E402  (the test extra's long-double oracle)
 
@@ -193,7 +193,7 @@ STEP_TOL = 1e-9
 
 def _ref_driven_mean_velocity(integrators, beta, gamma, amp, freq, y0, settle_periods, periods):
     # heyoka in long double: settle, then the weighted average of the stroboscopic
-    # increments over `periods` drive periods (the weights of mbm.junction's docstring,
+    # increments over `periods` drive periods (the weights of mbm.junction.iv's docstring,
     # written out here).
     plain, _ = integrators
     x, v, sys_ = _system()

@@ -12,7 +12,9 @@ import numpy as np
 import pytest
 
 import mbm
-from mbm import loop
+from mbm.core import lanes, loop, record, window
+from mbm.core.controller import CONTROLLER_ADAPTIVE, CONTROLLER_FIXED
+from mbm.status import STATUS_MAX_WINDOWS, STATUS_OK
 from mbm.approximants.taylor import HEADER, taylor_eval_kernel
 from mbm.approximants.taylor_simd import LANES, SIMD_ORDER, horner24_lanes, taylor24_lanes, taylor24_series
 
@@ -99,7 +101,7 @@ def _assert_batch_is_each_solve(b, g, w, y0, span, te, **kw):
 
 @pytest.mark.parametrize("tol,wrap", [(1e-6, False), (1e-10, True)])
 def test_lane_batch_is_each_scene_alone(tol, wrap):
-    # More scenes than one lane group (loop.LANE_GROUP), so groups refill their lanes.
+    # More scenes than one lane group (lanes.LANE_GROUP), so groups refill their lanes.
     b, g, w, y0 = _scenes(300, 11)
     te = np.linspace(0.0, 150.0, 16)
     r = _assert_batch_is_each_solve(b, g, w, y0, (0.0, 150.0), te, rtol=tol, atol=tol, wrap=wrap)
@@ -113,17 +115,17 @@ def test_lane_batch_backwards_and_window_limit():
     # the window limit, which is set so that each does so in ~1e5 windows (the default
     # 1e7 made this test ~100 s) and their statuses and outputs are compared too.
     r = _assert_batch_is_each_solve(b, g, w, y0, (0.0, -30.0), te, rtol=1e-8, atol=1e-8, max_windows=10**5)
-    assert np.any(r.status == loop.STATUS_MAX_WINDOWS) and np.any(r.status == loop.STATUS_OK)
+    assert np.any(r.status == STATUS_MAX_WINDOWS) and np.any(r.status == STATUS_OK)
     # A window limit reached inside the lanes: the status and the outputs up to it.
     te = np.linspace(0.0, 50.0, 6)
     r = _assert_batch_is_each_solve(b, g, w, y0, (0.0, 50.0), te, rtol=1e-8, atol=1e-8, max_windows=30)
-    assert np.any(r.status == loop.STATUS_MAX_WINDOWS)
+    assert np.any(r.status == STATUS_MAX_WINDOWS)
 
 
 def test_lane_eligibility():
-    p = np.zeros(4, dtype=loop.RUN)
-    f = loop.flat(p)
-    f["kind"], f["karg"], f["controller"] = loop.KIND_TAYLOR, SIMD_ORDER, loop.CONTROLLER_ADAPTIVE
+    p = np.zeros(4, dtype=record.RUN)
+    f = record.flat(p)
+    f["kind"], f["karg"], f["controller"] = window.KIND_TAYLOR, SIMD_ORDER, CONTROLLER_ADAPTIVE
     f["beta"], f["max_dtheta"], f["regimes"] = 0.1, np.inf, 1
     f["karg"][1] = 12  # another degree: the one-scene loop
     f["drive_amp"][2] = 0.5  # driven: the one-scene loop
@@ -133,9 +135,9 @@ def test_lane_eligibility():
 
     @numba.njit
     def eligible(p):
-        return [loop.lane_eligible(p[i]) for i in range(p.size)]
+        return [lanes.lane_eligible(p[i]) for i in range(p.size)]
 
-    assert eligible(p) == [True, False, False, False] == list(loop.eligible_rows(p))
+    assert eligible(p) == [True, False, False, False] == list(lanes.eligible_rows(p))
 
 
 def test_batch_compiles_only_the_kinds_and_sets_its_scenes_reach():
@@ -144,39 +146,39 @@ def test_batch_compiles_only_the_kinds_and_sets_its_scenes_reach():
     # conservative or split is compiled for it
     b = mbm.solve_batch([0.1, 0.0], [0.3, 0.0], 1.0, [0.5, 0.0], (0.0, 5.0), [5.0])
     assert list(b.status) == [0, 0]
-    p = np.zeros(2, dtype=loop.RUN)
-    f = loop.flat(p)
-    f["kind"] = [loop.KIND_TAYLOR, loop.KIND_EXACT]
+    p = np.zeros(2, dtype=record.RUN)
+    f = record.flat(p)
+    f["kind"] = [window.KIND_TAYLOR, window.KIND_EXACT]
     f["karg"] = [SIMD_ORDER, 0]
-    f["controller"] = [loop.CONTROLLER_ADAPTIVE, loop.CONTROLLER_FIXED]
+    f["controller"] = [CONTROLLER_ADAPTIVE, CONTROLLER_FIXED]
     f["beta"], f["regimes"], f["max_dtheta"] = [0.1, 0.0], 1, np.inf
     taylor, exact, salas, split = 2, 1, 0, 0  # taylor 2: the default degree's entries alone
     plain, damped, conservative, driven, cycle, strobe = 1, 1, 0, 0, 1, 0
-    assert loop.batch_flags(p) == (taylor, exact, salas, split, plain, damped, conservative, driven, cycle, strobe)
+    assert lanes.batch_flags(p) == (taylor, exact, salas, split, plain, damped, conservative, driven, cycle, strobe)
     q = np.concatenate([p[:1], p[:1]])
-    loop.flat(q)["karg"][1] = 16
-    assert loop.batch_flags(q[1:])[0] == 1 and loop.batch_flags(q)[0] == 3  # general entries, both
-    assert list(loop.eligible_rows(p)) == [True, False]
+    record.flat(q)["karg"][1] = 16
+    assert lanes.batch_flags(q[1:])[0] == 1 and lanes.batch_flags(q)[0] == 3  # general entries, both
+    assert list(lanes.eligible_rows(p)) == [True, False]
     # the loop's entry for the exact row: that kind and set only
-    assert loop.batch_flags(p[1:]) == (0, 1, 0, 0, 1, 0, 0, 0, 0, 0) and loop.batch_flags(p[1:]) in loop.ROWS_ENTRIES
+    assert lanes.batch_flags(p[1:]) == (0, 1, 0, 0, 1, 0, 0, 0, 0, 0) and lanes.batch_flags(p[1:]) in lanes.ROWS_ENTRIES
     f["drive_amp"][0] = 0.5  # driven: its strobe set too, the damped one no longer
-    assert loop.batch_flags(p)[4:] == (1, 0, 0, 1, 0, 1)
+    assert lanes.batch_flags(p)[4:] == (1, 0, 0, 1, 0, 1)
 
 
 
 def test_a_batch_of_default_and_other_degrees_runs_each_through_its_own_entries():
     # the default degree beside taylor16, outside the lanes (regimes off): flags 3, each
     # record through the entries of its degree, its answers those of loop.run alone
-    def record(name):
+    def record_of(name):
         ig = mbm.Integrator(mbm.Pendulum(0.1, 0.3), approximant=name, rtol=1e-8, atol=1e-8)
-        r = np.array(ig._words.copy().view(loop.RUN))
-        f = loop.flat(r)
+        r = np.array(ig._words.copy().view(record.RUN))
+        f = record.flat(r)
         f["t"], f["theta"], f["v"], f["t_bound"] = 0.0, 0.5, 0.0, 20.0
         f["call_windows"], f["regimes"] = 0, 0
         return r
 
-    p = np.concatenate([record("taylor"), record("taylor16")])
-    assert loop.batch_flags(p)[0] == 3 and not loop.eligible_rows(p).any()
+    p = np.concatenate([record_of("taylor"), record_of("taylor16")])
+    assert lanes.batch_flags(p)[0] == 3 and not lanes.eligible_rows(p).any()
     te = np.linspace(0.0, 20.0, 11)
     none = (np.empty(0), np.empty((0, 2)), np.empty((0, 0)), np.zeros(1, np.int64))
     want = []
@@ -184,10 +186,10 @@ def test_a_batch_of_default_and_other_degrees_runs_each_through_its_own_entries(
         out = np.empty((2, te.size))
         q = p[i:i + 1].copy()
         loop.run(q, te, out, *none)
-        assert loop.flat(q)["status"][0] == loop.STATUS_OK
+        assert record.flat(q)["status"][0] == STATUS_OK
         want.append(out)
     out = np.empty((2, 2, te.size))
-    loop.run_batch(p, te, out, np.arange(2), np.zeros(1, np.int64))
-    assert list(loop.flat(p)["status"]) == [loop.STATUS_OK] * 2
+    lanes.run_batch(p, te, out, np.arange(2), np.zeros(1, np.int64))
+    assert list(record.flat(p)["status"]) == [STATUS_OK] * 2
     np.testing.assert_array_equal(out[0], want[0])
     np.testing.assert_array_equal(out[1], want[1])

@@ -14,7 +14,8 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import mbm
-from mbm import loop, regimes
+from mbm.core import controller, loop, record, window
+from mbm import regimes
 
 sys.path.insert(0, str(Path(__file__).parent / "data"))
 import libration_mpmath  # noqa: E402
@@ -42,12 +43,12 @@ def _trapped(rng):
 
 def _taylor_run(gamma, omega, y0, T, t, tol, regimes_on):
     """The loop run by hand (mbm.solve's defaults, β = 0), with the switch on or off."""
-    ap, kind, karg = mbm.fast.compiled(mbm.get_approximant("taylor"))
-    p = loop.new_run(0.0, gamma, omega, 0.0, y0[0], y0[1], T, kind, karg, loop.CONTROLLER_ADAPTIVE,
+    ap, kind, karg = mbm.frontends.solve.compiled(mbm.get_approximant("taylor"))
+    p = record.new_run(0.0, gamma, omega, 0.0, y0[0], y0[1], T, kind, karg, controller.CONTROLLER_ADAPTIVE,
                      -1.0, np.inf, tol, tol, int(ap.error_order), 10**7, regimes=regimes_on)
     out = np.full((2, t.size), np.nan)
     loop.run(p, t, out, np.empty(0), np.empty((0, 2)), np.empty((0, 0)), np.zeros(1, np.int64))
-    return out, loop.flat(p)[0]
+    return out, record.flat(p)[0]
 
 
 @pytest.fixture(scope="module")
@@ -245,7 +246,7 @@ def test_wound_start_and_wrapped_outputs(heyoka_ref):
     plain = mbm.solve(model, (0.0, 3000.0), y0, **kw)
     assert r.regime == plain.regime == "libration"
     assert np.all(r.winding == k) and np.all(np.abs(r.y[0]) <= math.pi)
-    np.testing.assert_array_equal([loop.theta_of(float(k), p) for p in r.y[0]], plain.y[0])
+    np.testing.assert_array_equal([window.theta_of(float(k), p) for p in r.y[0]], plain.y[0])
     np.testing.assert_array_equal(r.y[1], plain.y[1])
     ref = np.asarray(heyoka_ref(0.0, 0.4, 1.0, y0, t), dtype=np.longdouble)
     err = np.abs((plain.y - ref).astype(float)) / (1e-12 + 1e-12 * np.abs(ref.astype(float)))

@@ -46,7 +46,7 @@ TOLS = (1e-4, 1e-8, 1e-12)
 # well-conditioned scene.  Measured on 2012 random scenes of this draw (seeds 7 and
 # 2016, docs/oracle.md): at most 6.8×, 47×, 46× at 1e-4, 1e-8, 1e-12, but for one
 # rotation wound to |θ| ≈ 400 at the round-off floor below (119× at 1e-12; 12.5× since
-# the runs hold θ as a winding count and an angle in (−π, π], mbm.loop "Winding");
+# the runs hold θ as a winding count and an angle in (−π, π], mbm.core.window "Winding");
 # before the a-priori Taylor windows 3.7e4×, 1.4e5×, 1e5×.  A target, not a fit.
 PROPORTIONALITY_BOUND = 100.0
 # Round-off: each window rounds the state to double (relative eps), and the dynamics

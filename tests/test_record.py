@@ -9,8 +9,7 @@ import numpy as np
 import pytest
 
 import mbm
-from mbm import loop
-from mbm.core import record
+from mbm.core import controller, loop, record, window
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -35,44 +34,44 @@ SIZE = 1392
 
 
 def test_layout_is_the_named_groups():
-    assert loop.RUN.names == tuple(LAYOUT)
+    assert record.RUN.names == tuple(LAYOUT)
     for group, fields in LAYOUT.items():
-        assert loop.RUN.fields[group][0].names == fields
-    assert loop.RUN.itemsize == SIZE
-    assert set(loop.GROUP) == {f for fields in LAYOUT.values() for f in fields}
+        assert record.RUN.fields[group][0].names == fields
+    assert record.RUN.itemsize == SIZE
+    assert set(record.GROUP) == {f for fields in LAYOUT.values() for f in fields}
 
 
 def test_documented_size_is_the_record_size():
     page = (ROOT / "docs" / "guide" / "sweeps.md").read_text()
-    quoted = re.search(r"`mbm\.loop\.RUN\.itemsize`, is (\d+) bytes", page)
-    assert quoted and int(quoted.group(1)) == loop.RUN.itemsize
+    quoted = re.search(r"`mbm\.core\.record\.RUN\.itemsize`, is (\d+) bytes", page)
+    assert quoted and int(quoted.group(1)) == record.RUN.itemsize
 
 
 def test_words_and_flat_view_address_the_same_fields():
-    p = loop.new_run(0.1, 0.2, 1.5, 3.0, 0.4, -0.5, 9.0, loop.KIND_TAYLOR, 24, loop.CONTROLLER_ADAPTIVE,
+    p = record.new_run(0.1, 0.2, 1.5, 3.0, 0.4, -0.5, 9.0, window.KIND_TAYLOR, 24, controller.CONTROLLER_ADAPTIVE,
                      -1.0, 2.5, 1e-7, 1e-8, 24, 1000, drive_amplitude=0.3, drive_frequency=0.7,
                      drive_phase=0.2)
     words = p.view(np.float64)
     ints = p.view(np.int64)
-    f = loop.flat(p)[0]
-    for name, group in loop.GROUP.items():
+    f = record.flat(p)[0]
+    for name, group in record.GROUP.items():
         value = p[0][group][name]
         assert np.array_equal(f[name], value, equal_nan=True)
         if np.ndim(value) == 0:
-            w = loop.WORD[name]
+            w = record.WORD[name]
             got = ints[w] if np.issubdtype(np.asarray(value).dtype, np.integer) else words[w]
             assert got == value or (math.isnan(got) and math.isnan(value)), name
-    assert loop.WORD["v"] == loop.WORD["theta"] + 1
+    assert record.WORD["v"] == record.WORD["theta"] + 1
 
 
 def test_new_run_is_the_fresh_record():
-    p = loop.new_run(0.1, 0.2, 1.5, 3.0, 0.4, -0.5, 9.0, loop.KIND_SPLIT, 4, loop.CONTROLLER_FIXED, 0.1,
+    p = record.new_run(0.1, 0.2, 1.5, 3.0, 0.4, -0.5, 9.0, window.KIND_SPLIT, 4, controller.CONTROLLER_FIXED, 0.1,
                      math.inf, 1e-6, 1e-9, 4, 77, call_windows=5, max_dtheta=0.5, regimes=0)
-    r = loop.flat(p)[0]
+    r = record.flat(p)[0]
     assert (r["beta"], r["gamma"], r["omega"]) == (0.1, 0.2, 1.5)
     assert (r["t"], r["theta"], r["v"], r["t_bound"]) == (3.0, 0.4, -0.5, 9.0)
     assert (r["phi"], r["wind"]) == (0.4, 0.0)
-    assert (r["kind"], r["karg"], r["controller"], r["h_abs"]) == (loop.KIND_SPLIT, 4, loop.CONTROLLER_FIXED, 0.1)
+    assert (r["kind"], r["karg"], r["controller"], r["h_abs"]) == (window.KIND_SPLIT, 4, controller.CONTROLLER_FIXED, 0.1)
     assert (r["max_dtheta"], r["rtol"], r["atol"], r["error_order"]) == (0.5, 1e-6, 1e-9, 4)
     assert (r["max_windows"], r["call_windows"], r["n_windows"], r["j"], r["status"]) == (77, 5, 0, 0, 0)
     assert r["regimes"] == 0 and r["regime"] == mbm.regimes.REGIME_NONE and math.isnan(r["t_regime"])
@@ -85,14 +84,14 @@ def test_batch_records_are_new_run_records_bit_for_bit():
     # init_runs (solve_batch's) and new_run (every other path's) write the same words
     beta, gamma, omega = np.array([0.1, 0.0]), np.array([1.2, 0.0]), np.array([1.0, 2.0])
     y0 = np.array([[0.5, 0.0], [1.0, -0.25]])
-    plan = np.array([[loop.KIND_TAYLOR, loop.KIND_EXACT], [24, 0], [loop.CONTROLLER_ADAPTIVE, loop.CONTROLLER_FIXED],
+    plan = np.array([[window.KIND_TAYLOR, window.KIND_EXACT], [24, 0], [controller.CONTROLLER_ADAPTIVE, controller.CONTROLLER_FIXED],
                      [24, 0]], dtype=np.int64)
     h = np.array([-1.0, 5.0])
     model = np.stack([beta, gamma, omega, np.zeros(2), np.zeros(2), np.zeros(2)])
-    p = np.empty(2, dtype=loop.RUN)
-    loop.init_runs(p, model, 0.0, y0, 5.0, plan, h, math.inf, 1e-8, 1e-9, 1000)
+    p = np.empty(2, dtype=record.RUN)
+    record.init_runs(p, model, 0.0, y0, 5.0, plan, h, math.inf, 1e-8, 1e-9, 1000)
     for i in range(2):
-        want = loop.new_run(beta[i], gamma[i], omega[i], 0.0, y0[i, 0], y0[i, 1], 5.0, plan[0, i], plan[1, i],
+        want = record.new_run(beta[i], gamma[i], omega[i], 0.0, y0[i, 0], y0[i, 1], 5.0, plan[0, i], plan[1, i],
                             plan[2, i], h[i], math.inf, 1e-8, 1e-9, plan[3, i], 1000)
         assert p[i:i + 1].tobytes() == want.tobytes()
 
@@ -100,15 +99,15 @@ def test_batch_records_are_new_run_records_bit_for_bit():
 def test_solve_njit_and_batch_build_records_with_the_initialiser():
     # no path spells the record out field by field: solve_njit and solve_batch call the
     # compiled initialiser (and solve_njit's run equals mbm.solve's, tests/test_fast.py)
-    src = (ROOT / "mbm" / "fast.py").read_text()
+    src = (ROOT / "mbm" / "frontends" / "solve.py").read_text()
     njit_src = src[src.index("def solve_njit("):]
-    batch_src = (ROOT / "mbm" / "batch.py").read_text()
-    assert "loop.init_run(" in njit_src and "loop.init_runs(" in batch_src
-    assert "np.zeros(1, dtype=loop.RUN)" not in njit_src and 'p["' not in batch_src
+    batch_src = (ROOT / "mbm" / "frontends" / "batch.py").read_text()
+    assert "record.init_run(" in njit_src and "record.init_runs(" in batch_src
+    assert "np.zeros(1, dtype=record.RUN)" not in njit_src and 'p["' not in batch_src
 
 
 def test_a_fresh_record_has_no_damped_constants():
-    p = loop.new_run(0.1, 0.2, 1.5, 0.0, 0.4, -0.5, 9.0, loop.KIND_TAYLOR, 24, loop.CONTROLLER_ADAPTIVE, -1.0,
+    p = record.new_run(0.1, 0.2, 1.5, 0.0, 0.4, -0.5, 9.0, window.KIND_TAYLOR, 24, controller.CONTROLLER_ADAPTIVE, -1.0,
                      math.inf, 1e-8, 1e-8, 24, 1000)
     d = p[0]["damped"]
     assert math.isnan(d["dmp_beta"]) and math.isnan(d["dmp_gamma"]) and math.isnan(d["dmp_omega"])
@@ -119,16 +118,16 @@ _DAMPED_SCENES = [(0.5, 0.3, 1.2, 0.8, 0.0, 60.0), (0.2, 1.3, 1.0, 0.0, 0.0, 30.
 
 
 def _damped_buffer(beta, gamma, omega):
-    p = loop.new_run(beta, gamma, omega, 0.0, 0.0, 0.0, 0.0, loop.KIND_TAYLOR, 24, loop.CONTROLLER_ADAPTIVE,
+    p = record.new_run(beta, gamma, omega, 0.0, 0.0, 0.0, 0.0, window.KIND_TAYLOR, 24, controller.CONTROLLER_ADAPTIVE,
                      -1.0, math.inf, 1e-9, 1e-9, 24, 10**6)
     assert loop.set_of(p[0]) == loop.RS_DAMPED
-    buf = np.empty((2, loop.RUN.itemsize // 8))
+    buf = np.empty((2, record.RUN.itemsize // 8))
     buf[0] = p.view(np.float64)
     return buf
 
 
 def _entry_run(buf, theta0, t1, t_eval):
-    entry = loop.entry_for(loop.KIND_TAYLOR, loop.RS_DAMPED, 24)
+    entry = loop.entry_for(window.KIND_TAYLOR, loop.RS_DAMPED, 24)
     out = np.empty((2, t_eval.size))
     no_t, no_y, no_coef = np.empty(0), np.empty((0, 2)), np.empty((0, 0))
     entry(buf, True, 0.0, theta0, 0.0, t1, -1.0, t_eval, out, no_t, no_y, no_coef, np.zeros(1, dtype=np.int64))
@@ -140,7 +139,7 @@ def test_damped_constants_are_formed_once_and_kept_in_the_template(beta, gamma, 
     buf = _damped_buffer(beta, gamma, omega)
     t_eval = np.linspace(0.0, t1, 41)
     out1, run1 = _entry_run(buf, theta0, t1, t_eval)
-    d = buf[0].view(loop.RUN)[0]["damped"]
+    d = buf[0].view(record.RUN)[0]["damped"]
     # the run's model's constants, as the locked test (L1, L4, L7) and the section (R1) form them
     want = mbm.regimes.locked._lock_setup.py_func(beta, gamma, omega, abs(gamma) < omega**2, True)[:6]
     assert (d["dmp_beta"], d["dmp_gamma"], d["dmp_omega"]) == (beta, gamma, omega)
@@ -158,8 +157,8 @@ def test_damped_constants_of_another_model_are_formed_again():
     t_eval = np.linspace(0.0, t1, 41)
     buf = _damped_buffer(beta, gamma, omega)
     _entry_run(buf, theta0, t1, t_eval)
-    buf[0, loop.WORD["gamma"]] = gamma2
+    buf[0, record.WORD["gamma"]] = gamma2
     got, run = _entry_run(buf, theta0, t1, t_eval)
     want, run_new = _entry_run(_damped_buffer(beta, gamma2, omega), theta0, t1, t_eval)
     assert got.tobytes() == want.tobytes() and run.tobytes() == run_new.tobytes()
-    assert buf[0, loop.WORD["dmp_gamma"]] == gamma2
+    assert buf[0, record.WORD["dmp_gamma"]] == gamma2

@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 from mbm import scenes
-from mbm.problem import Pendulum
-from mbm.references import REFERENCE_SOLVERS, reference
+from mbm.model import Pendulum
+from mbm.frontends.reference import REFERENCE_SOLVERS, reference
 
 SOLVERS = REFERENCE_SOLVERS
 

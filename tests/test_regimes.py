@@ -12,7 +12,8 @@ from scipy.integrate import solve_ivp
 from scipy.linalg import expm
 
 import mbm
-from mbm import loop, regimes
+from mbm.core import controller, loop, record, window
+from mbm import regimes
 
 # Long-double reference tolerance: its eps (1.08e-19), so its error is far below
 # every tolerance tested here.
@@ -51,12 +52,12 @@ def heyoka_ref():
 
 def _taylor_run(beta, gamma, omega, y0, T, t, tol, regimes_on):
     """The loop run by hand (mbm.solve's defaults), with the switch on or off."""
-    ap, kind, karg = mbm.fast.compiled(mbm.get_approximant("taylor"))
-    p = loop.new_run(beta, gamma, omega, 0.0, y0[0], y0[1], T, kind, karg, loop.CONTROLLER_ADAPTIVE,
+    ap, kind, karg = mbm.frontends.solve.compiled(mbm.get_approximant("taylor"))
+    p = record.new_run(beta, gamma, omega, 0.0, y0[0], y0[1], T, kind, karg, controller.CONTROLLER_ADAPTIVE,
                      -1.0, np.inf, tol, tol, int(ap.error_order), 10**7, regimes=regimes_on)
     out = np.full((2, t.size), np.nan)
     loop.run(p, t, out, np.empty(0), np.empty((0, 2)), np.empty((0, 0)), np.zeros(1, np.int64))
-    return out, loop.flat(p)[0]
+    return out, record.flat(p)[0]
 
 
 # ---------------------------------------------------------------------------
@@ -258,11 +259,11 @@ def test_section_is_the_saddle_so_a_libration_does_no_section_work():
     assert regimes.section_offset(0.5, 1.0) == math.pi - math.asin(0.5)
     assert regimes.section_offset(3.0, 1.0) == math.pi / 2  # |γ| > ω²: clamped
     model = mbm.Pendulum(0.05, 0.2)
-    p = loop.new_run(*model.params, 0.0, 1.0, 0.0, 200.0, loop.KIND_TAYLOR, 24,
-                     loop.CONTROLLER_ADAPTIVE, -1.0, math.inf, 1e-9, 1e-9, 24, 10**7)
+    p = record.new_run(*model.params, 0.0, 1.0, 0.0, 200.0, window.KIND_TAYLOR, 24,
+                     controller.CONTROLLER_ADAPTIVE, -1.0, math.inf, 1e-9, 1e-9, 24, 10**7)
     loop.run(p, np.empty(0), np.empty((2, 0)), np.empty(0), np.empty((0, 2)),
              np.empty((0, 0)), np.zeros(1, dtype=np.int64))
-    rec = loop.flat(p)[0]
+    rec = record.flat(p)[0]
     assert rec["status"] == 0 and rec["n_windows"] > 50
     assert rec["sec_n"] == 0
     r = mbm.solve(mbm.Pendulum(0.1, 1.2), (0.0, 2000.0), [0.0, 0.0], rtol=1e-9, atol=1e-9)

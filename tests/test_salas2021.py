@@ -14,8 +14,8 @@ from scipy.special import ellipj
 
 from mbm.approximants import ApproximantDomainError, get_approximant
 from mbm.approximants import salas2021 as S
-from mbm.problem import Pendulum
-from mbm.references import reference
+from mbm.model import Pendulum
+from mbm.frontends.reference import reference
 
 NAMES = ("salas-damped", "salas-damped-linear", "johannessen", "johannessen-trig")
 # The classes themselves (independent of the catalogue, which imports every paper);

@@ -9,7 +9,7 @@ import pytest
 
 import mbm
 import mbm.scenes
-from mbm import cli_study
+from mbm.cli import study as cli_study
 from mbm.scenes import CATALOGUE, Scene, get, names
 
 

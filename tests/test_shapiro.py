@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 import mbm
-from mbm import shapiro
+from mbm.junction import shapiro
 
 REFERENCE = Path(__file__).parent / "data" / "shapiro_edges_reference.json"
 SCENE = dict(amplitude=0.5, frequency=0.6)
@@ -161,7 +161,7 @@ def test_bad_input(kw, err, match):
 
 
 def test_cli_steps(capsys, tmp_path):
-    from mbm.__main__ import main
+    from mbm.cli.main import main
 
     csv = tmp_path / "steps.csv"
     assert main(["iv", "--beta", "1", "--gamma-max", "1.6", "--points", "21", "--drive-amplitude", "0.5",

@@ -9,8 +9,9 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import mbm
-from mbm import loop
-from mbm import solver as msolver
+from mbm.core import record, window
+from mbm.core.controller import CONTROLLER_ADAPTIVE, CONTROLLER_FIXED
+from mbm.frontends import ivp as msolver
 from mbm.approximants import get_approximant
 from mbm.choice import choose_approximant
 from mbm.scenes import get as scene
@@ -114,13 +115,13 @@ def test_events_take_auto_and_refuse_several_windows():
 RECORD_CASES = [
     # (model, t0, y0, t_bound, approximant, controller, h_abs, max_step, rtol, atol, order,
     #  max_windows, max_dtheta, call_windows)
-    (mbm.Pendulum(0.4, 0.0), 0.0, [0.0, 0.25], 20.0, "taylor", loop.CONTROLLER_ADAPTIVE, -1.0, math.inf,
+    (mbm.Pendulum(0.4, 0.0), 0.0, [0.0, 0.25], 20.0, "taylor", CONTROLLER_ADAPTIVE, -1.0, math.inf,
      1e-3, 1e-3, 24, 10**7, math.inf, 0),
-    (mbm.Pendulum(0.1, 1.2, 2.0), -3.0, [-1.5, 7.25], -50.0, "split4", loop.CONTROLLER_FIXED, 0.25, 0.5,
+    (mbm.Pendulum(0.1, 1.2, 2.0), -3.0, [-1.5, 7.25], -50.0, "split4", CONTROLLER_FIXED, 0.25, 0.5,
      1e-9, 1e-12, 0, 123, math.pi / 4, 2**15),
     (mbm.Pendulum(0.3, -0.2, 1.0, drive_amplitude=0.8, drive_frequency=0.7, drive_phase=0.3), 1.5,
-     [0.1, -0.0], 60.0, "taylor12", loop.CONTROLLER_ADAPTIVE, 0.01, 2.0, 1e-6, 1e-8, 12, 10**7, math.inf, 0),
-    (mbm.Pendulum(0.0, -0.0), 0.0, [-0.0, 1.999], 200.0, "belendez", loop.CONTROLLER_FIXED, 200.0, math.inf,
+     [0.1, -0.0], 60.0, "taylor12", CONTROLLER_ADAPTIVE, 0.01, 2.0, 1e-6, 1e-8, 12, 10**7, math.inf, 0),
+    (mbm.Pendulum(0.0, -0.0), 0.0, [-0.0, 1.999], 200.0, "belendez", CONTROLLER_FIXED, 200.0, math.inf,
      1e-6, 1e-6, 0, 10**7, math.inf, 0),
 ]
 
@@ -128,10 +129,10 @@ RECORD_CASES = [
 @pytest.mark.parametrize("case", RECORD_CASES)
 def test_record_from_template_is_new_runs_bit_for_bit(case):
     model, t0, y0, t1, name, controller, h_abs, max_step, rtol, atol, order, max_windows, dtheta, calls = case
-    kind = loop.kind_of(get_approximant(name))
+    kind = window.kind_of(get_approximant(name))
     beta, gamma, omega = model.params
     amp, freq, phase = model.drive
-    ref = loop.new_run(beta, gamma, omega, t0, y0[0], y0[1], t1, kind[0], kind[1], controller, h_abs,
+    ref = record.new_run(beta, gamma, omega, t0, y0[0], y0[1], t1, kind[0], kind[1], controller, h_abs,
                        max_step, rtol, atol, order, max_windows, call_windows=calls, max_dtheta=dtheta,
                        drive_amplitude=amp, drive_frequency=freq, drive_phase=phase)
     msolver._TEMPLATES.clear()
@@ -142,7 +143,7 @@ def test_record_from_template_is_new_runs_bit_for_bit(case):
     # Another run of the same option set: only the run's own words change.
     other = msolver._new_record(mbm.Pendulum(0.7, 0.1), 2.0, np.array([0.3, 0.4]), 9.0, kind, controller,
                                 0.5, max_step, rtol, atol, order, max_windows, dtheta, calls)
-    ref2 = loop.new_run(0.7, 0.1, 1.0, 2.0, 0.3, 0.4, 9.0, kind[0], kind[1], controller, 0.5, max_step, rtol,
+    ref2 = record.new_run(0.7, 0.1, 1.0, 2.0, 0.3, 0.4, 9.0, kind[0], kind[1], controller, 0.5, max_step, rtol,
                         atol, order, max_windows, call_windows=calls, max_dtheta=dtheta)
     np.testing.assert_array_equal(other.view(np.int64), ref2.view(np.int64))
 
@@ -155,7 +156,7 @@ def test_coefficient_width_does_not_depend_on_model_or_state():
     states = [(0.0, 0.25), (3.0, -4.0), (-40.0, 0.0), (1e-300, 1e300)]
     for name in mbm.approximant_names():
         ap = get_approximant(name)
-        kind = loop.kind_of(ap)
+        kind = window.kind_of(ap)
         if kind is None:
             continue
         sizes = {ap.anchor_kernel(*m.params, th, v).size for m in models for th, v in states}

@@ -15,7 +15,8 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import mbm
-from mbm import loop, regimes
+from mbm.core import controller, loop, record
+from mbm import regimes
 
 import oracle_heyoka  # noqa: E402  tests/data, on pytest's pythonpath
 
@@ -396,12 +397,12 @@ def test_a_later_start_time_sets_the_samples():
     r = mbm.solve(m, (t0, t[-1]), Y0, rtol=1e-10, atol=1e-10, t_eval=t)
     assert r.regime == "phase-locked" and t0 < r.t_regime < t0 + 1000.0 and r.mean_velocity == 1.0
     b, g, w, amp, freq, phase = STEP
-    ap, kind, karg = mbm.fast.compiled(mbm.get_approximant("taylor"))
-    p = loop.new_run(b, g, w, t0, Y0[0], Y0[1], t[-1], kind, karg, loop.CONTROLLER_ADAPTIVE, -1.0, np.inf, 1e-10,
+    ap, kind, karg = mbm.frontends.solve.compiled(mbm.get_approximant("taylor"))
+    p = record.new_run(b, g, w, t0, Y0[0], Y0[1], t[-1], kind, karg, controller.CONTROLLER_ADAPTIVE, -1.0, np.inf, 1e-10,
                      1e-10, int(ap.error_order), 10**8, regimes=0, drive_amplitude=amp, drive_frequency=freq,
                      drive_phase=phase)
     out = np.full((2, t.size), np.nan)
     loop.run(p, t, out, np.empty(0), np.empty((0, 2)), np.empty((0, 0)), np.zeros(1, np.int64))
-    assert loop.flat(p)[0]["regime"] == regimes.REGIME_NONE
+    assert record.flat(p)[0]["regime"] == regimes.REGIME_NONE
     np.testing.assert_allclose(r.y[1], out[1], rtol=0, atol=2e-11)
     assert np.all(np.abs(r.y[0] - out[0]) <= 2e-11 * (1 + np.abs(out[0])))

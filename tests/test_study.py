@@ -1,11 +1,12 @@
-"""Order fits that cannot be read off a reference's error (mbm.orderfit, mbm study)."""
+"""Order fits that cannot be read off a reference's error (mbm.cli.orderfit, mbm study)."""
 
 import math
 
 import numpy as np
 import pytest
 
-from mbm import cli_study, orderfit
+from mbm.cli import study as cli_study
+from mbm.cli import orderfit
 
 H = 0.5 ** np.arange(8)  # 1 .. 1/128
 

@@ -15,7 +15,8 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import mbm
-from mbm import loop, regimes
+from mbm.core import window
+from mbm import regimes
 from mbm.approximants.taylor import drive_phase_sincos
 
 import oracle_heyoka  # noqa: E402  tests/data, on pytest's pythonpath
@@ -231,7 +232,7 @@ def test_the_mirror_is_a_mirror():
 
 
 def test_iv_curve_is_exact_on_fractional_steps():
-    # ⟨θ'⟩ = (p/q)Ω exactly where a run reaches the regime (mbm.junction).  (Not on every
+    # ⟨θ'⟩ = (p/q)Ω exactly where a run reaches the regime (mbm.junction.iv).  (Not on every
     # step: a block run that starts on the orbit, its settling run having ended just
     # before its switch, sees no clean fit (S4) and reports the Birkhoff average, as at
     # q = 1.)
@@ -285,7 +286,7 @@ def _first_s5_switch(params, tol, n_samples):
             dphi = ac - prev[1]
             m = math.floor(dphi / (2 * math.pi) + 0.5)
             turns = (k - prev[0]) + m
-            dth = (dphi - m * loop.TWO_PI_A) - m * loop.TWO_PI_B
+            dth = (dphi - m * window.TWO_PI_A) - m * window.TWO_PI_B
             dv = bc - prev[2]
             tau = math.nan
             if len(devs) >= 3 and turns == p_dev:

@@ -16,12 +16,12 @@ import numpy as np
 import pytest
 
 import mbm
-from mbm import loop
+from mbm.status import STATUS_MAX_WINDOWS, STATUS_MESSAGES, STATUS_OK
 
 import dask  # noqa: E402  (the test extra installs dask, distributed, xarray)
 import xarray as xr  # noqa: E402
-from mbm import sweeps as sweep_mod  # noqa: E402  (needs xarray)
-from mbm.sweeps import sweep  # noqa: E402
+from mbm.junction import sweeps as sweep_mod  # noqa: E402  (needs xarray)
+from mbm.junction.sweeps import sweep  # noqa: E402
 
 BETA = np.array([0.05, 0.1, 0.4])
 GAMMA = np.array([0.0, 0.3, 1.2])
@@ -62,12 +62,12 @@ def test_dims_coords_and_attrs():
     assert ds.attrs["rtol"] == 1e-6 and ds.attrs["atol"] == 1e-9
     assert ds.attrs["approximant"] == "auto"
     assert ds.attrs["mbm_version"] == mbm.__version__
-    assert ds.attrs["max_windows"] == mbm._validate.DEFAULT_MAX_WINDOWS
-    # The status flags name every status of mbm.loop, and its messages.
+    assert ds.attrs["max_windows"] == mbm.validate.DEFAULT_MAX_WINDOWS
+    # The status flags name every status of mbm.status, and its messages.
     flags = ds.status.attrs
-    assert list(flags["flag_values"]) == sorted(loop.STATUS_MESSAGES)
-    assert len(flags["flag_meanings"].split()) == len(loop.STATUS_MESSAGES)
-    for code, msg in loop.STATUS_MESSAGES.items():
+    assert list(flags["flag_values"]) == sorted(STATUS_MESSAGES)
+    assert len(flags["flag_meanings"].split()) == len(STATUS_MESSAGES)
+    for code, msg in STATUS_MESSAGES.items():
         assert f"{code}: {msg}" in flags["flag_messages"]
         assert sweep_mod.status_message(code) == msg
     assert (ds.status == 0).all()
@@ -75,9 +75,9 @@ def test_dims_coords_and_attrs():
 
 def test_mbm_sweep_is_the_function():
     # mbm.sweep is the function (loaded lazily: import mbm does not import xarray); its
-    # module is mbm.sweeps, so importing the module cannot shadow it.
+    # module is mbm.junction.sweeps, so importing the module cannot shadow it.
     kw = dict(beta=BETA, gamma=0.3, t_span=(0.0, 10.0), reduce="winding")
-    assert mbm.sweep is sweep and mbm.sweeps is sweep_mod
+    assert mbm.sweep is sweep and mbm.junction.sweeps is sweep_mod
     _assert_identical_bits(mbm.sweep(**kw), sweep(**kw))
 
 
@@ -164,22 +164,22 @@ def test_failed_scene_has_a_status_and_nan_never_silently():
     ds = sweep(beta=[0.0, 0.1], gamma=[0.0, 1.2], theta0=0.5, t_span=(0.0, 50.0),
                reduce=["final_state", "mean_velocity", "winding", "regime"], max_windows=3)
     status = ds.status.values
-    assert status[0, 0] == loop.STATUS_OK
-    failed = status != loop.STATUS_OK
-    assert failed.sum() == 3 and (status[failed] == loop.STATUS_MAX_WINDOWS).all()
+    assert status[0, 0] == STATUS_OK
+    failed = status != STATUS_OK
+    assert failed.sum() == 3 and (status[failed] == STATUS_MAX_WINDOWS).all()
     for v in ("theta_final", "theta_dot_final", "mean_velocity", "winding"):
         vals = ds[v].values
         assert np.isnan(vals[failed]).all() and np.isfinite(vals[~failed]).all(), v
     assert (ds.regime.values[failed] == "failed").all()
     # Every NaN has a status that says why.
-    assert not np.any(np.isnan(ds.mean_velocity.values) & (status == loop.STATUS_OK))
+    assert not np.any(np.isnan(ds.mean_velocity.values) & (status == STATUS_OK))
     assert "max_windows" in sweep_mod.status_message(status[1, 0])
 
 
 def test_failed_scene_time_series_keeps_what_it_reached():
     t_eval = np.linspace(0.0, 50.0, 11)
     ds = sweep(beta=[0.0, 0.1], gamma=0.0, theta0=0.5, t_span=(0.0, 50.0), t_eval=t_eval, max_windows=3)
-    assert list(ds.status.values) == [loop.STATUS_OK, loop.STATUS_MAX_WINDOWS]
+    assert list(ds.status.values) == [STATUS_OK, STATUS_MAX_WINDOWS]
     ok, bad = ds.theta.values
     assert np.isfinite(ok).all()
     assert bad[0] == 0.5 and np.isnan(bad[-1])  # valid up to the failure, NaN after
@@ -425,8 +425,8 @@ def test_distributed_identical_and_kernels_loaded_from_cache(cluster, reference)
     # Each worker loaded the batch's kernels from numba's cache: hits, no compilation.
     # (Lambdas: cloudpickle ships them by value; a function of this module would be
     # looked up by name on the worker, which cannot import the tests.)
-    stats = cluster.run(lambda: [e.stats for e in (__import__("mbm.loop").loop._run_lanes,
-                                                    *__import__("mbm.loop").loop.ROWS_ENTRIES.values())])
+    stats = cluster.run(lambda: [e.stats for e in (__import__("mbm.core.lanes").core.lanes._run_lanes,
+                                                    *__import__("mbm.core.lanes").core.lanes.ROWS_ENTRIES.values())])
     assert len(stats) == 2
     assert sum(sum(s.cache_hits.values()) for ss in stats.values() for s in ss) >= 1
     assert all(sum(s.cache_misses.values()) == 0 for ss in stats.values() for s in ss)

@@ -1,4 +1,4 @@
-"""Event functions of one's own (mbm.user_events): a numba.njit g(t, θ, θ') watched on
+"""Event functions of one's own (mbm.events.functions): a numba.njit g(t, θ, θ') watched on
 the windows of mbm.solve and Integrator.solve.
 
 References: heyoka in long double at tol 1e-19 (nt_event), the built-in events of the

@@ -1,4 +1,4 @@
-"""The compile helper (mbm._warm): when it starts, that answers never depend on it, and
+"""The compile helper (mbm.compile.warm): when it starts, that answers never depend on it, and
 that its generated manifest matches what a first call compiles."""
 
 import json
@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import mbm
-from mbm import _warm
+from mbm.compile import warm as _warm
 from mbm.core import loop
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -28,7 +28,7 @@ def _env(cache, **extra):
 
 
 def test_an_entry_is_keyed_where_its_own_module_binds_it():
-    # not under a facade's re-export (mbm.loop) or an alias (mbm.core.chains._R_V1)
+    # not under another module's import of it or an alias (mbm.core.chains._R_V1)
     assert _warm.entry_key(loop.SIMD_RUNNERS[loop.RS_DAMPED]) == DAMPED_KEY[1:]
     assert _warm.entry_key(loop.RUNNERS[(0, 0)]) == ("mbm.core.loop", "RUNNERS", ((0, 0),))
     # the other kinds share the default Taylor degree's entries
@@ -81,7 +81,7 @@ _COLD_SOLVE = textwrap.dedent("""
     import json, math, sys
     import numpy as np
     import mbm
-    from mbm import _warm
+    from mbm.compile import warm as _warm
     m = mbm.Pendulum(beta=0.1, gamma=0.3)
     t = np.linspace(0.0, 80.0, 201)
     r = mbm.solve(m, (0.0, 80.0), [math.radians(30), 0.0], rtol=1e-9, atol=1e-9, t_eval=t)
@@ -112,7 +112,7 @@ def test_a_cold_first_call_starts_one_helper_and_its_answers_are_the_warm_ones(t
 def test_a_process_that_exits_with_its_helper_up_stops_it_and_leaves_no_file_open(tmp_path):
     if _warm._cores() < 2:
         pytest.skip("the helper needs a second core")
-    code = ("from mbm import _warm; print(_warm.prefetch_keys([_warm.DEMO_KEYS[0]]), "
+    code = ("from mbm.compile import warm as _warm; print(_warm.prefetch_keys([_warm.DEMO_KEYS[0]]), "
             "[p.poll() for p in _warm._started.values()])")
     proc = subprocess.run([sys.executable, "-X", "dev", "-c", code], env=_env(tmp_path), cwd=ROOT,
                           capture_output=True, text=True, timeout=300)

@@ -1,4 +1,4 @@
-"""The winding representation θ = 2πk + φ of the Taylor and splitting runs (mbm.loop).
+"""The winding representation θ = 2πk + φ of the Taylor and splitting runs (mbm.core.loop).
 
 References: the exact undamped flow (mbm's own, checked against heyoka in long
 double in test_oracle) for wound rotations; mpmath for the constants and the
@@ -13,18 +13,18 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import mbm
-from mbm import loop
+from mbm.core import window
 
 
 def test_two_pi_split_is_2pi_and_a_has_32_bits():
     mpmath.mp.prec = 200
-    total = mpmath.mpf(loop.TWO_PI_A) + mpmath.mpf(loop.TWO_PI_B)
+    total = mpmath.mpf(window.TWO_PI_A) + mpmath.mpf(window.TWO_PI_B)
     # B is one double of size ~2e-9 (its ulp ~4e-25): 2π to that, so k·(A + B) misses
     # 2πk by < 1e-18 for every |k| < 2²¹, far below ulp(π).
     assert abs(total - 2 * mpmath.pi) < 1e-24
-    m, e = math.frexp(loop.TWO_PI_A)
+    m, e = math.frexp(window.TWO_PI_A)
     assert math.ldexp(m, 32) == int(math.ldexp(m, 32))  # at most 32 significant bits
-    assert abs(loop.TWO_PI_B) < 2.0**-28
+    assert abs(window.TWO_PI_B) < 2.0**-28
 
 
 @pytest.mark.parametrize("seed", range(3))
@@ -35,16 +35,16 @@ def test_wrap_is_an_exact_idempotent_reduction(seed):
     for _ in range(2000):
         phi = rng.choice([-1.0, 1.0]) * 10 ** rng.uniform(-3, 7)
         k = float(rng.integers(-10**5, 10**5))
-        k2, phi2 = loop.wrap(k, phi)
+        k2, phi2 = window.wrap(k, phi)
         assert -math.pi <= phi2 <= math.pi and k2 == int(k2)  # fl(π) < π: inside (−π, π]
-        assert loop.wrap(k2, phi2) == (k2, phi2)
+        assert window.wrap(k2, phi2) == (k2, phi2)
         # 2πk' + φ' = 2πk + φ up to the rounding of φ' (and of the m·B product).
         exact = two_pi * k + mpmath.mpf(phi)
         assert abs(two_pi * k2 + mpmath.mpf(phi2) - exact) <= 4e-16 * max(1.0, abs(phi) * 1e-7)
-    assert loop.wrap(0.0, math.pi) == (0.0, math.pi)
-    assert loop.wrap(0.0, -math.pi) == (0.0, -math.pi)
-    assert loop.wrap(0.0, 3 * math.pi)[0] == 1.0 and loop.wrap(0.0, -3 * math.pi)[0] == -1.0
-    assert loop.theta_of(0.0, -1.5) == -1.5
+    assert window.wrap(0.0, math.pi) == (0.0, math.pi)
+    assert window.wrap(0.0, -math.pi) == (0.0, -math.pi)
+    assert window.wrap(0.0, 3 * math.pi)[0] == 1.0 and window.wrap(0.0, -3 * math.pi)[0] == -1.0
+    assert window.theta_of(0.0, -1.5) == -1.5
 
 
 @pytest.mark.parametrize("v0, T", [(2.5, 1e4), (20.0, 2e3)])

@@ -121,7 +121,7 @@ class Approximant:
         ``max_step`` allows).
     compiled_kind : str or None
         Name of the kind the compiled window loop dispatches to (:data:`COMPILED_KINDS`
-        in :mod:`mbm.loop`); None: windows are driven from Python, one per step.
+        in :mod:`mbm.core.loop`); None: windows are driven from Python, one per step.
     kind_arg : int
         The kind's integer argument (the Taylor degree, the splitting method id).
     drive_capable : bool
@@ -268,7 +268,7 @@ class Approximant:
             If the model or the anchor state is outside the approximant's domain, or
             the model is driven and the approximant cannot integrate the drive.
         """
-        from ..problem import Pendulum
+        from ..model import Pendulum
 
         if not isinstance(model, Pendulum):
             raise TypeError(f"model must be an mbm.Pendulum, got {type(model).__name__}")

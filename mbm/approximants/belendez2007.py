@@ -47,7 +47,7 @@ import numba
 import numpy as np
 
 from ..special.dd import PI_HI
-from ..special.jit import NJIT_OPTIONS, kernel
+from ..compile.jit import NJIT_OPTIONS, kernel
 
 # The flow, and the names re-exported from here for existing importers.
 from ..special.pendulum_flow import (  # noqa: F401

@@ -12,7 +12,7 @@ import numpy as np
 
 from ..special.dd import TWO_PI_HI, nearest_2pi_multiple
 from ..special.jacobi import ellipf_kernel, ellipj_kernel
-from ..special.jit import kernel
+from ..compile.jit import kernel
 from ..special.trig import sin_m_dm_kernel, trig_m_kernel
 
 

@@ -13,7 +13,7 @@ import numba
 import numpy as np
 
 from ..special.jacobi import ellipf_kernel, ellipj_kernel
-from ..special.jit import NJIT_OPTIONS, kernel
+from ..compile.jit import NJIT_OPTIONS, kernel
 from ..special.trig import trig_m_kernel
 from ..special.weierstrass import wp_kernel, wp_lattice_kernel
 

@@ -70,7 +70,7 @@ import numba
 import numpy as np
 
 from ..special.dd import reduce_2pi
-from ..special.jit import NJIT_OPTIONS, kernel
+from ..compile.jit import NJIT_OPTIONS, kernel
 from ..special.pendulum_flow import pendulum_flow_kernel
 from .base import Approximant, register
 from .taylor import taylor24_coefficients_into, taylor_eval_kernel, taylor_radius_kernel

@@ -77,7 +77,7 @@ must stay well inside R.  Under rtol/atol the window is chosen a priori from the
 anchored coefficients (:func:`taylor_window_kernel`, heyoka's rule per component:
 a radius estimate from the orders N − 2 … N in units of each component's tolerance
 scale, times eps^(1/(N−1))), so that the neglected terms are a set fraction eps of
-the tolerance (the controller's margin, ``mbm.loop.TAYLOR_WINDOW_MARGIN``), and the
+the tolerance (the controller's margin, ``mbm.core.window.TAYLOR_WINDOW_MARGIN``), and the
 estimate below only checks it; :func:`radius_estimate` (the root test
 |a_k|^{−1/k} on the two extra coefficients, exposed as ``params['radius']``) tells a
 caller with a fixed τ where the formula stops being usable.
@@ -118,7 +118,7 @@ import math
 
 import numpy as np
 
-from ..special.jit import kernel
+from ..compile.jit import kernel
 from .base import Approximant, register
 from .taylor_series import (  # noqa: F401  callers and tests import these from here
     HEADER, N_EXTRA, MAX_ORDER, _INV_K, _INV_K12, STATUS_OK, STATUS_BAD_STATE,
@@ -166,7 +166,7 @@ TAYLOR_DEFAULT_ORDER = 24
 # A-priori window (:func:`taylor_window_kernel`): heyoka's safety factor
 # exp(−WINDOW_SAFETY_EXP/(p−1)) on the radius rule (Biscani & Izzo 2021, §4, after
 # Jorba & Zou 2005, §3.2), kept as published; the margin of the per-window error below
-# the tolerance is the controller's (mbm.loop.TAYLOR_WINDOW_MARGIN).
+# the tolerance is the controller's (mbm.core.window.TAYLOR_WINDOW_MARGIN).
 WINDOW_SAFETY_EXP = 0.7
 
 # The kernels below are compiled without fastmath, as the recurrence is

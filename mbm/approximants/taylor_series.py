@@ -13,7 +13,7 @@ import numpy as np
 from numba import njit
 
 from ..special.dd import two_prod, two_sum
-from ..special.jit import kernel
+from ..compile.jit import kernel
 from .taylor_simd import SIMD_ORDER, taylor24_driven_series, taylor24_series
 
 

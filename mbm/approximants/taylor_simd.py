@@ -38,7 +38,7 @@ from llvmlite import ir
 from numba import types
 from numba.core.extending import intrinsic
 
-from ..special.jit import kernel
+from ..compile.jit import kernel
 
 __all__ = ["SIMD_ORDER", "LANES", "taylor24_series", "taylor24_driven_series", "taylor24_lanes", "horner24_lanes"]
 

@@ -11,5 +11,4 @@
 =====================  ==========================================================
 
 The regimes' hooks into the loop live with their regime in :mod:`mbm.regimes`.
-:mod:`mbm.loop` re-exports the names the rest of the package uses.
 """

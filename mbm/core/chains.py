@@ -13,7 +13,7 @@ import numba
 import numpy as np
 
 from ..approximants.taylor_simd import SIMD_ORDER
-from ..special.jit import kernel
+from ..compile.jit import kernel
 from ..status import STATUS_ANCHOR, STATUS_PAUSED
 from .loop import (
     _INLINE,

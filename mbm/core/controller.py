@@ -12,7 +12,7 @@ import math
 import numba
 import numpy as np
 
-from ..special.jit import kernel
+from ..compile.jit import kernel
 from .kind_ops import OP_ADAPTIVE, OP_FIRST, OPS_PER_KIND, call_adaptive, call_first
 from .window import (
     KIND_EXACT,

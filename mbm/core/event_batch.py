@@ -1,6 +1,6 @@
 """The event watch of :func:`mbm.solve_batch`: each scene's run in chunks of stored
 windows, each chunk's events located (:func:`mbm.core.event_watch.locate`) before the
-next, as :mod:`mbm.crossings` does for one scene, inside one compiled call per group of
+next, as :mod:`mbm.events.compiled` does for one scene, inside one compiled call per group of
 scenes (no GIL, so the groups run on threads).
 
 A terminal event stops its scene: the record's status is STATUS_EVENT, its state the
@@ -18,7 +18,7 @@ import math
 import numba
 import numpy as np
 
-from ..special.jit import kernel
+from ..compile.jit import kernel
 from .event_watch import (WATCH_CROWDED, WATCH_LOCKED, WATCH_OK, locate, taylor_events, trap_allowed,
                           trapped_unreachable)
 from .chains import _run_sets

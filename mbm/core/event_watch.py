@@ -2,7 +2,7 @@
 
 :func:`locate` walks the windows a run stored (``win_t``, ``win_y``, ``win_coef`` of
 :func:`mbm.core.loop.run`) and reports every event of the table ``ev`` (one row per
-event, :data:`EV_WIDTH` columns, built by :mod:`mbm.crossings`) in time order:
+event, :data:`EV_WIDTH` columns, built by :mod:`mbm.events.compiled`) in time order:
 
 * an ordinary Taylor window is a polynomial in the time from its anchor: θ(s) and
   θ'(s) are Σ a_k s^k and its derivative (:mod:`mbm.approximants.taylor`), so a
@@ -31,7 +31,7 @@ from ..regimes.cycle import CYC_PERIOD, CYC_SIGN, CYC_T_OFF, CYC_WIND, CYCLE_TAG
 from ..regimes.cycle_windows import _period_store
 from ..regimes.common import REGIME_NONE, REGIMES_ALL
 from ..regimes.locked import LCK_V0, LCK_X0, LOCKED_TAG, _potential, locked_amplitude
-from ..special.jit import kernel
+from ..compile.jit import kernel
 from ..special.polyroots import crossings
 from .window import KIND_TAYLOR, evaluate, theta_of
 
@@ -252,7 +252,7 @@ def locked_unreachable(theta, c, ev, lock):
 def trap_allowed(r, direction, j, n_out):
     """Whether run record ``r`` may end where it is trapped (:func:`trapped_unreachable`):
     forwards, undriven, β > 0, |γ| < ω², with the locked regime allowed for its events
-    (``regimes`` REGIMES_ALL: :func:`mbm.crossings.lock_allowed`), no regime taken yet
+    (``regimes`` REGIMES_ALL: :func:`mbm.events.compiled.lock_allowed`), no regime taken yet
     and its ``n_out`` outputs all written (``j`` of them are: the record's, or a lane's
     own count while the lane holds the run)."""
     m = r.model

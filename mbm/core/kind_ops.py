@@ -36,7 +36,7 @@ import numba
 from ..approximants.belendez2007 import belendez_anchor_kernel
 from ..approximants.salas2022 import salas_torque_anchor
 from ..approximants.splitting import split_anchor
-from ..special.jit import kernel
+from ..compile.jit import kernel
 from .record import RUN
 
 __all__ = ["OPS", "SIGNATURES", "call_adaptive", "call_anchor", "call_crossing", "call_error", "call_eval",
@@ -92,7 +92,7 @@ def _split_anchor(karg, beta, gamma, omega, theta0, v0):
 # restated here; tests/test_kind_ops.py checks them against window's).
 _EXACT, _SALAS_TORQUE, _SPLIT = 1, 2, 3
 
-#: The kinds with pieces in the table, by id (the compile helper's keys, mbm._warm).
+#: The kinds with pieces in the table, by id (the compile helper's keys, mbm.compile.warm).
 KINDS = {_EXACT: "exact", _SALAS_TORQUE: "salas-torque", _SPLIT: "split"}
 
 _M = "mbm.core.kind_ops"

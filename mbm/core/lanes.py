@@ -22,8 +22,8 @@ from ..approximants.taylor_simd import (
     horner24_lanes,
     taylor24_lanes,
 )
-from .. import _warm
-from ..special.jit import kernel
+from ..compile import warm as _warm
+from ..compile.jit import kernel
 from .controller import (
     CONTROLLER_ADAPTIVE,
     _adaptive_window_taylor,
@@ -331,7 +331,7 @@ def _lanes_for(watch):
 
 
 #: The lanes without events (run_batch, called with :func:`no_events`) and with the
-#: event watch (mbm.crossings).
+#: event watch (mbm.events.compiled).
 _run_lanes = _lanes_for(False)
 run_lanes_events = _lanes_for(True)
 
@@ -411,7 +411,7 @@ def batch_flags(p):
 
 
 def run_batch(p, t_eval, out, order, cancel, flags=None):
-    """:func:`mbm.loop.run` for every row of ``p``, in the order ``order``, on
+    """:func:`mbm.core.loop.run` for every row of ``p``, in the order ``order``, on
     ``numba.get_num_threads()`` threads.
 
     The scenes that are :func:`lane_eligible` run in groups of LANE_GROUP by the lanes

@@ -46,10 +46,10 @@ import math
 import numba
 import numpy as np
 
-from .._validate import t_eval_problem
+from ..validate import t_eval_problem
 from ..approximants.taylor import taylor_eval_range, taylor_workspace
 from ..approximants.taylor_simd import SIMD_ORDER
-from ..special.jit import kernel
+from ..compile.jit import kernel
 from .controller import (
     CONTROLLER_ADAPTIVE,
     _adaptive,
@@ -454,7 +454,7 @@ def _finish(r, status, t, y0, y1, k, h_abs, n_total, j, t_eval, out_theta, out_v
 # float64 words: mbm.core.record.start_record) window by window.  With ``fresh`` the run
 # is first set up from ``buf``'s row 0 (a template record), the span (t0, t1), the state
 # (theta0, v0) and the first window's h_abs ``h``, and ``t_eval`` checked
-# (mbm._validate.t_eval_problem: where it fails nothing is run and −(its code) returned);
+# (mbm.validate.t_eval_problem: where it fails nothing is run and −(its code) returned);
 # otherwise those five are unused and the run resumes as it stands.  One compiled entry
 # serves every caller (mbm.MBM, mbm.Integrator, the compiled whole runs), so none links
 # the loop into a wrapper of its own.

@@ -13,7 +13,7 @@ import numpy as np
 
 from ..regimes.common import REGIME_NONE
 from ..regimes.strobe import STROBE_MAX_PERIODS, STROBE_RING
-from ..special.jit import kernel
+from ..compile.jit import kernel
 
 def _group(*fields):
     return np.dtype(list(fields), align=True)
@@ -95,7 +95,7 @@ DAMPED = _group(("dmp_beta", _F), ("dmp_gamma", _F), ("dmp_omega", _F), ("dmp_d"
                 ("dmp_sec_acc", _F))
 
 #: The run record, in named groups: ``r.model.beta``, ``r.state.t``, ``r.cycle.cyc_T``
-#: (numba and numpy alike).  One row per scene; :func:`mbm.loop.run` reads every group
+#: (numba and numpy alike).  One row per scene; :func:`mbm.core.loop.run` reads every group
 #: and writes the state, winding, progress and regimes' groups back.
 RUN = np.dtype(
     [("model", MODEL), ("state", STATE), ("winding", WINDING), ("control", CONTROL),

@@ -1,14 +1,14 @@
 """Stored windows evaluated at any times: the reference evaluator of a step's windows.
 
 :func:`evaluate_windows` evaluates the windows a run stored (``win_t``, ``win_y``,
-``win_coef`` of :func:`mbm.core.loop.run`); :mod:`mbm.dense` gives its values bit for
+``win_coef`` of :func:`mbm.core.loop.run`); :mod:`mbm.frontends.dense` gives its values bit for
 bit with less work per time.
 """
 
 import numba
 import numpy as np
 
-from ..special.jit import kernel
+from ..compile.jit import kernel
 from .window import (
     KIND_EXACT,
     KIND_SALAS_TORQUE,

@@ -28,7 +28,7 @@ from ..approximants.taylor import (
     taylor_eval_kernel,
     taylor_window_log,
 )
-from ..special.jit import kernel
+from ..compile.jit import kernel
 from .kind_ops import OP_ANCHOR, OP_ERROR, OP_EVAL, OPS_PER_KIND, call_anchor, call_error, call_eval
 
 # Inlined only where a caller's constant kind or regime set must prune branches (numba

@@ -13,7 +13,7 @@ SWITCH_SAFETY = 0.1
 REGIMES_OFF = 0  # none: every window is the approximant's
 REGIMES_ALL = 1  # every regime its set reaches (the default)
 # Only the stored-period regimes (running cycle, libration): the windows the compiled
-# events (mbm.crossings) locate crossings on, besides the approximant's own.
+# events (mbm.events.compiled) locate crossings on, besides the approximant's own.
 REGIMES_PERIODIC = 2
 
 REGIME_NONE = 0

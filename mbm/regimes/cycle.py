@@ -1,10 +1,10 @@
 """The RUNNING cycle: a damped rotation settling on its limit cycle, one stored period re-taken.
 
 RUNNING cycle (β > 0; a rotation settling on the limit cycle θ(t + T_c) = θ(t) ± 2π).
-After each window the loop (:func:`mbm.loop._run`) looks for the section crossings
+After each window the loop (:func:`mbm.core.loop._run`) looks for the section crossings
 (R1, :func:`section_offset`) and tests the switch on them (:func:`cycle_switch`, R2);
 after the switch the rest is one stored period re-taken from the anchor crossing (R3):
-the window :func:`cycle_coef`, evaluated by mbm.loop (``_cycle_phase``,
+the window :func:`cycle_coef`, evaluated by mbm.core.loop (``_cycle_phase``,
 ``_period_windows``).  A libration (:mod:`mbm.regimes.libration`, C3) is stored in the
 same layout, winding sign 0.
 
@@ -16,13 +16,13 @@ import math
 
 import numpy as np
 
-from ..special.jit import kernel
+from ..compile.jit import kernel
 from .common import REGIME_LIBRATION, REGIME_LOCKED, REGIME_RUNNING, SWITCH_SAFETY
 
 # A running-cycle window's coefficient vector (R3): [CYCLE_TAG, θ_c, v_c, T_c, t_off,
 # β, γ, ω, rtol, atol, winding sign, kind argument, error order, k_c, T_lo]; t_off is
 # the time from the cycle's anchor crossing to the window's start, the anchor is at
-# θ = 2πk_c + θ_c (the loop's winding count, mbm.loop "Winding"), and T_c + T_lo is
+# θ = 2πk_c + θ_c (the loop's winding count, mbm.core.window "Winding"), and T_c + T_lo is
 # the period in double-double (T_lo = 0 for the running cycle; C3 for a libration).
 CYCLE_TAG = 102.0
 CYCLE_WIDTH = 15
@@ -56,7 +56,7 @@ CYC_ATOL = 9  # atol the stored period is re-taken with
 CYC_SIGN = 10  # winding sign: θ advances by 2π·sign per period (0: a libration, C3)
 CYC_KARG = 11  # the approximant's kind argument
 CYC_ERROR_ORDER = 12  # the approximant's error order
-CYC_WIND = 13  # k_c: the anchor's winding count (mbm.loop "Winding")
+CYC_WIND = 13  # k_c: the anchor's winding count (mbm.core.window "Winding")
 CYC_PERIOD_LO = 14  # T_lo: T_c + T_lo is the period in double-double (0 for the running cycle; C3)
 
 

@@ -34,7 +34,7 @@ from ..core.kind_ops import (
     call_period_value,
     call_refine,
 )
-from ..special.jit import kernel
+from ..compile.jit import kernel
 from .common import REGIME_RUNNING
 from .cycle import (
     CROSSING_ITERATIONS,

@@ -3,7 +3,7 @@
 LIBRATION (β = 0, |γ| < ω²; a conservative motion trapped in a well of the tilted
 potential, exactly periodic from its first instant).
 :func:`libration_period` gives the period and its error bound (C1, C2); the loop
-(:func:`mbm.loop._run`) tests the switch rule (C4) at the run's first window, and the
+(:func:`mbm.core.loop._run`) tests the switch rule (C4) at the run's first window, and the
 window is the running cycle's (R3, :mod:`mbm.regimes.cycle`) with winding sign 0 and
 a double-double period (C3).  U(x) in double is L3's (:mod:`mbm.regimes.locked`).
 
@@ -33,7 +33,7 @@ from ..special.dd import (
     reduce_2pi,
     two_prod,
 )
-from ..special.jit import kernel
+from ..compile.jit import kernel
 from .common import REGIME_LIBRATION, SWITCH_SAFETY
 from .locked import X_MINUS_SIN_SERIES, _potential
 

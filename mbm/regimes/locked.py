@@ -1,7 +1,7 @@
 """The LOCKED regime: a damped run settling on a stable equilibrium, in closed form.
 
 The LOCKED regime (β > 0, |γ| < ω²) is a run settling on a stable
-equilibrium θ* = d + 2πk, d = arcsin(γ/ω²).  The window loop (:func:`mbm.loop._run`)
+equilibrium θ* = d + 2πk, d = arcsin(γ/ω²).  The window loop (:func:`mbm.core.loop._run`)
 asks :func:`locked_bound` before each window; when the bound on the neglected
 nonlinearity over the whole rest of the horizon is within the tolerance, the run
 takes one last "window" to ``t_bound`` whose formula is the linearized motion
@@ -19,7 +19,7 @@ import math
 import numba
 import numpy as np
 
-from ..special.jit import kernel
+from ..compile.jit import kernel
 from .common import SWITCH_SAFETY
 
 # (L3): relative widening of the amplitude bound A, covering the rounding of H₀ and U

@@ -22,7 +22,7 @@ from ..core.window import (
     window_log_eps,
     wrap,
 )
-from ..special.jit import kernel
+from ..compile.jit import kernel
 from .common import REGIME_NONE, REGIME_PHASE_LOCKED, SWITCH_SAFETY
 from .cycle import CYCLE_MAX_WINDOWS
 from .cycle_windows import _TWO_PI

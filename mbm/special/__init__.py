@@ -31,7 +31,7 @@ Modules: :mod:`~mbm.special.jacobi`, :mod:`~mbm.special.weierstrass`,
 :mod:`~mbm.special.trig`, :mod:`~mbm.special.pendulum_flow` (also the Python-level
 ``pendulum_flow`` and ``period``, exported as ``mbm.pendulum_flow``, ``mbm.period``),
 :mod:`~mbm.special.dd` (double-double arithmetic and the one 2π reduction,
-``reduce_2pi``) and :mod:`~mbm.special.jit` (``NJIT_OPTIONS``, the kernels' numba
+``reduce_2pi``) and :mod:`~mbm.compile.jit` (``NJIT_OPTIONS``, the kernels' numba
 options).
 
 See :mod:`mbm.special.jacobi` and :mod:`mbm.special.weierstrass` for the

@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from .jit import kernel
+from ..compile.jit import kernel
 
 
 __all__ = [

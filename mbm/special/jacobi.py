@@ -53,7 +53,7 @@ from .jacobi_kernels import (  # noqa: F401  callers and tests import these from
     ellipj_kc_dd_kernel, _ellipj_dd, ellipj_kernel, carlson_rf_kernel,
     ellipf_kernel,
 )
-from .jit import kernel
+from ..compile.jit import kernel
 
 __all__ = [
     "ellipj_kernel",

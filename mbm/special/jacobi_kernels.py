@@ -32,7 +32,7 @@ from .dd import (
     dd_sqrt,
     two_prod,
 )
-from .jit import kernel
+from ..compile.jit import kernel
 
 
 # ---------------------------------------------------------------------------

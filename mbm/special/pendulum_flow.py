@@ -43,8 +43,8 @@ import math
 import numba
 import numpy as np
 
-from .._validate import check_state
-from ..problem import Pendulum
+from ..validate import check_state
+from ..model import Pendulum
 from .dd import (
     TWO_PI_HI,
     TWO_PI_LO,
@@ -58,7 +58,7 @@ from .dd import (
     two_sum,
 )
 from .jacobi import ellipf_kernel, ellipj_kernel, ellipk_dd_kernel
-from .jit import NJIT_OPTIONS, kernel
+from ..compile.jit import NJIT_OPTIONS, kernel
 
 __all__ = [
     "flow_setup_kernel",
@@ -536,7 +536,7 @@ def period(model, y0):
     Raises
     ------
     TypeError
-        If ``model`` is not a :class:`~mbm.problem.Pendulum`.
+        If ``model`` is not a :class:`~mbm.model.Pendulum`.
     ValueError
         If ``model`` has β ≠ 0 or γ ≠ 0, or ``y0`` is not two finite reals
         (with ``|θ₀| <= 1e15``).

@@ -20,7 +20,7 @@ Kernels (``numba.njit``, cached): :func:`bernstein_into`, :func:`sign_changes`,
 
 import numpy as np
 
-from .jit import kernel
+from ..compile.jit import kernel
 
 __all__ = ["bernstein_into", "sign_changes", "isolate", "horner", "refine", "crossings", "MAX_DEPTH"]
 

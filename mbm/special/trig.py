@@ -46,7 +46,7 @@ import math
 import numba
 import numpy as np
 
-from .jit import NJIT_OPTIONS, kernel
+from ..compile.jit import NJIT_OPTIONS, kernel
 
 __all__ = [
     "M_MAX",

@@ -64,7 +64,7 @@ from .jacobi import (
     ellipj_kc_dd_kernel,
     ellipk_kc_dd_kernel,
 )
-from .jit import NJIT_OPTIONS, kernel
+from ..compile.jit import NJIT_OPTIONS, kernel
 
 __all__ = [
     "wp_roots_kernel",

@@ -6,7 +6,8 @@ import pytest
 
 import mbm
 import oracle_heyoka
-from mbm import loop
+from mbm.core import controller, loop, record
+from mbm import status
 
 LD = np.longdouble
 TWO_PI_LD = 2 * LD(np.pi)
@@ -19,17 +20,17 @@ needs_oracle = pytest.mark.skipif(
 def run(params, y0, T, t, tol, regimes_on=1, call_windows=0):
     """The loop by hand (mbm.solve's defaults), θ wrapped with its winding count."""
     beta, gamma, omega, amp, freq, phase = params
-    ap, kind, karg = mbm.fast.compiled(mbm.get_approximant("taylor"))
-    p = loop.new_run(beta, gamma, omega, 0.0, y0[0], y0[1], T, kind, karg, loop.CONTROLLER_ADAPTIVE,
+    ap, kind, karg = mbm.frontends.solve.compiled(mbm.get_approximant("taylor"))
+    p = record.new_run(beta, gamma, omega, 0.0, y0[0], y0[1], T, kind, karg, controller.CONTROLLER_ADAPTIVE,
                      -1.0, np.inf, tol, tol, int(ap.error_order), 10**8, call_windows=call_windows,
                      regimes=regimes_on, drive_amplitude=amp, drive_frequency=freq, drive_phase=phase)
     out = np.full((3, t.size), np.nan)
     while True:
         loop.run(p, t, out, np.empty(0), np.empty((0, 2)), np.empty((0, 0)), np.zeros(1, np.int64))
-        if loop.flat(p)[0]["status"] != loop.STATUS_PAUSED:
+        if record.flat(p)[0]["status"] != status.STATUS_PAUSED:
             break
-    assert loop.flat(p)[0]["status"] == 0
-    return out, loop.flat(p)[0]
+    assert record.flat(p)[0]["status"] == 0
+    return out, record.flat(p)[0]
 
 
 def theta_ld(out):

@@ -1,6 +1,6 @@
 """Events inside your own numba code: :func:`solve_njit_events`, :func:`event_table`.
 
-:func:`mbm.solve_njit` with the built-in events of :mod:`mbm.crossings`: the table of
+:func:`mbm.solve_njit` with the built-in events of :mod:`mbm.events.compiled`: the table of
 the events is made once in Python (:func:`event_table`) and passed into ``numba.njit``
 code, where each call returns the events stored in arrays of a fixed shape, as one
 scene of :func:`mbm.solve_batch` reports them.
@@ -11,23 +11,23 @@ import math
 import numba
 import numpy as np
 
-from .approximants.base import get_approximant
-from .approximants.taylor import HEADER, N_EXTRA
-from .choice import auto_name
-from . import loop
-from .core.event_batch import EVENTS_CAPACITY, FIRST_CHUNK, LAST_CHUNK, scene_events_for, stop_at
-from .core.chains import _run_sets
-from .core.event_watch import EV_ANGLE, EV_VELOCITY, EV_WIDTH
-from .crossings import as_events
-from .regimes.common import REGIMES_ALL, REGIMES_OFF, REGIMES_PERIODIC
-from .status import STATUS_EVENT, STATUS_NONFINITE, STATUS_PAUSED
-from .user_events import function_crossings
-from .regimes.cycle import CYCLE_WIDTH
+from ..approximants.base import get_approximant
+from ..approximants.taylor import HEADER, N_EXTRA
+from ..choice import auto_name
+from ..core import controller, record, window
+from ..core.event_batch import EVENTS_CAPACITY, FIRST_CHUNK, LAST_CHUNK, scene_events_for, stop_at
+from ..core.chains import _run_sets
+from ..core.event_watch import EV_ANGLE, EV_VELOCITY, EV_WIDTH
+from .compiled import as_events
+from ..regimes.common import REGIMES_ALL, REGIMES_OFF, REGIMES_PERIODIC
+from ..status import STATUS_EVENT, STATUS_NONFINITE, STATUS_PAUSED
+from .functions import function_crossings
+from ..regimes.cycle import CYCLE_WIDTH
 
 __all__ = ["event_table", "solve_njit_events", "solve_njit_function_events"]
 
 _TAYLOR = get_approximant(auto_name(False))
-_KIND, _KARG = loop.kind_of(_TAYLOR)
+_KIND, _KARG = window.kind_of(_TAYLOR)
 _ORDER = int(_TAYLOR.error_order)
 # The window store's width for the default Taylor series (its coefficients, a cycle's).
 _WIDTH = max(HEADER + int(_KARG) + 1 + N_EXTRA, CYCLE_WIDTH)
@@ -67,8 +67,8 @@ def _init_taylor(p, beta, gamma, omega, t0, theta0, v0, t_bound, rtol, atol, max
     drive = (amp, freq, phase) if amp != 0.0 else (0.0, 0.0, 0.0)
     model = (float(beta), float(gamma), float(omega), float(drive[0]), float(drive[1]), float(drive[2]))
     state = (float(t0), float(theta0), float(v0), float(t_bound))
-    control = (_KIND, _KARG, loop.CONTROLLER_ADAPTIVE, -1.0, math.inf, math.inf, float(rtol), float(atol), _ORDER)
-    loop.init_run(p, 0, model, state, control, np.int64(max_windows), 0, regimes)
+    control = (_KIND, _KARG, controller.CONTROLLER_ADAPTIVE, -1.0, math.inf, math.inf, float(rtol), float(atol), _ORDER)
+    record.init_run(p, 0, model, state, control, np.int64(max_windows), 0, regimes)
 
 
 @numba.njit(cache=True)
@@ -79,7 +79,7 @@ def _window_store():
 
 @numba.njit(cache=True)
 def _lock_allowed(ev):
-    # mbm.crossings.lock_allowed in compiled code.
+    # mbm.events.compiled.lock_allowed in compiled code.
     for e in range(ev.shape[0]):
         kind = int(ev[e, 0])
         if not (kind == EV_ANGLE or (kind == EV_VELOCITY and ev[e, 1] != 0.0)):
@@ -146,7 +146,7 @@ def solve_njit_events(beta, gamma, omega, t0, theta0, v0, t_bound, t_eval, out, 
     Returns
     -------
     status : int
-        0 on success, 6 at a terminal event, else a :mod:`mbm.loop` status.
+        0 on success, 6 at a terminal event, else a :mod:`mbm.status` status.
     n_windows : int
         Windows taken.
     t_events : ndarray, shape (n_events, max_events)
@@ -179,7 +179,7 @@ def solve_njit_events(beta, gamma, omega, t0, theta0, v0, t_bound, t_eval, out, 
     """
     if max_events < 1:
         raise ValueError("max_events must be >= 1")
-    p = np.empty(1, dtype=loop.RUN)
+    p = np.empty(1, dtype=record.RUN)
     regimes = REGIMES_ALL if _lock_allowed(events) and drive_amplitude == 0.0 else REGIMES_PERIODIC
     nev = events.shape[0]
     win_t, win_y, win_coef = _window_store()
@@ -226,7 +226,7 @@ def solve_njit_function_events(beta, gamma, omega, t0, theta0, v0, t_bound, t_ev
 
     The run and its events are those of ``mbm.solve(..., events=g, max_events=max_events)``
     with ``g.direction = direction`` and ``g.terminal = terminal``, bit for bit (the
-    Taylor series, no regime: :mod:`mbm.user_events`).  Arguments are not validated,
+    Taylor series, no regime: :mod:`mbm.events.functions`).  Arguments are not validated,
     but for ``max_events``.  Compiled for each ``g`` in each new process and not cached
     (numba cannot cache a kernel that takes a function, nor a caller of it): about
     3.5 s per function on 2 cores (``python -m benchmarks.compile_profile``), as the
@@ -262,7 +262,7 @@ def solve_njit_function_events(beta, gamma, omega, t0, theta0, v0, t_bound, t_ev
     -------
     status : int
         0 on success, 6 at a terminal event, 3 where g was not finite, else a
-        :mod:`mbm.loop` status.
+        :mod:`mbm.status` status.
     n_windows : int
         Windows taken.
     t_events : ndarray, shape (max_events,)
@@ -279,7 +279,7 @@ def solve_njit_function_events(beta, gamma, omega, t0, theta0, v0, t_bound, t_ev
     """
     if max_events < 1:
         raise ValueError("max_events must be >= 1")
-    p = np.empty(1, dtype=loop.RUN)
+    p = np.empty(1, dtype=record.RUN)
     _init_taylor(p, beta, gamma, omega, t0, theta0, v0, t_bound, rtol, atol, max_windows, drive_amplitude,
                  drive_frequency, drive_phase, np.int64(REGIMES_OFF))
     r = p[0]

@@ -52,7 +52,7 @@ _IN_HELPER_ENV = "MBM_IN_COMPILE_HELPER"
 # start (~1 s of a ~4 s first call: its interpreter and the imports of numba and mbm).
 HELPER_LINGER = 60.0
 # The generated manifest: {"numba": version, "paths": {key: [(module, name, item, signature)]}}.
-MANIFEST_FILE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "_warm_manifest.pkl")
+MANIFEST_FILE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "manifest.pkl")
 
 # The first calls the manifest covers (Python statements after the imports of _SCENE_SETUP),
 # keyed as prefetch looks them up: (path, where the entry is bound: module, name, items),
@@ -189,7 +189,7 @@ def _key_target(key):
     # The dispatcher whose compiled state says whether ``key`` is cold: an entry, or a
     # kind's evaluation (None for a kind without one).
     if key[0] == "kind":
-        from .core import kind_ops
+        from ..core import kind_ops
 
         return kind_ops.op_function(key[3][0], kind_ops.OP_EVAL)
     return _resolve(*key[1:])
@@ -236,7 +236,7 @@ def _start(pairs):
         env["PYTHONPATH"] = os.pathsep.join([root] + [p for p in env.get("PYTHONPATH", "").split(os.pathsep) if p])
         try:
             proc = subprocess.Popen(
-                [sys.executable, "-c", "import sys; from mbm._warm import main; sys.exit(main(sys.argv[1:]))"]
+                [sys.executable, "-c", "import sys; from mbm.compile.warm import main; sys.exit(main(sys.argv[1:]))"]
                 + [repr(key) for key in keys],
                 env=env, stdin=subprocess.PIPE,
                 stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
@@ -324,7 +324,7 @@ class Listener(event.Listener):
 event.register("numba:compile", Listener())
 exec(sys.argv[1])
 exec(sys.argv[2])
-from mbm import _warm
+from mbm.compile import warm as _warm
 sys.stdout.buffer.write(pickle.dumps(_warm._recorded(ends, eval(sys.argv[3]))))
 '''
 
@@ -370,7 +370,7 @@ def _callees(d, by_library):
 
 def _op_kinds():
     # id -> kind id of each kind's piece (mbm.core.kind_ops.OPS) this process imported.
-    from .core import kind_ops
+    from ..core import kind_ops
 
     return {id(kind_ops.op_function(k, op)): k for k, op in kind_ops.OPS}
 

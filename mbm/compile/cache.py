@@ -39,7 +39,8 @@ NOTICE_ENV = "MBM_COMPILE_NOTICE"
 # What the notice says a first call compiles for (docs/first_calls.md, 2 cores).
 NOTICE_COST = "about 6 s on 2 cores with the compile helper, 7-9 s without"
 
-_PACKAGE_ROOT = os.path.dirname(os.path.abspath(__file__))
+# The package root (mbm/), one folder above this module's.
+_PACKAGE_ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 _FALSE = ("0", "false", "no", "off")
 
 
@@ -280,9 +281,9 @@ def _install_listener():
             if module != "mbm" and not module.startswith("mbm."):
                 return
             where = getattr(getattr(dispatcher, "_cache", None), "cache_path", None)
-            if where is None and module == "mbm.user_events":
+            if where is None and module == "mbm.events.functions":
                 # The locator compiled for a user's event function (about 1 s, stated
-                # in mbm.user_events): not the first call's compile the notice is about.
+                # in mbm.events.functions): not the first call's compile the notice is about.
                 return
             # A flag, not unregister: numba's broadcast iterates the listener list, and
             # removing from it mid-iteration would skip the next listener's event.

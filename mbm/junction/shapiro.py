@@ -1,7 +1,7 @@
 r"""Shapiro steps of the AC-driven junction: each step's edges, bisected.
 
 Under the bias γ + A sin(Ωt + φ) the driven junction θ'' + βθ' + ω² sin θ = γ + A sin(Ωt + φ)
-(:mod:`mbm.junction`) locks its rotation to the drive over ranges of γ: on the step p/q
+(:mod:`mbm.junction.iv`) locks its rotation to the drive over ranges of γ: on the step p/q
 the phase gains 2πp every q drive periods and the dc voltage is ⟨θ'⟩ = (p/q)Ω (a
 periodic orbit of the stroboscopic map, or one of its period doublings, which keep the
 voltage).  A step is the range of γ over which that locked motion exists, followed
@@ -11,7 +11,7 @@ come in pieces (the 3/2 step at β = 1, A = 0.5, Ω = 0.6: γ ≈ 1.198–1.204 
 1.231–1.263), each reported as a step.
 
 :func:`shapiro_steps` measures ⟨θ'⟩ on a coarse grid over ``gamma_range``
-(:func:`mbm.junction.mean_velocity`, bias up) to find which steps exist.  A grid point
+(:func:`mbm.junction.iv.mean_velocity`, bias up) to find which steps exist.  A grid point
 whose ⟨θ'⟩ is within :data:`GRID_MATCH` of a step's (p/q)Ω is tested by a *probe*
 (below); each run of grid points on one step is then followed outward grid point by
 grid point (past the ends of ``gamma_range`` too, at most ``points`` grid steps) while
@@ -43,7 +43,7 @@ import numbers
 
 import numpy as np
 
-from ._validate import check_positive, check_real, check_real_array, check_rule, check_rule_array
+from ..validate import check_positive, check_real, check_real_array, check_rule, check_rule_array
 
 __all__ = ["shapiro_steps", "ShapiroSteps", "ShapiroStep"]
 
@@ -65,7 +65,7 @@ PROBE_MEAN_SAMPLES = 24
 # for that step: on a step it is (p/q)Ω to round-off once settled; a slowly settling
 # point was 8e-5·Ω off on the n = 1 step (β = 1, Ω = 0.6, γ = 0.9, from the zero step).
 GRID_MATCH = 1e-3
-# The runs' tolerances (as mbm.junction's runs: the probe needs a phase good to ≪ π over
+# The runs' tolerances (as mbm.junction.iv's runs: the probe needs a phase good to ≪ π over
 # PROBE_PERIODS periods).
 RUN_RTOL = 1e-11
 RUN_ATOL = 1e-11
@@ -119,7 +119,7 @@ class ShapiroSteps:
         The coarse grid over ``gamma_range``.
     mean_velocity : ndarray
         ⟨θ'⟩ on the grid (bias up, each point from the previous one's state,
-        :func:`mbm.junction.mean_velocity`).
+        :func:`mbm.junction.iv.mean_velocity`).
     beta, omega, amplitude, frequency, phase, current_tol : float
         The junction, the drive A sin(Ωt + φ) and the bisection width.
     """
@@ -257,7 +257,7 @@ def _check_points(points):
 def _probe(model, y, p, q):
     """Whether the motion from ``y`` (at a drive phase φ) stays on the step p/q for
     :data:`PROBE_PERIODS` drive periods (module docstring), and the state it ends in."""
-    from .fast import solve
+    from ..frontends.solve import solve
 
     period_d = 2.0 * math.pi / model.drive_frequency
     m, n_mean = PROBE_CHUNK_PERIODS, PROBE_MEAN_SAMPLES
@@ -316,7 +316,7 @@ def _edge(at, g, y, step, pq, tol, max_steps):
 def _grid(at, gammas, omega_d, orders):
     # ⟨θ'⟩ on the grid (bias up, adiabatic) and the step (p, q) each point is on (None
     # off the steps), with the state it settled to.
-    from .junction import mean_velocity
+    from .iv import mean_velocity
 
     y = np.zeros(2)
     velocities, on, states = [], [], []
@@ -386,7 +386,7 @@ def shapiro_steps(beta, gamma_range, *, amplitude, frequency, omega=1.0, phase=0
     >>> s = mbm.shapiro_steps(1.0, (0.0, 1.6), amplitude=0.5, frequency=0.6)  # doctest: +SKIP
     >>> s.step(1).lower, s.step(1).upper  # doctest: +SKIP
     """
-    from .problem import Pendulum
+    from ..model import Pendulum
 
     beta = check_positive("beta", beta)
     lo, hi = _check_range(gamma_range)

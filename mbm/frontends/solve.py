@@ -1,7 +1,7 @@
 """The compiled path: whole moving-boundary runs with no Python per window.
 
-:func:`solve` runs one scene, :func:`solve_batch` (:mod:`mbm.batch`) many in parallel
-(``numba.prange``).  Both are thin over the loop of :mod:`mbm.loop`, the one
+:func:`solve` runs one scene, :func:`~mbm.frontends.batch.solve_batch` many in parallel
+(``numba.prange``).  Both are thin over the loop of :mod:`mbm.core.loop`, the one
 :class:`mbm.MBM` calls, so their answers equal the solve_ivp path's bit for bit for
 the same options.
 """
@@ -12,8 +12,11 @@ import math
 import numba
 import numpy as np
 
-from . import _warm, loop
-from ._validate import (
+from ..compile import warm as _warm
+from ..core import chains, loop, record, window
+from ..core.controller import CONTROLLER_ADAPTIVE, CONTROLLER_FIXED, plan_windows
+from ..status import STATUS_MESSAGES, STATUS_OK, STATUS_PAUSED
+from ..validate import (
     DEFAULT_MAX_WINDOWS,
     RTOL_FLOOR,
     _FLOAT64,
@@ -27,11 +30,12 @@ from ._validate import (
     check_window_budget,
     t_eval_error,
 )
-from .approximants import get_approximant
-from .choice import auto_name, auto_reason
-from .crossings import solve_events
-from .problem import Pendulum
-from .regimes import (
+from ..approximants import get_approximant
+from ..choice import auto_name, auto_reason
+from ..events.compiled import solve_events
+from ..model import Pendulum
+from ..result import SolveResult
+from ..regimes import (
     REGIME_NAMES,
     REGIME_NONE,
     REGIME_PHASE_LOCKED,
@@ -39,7 +43,7 @@ from .regimes import (
     strobe_summary,
 )
 
-__all__ = ["Integrator", "solve", "solve_batch", "SolveResult", "solve_njit"]
+__all__ = ["Integrator", "solve", "solve_njit"]
 
 # Initial capacity of the window-end record when no t_eval is given (doubled as needed).
 ENDS_CAPACITY = 64
@@ -51,9 +55,9 @@ CALL_WINDOWS = 2**15
 # sweep or a benchmark loop): building one is most of a short run's fixed cost.
 INTEGRATOR_CACHE = 256
 
-_W = loop.WORD
-_KIND_TAYLOR, _KIND_EXACT = loop.KIND_TAYLOR, loop.KIND_EXACT
-_KIND_SALAS_TORQUE, _KIND_SPLIT = loop.KIND_SALAS_TORQUE, loop.KIND_SPLIT
+_W = record.WORD
+_KIND_TAYLOR, _KIND_EXACT = window.KIND_TAYLOR, window.KIND_EXACT
+_KIND_SALAS_TORQUE, _KIND_SPLIT = window.KIND_SALAS_TORQUE, window.KIND_SPLIT
 _W_H = _W["h_abs"]
 _W_CYC_T, _W_CYC_SIGN = _W["cyc_T"], _W["cyc_sign"]
 _W_STR_P, _W_STR_Q, _W_FREQ = _W["str_p"], _W["str_q"], _W["drive_freq"]
@@ -64,29 +68,14 @@ _NO_T, _NO_OUT, _NO_Y, _NO_COEF = np.empty(0), np.empty((2, 0)), np.empty((0, 2)
 _NEVER = np.zeros(1, np.int64)
 # Bound once: Integrator.solve's fast path reads no module attributes (each read is a
 # few percent of its fixed cost).
-_PAUSED, _OK, _MESSAGES = loop.STATUS_PAUSED, loop.STATUS_OK, loop.STATUS_MESSAGES
+_PAUSED, _OK, _MESSAGES = STATUS_PAUSED, STATUS_OK, STATUS_MESSAGES
 _regime_set = loop.regime_set.py_func
 _NDARRAY, _EMPTY, _NAN = np.ndarray, np.empty, math.nan
 
 
-class SolveResult(dict):
-    """Result of :func:`solve` / :func:`solve_batch`: a dict with attribute access,
-    like scipy's ``OptimizeResult`` (not used here to keep ``import mbm`` free of
-    ``scipy.optimize``)."""
-
-    def __getattr__(self, name):
-        try:
-            return self[name]
-        except KeyError:
-            raise AttributeError(name) from None
-
-    def __repr__(self):
-        return "SolveResult(" + ", ".join(f"{k}={v!r}" for k, v in self.items()) + ")"
-
-
 def compiled(ap):
     """``(approximant, kind, karg)`` of an approximant the compiled loop runs, or a ValueError."""
-    kk = loop.kind_of(ap)
+    kk = window.kind_of(ap)
     if kk is None:
         raise ValueError(
             f"approximant {ap.name!r} has no compiled kernel; mbm.solve runs 'auto', 'taylor*', "
@@ -111,7 +100,7 @@ def _approximant(approximant, model):
 def _plan(ap, tau, max_step, t0, t1):
     if tau is not None:
         tau = check_positive("tau", tau)
-    plan = loop.plan_windows(ap, tau, max_step, abs(t1 - t0))
+    plan = plan_windows(ap, tau, max_step, abs(t1 - t0))
     if plan is None:
         raise ValueError(f"approximant {ap.name!r} has no error estimate: pass tau")
     return plan
@@ -164,7 +153,7 @@ def _state(y0):
 
 def _entry_of(words):
     # The entry that runs the record in ``words`` (float64 words of a RUN) now.
-    return loop.runner_for(words.view(loop.RUN)[0])
+    return loop.runner_for(words.view(record.RUN)[0])
 
 
 def _entry_at(integrator, regime):
@@ -250,7 +239,7 @@ class Integrator:
         self._max_windows = check_max_windows(max_windows)
         beta, gamma, omega = model.params
         amp, freq, phase = model.drive
-        template = loop.new_run(beta, gamma, omega, 0.0, 0.0, 0.0, 0.0, kind, karg, controller,
+        template = record.new_run(beta, gamma, omega, 0.0, 0.0, 0.0, 0.0, kind, karg, controller,
                                 h_abs, self.max_step, self.rtol, self.atol, error_order,
                                 self._max_windows, CALL_WINDOWS, drive_amplitude=amp,
                                 drive_frequency=freq, drive_phase=phase)
@@ -260,7 +249,7 @@ class Integrator:
         self._kind, self._karg = kind, karg
         # The entry of a fresh run (a regime switch resumes through its set's own).
         self._entry = _entry_of(self._words)
-        # From a cold cache, a helper process compiles the kernels beside it (mbm._warm).
+        # From a cold cache, a helper process compiles the kernels beside it (mbm.compile.warm).
         _warm.prefetch("solve", self._entry, None if kind == _KIND_TAYLOR else kind)
         run0 = template[0]
         self._set_fields = (kind, int(run0["control"]["controller"]), int(run0["switch"]["regimes"]),
@@ -326,7 +315,7 @@ class Integrator:
             y = _EMPTY((3 if wrap else 2, te.size))
         h = self._h
         if self._span_plan:
-            h = loop.plan_windows(self.approximant, None, self.max_step, abs(t1 - t0))[1]
+            h = plan_windows(self.approximant, None, self.max_step, abs(t1 - t0))[1]
         records = self._records
         try:
             buf, words, ints = records.pop()
@@ -425,7 +414,7 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
         Windows the run may take (default 10⁷, seconds of compute); past it the run
         stops with status 4 and the outputs it reached.  A run that would certainly
         take more than 100 times as many (a runaway torque abs(γ) ≫ ω² over the span, or a
-        tiny ``tau``: :func:`mbm._validate.check_window_budget`) is refused before it
+        tiny ``tau``: :func:`mbm.validate.check_window_budget`) is refused before it
         runs, with a ValueError naming the cause.
     wrap : bool, optional
         Report θ wrapped to (−π, π] (``y[0]``) with its winding count ``winding``
@@ -436,7 +425,7 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
     events : Event, numba.njit function, or sequence of them, optional
         Built-in events (:func:`mbm.angle_event`, :func:`mbm.velocity_event`,
         :func:`mbm.section_event`) located inside the compiled run on each window's
-        own formula (:mod:`mbm.crossings`): every crossing of a Taylor window isolated
+        own formula (:mod:`mbm.events.compiled`): every crossing of a Taylor window isolated
         from its polynomial and refined to round-off, with scipy's ``direction`` and
         ``terminal`` (the run stops at the event, which is then its last output and
         state; ``status`` 6); an event exactly at t0 is not reported.  On a running
@@ -446,7 +435,7 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
         all.  "auto" is the Taylor series (also at β = γ = 0); another is a ValueError.
         The first call compiles the watch once (a few seconds, cached).  A
         ``numba.njit`` g(t, θ, θ') is an event where it changes sign (scipy's
-        ``terminal``, ``direction``; no regime then; :mod:`mbm.user_events`).
+        ``terminal``, ``direction``; no regime then; :mod:`mbm.events.functions`).
     max_events : int, optional
         Occurrences of each event stored (the first ``max_events``); all are counted
         in ``n_events``.  Default None: all.  Past it a running cycle's or a libration's
@@ -456,7 +445,7 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
     -------
     SolveResult
         ``t``, ``y`` (shape (2, n)), ``success``, ``status`` (0 ok, else a
-        :mod:`mbm.loop` status), ``message``, ``n_windows``, ``approximant`` and
+        :mod:`mbm.status` status), ``message``, ``n_windows``, ``approximant`` and
         ``reason`` (what "auto" chose and why), ``regime`` (``"locked"`` when the run
         switched to the closed form of its equilibrium, ``"running"`` to its limit
         cycle, ``"libration"`` to the stored period of a conservative (β = 0) motion
@@ -523,9 +512,9 @@ def _integrator(model, rtol, atol, approximant, tau, max_step, max_windows):
                       max_step=max_step, max_windows=max_windows)
 
 
-_AUTO_TAYLOR = loop.kind_of(get_approximant(auto_name(False)))
+_AUTO_TAYLOR = window.kind_of(get_approximant(auto_name(False)))
 _AUTO_TAYLOR_ORDER = int(get_approximant(auto_name(False)).error_order)
-_AUTO_EXACT = loop.kind_of(get_approximant(auto_name(True)))
+_AUTO_EXACT = window.kind_of(get_approximant(auto_name(True)))
 
 
 @numba.njit(cache=True)
@@ -561,7 +550,7 @@ def solve_njit(beta, gamma, omega, t0, theta0, v0, t_bound, t_eval, out, rtol, a
     Returns
     -------
     status : int
-        0 on success, else a :mod:`mbm.loop` status.
+        0 on success, else a :mod:`mbm.status` status.
     n_windows : int
         Windows taken.
 
@@ -578,7 +567,7 @@ def solve_njit(beta, gamma, omega, t0, theta0, v0, t_bound, t_eval, out, rtol, a
     ...         res[i] = out[0, 0]
     ...     return res
     """
-    p = np.empty(1, dtype=loop.RUN)
+    p = np.empty(1, dtype=record.RUN)
     drive = (drive_amplitude, drive_frequency, drive_phase) if drive_amplitude != 0.0 else (0.0, 0.0, 0.0)
     model = (float(beta), float(gamma), float(omega), float(drive[0]), float(drive[1]), float(drive[2]))
     state = (float(t0), float(theta0), float(v0), float(t_bound))
@@ -587,20 +576,15 @@ def solve_njit(beta, gamma, omega, t0, theta0, v0, t_bound, t_eval, out, rtol, a
     win_coef = np.empty((0, 0))
     never = np.zeros(1, dtype=np.int64)
     if beta == 0.0 and gamma == 0.0 and drive_amplitude == 0.0:
-        # loop.plan_windows for an exact flow and max_step = inf: one window of the span.
+        # plan_windows for an exact flow and max_step = inf: one window of the span.
         span = abs(t_bound - t0)
-        control = (_AUTO_EXACT[0], _AUTO_EXACT[1], loop.CONTROLLER_FIXED, span if span > 0.0 else 1.0,
+        control = (_AUTO_EXACT[0], _AUTO_EXACT[1], CONTROLLER_FIXED, span if span > 0.0 else 1.0,
                    math.inf, math.inf, float(rtol), float(atol), 0)
-        loop.init_run(p, 0, model, state, control, np.int64(max_windows), 0, 1)
-        loop.run_exact(p, t_eval, out, win_t, win_y, win_coef, never)
+        record.init_run(p, 0, model, state, control, np.int64(max_windows), 0, 1)
+        chains.run_exact(p, t_eval, out, win_t, win_y, win_coef, never)
     else:
-        control = (_AUTO_TAYLOR[0], _AUTO_TAYLOR[1], loop.CONTROLLER_ADAPTIVE, -1.0, math.inf, math.inf,
+        control = (_AUTO_TAYLOR[0], _AUTO_TAYLOR[1], CONTROLLER_ADAPTIVE, -1.0, math.inf, math.inf,
                    float(rtol), float(atol), _AUTO_TAYLOR_ORDER)
-        loop.init_run(p, 0, model, state, control, np.int64(max_windows), 0, 1)
-        loop.run_taylor(p, t_eval, out, win_t, win_y, win_coef, never)
+        record.init_run(p, 0, model, state, control, np.int64(max_windows), 0, 1)
+        chains.run_taylor(p, t_eval, out, win_t, win_y, win_coef, never)
     return p[0].progress.status, p[0].progress.n_windows
-
-
-# The batch front end lives in mbm.batch (it builds on this module's planning and
-# result type); callers and tests import these from here too.
-from .batch import _balanced_order, solve_batch  # noqa: E402,F401

@@ -35,10 +35,10 @@ import math
 import numpy as np
 from scipy.optimize import brentq
 
-from .approximants.base import ApproximantDomainError, get_approximant
-from .problem import Pendulum
-from ._validate import check_span, check_state, check_tolerances
-from .references import cvode_adams
+from ..approximants.base import ApproximantDomainError, get_approximant
+from ..model import Pendulum
+from ..validate import check_span, check_state, check_tolerances
+from ..frontends.reference import cvode_adams
 
 __all__ = [
     "EVENT_KINDS",

@@ -15,7 +15,7 @@ fits the order p of e ≈ C h^p.  Two things bend such a fit without saying so:
 
 The order is the least-squares slope of log e against log h over that range, with
 its standard error (:func:`fit_order`).  Used by ``mbm study``
-(:mod:`mbm.cli_study`), ``examples/step_size_study.py`` and
+(:mod:`mbm.cli.study`), ``examples/step_size_study.py`` and
 ``examples/convergence_study.py``.
 """
 

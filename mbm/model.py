@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 
-from ._validate import check_drive, check_rule
+from .validate import check_drive, check_rule
 
 __all__ = ["Pendulum", "identify_model"]
 

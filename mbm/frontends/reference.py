@@ -26,8 +26,8 @@ import numpy as np
 # scipy.integrate and scipy.optimize are imported where used: `import mbm` (which
 # imports this module) stays free of their ~0.5 s import.
 
-from ._validate import check_span, check_state, check_t_eval, check_tolerances
-from .problem import Pendulum
+from ..validate import check_span, check_state, check_t_eval, check_tolerances
+from ..model import Pendulum
 
 __all__ = ["reference", "REFERENCE_SOLVERS"]
 

@@ -1,6 +1,6 @@
 """The dense output of a step of stored windows, compiled: what ``sol(t)`` of :class:`mbm.MBM` runs.
 
-The values of :func:`mbm.loop.evaluate_windows` bit for bit (each time takes the same
+The values of :func:`mbm.core.stored.evaluate_windows` bit for bit (each time takes the same
 window, the same formula and the same floating-point operations), for less work per
 time:
 
@@ -13,8 +13,8 @@ time:
   (:func:`mbm.approximants.taylor.taylor_eval_range`: the Horner steps of its eval
   kernel, interleaved).
 
-A kind of :data:`mbm.loop.COMPILED_KINDS` without an entry here is evaluated by
-:func:`mbm.loop.evaluate_windows` itself (:func:`evaluate_windows_into`).
+A kind of :data:`mbm.core.window.COMPILED_KINDS` without an entry here is evaluated by
+:func:`mbm.core.stored.evaluate_windows` itself (:func:`evaluate_windows_into`).
 """
 
 import math
@@ -22,34 +22,24 @@ import math
 import numba
 import numpy as np
 
-from . import loop
-from .approximants.taylor import taylor_eval_range
-from .approximants.taylor_simd import SIMD_ORDER
-from .loop import (
-    KIND_EXACT,
-    KIND_SALAS_TORQUE,
-    KIND_SPLIT,
-    KIND_TAYLOR,
-    RS_CYCLE,
-    RS_PLAIN,
-    RS_STROBE,
-    _period_store,
-    _period_value,
-    _strobe_value,
-    evaluate,
-    theta_of,
-)
-from .regimes import (
+from ..core import stored, window
+from ..approximants.taylor import taylor_eval_range
+from ..approximants.taylor_simd import SIMD_ORDER
+from ..core.window import KIND_EXACT, KIND_SALAS_TORQUE, KIND_SPLIT, KIND_TAYLOR, evaluate, theta_of
+from ..core.loop import RS_CYCLE, RS_PLAIN, RS_STROBE
+from ..regimes.cycle_windows import _period_store, _period_value
+from ..regimes.strobe_windows import _strobe_value
+from ..regimes import (
     REGIME_LIBRATION,
     REGIME_PHASE_LOCKED,
     REGIME_RUNNING,
 )
-from .regimes import CYCLE_TAG, CYCLE_WIDTH, LOCKED_TAG, LOCKED_WIDTH, STROBE_TAG, STROBE_WIDTH, locked_eval
+from ..regimes import CYCLE_TAG, CYCLE_WIDTH, LOCKED_TAG, LOCKED_WIDTH, STROBE_TAG, STROBE_WIDTH, locked_eval
 
 __all__ = ["evaluate_windows_into", "evaluate_windows_at", "evaluators", "dense_set", "DENSE_TABLE"]
 
 _INLINE = dict(cache=True, inline="always")
-# One turn, as the loop's winding count is recovered (mbm.loop._evaluate_windows).
+# One turn, as the loop's winding count is recovered (mbm.core.stored._evaluate_windows).
 _TWO_PI = 2.0 * math.pi
 
 
@@ -62,7 +52,7 @@ def _holds(starts, n, direction, i, tj):
 @numba.njit(**_INLINE)
 def _find(starts, n, direction, i, tj):
     """The window of time ``tj``: the last whose start is not after it (window 0 when
-    none is), as :func:`mbm.loop._evaluate_windows`' bisection finds it.
+    none is), as :func:`mbm.core.stored._evaluate_windows`' bisection finds it.
 
     The starts are monotone in ``direction``, so the predicate "start not after tj"
     holds for a prefix of the windows: a window that holds it with its successor
@@ -88,9 +78,9 @@ def _find(starts, n, direction, i, tj):
 
 @numba.njit(**_INLINE)
 def _winding(kind, c, start_theta_i):
-    # The winding count of a window anchored at φ (mbm.loop._evaluate_windows): from its
+    # The winding count of a window anchored at φ (mbm.core.stored._evaluate_windows): from its
     # start's θ and the anchor's φ (a locked window stores θ₀ at c[1]).
-    if not (kind == KIND_TAYLOR or kind == KIND_SPLIT):  # loop.WRAPPING_KINDS
+    if not (kind == KIND_TAYLOR or kind == KIND_SPLIT):  # window.WRAPPING_KINDS
         return 0.0
     if c.size >= LOCKED_WIDTH and c[0] == LOCKED_TAG:
         phi0 = c[1]
@@ -161,7 +151,7 @@ def _entries(dset, simd=False):
     branch inside an inlined helper would be pruned only after its calls were inlined).
     The kind is an argument: kind "taylor"'s kernels are called directly, the other
     kinds' through the table of :mod:`mbm.core.kind_ops`, so a further kind compiles
-    only its own formulas.  A window is evaluated as :func:`mbm.loop._evaluate_windows`
+    only its own formulas.  A window is evaluated as :func:`mbm.core.stored._evaluate_windows`
     evaluates it per time; a window of a stored period the entry lacks is NaN, never
     another formula.
     """
@@ -236,8 +226,8 @@ _ENTRIES = {(RS_PLAIN, False): _entries(RS_PLAIN), (RS_STROBE, False): _entries(
 
 
 def _fallback_into(starts, start_theta, coefs, n, direction, t, out, kind):
-    # A kind without an entry here: mbm.loop's own evaluator.
-    loop.evaluate_windows(kind, starts, np.ascontiguousarray(start_theta), coefs, n, direction, t, out[0], out[1])
+    # A kind without an entry here: mbm.core.loop's own evaluator.
+    stored.evaluate_windows(kind, starts, np.ascontiguousarray(start_theta), coefs, n, direction, t, out[0], out[1])
 
 
 def _fallback_at(starts, start_theta, coefs, n, direction, tj, kind):
@@ -295,9 +285,9 @@ def evaluate_windows_into(kind, starts, start_theta, coefs, n, direction, t, out
     Parameters
     ----------
     kind : int
-        A kind id of :data:`mbm.loop.COMPILED_KINDS`.
+        A kind id of :data:`mbm.core.window.COMPILED_KINDS`.
     starts : ndarray, shape (n + 1,)
-        Window i covers [starts[i], starts[i + 1]] (``win_t`` of :func:`mbm.loop.run`).
+        Window i covers [starts[i], starts[i + 1]] (``win_t`` of :func:`mbm.core.loop.run`).
     start_theta : ndarray, shape (n + 1,)
         θ at the starts (``win_y[:, 0]``; a strided view is accepted).
     coefs : ndarray, shape (n, width)
@@ -310,7 +300,7 @@ def evaluate_windows_into(kind, starts, start_theta, coefs, n, direction, t, out
         Times, in any order (in order is cheapest).
     out : ndarray of float64, shape (2, m), C-contiguous
         Filled with θ (row 0) and θ' (row 1): the values of
-        :func:`mbm.loop.evaluate_windows` bit for bit.
+        :func:`mbm.core.stored.evaluate_windows` bit for bit.
     """
     evaluators(kind, _windows_set(coefs, n))[0](kind, starts, start_theta, coefs, n, direction, t, out)
 

@@ -1,7 +1,7 @@
 """Event functions of your own: a ``numba.njit`` function g(t, θ, θ') watched on the windows.
 
 :func:`mbm.solve` and :meth:`mbm.Integrator.solve` take, besides the built-in events of
-:mod:`mbm.crossings`, any ``numba.njit`` function ``g(t, theta, theta_dot) -> float``
+:mod:`mbm.events.compiled`, any ``numba.njit`` function ``g(t, theta, theta_dot) -> float``
 with scipy's optional attributes ``terminal`` (bool or int n: stop at the n-th
 occurrence) and ``direction`` (> 0: only g increasing through 0, < 0: only
 decreasing, 0 both; along the integration).  An event is a sign change of g on the
@@ -34,8 +34,8 @@ import numba
 import numpy as np
 from numba.core.dispatcher import Dispatcher
 
-from .approximants.taylor import HEADER, taylor_eval_kernel
-from .core.window import theta_of
+from ..approximants.taylor import HEADER, taylor_eval_kernel
+from ..core.window import theta_of
 
 __all__ = ["is_event_function", "event_function_options", "function_crossings", "SAMPLES_PER_WINDOW"]
 

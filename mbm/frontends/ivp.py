@@ -2,7 +2,7 @@
 
 :class:`MBM` anchors at window starts, (3.29)–(3.31) of the second paper: the
 approximant anchored at the state reached at the end of the previous window, the
-windows taken by :func:`mbm.loop.run`.  :class:`MBMEventPoints` anchors at event
+windows taken by :func:`mbm.core.loop.run`.  :class:`MBMEventPoints` anchors at event
 points, (3.32): θ = d or θ' = 0, located by CVODE ("hybrid") or by the formula
 itself ("analytic").  Both are ``solve_ivp`` methods; ``MBM(..., anchors="events")``
 builds the second.  The solvers know the model (β, γ, ω), the anchor state and an
@@ -19,9 +19,12 @@ import numpy as np
 from scipy.integrate import DenseOutput, OdeSolver
 
 from . import dense as _dense
-from . import events as _events
-from . import _warm, loop
-from ._validate import (
+from ..events import points as _points
+from ..compile import warm as _warm
+from ..core import loop, record, window
+from ..core.controller import CONTROLLER_ADAPTIVE, plan_windows
+from ..status import STATUS_ANCHOR, STATUS_MAX_WINDOWS, STATUS_PAUSED, STATUS_TOO_SMALL
+from ..validate import (
     DEFAULT_MAX_WINDOWS,
     check_max_windows,
     check_window_budget,
@@ -29,11 +32,11 @@ from ._validate import (
     check_tolerances,
     warn_extraneous,
 )
-from .approximants import get_approximant
-from .approximants.taylor import HEADER as _TAYLOR_HEADER, N_EXTRA as _TAYLOR_EXTRA
-from .choice import auto_name, auto_reason
-from .problem import Pendulum, identify_model
-from .regimes import REGIME_NAMES, REGIME_NONE, REGIME_PHASE_LOCKED, cycle_summary, strobe_summary
+from ..approximants import get_approximant
+from ..approximants.taylor import HEADER as _TAYLOR_HEADER, N_EXTRA as _TAYLOR_EXTRA
+from ..choice import auto_name, auto_reason
+from ..model import Pendulum, identify_model
+from ..regimes import REGIME_NAMES, REGIME_NONE, REGIME_PHASE_LOCKED, cycle_summary, strobe_summary
 
 __all__ = ["MBM", "MBMEventPoints", "MBMDenseOutput", "MBMWindowsDenseOutput"]
 
@@ -53,13 +56,13 @@ WINDOW_BUFFER = 16
 # step's window store stays small (256 × 32 words = 64 KiB at Taylor degree 24).
 WINDOWS_PER_STEP = 256
 # Run-record templates kept, one per option set (kind, controller, tolerances, ...):
-# building a record from scratch (loop.new_run) costs ~5 µs, copying a template ~0.5.
+# building a record from scratch (record.new_run) costs ~5 µs, copying a template ~0.5.
 RECORD_TEMPLATES = 256
 # "auto" choices kept (one per β = γ = 0, drive, rtol, atol): the reason's formatting
 # is ~1 µs, a visible part of a short run.
 AUTO_CHOICES = 256
 # Windows one compiled call may take with windows_per_step=None before Python regains
-# control (where Ctrl-C is honoured); as mbm.fast.CALL_WINDOWS.
+# control (where Ctrl-C is honoured); as mbm.frontends.solve.CALL_WINDOWS.
 CALL_WINDOWS = 2**15
 # Hybrid event-point mode (3.32): CVODE's tolerances for locating the events and the
 # anchor states; tight, because the anchors carry CVODE's error into every window.
@@ -80,17 +83,17 @@ EVENTS_MAX_DTHETA = math.pi / 4
 # How far up the stack solve_ivp's frame is looked for (MBM.__init__ and its helpers).
 CALLER_FRAMES = 8
 
-_W_T, _W_THETA, _W_STATUS, _W_NW = (loop.WORD[k] for k in ("t", "theta", "status", "n_windows"))
+_W_T, _W_THETA, _W_STATUS, _W_NW = (record.WORD[k] for k in ("t", "theta", "status", "n_windows"))
 # The words of a run record that differ between runs of one option set (_new_record).
-_W_CALL = tuple(loop.WORD[k] for k in ("beta", "gamma", "omega", "t", "theta", "v", "t_bound", "h_abs", "phi",
+_W_CALL = tuple(record.WORD[k] for k in ("beta", "gamma", "omega", "t", "theta", "v", "t_bound", "h_abs", "phi",
                                        "drive_amp", "drive_freq", "drive_phase"))
 (_W_BETA, _W_GAMMA, _W_OMEGA, _, _, _W_V, _W_TBOUND, _W_H, _W_PHI, _W_AMP, _W_FREQ, _W_PHASE) = _W_CALL
-assert loop.WORD["v"] == _W_THETA + 1  # θ, θ' adjacent: the state is one slice of the record
-_W_REGIME, _W_T_REGIME, _W_CYC_T, _W_CYC_SIGN = (loop.WORD[k] for k in ("regime", "t_regime", "cyc_T",
+assert record.WORD["v"] == _W_THETA + 1  # θ, θ' adjacent: the state is one slice of the record
+_W_REGIME, _W_T_REGIME, _W_CYC_T, _W_CYC_SIGN = (record.WORD[k] for k in ("regime", "t_regime", "cyc_T",
                                                                         "cyc_sign"))
-_W_STR_P, _W_STR_Q = loop.WORD["str_p"], loop.WORD["str_q"]
+_W_STR_P, _W_STR_Q = record.WORD["str_p"], record.WORD["str_q"]
 
-_PAUSED = loop.STATUS_PAUSED
+_PAUSED = STATUS_PAUSED
 _NO_TIMES = np.empty(0)
 _NO_OUT = np.empty((2, 0))
 _NEVER = np.zeros(1, dtype=np.int64)
@@ -194,7 +197,7 @@ class MBM(_MBMBase):
     fun : callable
         Right-hand side ``fun(t, y)``: an :class:`mbm.Pendulum`, or any callable of
         the family, whose β, γ, ω are identified by probing (see
-        :func:`mbm.problem.identify_model`).  A callable outside the family raises
+        :func:`mbm.model.identify_model`).  A callable outside the family raises
         ``ValueError``.
     t0 : float
         Initial time.
@@ -246,7 +249,7 @@ class MBM(_MBMBase):
         Windows the whole run may take (default 10⁷); past it the solver fails with
         a message.  A run that would certainly take more than 100 times as many is
         refused at construction with a ValueError naming the cause
-        (:func:`mbm._validate.check_window_budget`).
+        (:func:`mbm.validate.check_window_budget`).
     vectorized : bool, optional
         Accepted for the interface; MBM does not call ``fun`` after probing.
     **extraneous
@@ -297,9 +300,9 @@ class MBM(_MBMBase):
         if tau is not None:
             tau = min(check_positive("tau", tau), self.max_step)
         wps = _check_windows_per_step(windows_per_step)
-        self._kind = loop.kind_of(self.approximant)
+        self._kind = window.kind_of(self.approximant)
         # Kind "taylor" at its default degree (its dense output's own entries).
-        self._simd = (self._kind is not None and self._kind[0] == loop.KIND_TAYLOR
+        self._simd = (self._kind is not None and self._kind[0] == window.KIND_TAYLOR
                       and self._kind[1] == _dense.SIMD_ORDER)
         #: Whether solve_ivp passed events: then each step is one short window.
         caller = _caller_solve_ivp()
@@ -325,7 +328,7 @@ class MBM(_MBMBase):
         check_window_budget(self.model.beta, self.model.gamma, self.model.omega, self.model.drive_amplitude,
                             float(t0), float(t_bound), float(self.y[1]), tau, run_max_step,
                             check_max_windows(max_windows), self.approximant.exact)
-        plan = loop.plan_windows(self.approximant, tau, run_max_step, abs(t_bound - t0))
+        plan = plan_windows(self.approximant, tau, run_max_step, abs(t_bound - t0))
         if plan is None:
             if tol_given:
                 warnings.warn(
@@ -335,9 +338,9 @@ class MBM(_MBMBase):
                     stacklevel=3,
                 )
             tau = first_step if first_step is not None else DEFAULT_TAU_PERIODS * 2 * math.pi / self.model.omega
-            plan = loop.plan_windows(self.approximant, min(tau, run_max_step), run_max_step, 0.0)
+            plan = plan_windows(self.approximant, min(tau, run_max_step), run_max_step, 0.0)
         controller, h_abs, error_order = plan
-        self.adaptive = controller == loop.CONTROLLER_ADAPTIVE
+        self.adaptive = controller == CONTROLLER_ADAPTIVE
         self.tau = None if self.adaptive else h_abs
         if self.adaptive and first_step is not None:
             h_abs = min(first_step, run_max_step)
@@ -361,14 +364,14 @@ class MBM(_MBMBase):
                 run_max_step, self.rtol, self.atol, error_order, check_max_windows(max_windows), max_dtheta,
                 0 if wps else CALL_WINDOWS,
             )
-            self._run = np.ndarray(1, loop.RUN, self._words)
+            self._run = np.ndarray(1, record.RUN, self._words)
             self._buf = self._words.reshape(1, -1)  # as the loop's entries take the record
             self._ints = np.ndarray(self._words.shape, np.int64, self._words)
             # The entry of the run's regime set (loop.runner_for), chosen again after a
             # pause: a regime switch resumes through its own set's entry.
             self._runner = loop.runner_for(self._run[0])
-            # From a cold cache, a helper process compiles the kernels beside it (mbm._warm).
-            _warm.prefetch("ivp", self._runner, None if self._kind[0] == loop.KIND_TAYLOR else self._kind[0])
+            # From a cold cache, a helper process compiles the kernels beside it (mbm.compile.warm).
+            _warm.prefetch("ivp", self._runner, None if self._kind[0] == window.KIND_TAYLOR else self._kind[0])
             # After the helper's start: the width may compile the kind's anchor kernel.
             self._width = _coefficient_width(self.approximant, self._kind[1], self.model, self.y)
 
@@ -418,16 +421,16 @@ class MBM(_MBMBase):
 
     def _failure(self, status):
         ap = self.approximant
-        if status == loop.STATUS_ANCHOR:
+        if status == STATUS_ANCHOR:
             coef, msg = self._anchor_at(self.y)
             return msg or f"approximant {ap.name!r} cannot be anchored at t={self.t!r}"
-        if status == loop.STATUS_TOO_SMALL:
+        if status == STATUS_TOO_SMALL:
             return (
                 f"required window at t={self.t!r} is below the spacing of floating point "
                 f"numbers: approximant {ap.name!r} cannot meet rtol={self.rtol!r}, "
                 f"atol={self.atol!r} here"
             )
-        if status == loop.STATUS_MAX_WINDOWS:
+        if status == STATUS_MAX_WINDOWS:
             return (
                 f"max_windows={int(self._run[0]['progress']['max_windows'])} windows taken at t={self.t!r} "
                 "before t_bound: raise max_windows for a longer run"
@@ -509,7 +512,7 @@ def _coefficient_width(approximant, karg, model, y):
     kind's coefficient vector has a size set by its degree alone, whatever the model
     and state (tests/test_steps.py checks every registered one).
     """
-    if loop.kind_of(approximant)[0] == loop.KIND_TAYLOR:
+    if window.kind_of(approximant)[0] == window.KIND_TAYLOR:
         # The Taylor layout (taylor.py): the header, then a_0 .. a_{N + N_EXTRA}; stated
         # rather than anchored, so a first solve_ivp does not compile an anchor kernel
         # only to measure it.
@@ -527,7 +530,7 @@ def _coefficient_width(approximant, karg, model, y):
 
 def _new_record(model, t0, y, t_bound, kind, controller, h_abs, max_step, rtol, atol, error_order,
                 max_windows, max_dtheta, call_windows):
-    """The float64 words of a fresh run record: those of :func:`mbm.loop.new_run`'s record,
+    """The float64 words of a fresh run record: those of :func:`mbm.core.record.new_run`'s record,
     bit for bit (tests/test_steps.py).
 
     The words set by the option set (kind, controller, tolerances, budgets, whether
@@ -543,7 +546,7 @@ def _new_record(model, t0, y, t_bound, kind, controller, h_abs, max_step, rtol, 
     if template is None:
         if len(_TEMPLATES) >= RECORD_TEMPLATES:
             _TEMPLATES.clear()
-        template = loop.new_run(
+        template = record.new_run(
             0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, kind[0], kind[1], controller, 0.0, max_step, rtol, atol,
             error_order, max_windows, call_windows=call_windows, max_dtheta=max_dtheta,
             drive_amplitude=1.0 if amp != 0.0 else 0.0,
@@ -574,7 +577,7 @@ class MBMEventPoints(_MBMBase):
     """The event-point moving boundary method (3.32), a `solve_ivp` method.
 
     Windows end where θ = d (the approximant's zero-crossing surface,
-    :func:`mbm.events.event_function_d`) or θ' = 0, as the approximant's ``anchors``
+    :func:`mbm.events.points.event_function_d`) or θ' = 0, as the approximant's ``anchors``
     allow.  ``events_from="cvode"`` (hybrid): the event points and the anchor states
     there come from CVODE, so each window anchors at the numerical solution's state
     φ(τ_n) (the dense output jumps there by the previous window's error);
@@ -628,7 +631,7 @@ class MBMEventPoints(_MBMBase):
         self._event_times, self._event_states = [], []
         self._event_index = 0
         if events_from == "cvode" and t_bound != t0:
-            te, ye, _ = _events.hybrid_event_points(
+            te, ye, _ = _points.hybrid_event_points(
                 self.model, (float(t0), float(t_bound)), self.y, self._event_d, kinds=self._event_kinds,
                 rtol=HYBRID_RTOL, atol=HYBRID_ATOL,
             )
@@ -638,7 +641,7 @@ class MBMEventPoints(_MBMBase):
         """The event surface d and kinds the approximant anchors at; y0 must be one."""
         ap = self.approximant
         kind = ap.anchors
-        d = _events.event_function_d(self.model, ap)
+        d = _points.event_function_d(self.model, ap)
         if kind == "any":
             kinds = ("crossing", "turning") if d is not None else ("turning",)
         elif kind == "zero-crossing":
@@ -654,12 +657,12 @@ class MBMEventPoints(_MBMBase):
             raise ValueError(f"approximant {ap.name!r} declares unknown anchors {kind!r}")
         # The first window anchors at y0 itself: it must be an anchor the approximant accepts.
         y0 = self.y
-        if kind == "zero-crossing" and abs(y0[0] - d) > _events.ON_SURFACE_TOL:
+        if kind == "zero-crossing" and abs(y0[0] - d) > _points.ON_SURFACE_TOL:
             raise ValueError(
                 f"approximant {ap.name!r} anchors only at zero crossings theta = d = {d!r}; "
                 f"y0[0] = {y0[0]!r} is not one"
             )
-        if kind == "turning-point" and abs(y0[1]) > _events.ON_SURFACE_TOL:
+        if kind == "turning-point" and abs(y0[1]) > _points.ON_SURFACE_TOL:
             raise ValueError(
                 f"approximant {ap.name!r} anchors only at turning points theta' = 0; "
                 f"y0[1] = {y0[1]!r} is not one"
@@ -687,7 +690,7 @@ class MBMEventPoints(_MBMBase):
         else:
             span = abs(self.t_bound - t)
             t_max = min(span, self.max_step, EVENT_MAX_WINDOW_PERIODS * 2 * math.pi / self.model.omega)
-            te, _ = _events.next_event_analytic(
+            te, _ = _points.next_event_analytic(
                 ap.eval_kernel, coef, self._event_d, self._event_kinds,
                 self.direction * t_max, int(self.direction), omega=self.model.omega,
             )
@@ -727,14 +730,14 @@ class MBMWindowsDenseOutput(DenseOutput):
 
     Exact at both ends of the step: ``sol(t_old)`` is the first anchor and ``sol(t)``
     repeats the evaluation that produced the step's end state.  Evaluated by
-    :mod:`mbm.dense` (the values of :func:`mbm.loop.evaluate_windows`, bit for bit).
+    :mod:`mbm.frontends.dense` (the values of :func:`mbm.core.stored.evaluate_windows`, bit for bit).
 
     Parameters
     ----------
     t_old, t : float
         The step's start and end.
     kind : int
-        The windows' kind id (:data:`mbm.loop.COMPILED_KINDS`).
+        The windows' kind id (:data:`mbm.core.window.COMPILED_KINDS`).
     starts : ndarray, shape (n + 1,)
         Window starts and the last window's end.
     start_theta : ndarray, shape (n + 1,)

@@ -8,7 +8,7 @@ The reference states its own error (:func:`study_reference`): it is checked agai
 second, independent integrator, and their largest difference is reported as the
 reference's error.  Points within 10× of it are at the reference's floor: marked in
 the table and never fitted; the order is fitted over the asymptotic range only, with
-its standard error and range (:func:`mbm.orderfit.fit_order`).
+its standard error and range (:func:`mbm.cli.orderfit.fit_order`).
 """
 
 import math
@@ -16,7 +16,8 @@ import time
 
 import numpy as np
 
-from . import orderfit, scenes
+from . import orderfit
+from .. import scenes
 
 __all__ = ["SCENES", "SCENE_TAUS", "integrate", "heyoka_ld_available", "heyoka_ld_states",
            "study_reference", "run_study", "fit_order", "format_table", "write_csv", "plot_study"]
@@ -54,10 +55,10 @@ CHECK_APPROXIMANT = "taylor"
 
 def _compiled(name):
     """Whether ``mbm.solve`` (the compiled path) runs approximant ``name``."""
-    from . import loop
-    from .approximants import get_approximant
+    from ..core import window
+    from ..approximants import get_approximant
 
-    return name == "auto" or loop.kind_of(get_approximant(name)) is not None
+    return name == "auto" or window.kind_of(get_approximant(name)) is not None
 
 
 def integrate(model, t_span, y0, t_eval, approximant="auto", tau=None, rtol=1e-6, atol=1e-9):
@@ -90,10 +91,10 @@ def integrate(model, t_span, y0, t_eval, approximant="auto", tau=None, rtol=1e-6
     RuntimeError
         If the solver stops before ``t_span[1]``.
     """
-    from . import fast
-    from .solver import MBM
+    from ..frontends.solve import solve
+    from ..frontends.ivp import MBM
 
-    from .approximants import get_approximant
+    from ..approximants import get_approximant
 
     if tau is None and approximant != "auto":
         ap = get_approximant(approximant)
@@ -102,7 +103,7 @@ def integrate(model, t_span, y0, t_eval, approximant="auto", tau=None, rtol=1e-6
             # path refuses.  Refuse on both paths so the CLI's answer does not depend on it.
             raise ValueError(f"approximant {ap.name!r} has no error estimate: pass tau")
     if _compiled(approximant):
-        sol = fast.solve(model, t_span, y0, tau=tau, rtol=rtol, atol=atol,
+        sol = solve(model, t_span, y0, tau=tau, rtol=rtol, atol=atol,
                          approximant=approximant, t_eval=t_eval)
         n_windows = sol.n_windows
     else:
@@ -191,8 +192,8 @@ def study_reference(model, y0, t):
         ``theta`` (θ_ref at t; long double from heyoka), ``error`` (max |reference −
         check|), ``name`` and ``check_name``.
     """
-    from . import fast
-    from .references import reference
+    from ..frontends.solve import solve
+    from ..frontends.reference import reference
 
     t = np.asarray(t, dtype=float)
     if heyoka_ld_available():
@@ -202,7 +203,7 @@ def study_reference(model, y0, t):
         theta = reference(model, (0.0, t[-1]), y0, t_eval=t, rtol=TIGHT_TOL, atol=TIGHT_TOL,
                           solver="dop853").y[0]
         name = f"DOP853, rtol=atol={TIGHT_TOL:.3g} (heyoka not installed)"
-    chk = fast.solve(model, (0.0, t[-1]), y0, rtol=TIGHT_TOL, atol=TIGHT_TOL,
+    chk = solve(model, (0.0, t[-1]), y0, rtol=TIGHT_TOL, atol=TIGHT_TOL,
                      approximant=CHECK_APPROXIMANT, t_eval=t)
     if not chk.success:
         raise RuntimeError(f"the reference's check failed: {chk.message}")
@@ -212,7 +213,7 @@ def study_reference(model, y0, t):
 
 
 def fit_order(h, err, ref_error=0.0):
-    """Fitted order of one sweep: :func:`mbm.orderfit.fit_order` (floor, asymptotic range).
+    """Fitted order of one sweep: :func:`mbm.cli.orderfit.fit_order` (floor, asymptotic range).
 
     Parameters
     ----------
@@ -223,7 +224,7 @@ def fit_order(h, err, ref_error=0.0):
 
     Returns
     -------
-    mbm.orderfit.OrderFit
+    mbm.cli.orderfit.OrderFit
     """
     return orderfit.fit_order(h, err, ref_error)
 
@@ -254,13 +255,13 @@ def run_study(scene, approximants, taus=None, rtols=None, n_out=201, show_progre
         ``ref_error``, ``ref_name``, ``check_name`` (:func:`study_reference`),
         ``rows`` (list of dicts: approximant, value, windows, h, error, time_s, note,
         floor (at the reference's floor), fitted (in the order fit)),
-        ``fits`` ({approximant: :class:`mbm.orderfit.OrderFit`}), ``orders``
+        ``fits`` ({approximant: :class:`mbm.cli.orderfit.OrderFit`}), ``orders``
         ({approximant: fitted order}), ``n_fit`` ({approximant: points in the fit}),
         ``scene`` and ``curves`` ({approximant: (value, |θ − θ_ref| at t)} at the
         middle knob value).
     """
-    from .cli_progress import Progress
-    from .problem import Pendulum
+    from ..junction.progress import Progress
+    from ..model import Pendulum
 
     if taus is not None and rtols is not None:
         raise ValueError("give taus or rtols, not both")

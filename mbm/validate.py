@@ -233,7 +233,7 @@ def check_tolerances(rtol, atol, stacklevel=3):
 def t_eval_problem(t_eval, t0, t1, strict):
     """0 if ``t_eval`` passes :func:`check_t_eval`, else what is wrong: 1 non-finite,
     2 outside t_span, 3 not sorted in the direction of integration (``strict``:
-    strictly).  Compiled in one pass (also called from :mod:`mbm.fast`'s compiled
+    strictly).  Compiled in one pass (also called from :mod:`mbm.frontends.solve`'s compiled
     entry, so a short run pays no separate dispatch for it)."""
     lo, hi = min(t0, t1), max(t0, t1)
     direction = 1.0 if t1 >= t0 else -1.0

@@ -48,9 +48,9 @@ import threading
 
 import numpy as np
 
-from . import loop
-from . import status as _status
-from ._validate import (
+from ..status import STATUS_OK
+from .. import status as _status
+from ..validate import (
     DEFAULT_MAX_WINDOWS,
     check_drive,
     check_max_windows,
@@ -61,9 +61,9 @@ from ._validate import (
     check_t_eval,
     check_tolerances,
 )
-from .approximants import Approximant, get_approximant
-from .fast import solve_batch
-from .problem import Pendulum
+from ..approximants import Approximant, get_approximant
+from ..frontends.batch import solve_batch
+from ..model import Pendulum
 
 try:
     import xarray as xr
@@ -99,7 +99,7 @@ REDUCTIONS = {
 }
 
 # Scenes per solve_batch call on the local (unchunked) path: the progress bar moves
-# once a batch, and the run records (mbm.loop.RUN.itemsize bytes a scene) and outputs of one call stay
+# once a batch, and the run records (mbm.core.record.RUN.itemsize bytes a scene) and outputs of one call stay
 # bounded by the batch.  4096 scenes of t ≤ 1000 are ~0.1–0.5 s on 2 cores (so the bar
 # moves), while a call's fixed cost (~0.2 ms) stays below 0.1 % of it.
 LOCAL_BATCH = 4096
@@ -139,7 +139,7 @@ status_message = _status.status_message
 
 def _check_parameter(name, value):
     """A parameter as a float scalar or a non-empty finite 1-D float array (the rules of
-    :class:`mbm.Pendulum`, mbm._validate: TypeError for what is not real numbers)."""
+    :class:`mbm.Pendulum`, mbm.validate: TypeError for what is not real numbers)."""
     arr = check_real_array(name, value)
     if arr.ndim > 1:
         raise ValueError(f"{name} must be a scalar or a 1-D array (one dimension of the grid), got shape {arr.shape}")
@@ -287,7 +287,7 @@ def _solve_block(*arrays, names, fixed, t_span, times, variables, options):
     with _BATCH_LOCK:
         res = solve_batch(p["beta"], p["gamma"], p["omega"], y0, t_span, times, **options, **drive)
     status = res.status
-    ok = status == loop.STATUS_OK
+    ok = status == STATUS_OK
     y = res.y
     t0, t1 = t_span
     found = {}
@@ -330,7 +330,7 @@ def _progress_bar(total):
     try:
         from tqdm.auto import tqdm
     except ImportError:
-        from .cli_progress import Progress
+        from .progress import Progress
 
         return Progress(total, "sweep (scenes)", enabled=True)
     return tqdm(total=total, unit="scene", desc="sweep")
@@ -548,7 +548,7 @@ def sweep(*, beta, gamma, omega=1.0, theta0=0.0, theta_dot0=0.0, t_span, t_eval=
         Keep only these reductions per scene (no ``time`` dimension; the batch call
         outputs at most two times): ``"final_state"`` (θ(t1), θ'(t1)),
         ``"mean_velocity"``, ``"winding"``, ``"regime"``, defined under "Reductions"
-        in :mod:`mbm.sweeps`.
+        in :mod:`mbm.junction.sweeps`.
     rtol, atol, approximant, tau
         As in :func:`mbm.solve_batch` (one value for every scene; ``"auto"`` chooses
         per scene).  Checked before anything runs.
@@ -559,7 +559,7 @@ def sweep(*, beta, gamma, omega=1.0, theta0=0.0, theta_dot0=0.0, t_span, t_eval=
         :func:`mbm.solve_batch` call, computed by the active Dask scheduler (threads
         here, or a ``dask.distributed`` Client's cluster).
     progress : bool
-        Show progress: without ``chunks``, a tqdm bar (``mbm.cli_progress``'s stderr
+        Show progress: without ``chunks``, a tqdm bar (``mbm.junction.progress``'s stderr
         line when tqdm is not installed) moving once per :data:`LOCAL_BATCH` scenes;
         with ``chunks``, the Dataset is computed now (``persist``: still dask-backed, its chunks held in
         memory or on the cluster) under ``dask.diagnostics.ProgressBar`` or, with a
@@ -582,7 +582,7 @@ def sweep(*, beta, gamma, omega=1.0, theta0=0.0, theta_dot0=0.0, t_span, t_eval=
         Coordinates: the array parameters (and ``time`` = ``t_eval``).  Variables:
         ``theta``, ``theta_dot`` over (parameters..., time), or the reductions'
         variables over (parameters...); ``status`` (int32) per scene: 0 where the run
-        reached t1, else a code of ``mbm.loop`` whose words are in the
+        reached t1, else a code of ``mbm.status`` whose words are in the
         ``flag_meanings`` attribute and whose messages are in ``flag_messages``
         (:func:`status_message`).  A failed scene is never a silent NaN: its
         reductions are NaN (``regime``: ``"failed"``) and its status says why; its

@@ -1,8 +1,8 @@
 """The batch front end of the compiled path: many scenes in parallel (``numba.prange``).
 
 :func:`solve_batch` checks and broadcasts the scenes' arrays, plans each scene's
-windows as :func:`mbm.fast.solve` would, runs them in :func:`mbm.loop.run_batch` and
-gathers the per-scene result; each scene's answer equals :func:`mbm.fast.solve` for it.
+windows as :func:`mbm.frontends.solve.solve` would, runs them in :func:`mbm.core.lanes.run_batch` and
+gathers the per-scene result; each scene's answer equals :func:`mbm.frontends.solve.solve` for it.
 """
 
 import threading
@@ -10,8 +10,9 @@ import threading
 import numba
 import numpy as np
 
-from . import crossings, loop
-from ._validate import (
+from ..events import compiled as compiled_events
+from ..core import lanes, record
+from ..validate import (
     DEFAULT_MAX_WINDOWS,
     ANGLE_PER_WINDOW,
     WINDOW_MARGIN,
@@ -25,12 +26,13 @@ from ._validate import (
     check_tolerances,
     check_window_budget,
 )
-from .approximants import Approximant, get_approximant
-from .choice import auto_name
-from .fast import SolveResult, _plan, _resolve, compiled
-from .problem import Pendulum
-from .status import STATUS_EVENT, STATUS_OK
-from .regimes import (
+from ..approximants import Approximant, get_approximant
+from ..choice import auto_name
+from .solve import _plan, _resolve, compiled
+from ..result import SolveResult
+from ..model import Pendulum
+from ..status import STATUS_EVENT, STATUS_OK
+from ..regimes import (
     REGIME_LIBRATION,
     REGIME_LOCKED,
     REGIME_NAMES,
@@ -61,7 +63,7 @@ def _balanced_order(n):
 
 
 def _check_params(beta, gamma, omega, amp=None, freq=None, phase=None):
-    # The rules of Pendulum, over arrays (mbm._validate); the first bad scene is named.
+    # The rules of Pendulum, over arrays (mbm.validate); the first bad scene is named.
     names = ("beta", "gamma", "omega") + (() if amp is None else ("drive_amplitude", "drive_frequency",
                                                                   "drive_phase"))
     for name, arr in zip(names, (beta, gamma, omega, amp, freq, phase)):
@@ -103,7 +105,7 @@ def _run_interruptibly(job):
 
 def _run_batch_interruptibly(p, te, out, order):
     # The batch without events (lanes and loop), interruptible.
-    _run_interruptibly(lambda cancel: loop.run_batch(p, te, out, order, cancel))
+    _run_interruptibly(lambda cancel: lanes.run_batch(p, te, out, order, cancel))
 
 
 def _scene_arrays(params, driven_call):
@@ -199,7 +201,7 @@ def _plan_scenes(approximant, beta, gamma, omega, amp, freq, phase, driven_call,
 def _batch_result(p, te, out, wrap, names):
     """The SolveResult of a finished batch: outputs, status and regime summaries per scene."""
     n = names.size
-    f = loop.flat(p)
+    f = record.flat(p)
     status = f["status"].astype(np.int64)
     winding = None
     if wrap:
@@ -241,9 +243,10 @@ def _run_options(t_span, t_eval, rtol, atol, max_step, max_windows, wrap):
 
 def _run_events(p, te, out, order, ev, cap, items, drive, fresh):
     # The scenes run with their events: the stored events and the counts.
-    if any(crossings.is_event_function(e) for e in items):
-        return crossings.run_batch_functions(p, te, out, order, ev, cap, items, drive)
-    return _run_interruptibly(lambda cancel: crossings.run_batch_events(p, te, out, order, ev, cap, cancel, fresh))
+    if any(compiled_events.is_event_function(e) for e in items):
+        return compiled_events.run_batch_functions(p, te, out, order, ev, cap, items, drive)
+    return _run_interruptibly(
+        lambda cancel: compiled_events.run_batch_events(p, te, out, order, ev, cap, cancel, fresh))
 
 
 def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
@@ -275,7 +278,7 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
         same events, bit for bit); a terminal event stops its scene only.  Every scene
         must run Taylor windows, and be driven for a section event.  The scenes the
         lockstep lanes take are watched in the lanes; the others by the compiled loop.
-        With a function g(t, θ, θ') (:mod:`mbm.user_events`) the scenes run in turn,
+        With a function g(t, θ, θ') (:mod:`mbm.events.functions`) the scenes run in turn,
         as :func:`mbm.solve` runs them.
     max_events : int, optional
         Events of each kind stored per scene, K (default: the most any scene has).
@@ -323,14 +326,14 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
     _check_budgets(beta, gamma, omega, amp, y0, t0, t1, tau_checked, max_step, max_windows)
     drive, plan, h, names = _plan_scenes(approximant, beta, gamma, omega, amp, freq, phase, driven_call, tau,
                                          max_step, t0, t1)
-    ev, cap, items = crossings.batch_table(events, max_events, plan[0], drive[0], drive[1], names)
+    ev, cap, items = compiled_events.batch_table(events, max_events, plan[0], drive[0], drive[1], names)
     model = np.stack([beta, gamma, omega, drive[0], drive[1], drive[2]]).astype(np.float64)
     y0 = np.ascontiguousarray(y0, dtype=np.float64)
 
     def fresh(rows):
         # The records of the scenes ``rows`` at their start.
-        q = np.empty(rows.size, dtype=loop.RUN)
-        loop.init_runs(q, np.ascontiguousarray(model[:, rows]), float(t0), np.ascontiguousarray(y0[rows]), float(t1),
+        q = np.empty(rows.size, dtype=record.RUN)
+        record.init_runs(q, np.ascontiguousarray(model[:, rows]), float(t0), np.ascontiguousarray(y0[rows]), float(t1),
                        np.ascontiguousarray(plan[:, rows]), np.ascontiguousarray(h[rows]), float(max_step),
                        float(rtol), float(atol), int(max_windows))
         return q
@@ -343,6 +346,6 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
         return _batch_result(p, te, out, wrap, names)
     found = _run_events(p, te, out, order, ev, cap, items, drive, fresh)
     res = _batch_result(p, te, out, wrap, names)
-    res["t_events"], res["y_events"], res["winding_events"], res["n_events"] = crossings.batch_event_arrays(
+    res["t_events"], res["y_events"], res["winding_events"], res["n_events"] = compiled_events.batch_event_arrays(
         items, cap, *found)
     return res

@@ -71,10 +71,10 @@ import warnings
 
 import numpy as np
 
-from ._validate import check_drive, check_positive, check_real, check_real_array, check_rule, check_rule_array, check_state
-from .cli_progress import progress as _progress
-from .problem import Pendulum
-from .regimes import REGIME_NAMES, REGIME_PHASE_LOCKED, STROBE_MAX_PERIODS
+from ..validate import check_drive, check_positive, check_real, check_real_array, check_rule, check_rule_array, check_state
+from .progress import progress as _progress
+from ..model import Pendulum
+from ..regimes import REGIME_NAMES, REGIME_PHASE_LOCKED, STROBE_MAX_PERIODS
 
 __all__ = ["iv_curve", "IVCurve", "mean_velocity", "driven_mean_velocity", "integrate_mbm", "LOCKED",
            "RUNNING"]
@@ -334,7 +334,7 @@ def integrate_mbm(model, y, span):
     """
     from scipy.integrate import solve_ivp
 
-    from .solver import MBM
+    from ..frontends.ivp import MBM
 
     solvers = []
 
@@ -625,7 +625,7 @@ def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0
         With a drive: two successive blocks of a point agreeing to this (absolute, in
         units of ω) have settled (default :data:`DRIVE_VELOCITY_TOL`).
     progress : bool, optional
-        Draw a progress bar over the bias points on stderr (:mod:`mbm.cli_progress`:
+        Draw a progress bar over the bias points on stderr (:mod:`mbm.junction.progress`:
         only when stderr is a terminal; default False).
 
     Returns

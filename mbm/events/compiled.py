@@ -24,15 +24,16 @@ import numbers
 
 import numpy as np
 
-from . import loop
-from ._validate import as_t_eval, check_real, t_eval_error, t_eval_problem
-from .approximants.taylor import HEADER as _HEADER, N_EXTRA as _N_EXTRA
-from .core.event_watch import EV_ANGLE, EV_SECTION, EV_VELOCITY, EV_WIDTH, WATCH_CROWDED, WATCH_LOCKED, WATCH_OK, locate
-from .regimes import REGIME_NAMES, REGIME_NONE, REGIME_PHASE_LOCKED, cycle_summary, strobe_summary
-from .regimes.common import REGIMES_ALL, REGIMES_OFF, REGIMES_PERIODIC
-from .regimes.cycle import CYCLE_WIDTH
-from .user_events import event_function_options, function_crossings, is_event_function
-from .status import STATUS_EVENT, STATUS_MESSAGES, STATUS_OK, STATUS_PAUSED
+from ..core import controller, loop, record, window
+from ..validate import as_t_eval, check_real, t_eval_error, t_eval_problem
+from ..approximants.taylor import HEADER as _HEADER, N_EXTRA as _N_EXTRA
+from ..core.event_watch import EV_ANGLE, EV_SECTION, EV_VELOCITY, EV_WIDTH, WATCH_CROWDED, WATCH_LOCKED, WATCH_OK, locate
+from ..regimes import REGIME_NAMES, REGIME_NONE, REGIME_PHASE_LOCKED, cycle_summary, strobe_summary
+from ..regimes.common import REGIMES_ALL, REGIMES_OFF, REGIMES_PERIODIC
+from ..regimes.cycle import CYCLE_WIDTH
+from .functions import event_function_options, function_crossings, is_event_function
+from ..result import SolveResult
+from ..status import STATUS_EVENT, STATUS_MESSAGES, STATUS_OK, STATUS_PAUSED
 
 __all__ = ["Event", "angle_event", "velocity_event", "section_event", "solve_events"]
 
@@ -43,7 +44,7 @@ LAST_CHUNK = 4096
 # Events reserved before the first call (the buffer doubles as it fills).
 EVENTS_CAPACITY = 64
 _TWO_PI = 2.0 * math.pi
-_W = loop.WORD
+_W = record.WORD
 
 
 class Event:
@@ -209,7 +210,7 @@ def as_events(events, functions=True):
 def _table(ig, items):
     # The compiled watch's table of the built-in events, after the checks that depend
     # on the Integrator.
-    if ig._kind != loop.KIND_TAYLOR:
+    if ig._kind != window.KIND_TAYLOR:
         raise ValueError(
             f"events are located on Taylor windows (polynomials); approximant {ig.approximant.name!r} "
             "has none: use approximant='auto' or 'taylor*' (or solve_ivp(method=mbm.MBM, events=...))")
@@ -233,7 +234,7 @@ def _event_words(ig, regimes):
     words = cache.get(regimes)
     if words is None:
         words = ig._words.copy()
-        words.view(loop.RUN)[0]["switch"]["regimes"] = regimes
+        words.view(record.RUN)[0]["switch"]["regimes"] = regimes
         cache[regimes] = words
     return words
 
@@ -270,7 +271,7 @@ def solve_events(ig, t0, t1, theta0, v0, t_eval, wrap, events, max_events=None):
         out = np.empty((3 if wrap else 2, te.size))
     h = ig._h
     if ig._span_plan:
-        h = loop.plan_windows(ig.approximant, None, ig.max_step, abs(t1 - t0))[1]
+        h = controller.plan_windows(ig.approximant, None, ig.max_step, abs(t1 - t0))[1]
     funcs = [(e, g) + event_function_options(g) for e, g in enumerate(items) if is_event_function(g)]
     if funcs:
         regimes = REGIMES_OFF  # g's events are not a stored period's shifted
@@ -282,7 +283,7 @@ def solve_events(ig, t0, t1, theta0, v0, t_eval, wrap, events, max_events=None):
         words[_W["h_abs"]] = h
         if t_eval is not None:
             out[:] = np.nan
-        run = _Run(ig, ev, cap, t0, t1, te, out, words.view(loop.RUN), items, funcs)
+        run = _Run(ig, ev, cap, t0, t1, te, out, words.view(record.RUN), items, funcs)
         if run.go() or regimes == REGIMES_PERIODIC:
             return run.result(items, wrap)
         regimes = REGIMES_PERIODIC  # a locked window may reach a level: without the locked regime
@@ -331,7 +332,7 @@ class _Run:
             win_coef = np.empty((cap, self.width))
             runner = loop.runner_for(r)
             before = int(r["progress"]["n_windows"])
-            n = runner(loop.words_of(p), False, 0.0, 0.0, 0.0, 0.0, 0.0, self.te, self.out, win_t, win_y, win_coef,
+            n = runner(record.words_of(p), False, 0.0, 0.0, 0.0, 0.0, 0.0, self.te, self.out, win_t, win_y, win_coef,
                        np.zeros(1, np.int64))
             start_theta = np.ascontiguousarray(win_y[: n + 1, 0])
             last = int(r["progress"]["status"]) != STATUS_PAUSED
@@ -418,8 +419,6 @@ class _Run:
         return stop, WATCH_OK
 
     def result(self, items, wrap):
-        from .fast import SolveResult
-
         ig, r = self.ig, self.p[0]
         status = int(r["progress"]["status"])
         n_windows = int(r["progress"]["n_windows"])
@@ -481,7 +480,7 @@ def batch_table(events, max_events, kinds, amp, freq, names):
             raise ValueError("max_events needs events")
         return None, cap, None
     items = as_events(events)
-    bad = np.flatnonzero(kinds != loop.KIND_TAYLOR)
+    bad = np.flatnonzero(kinds != window.KIND_TAYLOR)
     if bad.size:
         raise ValueError(
             f"events are located on Taylor windows (polynomials); scene {bad[0]}'s approximant "
@@ -503,7 +502,8 @@ def run_batch_events(p, te, out, order, ev, cap, cancel, fresh):
     :func:`lock_allowed` (undriven scenes; those whose locked window may reach a level
     run again without it, their records from ``fresh(rows)``).  Returns the stored events
     (rows t, θ, θ', m; event; scene) and the counts (N, n_events)."""
-    from .core import event_batch, lanes
+    from ..core import event_batch
+    from ..core import lanes
 
     undriven = p["model"]["drive_amp"] == 0.0
     p["switch"]["regimes"] = np.where(undriven & lock_allowed(ev), REGIMES_ALL, REGIMES_PERIODIC)
@@ -553,7 +553,7 @@ def run_batch_functions(p, te, out, order, ev, cap, items, drive):
     locator, both compiled), so each scene's events are mbm.solve's bit for bit; a
     terminal event stops its scene as :func:`mbm.core.event_batch.stop_at` does.
     Returns the stored events and the counts as :func:`run_batch_events`."""
-    from .core.event_batch import stop_row
+    from ..core.event_batch import stop_row
 
     funcs = [(e, g) + event_function_options(g) for e, g in enumerate(items) if is_event_function(g)]
     p["switch"]["regimes"] = REGIMES_OFF
