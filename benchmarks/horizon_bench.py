@@ -49,7 +49,7 @@ HEYOKA_CASES = {
     "libration": ("conservative trapped (β 0, γ 0.4, θ₀ 0.9)", (1e3, 1e6)),
 }
 # Driven scenes (issue 14): name -> (β, γ, ω, A, Ω, θ₀, θ̇₀, horizons); the n = 1
-# Shapiro step of tests/test_strobe.py (phase-locked after t ≈ 280 at rtol 1e-10).
+# Shapiro step of tests/regimes/test_strobe.py (phase-locked after t ≈ 280 at rtol 1e-10).
 DRIVEN_CASES = {
     "Shapiro step n = 1 (β 0.2, γ 0.2, A 2, Ω 1)": (0.2, 0.2, 1.0, 2.0, 1.0, 0.0, 0.0, (1e3, 1e4)),
 }

@@ -111,7 +111,7 @@ def _fp_step(X, V, cst, degree):
 
     and θ(h) = Σ A_k, θ'(h) = Σ k A_k / h.  (``tests/data/convergent_fixed_point.py``
     carries its own copy for the tests' reference file; the two are checked against
-    each other in ``tests/test_bench.py``.)
+    each other in ``tests/bench/test_bench.py``.)
     """
     from mpmath.libmp import from_man_exp, mpf_cos_sin, to_fixed
 

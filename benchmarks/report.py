@@ -13,7 +13,7 @@ and the README quotes them verbatim between::
     <!-- /quote -->
 
 :func:`sync_readme` copies every quoted block from its file into the README
-(``python -m benchmarks readme``); ``tests/test_readme.py`` checks that the two
+(``python -m benchmarks readme``); ``tests/docs_and_examples/test_readme.py`` checks that the two
 agree.  So a rerun changes ``docs/`` and, through one command, the README; no figure
 of the README is typed by hand.
 """

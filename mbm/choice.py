@@ -1,7 +1,7 @@
 """The "auto" approximant: the cheapest approximant that meets the requested tolerance.
 
 The rule, and the measurements behind it (``docs/convergent.md``,
-``tests/test_auto.py``):
+``tests/frontends/test_auto.py``):
 
 * β = γ = 0 and no AC drive: the exact elliptic solution ("belendez", third paper (31) extended to
   every state).  No truncation error, so one window as long as ``max_step`` allows;

@@ -104,7 +104,7 @@ class SalasTorque(Approximant):
     anchors = "any"
     # Re-anchoring converges to the cubic model (2.4), whose distance from the
     # pendulum is the model error: the order refers to the cubic model, measured 1.0
-    # (the residual (2.9) − (2.10) is O(βt); tests/test_solver.py's τ sweep).
+    # (the residual (2.9) − (2.10) is O(βt); tests/frontends/test_solver.py's τ sweep).
     measured_order = 1
     compiled_kind = "salas-torque"
     status_messages = {
@@ -301,7 +301,7 @@ class SalasTorqueCn(Approximant):
     citation = "Salas, Martínez, Ocampo (2022), eqs. (2.17)-(2.24), with (2.3)-(2.16)"
     anchors = "any"
     # Measured order of the moving boundary method against the cubic model (2.4),
-    # the same function as "salas-torque" (see tests/test_salas2022_cn.py).
+    # the same function as "salas-torque" (see tests/approximants/test_salas2022_cn.py).
     measured_order = 1
     status_messages = _CN_STATUS_MESSAGES
     anchor_kernel = staticmethod(salas_torque_cn_anchor)
@@ -352,7 +352,7 @@ class SalasTorqueTrig(Approximant):
     anchors = "any"
     # 0: the moving boundary method with this approximant does not converge; its
     # error grows like ε_m T/τ (cos_m misses the anchor by ε_m at each window), see the
-    # class docstring and tests/test_salas2022_cn.py.
+    # class docstring and tests/approximants/test_salas2022_cn.py.
     measured_order = 0
     status_messages = dict(_CN_STATUS_MESSAGES)
     status_messages[STATUS_TRIG_M] = (

@@ -324,7 +324,7 @@ def salas_torque_eval_array(coef, t, out_theta, out_v):
 # For γ = 0 (q = 0, f even) R = 0 exactly: y is linear in cn and (2.17) holds only
 # as the limit c₁ → 0, Ā, B̄ → ∞ (the paper's "γ → 0" remark does not carry over).
 #
-# Printed formulas, checked in tests/test_salas2022_cn.py:
+# Printed formulas, checked in tests/approximants/test_salas2022_cn.py:
 # * (2.18), (2.19): the A, B there must be Ā, B̄ (bars lost in print or extraction):
 #   with the ℘ form's A the numerator of B̄ is (2.15) itself, i.e. B̄ = 0.  (2.18)'s
 #   cn⁻¹ also needs the sign of ẏ0, like the ± of (2.16); (2.19)'s ω is ω̄.

@@ -59,7 +59,7 @@ compares Φ(h) with the true state at h computed by degree-24 Taylor polynomials
 compiled already) in substeps of at most a quarter of the series' radius (one
 substep unless h is large or the rotation fast); their error, ~(1/4)^25, is far
 below Φ's O(h^{p+1}), so the estimate is the local error itself
-(``tests/test_convergent.py`` measures the ratio: 1.00).  It costs one more
+(``tests/approximants/test_convergent.py`` measures the ratio: 1.00).  It costs one more
 composition and a Taylor anchor or a few (the solver could reuse the composition it
 evaluates anyway, but the interface does not pass it in).
 """

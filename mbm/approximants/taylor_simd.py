@@ -28,7 +28,7 @@ coefficients follow from
 with d_k the drive's series (0 undriven; the driven form as taylor.py's).  The sums
 are the module's in another order and another rounding (each operation is IEEE, no
 reassociation is allowed to the compiler, so the bits are the same on every machine);
-tests/test_taylor_simd.py bounds every coefficient against a 50-digit recurrence as
+tests/approximants/test_taylor_simd.py bounds every coefficient against a 50-digit recurrence as
 for the loop form.
 """
 

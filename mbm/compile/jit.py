@@ -16,7 +16,7 @@ Such a kernel called from Python (a test, an interactive check) still works: the
 compiles, once per process and not cached, a twin with the wrapper from the same Python
 function, whose own callees are the same cached kernels.  A library path that calls a
 kernel from Python on every run uses ``numba.njit`` instead, so that its wrapper is
-cached: :data:`TWINS` records each twin made and who called it (``tests/test_jit.py``
+cached: :data:`TWINS` records each twin made and who called it (``tests/compile/test_jit.py``
 checks that the library's own paths make none).
 """
 

@@ -89,7 +89,7 @@ def _split_anchor(karg, beta, gamma, omega, theta0, v0):
 
 
 # Kind ids as mbm.core.window numbers them (window imports this module, so they are
-# restated here; tests/test_kind_ops.py checks them against window's).
+# restated here; tests/core/test_kind_ops.py checks them against window's).
 _EXACT, _SALAS_TORQUE, _SPLIT = 1, 2, 3
 
 #: The kinds with pieces in the table, by id (the compile helper's keys, mbm.compile.warm).

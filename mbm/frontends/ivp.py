@@ -465,8 +465,8 @@ def _caller_solve_ivp():
     solve_ivp does not hand its ``events`` and ``t_eval`` to its method; MBM reads
     them from solve_ivp's frame: ``events`` so that it keeps its steps short enough
     for them (never dropping one silently), ``t_eval`` to know whether solve_ivp
-    reports the step ends (``windows_per_step="auto"``).  tests/test_solver.py and
-    tests/test_steps.py check that this works on the installed scipy.
+    reports the step ends (``windows_per_step="auto"``).  tests/frontends/test_solver.py and
+    tests/frontends/test_steps.py check that this works on the installed scipy.
     """
     frame = sys._getframe(1)
     for _ in range(CALLER_FRAMES):
@@ -510,7 +510,7 @@ def _coefficient_width(approximant, karg, model, y):
     The Taylor kinds' size is their layout's; the other kinds are anchored once per
     (anchor kernel, kind argument) at the state ``y`` first asked for: a compiled
     kind's coefficient vector has a size set by its degree alone, whatever the model
-    and state (tests/test_steps.py checks every registered one).
+    and state (tests/frontends/test_steps.py checks every registered one).
     """
     if window.kind_of(approximant)[0] == window.KIND_TAYLOR:
         # The Taylor layout (taylor.py): the header, then a_0 .. a_{N + N_EXTRA}; stated
@@ -531,7 +531,7 @@ def _coefficient_width(approximant, karg, model, y):
 def _new_record(model, t0, y, t_bound, kind, controller, h_abs, max_step, rtol, atol, error_order,
                 max_windows, max_dtheta, call_windows):
     """The float64 words of a fresh run record: those of :func:`mbm.core.record.new_run`'s record,
-    bit for bit (tests/test_steps.py).
+    bit for bit (tests/frontends/test_steps.py).
 
     The words set by the option set (kind, controller, tolerances, budgets, whether
     there is a drive: regimes off) are copied from a template that new_run builds

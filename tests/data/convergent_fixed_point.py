@@ -4,7 +4,7 @@ Independent of mbm's kernels and of the benchmark (pure Python integers, mpmath'
 fixed-point sine/cosine): a Taylor integrator of degree REF_DEGREE with step REF_STEP, every
 quantity an integer scaled by 2^REF_BITS.  ``examples/convergence_study.py``
 writes ``tests/data/convergent_reference.npz`` with it, and
-``tests/test_convergent.py`` uses :func:`local_step` for true local errors.
+``tests/approximants/test_convergent.py`` uses :func:`local_step` for true local errors.
 :func:`check` compares it with itself at half the step and degree 24, and with
 the exact Jacobi-elliptic solution (mpmath) on an undamped scene.
 
@@ -49,7 +49,7 @@ def _step(X, V, h, cst, degree):
     recurrence is the one in this module's docstring, in plain integer arithmetic
     with mpmath's fixed-point sine and cosine (no code of the kernels it checks).
     The benchmark's reference (``benchmarks/references.py``) has its own copy;
-    ``tests/test_bench.py`` checks that the two give the same integers.
+    ``tests/bench/test_bench.py`` checks that the two give the same integers.
     """
     from mpmath.libmp import from_man_exp, mpf_cos_sin, to_fixed
 

@@ -1,4 +1,4 @@
-"""Helpers shared by the driven-run tests (tests/test_strobe.py, tests/test_subharmonic.py):
+"""Helpers shared by the driven-run tests (tests/regimes/test_strobe.py, tests/regimes/test_subharmonic.py):
 the window loop run by hand with θ wrapped, θ in long double, the driven model."""
 
 import numpy as np

@@ -1,4 +1,4 @@
-"""The period of a conservative libration by mpmath, for tests/test_libration.py.
+"""The period of a conservative libration by mpmath, for tests/regimes/test_libration.py.
 
 θ'' + ω² sin θ = γ (β = 0, |γ| < ω²): H = θ'²/2 − ω² cos θ − γθ is constant and a
 state trapped in a well librates between the turning points θ₋ < θ₊ (V(θ±) = H),

@@ -1,6 +1,6 @@
 """Reference edges of the Shapiro steps n = 1, 2 at β = 1, A = 0.5, Ω = 0.6 (ω = 1, φ = 0).
 
-Writes ``tests/data/shapiro_edges_reference.json``, read by ``tests/test_shapiro.py``.
+Writes ``tests/data/shapiro_edges_reference.json``, read by ``tests/junction/test_shapiro.py``.
 Independent of mbm: scipy's DOP853 at rtol = atol = 1e-10 throughout.
 
 How it was made (``python tests/data/shapiro_edges_reference.py``; two processes, 40

@@ -1,4 +1,4 @@
-"""Regenerate the mpmath reference values for tests/test_special.py.
+"""Regenerate the mpmath reference values for tests/special/test_special.py.
 
 Run from the repository root::
 

@@ -50,7 +50,7 @@ def test_solve_equals_solve_ivp_on_benchmark_scenes(name, tol):
         (EX1, EX1_Y0, 20.0, dict(approximant="salas-torque", tau=0.5)),
         (EX1, EX1_Y0, 20.0, dict(approximant="split4", tau=0.5)),
         (EX1, EX1_Y0, 20.0, dict(approximant="taylor12", rtol=1e-7, atol=1e-7)),
-        # AC drive (tests/test_drive.py has every path on driven scenes)
+        # AC drive (tests/frontends/test_drive.py has every path on driven scenes)
         (mbm.Pendulum(0.1, 0.3, 1.0, 0.8, 1.3, 0.5), EX1_Y0, 80.0, dict(rtol=1e-9, atol=1e-9)),
         (mbm.Pendulum(0.1, 0.3, 1.0, 0.8, 1.3, 0.5), EX1_Y0, 20.0, dict(approximant="taylor12", tau=0.3)),
     ],

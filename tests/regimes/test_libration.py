@@ -17,7 +17,7 @@ import mbm
 from mbm.core import controller, loop, record, window
 from mbm import regimes
 
-sys.path.insert(0, str(Path(__file__).parent / "data"))
+sys.path.insert(0, str(Path(__file__).parents[1] / "data"))
 import libration_mpmath  # noqa: E402
 import oracle_heyoka  # noqa: E402
 

@@ -1,6 +1,6 @@
 """mbm.solve_njit_events: the built-in events inside one's own numba code, the runs and
 events of mbm.solve bit for bit (its reference: mbm.solve, itself checked against heyoka
-in tests/test_crossings.py)."""
+in tests/events/test_crossings.py)."""
 
 import math
 

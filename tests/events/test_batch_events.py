@@ -1,7 +1,7 @@
 """Events of mbm.solve_batch: every scene's events those of mbm.solve, bit for bit.
 
 Reference: mbm.solve on each scene (itself checked against heyoka long double in
-tests/test_crossings.py); the batch runs the same windows in compiled groups.
+tests/events/test_crossings.py); the batch runs the same windows in compiled groups.
 """
 
 import math

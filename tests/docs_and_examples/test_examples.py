@@ -141,7 +141,7 @@ def test_josephson_iv(tmp_path):
     curve, png = ex.main(tmp_path, points=21)
     assert png.exists() and curve.beta == 0.1
     # Switching at the critical current ω² = 1; retrapping near Melnikov's 4β/π = 0.1273
-    # (tests/test_junction.py checks both against independent references).
+    # (tests/junction/test_junction.py checks both against independent references).
     assert abs(curve.switching_current - 1.0) <= curve.current_tol
     assert curve.retrapping_current == pytest.approx(4 * curve.beta / math.pi, rel=0.05)
     up, down = curve.branches()

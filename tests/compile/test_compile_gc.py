@@ -15,7 +15,7 @@ from numba.core import event
 
 from mbm.compile import gc as _compile_gc
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 
 
 class _Dispatcher:

@@ -36,7 +36,7 @@ from mbm.special.jacobi import ellipk_kc_dd_kernel
 
 EPS = np.finfo(float).eps
 TOL = 1e-13  # the accuracy target
-REFS = json.loads((pathlib.Path(__file__).parent / "data" / "special_refs.json").read_text())
+REFS = json.loads((pathlib.Path(__file__).parents[1] / "data" / "special_refs.json").read_text())
 # Property tests: 150 examples each by default (CI budget); raise with
 # MBM_HYPOTHESIS_EXAMPLES=5000 for a deeper search.
 FAST = settings(

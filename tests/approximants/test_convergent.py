@@ -32,7 +32,7 @@ from mbm.approximants.belendez2007 import pendulum_flow_kernel
 
 from convergent_fixed_point import local_step  # tests/data, on pytest's pythonpath
 
-DATA = Path(__file__).resolve().parent / "data"
+DATA = Path(__file__).resolve().parents[1] / "data"
 
 # name -> (beta, gamma, omega, theta0, v0, t_end): six scenes of mbm.scenes under the
 # names of the reference file, with the horizons it was computed for (integers: the

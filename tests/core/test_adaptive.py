@@ -44,7 +44,7 @@ def _err(key, method, rtol, **kw):
     model, y0, T = SCENES[key]
     t, ref = _ref(key)
     if method is mbm.MBM:
-        kw["windows_per_step"] = None  # same windows, less Python (tests/test_solver.py)
+        kw["windows_per_step"] = None  # same windows, less Python (tests/frontends/test_solver.py)
     sol = solve_ivp(model, (0.0, T), y0, method=method, rtol=rtol, atol=rtol, t_eval=t, **kw)
     assert sol.success, sol.message
     assert np.all(np.isfinite(sol.y))

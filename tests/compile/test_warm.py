@@ -16,7 +16,7 @@ import mbm
 from mbm.compile import warm as _warm
 from mbm.core import loop
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 DAMPED_KEY = ("solve", "mbm.core.loop", "SIMD_RUNNERS", (loop.RS_DAMPED,))
 
 

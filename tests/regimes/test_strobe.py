@@ -31,7 +31,7 @@ EDGE_SLOW = ((0.2, 0.47, 1.0, 2.0, 1.0, 0.0), (0.2, 0.48, 1.0, 2.0, 1.0, 0.0))
 # Motions that are not locked to the drive with one period: chaotic (a 1e-10 change of
 # θ₀ grows to O(1) by t = 400 at 1e-12), a 3/4 step reached after a chaotic transient
 # (q = 4, S7, at some tolerances), the half step ⟨θ'⟩ = Ω/2 (q = 2, S7:
-# tests/test_subharmonic.py) and a quasi-periodic motion of β = 2 (⟨θ'⟩ = 0.606Ω).
+# tests/regimes/test_subharmonic.py) and a quasi-periodic motion of β = 2 (⟨θ'⟩ = 0.606Ω).
 NOT_PERIOD_ONE = ((0.2, 0.2, 1.0, 1.0, 1.0, 0.0), (0.5, 0.6, 1.0, 1.0, 1.0, 0.0),
                   (0.2, 0.3, 1.0, 1.0, 1.0, 0.0), (2.0, 1.5, 1.0, 1.0, 1.0, 0.0))
 TOLS = (1e-8, 1e-10, 1e-12)

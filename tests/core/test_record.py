@@ -11,7 +11,7 @@ import pytest
 import mbm
 from mbm.core import controller, loop, record, window
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 # The layout, group by group: a change of the record is a change of this table (and of
 # the size quoted in the README).
@@ -98,7 +98,7 @@ def test_batch_records_are_new_run_records_bit_for_bit():
 
 def test_solve_njit_and_batch_build_records_with_the_initialiser():
     # no path spells the record out field by field: solve_njit and solve_batch call the
-    # compiled initialiser (and solve_njit's run equals mbm.solve's, tests/test_fast.py)
+    # compiled initialiser (and solve_njit's run equals mbm.solve's, tests/frontends/test_fast.py)
     src = (ROOT / "mbm" / "frontends" / "solve.py").read_text()
     njit_src = src[src.index("def solve_njit("):]
     batch_src = (ROOT / "mbm" / "frontends" / "batch.py").read_text()

@@ -41,7 +41,7 @@ def _median_time(fn, n=7):
 
 def test_horizon_free_undamped_run():
     # θ(1e6) costs about what θ(1) costs, and is the exact flow (phase error vs mpmath
-    # pinned in tests/test_belendez2007.py at t ~ 1e6: < 1e-15).
+    # pinned in tests/approximants/test_belendez2007.py at t ~ 1e6: < 1e-15).
     model = mbm.Pendulum(0.0, 0.0)
     y0 = [0.3, 1.0]
 

@@ -17,7 +17,7 @@ import pytest
 import mbm
 from mbm.junction import shapiro
 
-REFERENCE = Path(__file__).parent / "data" / "shapiro_edges_reference.json"
+REFERENCE = Path(__file__).parents[1] / "data" / "shapiro_edges_reference.json"
 SCENE = dict(amplitude=0.5, frequency=0.6)
 TOL = 1e-4
 

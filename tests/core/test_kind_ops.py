@@ -106,7 +106,7 @@ def test_compiled_code_fills_a_slot_at_its_first_call():
     import sys
     from pathlib import Path
 
-    root = Path(__file__).resolve().parent.parent
+    root = Path(__file__).resolve().parents[2]
     env = dict(os.environ, MBM_COMPILE_HELPER="0")
     env["PYTHONPATH"] = os.pathsep.join([str(root)] + [p for p in env.get("PYTHONPATH", "").split(os.pathsep) if p])
     proc = subprocess.run([sys.executable, "-c", _NJIT_FIRST], env=env, cwd=root, capture_output=True, text=True,

@@ -2,7 +2,7 @@
 (31)) generalized to any state (mbm.special.pendulum_flow), the period (26), and the
 approximants of mbm.approximants.belendez2007: "belendez" and the harmonic approximation
 (32)-(33).  The double-double K and sin/cos the flow relies on are tested in
-tests/test_special.py.
+tests/special/test_special.py.
 
 References come from ``tests/data/belendez2007_mpmath.py`` (mpmath at 60 digits from
 the exact binary inputs, cross-checked there against a Taylor integration of the ODE)

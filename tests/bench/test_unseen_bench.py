@@ -65,7 +65,7 @@ def test_recorded_report_is_the_render_of_its_json():
 
     from benchmarks.report import extract_blocks
 
-    docs = Path(__file__).resolve().parents[1] / "docs"
+    docs = Path(__file__).resolve().parents[2] / "docs"
     text = (docs / "unseen.md").read_text(encoding="utf-8")
     assert ub.render(json.loads((docs / "unseen.json").read_text(encoding="utf-8"))) == text
     assert "summary" in extract_blocks(text)

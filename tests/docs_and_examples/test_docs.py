@@ -14,7 +14,7 @@ import pytest
 
 import mbm
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 DOCS = ROOT / "docs"
 # numpydoc's codes for a Parameters section that does not match the signature:
 # a parameter not documented, a documented one that does not exist, the wrong order.

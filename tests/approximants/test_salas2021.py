@@ -366,7 +366,7 @@ def test_registered():
 
 
 def _example():
-    path = Path(__file__).resolve().parents[1] / "examples" / "table1_salas2021.py"
+    path = Path(__file__).resolve().parents[2] / "examples" / "table1_salas2021.py"
     spec = importlib.util.spec_from_file_location("table1_salas2021", path)
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)

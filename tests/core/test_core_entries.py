@@ -25,7 +25,7 @@ from mbm.regimes import (
     REGIME_RUNNING,
 )
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 KINDS = (window.KIND_TAYLOR, window.KIND_EXACT, window.KIND_SALAS_TORQUE, window.KIND_SPLIT)
 REGIMES = (REGIME_NONE, REGIME_LOCKED, REGIME_RUNNING, REGIME_LIBRATION, REGIME_PHASE_LOCKED)
 

@@ -234,7 +234,7 @@ TAUS = 8.0 / 2.0 ** np.arange(7)  # 8 … 0.125
 @pytest.mark.parametrize(
     "model,y0,model_err,rel",
     [
-        # Measured (tests/test_solver.py sweep): against the cubic model the error halves
+        # Measured (tests/frontends/test_solver.py sweep): against the cubic model the error halves
         # with τ (fitted order 1.0: the residual (2.9) − (2.10) is O(βt), so θ'' errs by
         # O(τ) and θ' by O(τ²) per window); against the pendulum it levels off at the
         # cubic's own model error max|θ_cubic − θ| = 3.215e-3 (Example 1), 2.485e-2
