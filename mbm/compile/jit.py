@@ -1,4 +1,4 @@
-"""numba compilation of the package's kernels: options, and :func:`kernel`.
+"""numba compilation of the package's kernels: its options (once), and :func:`kernel`.
 
 ``@numba.njit(**NJIT_OPTIONS)`` decorates a kernel of :mod:`mbm.special` and of the
 paper and splitting modules of :mod:`mbm.approximants` that Python calls;
@@ -25,7 +25,7 @@ import sys
 import numba
 from numba.core.registry import CPUDispatcher
 
-__all__ = ["NJIT_OPTIONS", "TWINS", "kernel"]
+__all__ = ["INLINE", "NJIT_OPTIONS", "TWINS", "kernel"]
 
 # cache: compiled kernels persist in __pycache__, so only the first run compiles.
 # error_model="numpy": a float division by zero gives ±inf/nan instead of raising
@@ -33,6 +33,13 @@ __all__ = ["NJIT_OPTIONS", "TWINS", "kernel"]
 # NaN, never by an exception (the cn form (2.17) needs R = 0 → Abar = inf, the special
 # functions their poles; no kernel result changes for a non-zero divisor).
 NJIT_OPTIONS = {"cache": True, "error_model": "numpy"}
+
+# ``@numba.njit(**INLINE)``: a small per-window piece inlined into its caller.  Used only
+# where a caller's constant kind or regime set must prune branches (numba prunes an
+# inlined constant, not a called function's literal argument) or where a call measured
+# slower; numba re-types an inlined body at every site (~0.1 s of a first call each),
+# while LLVM inlines a plain call anyway (docs/contributing.md).
+INLINE = {"cache": True, "inline": "always"}
 
 # numba's options of a kernel: nopython, no CPython or cfunc wrapper (module docstring).
 KERNEL_OPTIONS = {"nopython": True, "no_cpython_wrapper": True, "no_cfunc_wrapper": True}

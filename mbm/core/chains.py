@@ -13,10 +13,9 @@ import numba
 import numpy as np
 
 from ..approximants.taylor_simd import SIMD_ORDER
-from ..compile.jit import kernel
+from ..compile.jit import INLINE, kernel
 from ..status import STATUS_ANCHOR, STATUS_PAUSED
 from .loop import (
-    _INLINE,
     RS_CONSERVATIVE,
     RS_CYCLE,
     RS_DAMPED,
@@ -40,12 +39,12 @@ from .window import KIND_EXACT, KIND_SALAS_TORQUE, KIND_SPLIT, KIND_TAYLOR
     SIMD_RUNNERS[s] for s in (RS_PLAIN, RS_DAMPED, RS_CONSERVATIVE, RS_DRIVEN, RS_CYCLE, RS_STROBE, RS_FIXED))
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def _record_set(kind, r):
     return regime_set(kind, r.control.controller, r.switch.regimes, r.model.beta, r.model.drive_amp, r.switch.regime)
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def _taylor_flagged(simd, rset, s0, s1, s2, s3, s4, s5, buf, resume, t_eval, out, win_t, win_y, win_coef, cancel):
     """The Taylor entry of ``rset`` where its flag is set (:func:`_dispatch_flagged`): the
     default degree's (``simd``) or the general one; −1 where the set is not flagged."""
@@ -87,7 +86,7 @@ def _taylor_flagged(simd, rset, s0, s1, s2, s3, s4, s5, buf, resume, t_eval, out
     return -1
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def _dispatch_flagged(kind, rset, k0, k1, k2, k3, s0, s1, s2, s3, s4, s5, p, t_eval, out, win_t, win_y, win_coef,
                       cancel):
     """The entry of (``kind``, ``rset``) called where that kind and set are flagged
@@ -169,7 +168,7 @@ def _dispatch_flagged(kind, rset, k0, k1, k2, k3, s0, s1, s2, s3, s4, s5, p, t_e
     return 0
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def _run_sets(kind, k0, k1, k2, k3, s0, s1, s2, s3, s4, s5, p, t_eval, out, win_t, win_y, win_coef, cancel):
     """A run through its regime sets' entries in turn, of the kinds and sets flagged
     (:func:`_dispatch_flagged`): a pause at a regime switch is resumed through the new

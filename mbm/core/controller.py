@@ -12,7 +12,7 @@ import math
 import numba
 import numpy as np
 
-from ..compile.jit import kernel
+from ..compile.jit import INLINE, kernel
 from .kind_ops import OP_ADAPTIVE, OP_FIRST, OPS_PER_KIND, call_adaptive, call_first
 from .window import (
     KIND_EXACT,
@@ -25,11 +25,6 @@ from .window import (
 )
 from ..status import STATUS_NONFINITE, STATUS_OK, STATUS_TOO_SMALL
 
-# Inlined only where a caller's constant kind or regime set must prune branches (numba
-# prunes an inlined constant, not a called function's literal argument) or where a call
-# measured slower; numba re-types an inlined body at every site (~0.1 s of a first
-# call each), while LLVM inlines a plain call anyway (docs/contributing.md).
-_INLINE = dict(cache=True, inline="always")
 
 
 CONTROLLER_FIXED = 0
@@ -102,7 +97,7 @@ def _error_norm(et, ev, y0, y1, theta, v, rtol, atol):
     return math.sqrt(0.5 * ((et / st) ** 2 + (ev / sv) ** 2))
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def fixed_window(kind, coef, t, direction, t_bound, tau):
     """Fixed controller: one window of length τ (cut at t_bound).
 
@@ -215,7 +210,7 @@ _adaptive_window_taylor = adaptive_window_for(KIND_TAYLOR)
 _adaptive_window_split = adaptive_window_for(KIND_SPLIT)
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def _first(kind, coef, t, y0, y1, off, direction, t_bound, omega, max_step, rtol, atol, error_order, log_eps):
     """:func:`first_window` of kind ``kind`` through its compiled entry (a splitting's through
     the table of :mod:`mbm.core.kind_ops`); h = −1 (no window) for a kind without an
@@ -229,7 +224,7 @@ def _first(kind, coef, t, y0, y1, off, direction, t_bound, omega, max_step, rtol
     return -1.0
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def first_try(kind, coef, t, y0, y1, off, direction, t_bound, h_abs, max_step, rtol, atol, log_eps):
     """:func:`adaptive_window`'s first try: ``(ok, h, prior, t_new)``, the window tried
     (``h_abs`` no longer than ``max_step`` nor the kind's a-priori window ``prior``),
@@ -254,7 +249,7 @@ def accept_try(et, ev, y0, y1, off, theta, v, rtol, atol, prior, error_order, h)
     return fac > 0.0, h * fac
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def _adaptive(kind, coef, t, y0, y1, off, direction, t_bound, h_abs, max_step, rtol, atol, error_order,
               log_eps):
     """:func:`adaptive_window` of kind ``kind``: its first try here (inlined: the common

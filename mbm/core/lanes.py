@@ -22,8 +22,7 @@ from ..approximants.taylor_simd import (
     horner24_lanes,
     taylor24_lanes,
 )
-from ..compile import warm as _warm
-from ..compile.jit import kernel
+from ..compile.jit import INLINE, kernel
 from .controller import (
     CONTROLLER_ADAPTIVE,
     _adaptive_window_taylor,
@@ -50,7 +49,6 @@ from .event_watch import trap_allowed, trapped_unreachable, window_may_cross, wo
 # ~16 % slower); the hand-off (once per scene, and the loop's entries behind it) and
 # the start are called: numba copies an inlined body's whole variable scope once per
 # block at each site, so a large piece inlined costs seconds of a first call.
-_INLINE = dict(cache=True, inline="always")
 
 
 # Scenes per lane group of run_batch: a group keeps its LANES lanes full from its own
@@ -63,8 +61,8 @@ LANE_GROUP = 256
 assert LANES == 8
 
 
-# The lockstep state of one lane (_lanes): the scene, the loop's locals of _run that
-# change per window, and the constants _run derives once per call.
+# The lockstep state of one lane (_lanes): the scene, the loop's locals (run_entry
+# of mbm.core.loop._runner) that change per window, and the constants it derives once per call.
 LANE = np.dtype([
     ("scene", np.int64), ("t", np.float64), ("phi", np.float64), ("v", np.float64),
     ("h_abs", np.float64), ("wind", np.float64), ("j", np.int64), ("n_windows", np.int64),
@@ -76,7 +74,7 @@ LANE = np.dtype([
 ])
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def lane_eligible(r):
     """Whether run record ``r`` can take lockstep windows in the lanes: a fresh undriven
     Taylor run at the vector kernel's degree, adaptive, β > 0, regime switching on (so in
@@ -151,7 +149,7 @@ def _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel, handed):
     _run_sets(KIND_TAYLOR, 2, 0, 0, 0, 0, 1, 0, 0, 1, 0, p[i:i + 1], t_eval, out[i], win_t, win_y, win_coef, cancel)
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def _lane_before(p, ln, q, ins, t_eval, out, win_t, win_y, win_coef, cancel, handed):
     """The loop's tests before the lane's next window, in its order: a lane whose window
     is not an ordinary Taylor one (the run's end, ``max_windows``, the interrupt flag, a
@@ -180,7 +178,7 @@ def _lane_before(p, ln, q, ins, t_eval, out, win_t, win_y, win_coef, cancel, han
     return True
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def _lane_try(r, ln, coef):
     """The controller's first try of the lane's window (the loop's :func:`first_try`, and
     the first window's search for a fresh run): the length whose end θ, θ' the lane-wise
@@ -199,7 +197,7 @@ def _lane_try(r, ln, coef):
     return ln.t_end - t if first else 0.0
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def _lane_window(p, ln, coef, h, th, v, t_eval, out, wrapped, win_t, win_y, win_coef, cancel, handed):
     """The lane's window after the lane-wise Horner (``th``, ``v`` at the try's end, ``h``
     after the start): the loop's test of the first try (:func:`accept_try`), on a
@@ -410,7 +408,7 @@ def batch_flags(p):
     return tuple(kinds) + tuple(sets)
 
 
-def run_batch(p, t_eval, out, order, cancel, flags=None):
+def run_batch(p, t_eval, out, order, cancel, flags=None, eligible=None):
     """:func:`mbm.core.loop.run` for every row of ``p``, in the order ``order``, on
     ``numba.get_num_threads()`` threads.
 
@@ -420,12 +418,11 @@ def run_batch(p, t_eval, out, order, cancel, flags=None):
     regime sets, ``flags``, default :func:`batch_flags` of those rows); each thread
     takes the next group.  Both run without the GIL, so a caller may run this in a
     thread and set ``cancel[0]`` to stop every scene at its next window.  ``out`` has
-    shape (N, 2, m), or (N, 3, m) for θ wrapped with its winding count.
+    shape (N, 2, m), or (N, 3, m) for θ wrapped with its winding count.  ``eligible``
+    is :func:`eligible_rows` of ``p`` where the caller has it already.
     """
     order = np.asarray(order, dtype=np.int64)
-    lanes = eligible_rows(p)[order]
-    if lanes.any():  # from a cold cache, a helper process compiles the lanes beside them
-        _warm.prefetch("batch", _run_lanes)
+    lanes = (eligible_rows(p) if eligible is None else eligible)[order]
     others = order[~lanes]
     none = no_events()
     tasks = [lambda ids=ids: _run_lanes(p, ids, t_eval, out, cancel, *none) for ids in groups(order[lanes])]

@@ -49,7 +49,7 @@ import numpy as np
 from ..validate import t_eval_problem
 from ..approximants.taylor import taylor_eval_range, taylor_workspace
 from ..approximants.taylor_simd import SIMD_ORDER
-from ..compile.jit import kernel
+from ..compile.jit import INLINE, kernel
 from .controller import (
     CONTROLLER_ADAPTIVE,
     _adaptive,
@@ -110,14 +110,9 @@ from ..status import (
     STATUS_PAUSED,
 )
 
-# Inlined only where a caller's constant kind or regime set must prune branches (numba
-# prunes an inlined constant, not a called function's literal argument) or where a call
-# measured slower; numba re-types an inlined body at every site (~0.1 s of a first
-# call each), while LLVM inlines a plain call anyway (docs/contributing.md).
-_INLINE = dict(cache=True, inline="always")
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def _stored_value(kind, rset, coef, per_starts, per_ends, per_coefs, per_n, t, tj):
     """(φ, θ', winding count) of a stored period's window (RS_CYCLE, RS_STROBE) that
     started at ``t``, at time ``tj``."""
@@ -203,7 +198,7 @@ def _keep_damped(buf):
 
 
 # Inlined: as a call it costs ~5 us of a ~13 us short locked run (P1, 8 windows).
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def locked_test(r, y0, y1, off, lk, far):
     """``(order, t_s)`` of the locked closed form from φ = ``y0``, θ' = ``y1`` (L5-L7; order
     0: not locked), ``lk`` the constants of :func:`damped_setup`; once locked the quick
@@ -225,7 +220,7 @@ def locked_test(r, y0, y1, off, lk, far):
     return 0, 0.0
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def _regime_setup(kind, rset, r, may, width, t, n_total):
     """Each regime's switch rule where it may apply in set ``rset``: windows from
     rtol/atol, forwards (``may``), room for its formula in the window store (its set's own
@@ -255,7 +250,7 @@ def _regime_setup(kind, rset, r, may, width, t, n_total):
     return can_lock, lk, can_cycle, sec_off, sec_acc, can_librate, sp
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def _stop_before(kind, rset, r, n, n_total, store, cap, seen, cancel):
     """Whether the run stops before its next window: ``(status, regime seen)``, status
     STATUS_OK to go on.  A regime switch to another set pauses (the run goes on through
@@ -280,7 +275,7 @@ def _stop_before(kind, rset, r, n, n_total, store, cap, seen, cancel):
 # it; inside an inlined callee, only after that callee's own calls are inlined), so
 # an entry inlines the one source it takes.
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def _source_cycle(kind, simd, r, t, direction, max_step, h_abs, per):
     """The running cycle's window (RS_CYCLE: the stored period shifted, R3), as
     :func:`_source` returns it (``per``: the period's windows, built at the call's
@@ -298,7 +293,7 @@ def _source_cycle(kind, simd, r, t, direction, max_step, h_abs, per):
     return st, coef, t_new, th, v, k_new, h_abs, h_abs, False, per
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def _source_strobe(kind, r, t, direction, max_step, h_abs, per):
     """The phase-locked window (RS_STROBE: the stored drive period, S6, S7), as
     :func:`_source` returns it."""
@@ -311,7 +306,7 @@ def _source_strobe(kind, r, t, direction, max_step, h_abs, per):
     return st, coef, t_new, th, v, k_new, h_abs, h_abs, False, per
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def _anchored(kind, rset, simd, r, t, y0, y1, ws):
     """The approximant's coefficients anchored at (t, φ = ``y0``, θ' = ``y1``): with the
     drive's term in RS_DRIVEN; ``simd``: the default degree's entry (:func:`_runner`)."""
@@ -322,7 +317,7 @@ def _anchored(kind, rset, simd, r, t, y0, y1, ws):
     return anchor(kind, r.control.karg, m.beta, m.gamma, m.omega, y0, y1, ws[0], ws[1], simd)
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def _source_fixed(kind, rset, simd, r, t, y0, y1, k, direction, max_step, h_abs, ws, per):
     """The window of a fixed length ``min(h_abs, max_step)`` (RS_FIXED, the kinds without
     an estimate, a fixed controller's window), as :func:`_source` returns it."""
@@ -333,7 +328,7 @@ def _source_fixed(kind, rset, simd, r, t, y0, y1, k, direction, max_step, h_abs,
     return st, coef, t_new, th, v, k, h_abs, h_abs, False, per
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def _source(kind, rset, simd, r, t, y0, y1, k, off, direction, max_step, h_abs, log_eps, can_lock, lk, ws, per):
     """The window from (t, φ = ``y0``, θ' = ``y1``, winding ``k``) outside the stored
     periods: the locked closed form (L2, L5), or the approximant anchored at the state
@@ -366,7 +361,7 @@ def _source(kind, rset, simd, r, t, y0, y1, k, off, direction, max_step, h_abs, 
     return st, coef, t_new, th, v, k, h_abs, h_next, False, per
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def emit_taylor(coef, t, t_new, t_eval, j, direction, k, out_theta, out_v, out_w, wrapped):
     """The outputs of an ordinary Taylor window in (t, t_new] in one call, four times at
     once (the same Horner steps per time as evaluate, so the same bits; an output at
@@ -385,7 +380,7 @@ def emit_taylor(coef, t, t_new, t_eval, j, direction, k, out_theta, out_v, out_w
     return j2
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def _emit_stored(kind, rset, coef, per, t, t_new, th, v, k_new, t_eval, j, direction, out_theta, out_v, out_w,
                  wrapped):
     """The outputs in (t, t_new] of a stored period's window (RS_CYCLE, RS_STROBE);
@@ -402,7 +397,7 @@ def _emit_stored(kind, rset, coef, per, t, t_new, th, v, k_new, t_eval, j, direc
     return j
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def _emit_formula(kind, rset, is_locked, coef, t, t_new, th, v, k, t_eval, j, direction, out_theta, out_v, out_w,
                   wrapped):
     """The outputs in (t, t_new] of the approximant's window or the locked form's
@@ -664,9 +659,9 @@ def runner_for(r):
 
 
 def run(p, t_eval, out, win_t, win_y, win_coef, cancel):
-    """Advance the run ``p[0]``: :func:`_run` through the entry of its kind and regime
-    set (:data:`RUNNERS`), resumed through the new set's entry after a regime switch,
-    so that only the sets a run reaches are compiled.  Returns the windows taken.
+    """Advance the run ``p[0]``: the entry of its kind and regime set (:data:`RUNNERS`,
+    ``run_entry`` of :func:`_runner`), resumed through the new set's entry after a regime
+    switch, so that only the sets a run reaches are compiled.  Returns the windows taken.
     """
     n = 0
     progress = p["progress"]

@@ -8,7 +8,7 @@ bit with less work per time.
 import numba
 import numpy as np
 
-from ..compile.jit import kernel
+from ..compile.jit import INLINE, kernel
 from .window import (
     KIND_EXACT,
     KIND_SALAS_TORQUE,
@@ -26,10 +26,9 @@ from ..regimes.strobe_windows import _strobe_value
 # Small per-window pieces are inlined into their callers, where the kind is a constant
 # (numba prunes the other kinds' branches before compiling); large ones are compiled
 # once per kind and called.
-_INLINE = dict(cache=True, inline="always")
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def _evaluate_windows(kind, starts, start_theta, coefs, n, direction, t, out_theta, out_v):
     """Evaluate a run of ``n`` stored windows (``win_t``, ``win_y``, ``win_coef`` of :func:`run`) at ``t``.
 

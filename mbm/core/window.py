@@ -28,14 +28,9 @@ from ..approximants.taylor import (
     taylor_eval_kernel,
     taylor_window_log,
 )
-from ..compile.jit import kernel
+from ..compile.jit import INLINE, kernel
 from .kind_ops import OP_ANCHOR, OP_ERROR, OP_EVAL, OPS_PER_KIND, call_anchor, call_error, call_eval
 
-# Inlined only where a caller's constant kind or regime set must prune branches (numba
-# prunes an inlined constant, not a called function's literal argument) or where a call
-# measured slower; numba re-types an inlined body at every site (~0.1 s of a first
-# call each), while LLVM inlines a plain call anyway (docs/contributing.md).
-_INLINE = dict(cache=True, inline="always")
 
 
 # Kinds of the compiled dispatch: ``compiled_kind`` name -> (id, the approximant's
@@ -112,7 +107,7 @@ def kind_of(approximant):
     return entry[0], int(approximant.kind_arg)
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def anchor(kind, karg, beta, gamma, omega, theta0, v0, ws_coef, ws_scratch, simd=False):
     """Coefficient vector of approximant ``kind`` anchored at (θ₀, θ̇₀); coef[0] = status.
 
@@ -135,7 +130,7 @@ def anchor(kind, karg, beta, gamma, omega, theta0, v0, ws_coef, ws_scratch, simd
     return bad
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def anchor_driven(kind, karg, beta, gamma, omega, amp, freq, phase, t0, theta0, v0, ws_coef, ws_scratch,
                   simd=False):
     """:func:`anchor` of the driven equation (torque γ + A sin(Ωt + φ)), the window
@@ -153,7 +148,7 @@ def anchor_driven(kind, karg, beta, gamma, omega, amp, freq, phase, t0, theta0, 
     return bad
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def evaluate(kind, coef, t):
     """(θ, θ') of an anchored approximant at time ``t`` from its anchor."""
     if kind == KIND_TAYLOR:
@@ -163,7 +158,7 @@ def evaluate(kind, coef, t):
     return math.nan, math.nan
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def estimate(kind, coef, h):
     """Local error estimate (err_θ, err_θ') of the window [0, h].
 
@@ -177,7 +172,7 @@ def estimate(kind, coef, h):
     return 0.0, 0.0
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def prior_window(kind, coef, y0, y1, rtol, atol, log_eps):
     """A-priori window length of an anchored approximant, or inf where it has none.
 
@@ -199,7 +194,7 @@ def window_log_eps(rtol):
     return math.log(max(rtol / TAYLOR_WINDOW_MARGIN, TAYLOR_WINDOW_FLOOR))
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def step(kind, coef, h, with_error):
     """The approximant's step over [0, h]: ``(theta, v, err_theta, err_v)``.
 

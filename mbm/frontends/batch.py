@@ -10,6 +10,7 @@ import threading
 import numba
 import numpy as np
 
+from ..compile import warm as _warm
 from ..events import compiled as compiled_events
 from ..core import lanes, record
 from ..validate import (
@@ -104,8 +105,12 @@ def _run_interruptibly(job):
 
 
 def _run_batch_interruptibly(p, te, out, order):
-    # The batch without events (lanes and loop), interruptible.
-    _run_interruptibly(lambda cancel: lanes.run_batch(p, te, out, order, cancel))
+    # The batch without events (lanes and loop), interruptible; from a cold cache, a
+    # helper process compiles the lanes beside them.
+    eligible = lanes.eligible_rows(p)
+    if eligible.any():
+        _warm.prefetch("batch", lanes._run_lanes)
+    _run_interruptibly(lambda cancel: lanes.run_batch(p, te, out, order, cancel, eligible=eligible))
 
 
 def _scene_arrays(params, driven_call):

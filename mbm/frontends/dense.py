@@ -22,6 +22,7 @@ import math
 import numba
 import numpy as np
 
+from ..compile.jit import INLINE
 from ..core import stored, window
 from ..approximants.taylor import taylor_eval_range
 from ..approximants.taylor_simd import SIMD_ORDER
@@ -38,18 +39,17 @@ from ..regimes import CYCLE_TAG, CYCLE_WIDTH, LOCKED_TAG, LOCKED_WIDTH, STROBE_T
 
 __all__ = ["evaluate_windows_into", "evaluate_windows_at", "evaluators", "dense_set", "DENSE_TABLE"]
 
-_INLINE = dict(cache=True, inline="always")
 # One turn, as the loop's winding count is recovered (mbm.core.stored._evaluate_windows).
 _TWO_PI = 2.0 * math.pi
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def _holds(starts, n, direction, i, tj):
     # Whether window i is the last one whose start is not after tj.
     return direction * (tj - starts[i]) >= 0.0 and (i == n - 1 or direction * (tj - starts[i + 1]) < 0.0)
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def _find(starts, n, direction, i, tj):
     """The window of time ``tj``: the last whose start is not after it (window 0 when
     none is), as :func:`mbm.core.stored._evaluate_windows`' bisection finds it.
@@ -76,7 +76,7 @@ def _find(starts, n, direction, i, tj):
     return lo
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def _winding(kind, c, start_theta_i):
     # The winding count of a window anchored at φ (mbm.core.stored._evaluate_windows): from its
     # start's θ and the anchor's φ (a locked window stores θ₀ at c[1]).
@@ -89,7 +89,7 @@ def _winding(kind, c, start_theta_i):
     return float(round((start_theta_i - phi0) / _TWO_PI))
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def _strobe_run(kind, c, t, lo, hi, out_theta, out_v):
     # A phase-locked window: the stored period (q drive periods) from its anchor, at the
     # absolute time (mbm.regimes S6, S7).
@@ -99,7 +99,7 @@ def _strobe_run(kind, c, t, lo, hi, out_theta, out_v):
         out_v[q] = b
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def _cycle_run(kind, simd, c, t0, t, lo, hi, out_theta, out_v):
     # A cycle window: the stored period (re-taken once for these times), shifted (its
     # own winding count).
@@ -110,7 +110,7 @@ def _cycle_run(kind, simd, c, t0, t, lo, hi, out_theta, out_v):
         out_v[q] = b
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def _nan_run(lo, hi, out_theta, out_v):
     # A stored period of a set the entry lacks: NaN, never another formula.
     for q in range(lo, hi):
@@ -118,7 +118,7 @@ def _nan_run(lo, hi, out_theta, out_v):
         out_v[q] = math.nan
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def _plain_run(kind, c, t0, start_theta_i, t, lo, hi, out_theta, out_v):
     # An ordinary or locked window.
     ki = _winding(kind, c, start_theta_i)

@@ -18,7 +18,7 @@ the code's comments cite) are in the documentation's theory page,
   period of q drive periods.
 - :mod:`mbm.regimes.common`: the REGIME_* codes, REGIME_NAMES and SWITCH_SAFETY.
 
-How a regime plugs into the window loop (:func:`mbm.core.loop._run`):
+How a regime plugs into the window loop (the entry of :func:`mbm.core.loop._runner`):
 
 switch rule
     Tested between windows; it passes only where every output after the switch stays
@@ -39,7 +39,8 @@ window
 evaluation
     A locked window is its closed form, :func:`locked_eval`.  A cycle, libration or
     phase-locked window is its stored period re-taken from the anchor by the same
-    approximant and controller (mbm.core.loop ``_period_windows`` and ``_strobe_eval``;
+    approximant and controller (``_period_windows_for`` of
+    :mod:`mbm.regimes.cycle_windows`, ``_strobe_eval_taylor`` of :mod:`mbm.regimes.strobe_windows`;
     R3, C3, S6), so every path and the dense output (mbm.frontends.dense) give the same bits.
     A result's ``period`` and ``mean_velocity`` are :func:`cycle_summary` and
     :func:`strobe_summary`.

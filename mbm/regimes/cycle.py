@@ -1,11 +1,11 @@
 """The RUNNING cycle: a damped rotation settling on its limit cycle, one stored period re-taken.
 
 RUNNING cycle (β > 0; a rotation settling on the limit cycle θ(t + T_c) = θ(t) ± 2π).
-After each window the loop (:func:`mbm.core.loop._run`) looks for the section crossings
-(R1, :func:`section_offset`) and tests the switch on them (:func:`cycle_switch`, R2);
+After each window the loop (the entry of :func:`mbm.core.loop._runner`) looks for the
+section crossings (R1, :func:`section_offset`) and tests the switch on them (:func:`cycle_switch`, R2);
 after the switch the rest is one stored period re-taken from the anchor crossing (R3):
-the window :func:`cycle_coef`, evaluated by mbm.core.loop (``_cycle_phase``,
-``_period_windows``).  A libration (:mod:`mbm.regimes.libration`, C3) is stored in the
+the window :func:`cycle_coef`, evaluated by :mod:`mbm.regimes.cycle_windows` (``_cycle_phase``,
+``_period_windows_for``).  A libration (:mod:`mbm.regimes.libration`, C3) is stored in the
 same layout, winding sign 0.
 
 The derivation, items R1–R4 (the comments below cite them), is in the

@@ -34,7 +34,7 @@ from ..core.kind_ops import (
     call_period_value,
     call_refine,
 )
-from ..compile.jit import kernel
+from ..compile.jit import INLINE, kernel
 from .common import REGIME_RUNNING
 from .cycle import (
     CROSSING_ITERATIONS,
@@ -49,7 +49,6 @@ from ..status import STATUS_OK
 # Small per-window pieces are inlined into their callers, where the kind is a constant
 # (numba prunes the other kinds' branches before compiling); large ones are compiled
 # once per kind and called.
-_INLINE = dict(cache=True, inline="always")
 
 
 # A section crossing's Newton stops once its next correction, (θ''/2θ')·d² after a
@@ -80,7 +79,7 @@ CYCLE_REFINED = -1
 PERIOD_STORE_START = 64
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def _crossing(kind, coef, h, f0, f1, level, acc0, beta, w2):
     """Where the window's θ(s) crosses ``level`` in (0, h] (f0, f1: θ − level at 0, h).
 
@@ -126,7 +125,7 @@ def _crossing(kind, coef, h, f0, f1, level, acc0, beta, w2):
     return s, v
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def _cycle_phase(c, t):
     """``(n, s)``: τ = t + t_off = nT + s, 0 ≤ s ≤ T, for a cycle window ``c`` (R3, C3).
 
@@ -225,7 +224,7 @@ def _period_windows_for(kind, simd=False):
     return period_windows
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def _period_lookup(kind, c, starts, ends, coefs, n, t):
     """A cycle window ``c`` at ``t`` from its stored period (:func:`_period_windows_for`).
 
@@ -263,7 +262,7 @@ _period_windows_taylor24 = _period_windows_for(KIND_TAYLOR, True)
 _period_windows_split = _period_windows_for(KIND_SPLIT)
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def _period_store(kind, c, simd=False):
     """:func:`_period_windows_for` of kind ``kind`` through its compiled entry; ``simd`` (a
     constant of the caller, whose runs are of the default Taylor degree): the vector
@@ -286,7 +285,7 @@ def _period_lookup_split(c, starts, ends, coefs, n, t):
     return _period_lookup(KIND_SPLIT, c, starts, ends, coefs, n, t)
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def _period_value(kind, c, starts, ends, coefs, n, t):
     """:func:`_period_lookup` of kind ``kind`` through its compiled entry."""
     if kind == KIND_SPLIT:
@@ -310,7 +309,7 @@ def _refine_period_for(kind, simd=False):
     return refine_period_of_kind
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def _refined_period(kind, simd, r, theta_c, v_c, period, sgn, wind):
     """T_c from two returns to the section re-taken from the cycle's anchor (θ_c, v_c),
     in time from the anchor and at PERIOD_REFINE_RTOL (R4): the return times T₁, T₂
@@ -357,7 +356,7 @@ _refine_period_taylor24 = _refine_period_for(KIND_TAYLOR, True)
 _refine_period_split = _refine_period_for(KIND_SPLIT)
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def refine_period(kind, r, simd=False):
     """The running cycle's period refined once (R4), at the run's first cycle window: its
     record's T_c (:func:`_refined_period`), ``cyc_k`` CYCLE_REFINED after, through kind
@@ -421,7 +420,7 @@ _cycle_crossing_taylor = _cycle_crossing_for(KIND_TAYLOR)
 _cycle_crossing_split = _cycle_crossing_for(KIND_SPLIT)
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def _watch_cycle(kind, r, coef, t, t_new, y0, th, v, k, off, sec_off, sec_acc, beta, gamma, omega, t_bound,
                  rtol, atol):
     """After an ordinary window [t, t_new] from φ = ``y0`` to (``th``, ``v``): the return

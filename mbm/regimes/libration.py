@@ -2,9 +2,9 @@
 
 LIBRATION (β = 0, |γ| < ω²; a conservative motion trapped in a well of the tilted
 potential, exactly periodic from its first instant).
-:func:`libration_period` gives the period and its error bound (C1, C2); the loop
-(:func:`mbm.core.loop._run`) tests the switch rule (C4) at the run's first window, and the
-window is the running cycle's (R3, :mod:`mbm.regimes.cycle`) with winding sign 0 and
+:func:`libration_period` gives the period and its error bound (C1, C2); the loop (the
+entry of :func:`mbm.core.loop._runner`) tests the switch rule (C4) at the run's first
+window, and the window is the running cycle's (R3, :mod:`mbm.regimes.cycle`) with winding sign 0 and
 a double-double period (C3).  U(x) in double is L3's (:mod:`mbm.regimes.locked`).
 
 The derivation, items C1–C4 (the comments below cite them), is in the

@@ -1,8 +1,8 @@
 """The LOCKED regime: a damped run settling on a stable equilibrium, in closed form.
 
 The LOCKED regime (β > 0, |γ| < ω²) is a run settling on a stable
-equilibrium θ* = d + 2πk, d = arcsin(γ/ω²).  The window loop (:func:`mbm.core.loop._run`)
-asks :func:`locked_bound` before each window; when the bound on the neglected
+equilibrium θ* = d + 2πk, d = arcsin(γ/ω²).  The window loop (the entry of
+:func:`mbm.core.loop._runner`) asks :func:`locked_bound` before each window; when the bound on the neglected
 nonlinearity over the whole rest of the horizon is within the tolerance, the run
 takes one last "window" to ``t_bound`` whose formula is the linearized motion
 (:func:`locked_eval`), so the run costs its transient only.  The first-order form is

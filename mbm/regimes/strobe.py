@@ -3,11 +3,11 @@
 PHASE-LOCKED to the drive (β > 0, A ≠ 0, Ω > 0; a driven run settling on a periodic
 orbit of the stroboscopic map, θ(t + T_d) = θ(t) + 2πp, T_d = 2π/Ω: a Shapiro step;
 S7 for θ(t + qT_d) = θ(t) + 2πp, the fractional steps).
-The loop (:func:`mbm.core.loop._run`) samples the run at the stroboscopic times
+The loop (the entry of :func:`mbm.core.loop._runner`) samples the run at the stroboscopic times
 (:func:`strobe_period`, :func:`strobe_time`, S1) and tests the switch on the deviations
 (:func:`strobe_switch`, S3–S5, S7); after the switch the rest is one stored period
 re-taken from the anchor sample (S6): the window :func:`strobe_coef`, evaluated by
-mbm.core.loop (``_strobe_eval``; :func:`strobe_split`, :func:`strobe_phase`).
+:mod:`mbm.regimes.strobe_windows` (``_strobe_eval_taylor``; :func:`strobe_split`, :func:`strobe_phase`).
 
 The derivation, items S1–S7 (the comments below cite them), is in the
 documentation's theory page, ``docs/theory/regimes.md``.

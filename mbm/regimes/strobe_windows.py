@@ -22,7 +22,7 @@ from ..core.window import (
     window_log_eps,
     wrap,
 )
-from ..compile.jit import kernel
+from ..compile.jit import INLINE, kernel
 from .common import REGIME_NONE, REGIME_PHASE_LOCKED, SWITCH_SAFETY
 from .cycle import CYCLE_MAX_WINDOWS
 from .cycle_windows import _TWO_PI
@@ -42,7 +42,6 @@ from ..status import STATUS_OK
 # Small per-window pieces are inlined into their callers, where the kind is a constant
 # (numba prunes the other kinds' branches before compiling); large ones are compiled
 # once per kind and called.
-_INLINE = dict(cache=True, inline="always")
 
 
 # The drive is Taylor's only: one compiled copy, called (a whole controller re-run; inlined,
@@ -89,7 +88,7 @@ def _strobe_eval_taylor(c, t):
     return math.nan, math.nan, 0.0
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def _strobe_value(kind, c, t):
     """:func:`_strobe_eval_taylor` of kind ``kind`` through its compiled entry (Taylor only)."""
     if kind == KIND_TAYLOR:
@@ -170,8 +169,8 @@ def _strobe_samples_taylor(p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det, n_to
 
 
 # _strobe_dev and _strobe_subharmonic are called, not inlined: they are kind-free, run once
-# per drive period of a driven run, and inlined at their call sites they added ~10 s to
-# run_taylor's compile from an empty cache (49 -> 39 s, measured).
+# per drive period of a driven run, and inlined at their call sites they add about a
+# quarter to run_taylor's compile from an empty cache.
 @kernel
 def _strobe_dev(r, n, i, d, k, phi, v):
     """``(turns, Δθ, Δθ')`` of z_i − z_{i−d} (S1's arithmetic; S7): samples before the
@@ -265,7 +264,7 @@ def _strobe_setup(r, t, freq, beta, n_total):
     return sp_hi, sp_lo, sp_det, sp_next
 
 
-@numba.njit(**_INLINE)
+@numba.njit(**INLINE)
 def _watch_strobe(kind, p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det, n_total):
     """:func:`_strobe_samples_taylor` through its compiled entry (Taylor only: the only kind
     that integrates a drive; no sample otherwise)."""
