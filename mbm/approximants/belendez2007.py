@@ -108,6 +108,11 @@ _NAN = float("nan")
 # ---------------------------------------------------------------------------
 
 
+# Names of coef[1:] of the "belendez-harmonic" approximant (harmonic_anchor_kernel).
+HARMONIC_PARAM_NAMES = ("omega", "theta0", "v0", "omega_h", "A", "phase", "A_energy", "period",
+                        "theta_red", "theta_red_lo", "m")
+
+
 @numba.njit(**NJIT_OPTIONS)  # also called from Python
 def belendez_anchor_kernel(beta, gamma, omega, theta0, v0):
     """Anchor the exact flow: ``coef = [status, *flow_setup_kernel(...)[:-1]]``.
@@ -310,5 +315,4 @@ class BelendezHarmonic(Approximant):
         _check_conservative(self.name, model)
 
     def param_names(self):
-        return ("omega", "theta0", "v0", "omega_h", "A", "phase", "A_energy", "period",
-                "theta_red", "theta_red_lo", "m")
+        return HARMONIC_PARAM_NAMES

@@ -21,6 +21,7 @@ at ``t − start``, as :func:`mbm.core.stored.evaluate_windows` gives it); on a 
 window, the period's value at the event's phase, shifted.
 """
 
+import collections
 import math
 
 import numba
@@ -389,13 +390,18 @@ def taylor_events(c, t_w, h, k, ev, hits, stored, cap, drive_freq, drive_phase, 
     return evf, evi, count, WATCH_OK, False
 
 
+#: The scratch arrays of :func:`taylor_events` (:func:`workspace`).
+EventWorkspace = collections.namedtuple("EventWorkspace", ("alpha", "beta_v", "work", "xs", "ds", "out_s", "out_m",
+                                                           "out_e"))
+
+
 @kernel
 def workspace(nd_max):
     """The scratch arrays of :func:`taylor_events` for windows of up to ``nd_max``
-    coefficients: (alpha, beta_v, work, xs, ds, out_s, out_m, out_e)."""
-    return (np.empty(nd_max), np.empty(nd_max), np.empty(nd_max), np.empty(WINDOW_CROSSINGS),
-            np.empty(WINDOW_CROSSINGS), np.empty(WINDOW_CROSSINGS), np.empty(WINDOW_CROSSINGS),
-            np.empty(WINDOW_CROSSINGS, np.int64))
+    coefficients, an :data:`EventWorkspace`."""
+    return EventWorkspace(np.empty(nd_max), np.empty(nd_max), np.empty(nd_max), np.empty(WINDOW_CROSSINGS),
+                          np.empty(WINDOW_CROSSINGS), np.empty(WINDOW_CROSSINGS), np.empty(WINDOW_CROSSINGS),
+                          np.empty(WINDOW_CROSSINGS, np.int64))
 
 
 @kernel

@@ -42,7 +42,9 @@ phase-locked.  A run of fixed windows (τ given) of a kind with an error estimat
 RS_FIXED's entry, which compiles neither a regime nor the adaptive controller.
 """
 
+import collections
 import math
+
 import numba
 import numpy as np
 
@@ -247,7 +249,7 @@ def _regime_setup(kind, rset, r, may, width, t, n_total):
                 and kind == KIND_TAYLOR
                 and r.control.max_dtheta == math.inf and (width == 0 or width >= STROBE_WIDTH)):
             sp = _strobe_setup(r, t, m.drive_freq, m.beta, n_total)
-    return can_lock, lk, can_cycle, sec_off, sec_acc, can_librate, sp
+    return RegimeSetup(can_lock, lk, can_cycle, sec_off, sec_acc, can_librate, sp)
 
 
 @numba.njit(**INLINE)
@@ -270,6 +272,18 @@ def _stop_before(kind, rset, r, n, n_total, store, cap, seen, cancel):
     return STATUS_OK, seen
 
 
+#: A window as a source gives it: its status, the anchored coefficients, the end time and
+#: state (θ, θ', winding), the length tried and the next proposal, whether it is the
+#: locked closed form, and the stored period's windows (passed through).
+Window = collections.namedtuple(
+    "Window", ("status", "coef", "t_new", "theta", "v", "k_new", "h_abs", "h_next", "is_locked", "per"))
+
+#: What :func:`_regime_setup` derives once per call: the damped set's constants
+#: (:func:`damped_setup`), whether the libration test applies, the strobe's constants.
+RegimeSetup = collections.namedtuple(
+    "RegimeSetup", ("can_lock", "lk", "can_cycle", "sec_off", "sec_acc", "can_librate", "sp"))
+
+
 # The window sources, one per kind of window: run_entry branches on its constant set
 # itself (numba prunes a branch on a closure constant before it inlines the calls in
 # it; inside an inlined callee, only after that callee's own calls are inlined), so
@@ -278,7 +292,7 @@ def _stop_before(kind, rset, r, n, n_total, store, cap, seen, cancel):
 @numba.njit(**INLINE)
 def _source_cycle(kind, simd, r, t, direction, max_step, h_abs, per):
     """The running cycle's window (RS_CYCLE: the stored period shifted, R3), as
-    :func:`_source` returns it (``per``: the period's windows, built at the call's
+    :func:`_source` returns it (a :data:`Window`) (``per``: the period's windows, built at the call's
     first cycle window; ``simd``: the default degree's entry, :func:`_runner`)."""
     m, c, y = r.model, r.control, r.cycle
     t_new = _window_end(t, direction, r.state.t_bound, max_step)
@@ -290,20 +304,20 @@ def _source_cycle(kind, simd, r, t, direction, max_step, h_abs, per):
         per = _period_store(kind, coef, simd)
     th, v, k_new = _period_value(kind, coef, per[0], per[1], per[2], per[3], t_new - t)
     st = STATUS_OK if math.isfinite(th) and math.isfinite(v) else STATUS_NONFINITE
-    return st, coef, t_new, th, v, k_new, h_abs, h_abs, False, per
+    return Window(st, coef, t_new, th, v, k_new, h_abs, h_abs, False, per)
 
 
 @numba.njit(**INLINE)
 def _source_strobe(kind, r, t, direction, max_step, h_abs, per):
     """The phase-locked window (RS_STROBE: the stored drive period, S6, S7), as
-    :func:`_source` returns it."""
+    :func:`_source` returns it (a :data:`Window`)."""
     m, c, s = r.model, r.control, r.strobe
     t_new = _window_end(t, direction, r.state.t_bound, max_step)
     coef = strobe_coef(s.str_phi, s.str_v, s.str_k, s.str_ta, s.str_q, s.str_p, s.str_psi, m.beta, m.gamma,
                        m.omega, m.drive_amp, m.drive_freq, c.rtol, c.atol, c.karg, c.error_order)
     th, v, k_new = _strobe_value(kind, coef, t_new)
     st = STATUS_OK if math.isfinite(th) and math.isfinite(v) else STATUS_NONFINITE
-    return st, coef, t_new, th, v, k_new, h_abs, h_abs, False, per
+    return Window(st, coef, t_new, th, v, k_new, h_abs, h_abs, False, per)
 
 
 @numba.njit(**INLINE)
@@ -323,17 +337,17 @@ def _source_fixed(kind, rset, simd, r, t, y0, y1, k, direction, max_step, h_abs,
     an estimate, a fixed controller's window), as :func:`_source` returns it."""
     coef = _anchored(kind, rset, simd, r, t, y0, y1, ws)
     if coef[0] != 0.0:
-        return STATUS_ANCHOR, coef, t, y0, y1, k, h_abs, h_abs, False, per
+        return Window(STATUS_ANCHOR, coef, t, y0, y1, k, h_abs, h_abs, False, per)
     st, t_new, th, v = fixed_window(kind, coef, t, direction, r.state.t_bound, min(h_abs, max_step))
-    return st, coef, t_new, th, v, k, h_abs, h_abs, False, per
+    return Window(st, coef, t_new, th, v, k, h_abs, h_abs, False, per)
 
 
 @numba.njit(**INLINE)
 def _source(kind, rset, simd, r, t, y0, y1, k, off, direction, max_step, h_abs, log_eps, can_lock, lk, ws, per):
     """The window from (t, φ = ``y0``, θ' = ``y1``, winding ``k``) outside the stored
     periods: the locked closed form (L2, L5), or the approximant anchored at the state
-    under the adaptive controller (a fixed window: :func:`_source_fixed`).  Returns ``(status, coef, t_new, θ, θ', k_new, h_abs, h_next,
-    is_locked, per)`` (``per`` passed through)."""
+    under the adaptive controller (a fixed window: :func:`_source_fixed`).  Returns its
+    :data:`Window` (``per`` passed through)."""
     m, c = r.model, r.control
     beta, gamma, omega = m.beta, m.gamma, m.omega
     rtol, atol, error_order = c.rtol, c.atol, c.error_order
@@ -349,16 +363,16 @@ def _source(kind, rset, simd, r, t, y0, y1, k, off, direction, max_step, h_abs, 
             r.switch.regime = REGIME_LOCKED
             r.switch.t_regime = t
         st = STATUS_OK if math.isfinite(th) and math.isfinite(v) else STATUS_NONFINITE
-        return st, coef, t_new, th, v, k, h_abs, h_abs, True, per
+        return Window(st, coef, t_new, th, v, k, h_abs, h_abs, True, per)
     coef = _anchored(kind, rset, simd, r, t, y0, y1, ws)
     if coef[0] != 0.0:
-        return STATUS_ANCHOR, coef, t, y0, y1, k, h_abs, h_abs, False, per
+        return Window(STATUS_ANCHOR, coef, t, y0, y1, k, h_abs, h_abs, False, per)
     if h_abs <= 0.0:
         h_abs = _first(kind, coef, t, y0, y1, off, direction, t_bound, omega, max_step, rtol, atol, error_order,
                        log_eps)
     st, t_new, th, v, h_next = _adaptive(kind, coef, t, y0, y1, off, direction, t_bound, h_abs, max_step, rtol,
                                          atol, error_order, log_eps)
-    return st, coef, t_new, th, v, k, h_abs, h_next, False, per
+    return Window(st, coef, t_new, th, v, k, h_abs, h_next, False, per)
 
 
 @numba.njit(**INLINE)

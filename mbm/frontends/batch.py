@@ -5,6 +5,7 @@ windows as :func:`mbm.frontends.solve.solve` would, runs them in :func:`mbm.core
 gathers the per-scene result; each scene's answer equals :func:`mbm.frontends.solve.solve` for it.
 """
 
+import collections
 import threading
 
 import numba
@@ -232,6 +233,10 @@ def _batch_result(p, te, out, wrap, names):
                                where=f["regime"] == REGIME_RUNNING))),
     )
 
+# solve_batch's options common to every scene (_run_options).
+_RunOptions = collections.namedtuple("_RunOptions", ("t0", "t1", "t_eval", "rtol", "atol", "max_step", "max_windows"))
+
+
 def _run_options(t_span, t_eval, rtol, atol, max_step, max_windows, wrap):
     # solve_batch's options common to every scene, checked.
     if t_eval is None:
@@ -243,7 +248,7 @@ def _run_options(t_span, t_eval, rtol, atol, max_step, max_windows, wrap):
     max_windows = check_max_windows(max_windows)
     if wrap is not False and wrap is not True:
         raise ValueError(f"wrap must be True or False, got {wrap!r}")
-    return t0, t1, te, rtol, atol, max_step, max_windows
+    return _RunOptions(t0, t1, te, rtol, atol, max_step, max_windows)
 
 
 def _run_events(p, te, out, order, ev, cap, items, drive, fresh):

@@ -20,6 +20,7 @@ All three share one calling convention and return a
 :class:`scipy.optimize.OptimizeResult` shaped like ``solve_ivp``'s result.
 """
 
+import collections
 import math
 
 import numpy as np
@@ -44,6 +45,10 @@ CVODE_ADAMS_MAX_ORDER = 12
 # limit on a long horizon is run time, not this cap.
 MAX_NUM_STEPS = 10**9
 
+# reference's arguments, checked and normalised (_validate).
+_Arguments = collections.namedtuple("_Arguments", ("solver", "t0", "tf", "y0", "t_eval", "rtol", "atol"))
+
+
 def _validate(model, t_span, y0, t_eval, rtol, atol, solver):
     """Check and normalise the arguments of :func:`reference`."""
     if not isinstance(model, Pendulum):
@@ -58,7 +63,7 @@ def _validate(model, t_span, y0, t_eval, rtol, atol, solver):
         t_eval = check_t_eval(t_eval, t0, tf, strict=True)
         if t_eval.size == 0:
             raise ValueError("t_eval must be None or contain at least one time")
-    return solver, t0, tf, y0, t_eval, rtol, atol
+    return _Arguments(solver, t0, tf, y0, t_eval, rtol, atol)
 
 
 def _output_grid(t0, tf, t_eval):

@@ -14,6 +14,7 @@ The derivation, items L1–L7 (the comments below cite them), is in the
 documentation's theory page, ``docs/theory/regimes.md``.
 """
 
+import collections
 import math
 
 import numba
@@ -72,6 +73,13 @@ LCK_QI = 9  # Q_i of x₂ (L6)
 LCK_M = 10  # M of x₂ (L6)
 LCK_DR = 11  # D_r of x₂ (L6)
 LCK_DI = 12  # D_i of x₂ (L6)
+
+
+#: :func:`locked2_terms`' result (item L6): x₂'s parts and its bound's terms.
+Locked2Terms = collections.namedtuple("Locked2Terms", ("qr", "qi", "m", "dr", "di", "c_abs", "x2"))
+
+#: :func:`_lock_setup`'s result: the locked test's constants of a run (L5).
+LockSetup = collections.namedtuple("LockSetup", ("d", "wl2", "g0", "g1", "sd", "q2", "can_lock2"))
 
 
 @kernel
@@ -364,7 +372,7 @@ def locked2_terms(beta, gamma, wl2, x0, v0):
     xp1 = -beta * qr - 2.0 * s * qi - beta * m
     di = (xp1 - hb * dr) / s
     x2 = math.hypot(qr, qi) + abs(m) + math.hypot(dr, di)
-    return qr, qi, m, dr, di, math.sqrt(c_abs2), x2
+    return Locked2Terms(qr, qi, m, dr, di, math.sqrt(c_abs2), x2)
 
 
 @kernel
@@ -572,4 +580,4 @@ def _lock_setup(beta, gamma, omega, can_lock, can_lock2):
         if can_lock2:
             q2 = locked2_quick(beta, gamma, omega, d, wl2, g0)
             can_lock2 = q2 > 0.0
-    return d, wl2, g0, g1, sd, q2, can_lock2
+    return LockSetup(d, wl2, g0, g1, sd, q2, can_lock2)

@@ -38,6 +38,7 @@ Python level: :func:`pendulum_flow`, :func:`period` (exported as
 ``mbm.pendulum_flow`` and ``mbm.period``).
 """
 
+import collections
 import math
 
 import numba
@@ -111,8 +112,15 @@ FLOW_PARAM_NAMES = (
     "vscale",
 )
 
-# Length of the tuple returned by flow_setup_kernel: FLOW_PARAM_NAMES and the status.
-N_FLOW = len(FLOW_PARAM_NAMES) + 1
+#: flow_setup_kernel's result: the entries FLOW_PARAM_NAMES, then the status.
+FlowSetup = collections.namedtuple("FlowSetup", FLOW_PARAM_NAMES + ("status",))
+
+#: The elliptic constants of a libration or a rotation (k_lo is 0 for a libration).
+EllipticConstants = collections.namedtuple(
+    "EllipticConstants", ("k_lo", "par", "parc", "K_hi", "K_lo", "u0", "rate_hi", "rate_lo", "vscale", "per"))
+
+# Length of flow_setup_kernel's result: FLOW_PARAM_NAMES and the status.
+N_FLOW = len(FlowSetup._fields)
 
 _NAN = float("nan")
 _INF = float("inf")
@@ -126,7 +134,7 @@ _INF = float("inf")
 @kernel(error_model="numpy")
 def _failed_setup(status):
     x = _NAN
-    return (x, x, x, x, x, x, x, x, x, x, x, x, x, x, x, x, x, x, x, x, float(status))
+    return FlowSetup(x, x, x, x, x, x, x, x, x, x, x, x, x, x, x, x, x, x, x, x, float(status))
 
 
 @kernel(error_model="numpy")
@@ -145,8 +153,7 @@ def _half_rate_dd(v0, omega):
 def _libration_constants(sh, ch, w_hi, w_lo, k, m, mc, mc_lo, omega):
     """Libration, sin(θ/2) = k sn(ωt + u0 | m).
 
-    Returns (par, parc, K_hi, K_lo, u0, rate_hi, rate_lo, vscale, per) of
-    :func:`flow_setup_kernel`.
+    Returns the :data:`EllipticConstants` of :func:`flow_setup_kernel` (k_lo = 0).
     """
     par, parc = m, mc
     K_hi, K_lo = ellipk_dd_kernel(mc, mc_lo)
@@ -167,15 +174,14 @@ def _libration_constants(sh, ch, w_hi, w_lo, k, m, mc, mc_lo, omega):
     rate_hi, rate_lo = omega, 0.0
     vscale = 2.0 * k * omega
     per = (4.0 * K_hi + 4.0 * K_lo) / omega  # Beléndez et al. (2007), Eq. (26)
-    return par, parc, K_hi, K_lo, u0, rate_hi, rate_lo, vscale, per
+    return EllipticConstants(0.0, par, parc, K_hi, K_lo, u0, rate_hi, rate_lo, vscale, per)
 
 
 @kernel(error_model="numpy")
 def _rotation_constants(sh_hi, sh_lo, ch, h_hi, h_lo, aw_hi, aw_lo, k, m, mc, mc_lo, sign, omega):
     """Rotation, θ/2 = am(s k ω t + u0 | 1/m).
 
-    Returns (k_lo, par, parc, K_hi, K_lo, u0, rate_hi, rate_lo, vscale, per) of
-    :func:`flow_setup_kernel`.
+    Returns the :data:`EllipticConstants` of :func:`flow_setup_kernel`.
     """
     # k in double-double: the rotation rate k ω sets the phase at long times.
     a2, a2e = two_prod(sh_hi, sh_hi)
@@ -200,7 +206,7 @@ def _rotation_constants(sh_hi, sh_lo, ch, h_hi, h_lo, aw_hi, aw_lo, k, m, mc, mc
     rate_hi, rate_lo = fast_two_sum(sign * r_hi, sign * r_lo)
     vscale = 2.0 * sign * omega * k
     per = (2.0 * K_hi + 2.0 * K_lo) / ((k + k_lo) * omega)
-    return k_lo, par, parc, K_hi, K_lo, u0, rate_hi, rate_lo, vscale, per
+    return EllipticConstants(k_lo, par, parc, K_hi, K_lo, u0, rate_hi, rate_lo, vscale, per)
 
 
 @kernel(error_model="numpy")
@@ -217,8 +223,8 @@ def flow_setup_kernel(theta0, v0, omega):
 
     Returns
     -------
-    tuple of N_FLOW floats
-        ``(regime, omega, theta0, v0, k, m, mc, K, period, u0, sign, par, parc,
+    FlowSetup
+        A named tuple of N_FLOW floats ``(regime, omega, theta0, v0, k, m, mc, K, period, u0, sign, par, parc,
         K_lo, k_lo, theta_red, theta_red_lo, rate, rate_lo, vscale, status)``
         where ``par``/``parc`` are the Jacobi parameter and its complement actually
         used (m and mc in libration, 1/m and −mc/m in rotation), ``K + K_lo`` is
@@ -270,7 +276,7 @@ def flow_setup_kernel(theta0, v0, omega):
     if mc > 0.0:
         # ---------------- libration: sin(θ/2) = k sn(ωt + u0 | m) ----------------
         regime = REGIME_LIBRATION
-        par, parc, K_hi, K_lo, u0, rate_hi, rate_lo, vscale, per = _libration_constants(
+        k_lo, par, parc, K_hi, K_lo, u0, rate_hi, rate_lo, vscale, per = _libration_constants(
             sh, ch, w_hi, w_lo, k, m, mc, mc_lo, omega)
     elif mc < 0.0:
         # ---------------- rotation: θ/2 = am(s k ω t + u0 | 1/m) ------------------
@@ -299,7 +305,7 @@ def flow_setup_kernel(theta0, v0, omega):
         rate_hi, rate_lo = 0.0, 0.0
         vscale = 0.0
         per = _INF
-    return (
+    return FlowSetup(
         float(regime), omega, theta0, v0, k, m, mc, K_hi, per, u0, sign, par, parc,
         K_lo, k_lo, th_hi, th_lo, rate_hi, rate_lo, vscale, float(STATUS_OK),
     )
@@ -417,13 +423,11 @@ def pendulum_flow_kernel(theta0, v0, omega, t):
     ~0.3 µs).  To evaluate many times from one state, anchor once with
     :func:`flow_setup_kernel` / the "belendez" approximant and call the eval kernel.
     """
-    (regime, _om, _th0, _v0, k, _m, _mc, K_hi, _per, u0, sign, par, parc, K_lo,
-     _klo, th_hi, th_lo, rate_hi, rate_lo, vscale, status) = flow_setup_kernel(
-        theta0, v0, omega)
-    if status != 0.0:
+    f = flow_setup_kernel(theta0, v0, omega)
+    if f.status != 0.0:
         return _NAN, _NAN
-    return flow_eval_kernel(regime, theta0, v0, k, par, parc, K_hi, K_lo, u0, sign,
-                            th_hi, th_lo, rate_hi, rate_lo, vscale, t)
+    return flow_eval_kernel(f.regime, theta0, v0, f.k, f.par, f.parc, f.K, f.K_lo, f.u0, f.sign,
+                            f.theta_red, f.theta_red_lo, f.rate, f.rate_lo, f.vscale, t)
 
 
 @kernel(error_model="numpy")
@@ -433,15 +437,13 @@ def pendulum_flow_array_kernel(theta0, v0, omega, t, out_theta, out_v):
     Writes θ(t[i]), θ'(t[i]) to ``out_theta[i]``, ``out_v[i]``; NaN everywhere for
     invalid input.
     """
-    (regime, _om, _th0, _v0, k, _m, _mc, K_hi, _per, u0, sign, par, parc, K_lo,
-     _klo, th_hi, th_lo, rate_hi, rate_lo, vscale, status) = flow_setup_kernel(
-        theta0, v0, omega)
+    f = flow_setup_kernel(theta0, v0, omega)
     for i in range(t.shape[0]):
-        if status != 0.0:
+        if f.status != 0.0:
             a, b = _NAN, _NAN
         else:
-            a, b = flow_eval_kernel(regime, theta0, v0, k, par, parc, K_hi, K_lo, u0, sign,
-                                    th_hi, th_lo, rate_hi, rate_lo, vscale, t[i])
+            a, b = flow_eval_kernel(f.regime, theta0, v0, f.k, f.par, f.parc, f.K, f.K_lo, f.u0, f.sign,
+                                    f.theta_red, f.theta_red_lo, f.rate, f.rate_lo, f.vscale, t[i])
         out_theta[i] = a
         out_v[i] = b
 
@@ -452,10 +454,10 @@ def period_kernel(theta0, v0, omega):
     libration, 2K(1/m)/(kω) (θ advances by 2π) for rotation, inf on the separatrix / at the
     inverted equilibrium, 2π/ω at the bottom rest (small-oscillation limit).
     NaN for invalid input."""
-    res = flow_setup_kernel(theta0, v0, omega)
-    if res[N_FLOW - 1] != 0.0:
+    f = flow_setup_kernel(theta0, v0, omega)
+    if f.status != 0.0:
         return _NAN
-    return res[8]
+    return f.period
 
 
 # ---------------------------------------------------------------------------

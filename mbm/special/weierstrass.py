@@ -41,6 +41,7 @@ and with it ω, is known to ~eps/(2K) only (~3e-18 measured), which shows
 next to the far poles (2.2e-10 at z = (4 + 1e-7) ω, g2 = 3, g3 = −1 + 2⁻⁴⁰).
 """
 
+import collections
 import math
 
 import numba
@@ -70,6 +71,7 @@ __all__ = [
     "wp_roots_kernel",
     "wp_kernel",
     "wp_lattice_kernel",
+    "Lattice",
     "wp_eval_kernel",
     "wp_half_period_kernel",
     "wp_inverse_kernel",
@@ -146,12 +148,17 @@ def _newton_dd(x, g2, g3):
     return x, 0.0
 
 
+#: wp_lattice_kernel's result: the lattice data of ℘(·; g2, g3), fields as documented there.
+Lattice = collections.namedtuple(
+    "Lattice", ("kind", "r1", "r2", "r3", "dsign", "base", "lam2", "lamh", "laml", "m", "mc", "kch", "kcl"))
+
+
 @kernel(error_model="numpy")
 def _lattice_three_real(G2, G3, dh, t, rt):
     """:func:`wp_lattice_kernel` for Δ ≥ 0 (three real roots), at the scaled invariants.
 
     ``G2, G3`` are g2, g3 scaled by t = 4**k, ``dh`` the high part of their Δ,
-    ``rt`` = sqrt(t); returns the 13-tuple of :func:`wp_lattice_kernel`.
+    ``rt`` = sqrt(t); returns the :data:`Lattice` of :func:`wp_lattice_kernel`.
     """
     # Trigonometric method: e = 2 r cos(angle), r = sqrt(G2/12),
     # cos(3 alpha) = c = sqrt(27) G3 / G2^1.5, sin(3 alpha) = s = sqrt(Δ)/G2^1.5.
@@ -221,8 +228,8 @@ def _lattice_three_real(G2, G3, dh, t, rt):
     mc = mch
     kch, kcl = dd_sqrt(mch, mcl)
     lh, ll = dd_sqrt(D13h, D13l)
-    return (1.0, e1 * t, e2 * t, e3 * t, dsign, e1 * t, d13 * t,
-            lh * rt, ll * rt, m, mc, kch, kcl)
+    return Lattice(1.0, e1 * t, e2 * t, e3 * t, dsign, e1 * t, d13 * t,
+                   lh * rt, ll * rt, m, mc, kch, kcl)
 
 
 @kernel(error_model="numpy")
@@ -230,7 +237,7 @@ def _lattice_one_real(G2, G3, dh, dl, t, rt):
     """:func:`wp_lattice_kernel` for Δ < 0 (one real root), at the scaled invariants.
 
     ``G2, G3`` are g2, g3 scaled by t = 4**k, ``(dh, dl)`` their Δ as a
-    double-double, ``rt`` = sqrt(t); returns the 13-tuple of :func:`wp_lattice_kernel`.
+    double-double, ``rt`` = sqrt(t); returns the :data:`Lattice` of :func:`wp_lattice_kernel`.
     """
     # Δ < 0: Cardano for x³ + p x + q, p = −G2/4, q = −G3/4, with the cube
     # root of the larger-magnitude term (no cancellation) ...
@@ -278,8 +285,8 @@ def _lattice_one_real(G2, G3, dh, dl, t, rt):
     kch, kcl = dd_sqrt(mch, mcl)
     lh, ll = dd_sqrt(Hh, Hl)  # the argument scale is sqrt(H)
     b = math.sqrt(b2h)
-    return (-1.0, -0.5 * e2 * t, e2 * t, b * t, -1.0, e2 * t, Hh * t,
-            lh * rt, ll * rt, m_h, mch, kch, kcl)
+    return Lattice(-1.0, -0.5 * e2 * t, e2 * t, b * t, -1.0, e2 * t, Hh * t,
+                   lh * rt, ll * rt, m_h, mch, kch, kcl)
 
 
 @numba.njit(**NJIT_OPTIONS)
@@ -294,8 +301,9 @@ def wp_lattice_kernel(g2, g3):
 
     Returns
     -------
-    kind, r1, r2, r3, dsign, base, lam2, lamh, laml, m, mc, kch, kcl : float
-        A 13-tuple:
+    Lattice
+        A named tuple of 13 floats ``(kind, r1, r2, r3, dsign, base, lam2, lamh, laml,
+        m, mc, kch, kcl)``:
 
         * ``kind``: 1.0 (Δ ≥ 0), -1.0 (Δ < 0) or 0.0 (g2 = g3 = 0); NaNs for
           non-finite invariants;
@@ -308,9 +316,9 @@ def wp_lattice_kernel(g2, g3):
     """
     nan = math.nan
     if not (abs(g2) < math.inf and abs(g3) < math.inf):
-        return nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan
+        return Lattice(nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan)
     if g2 == 0.0 and g3 == 0.0:
-        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+        return Lattice(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     # Scale by t = 4**k (exact) so that the normalised roots are of order 1;
     # sqrt(t) = 2**k is exact too.
     size = max(math.sqrt(abs(g2)), math.pow(abs(g3), 1.0 / 3.0))
@@ -346,8 +354,8 @@ def wp_roots_kernel(g2, g3):
         * g2 = g3 = 0: ``(0.0, 0.0, 0.0, 0.0)``.
         Non-finite input gives NaNs.
     """
-    kind, r1, r2, r3, ds, base, lam2, lh, ll, m, mc, kch, kcl = wp_lattice_kernel(g2, g3)
-    return r1, r2, r3, ds
+    lat = wp_lattice_kernel(g2, g3)
+    return lat.r1, lat.r2, lat.r3, lat.dsign
 
 
 @numba.njit(**NJIT_OPTIONS)
