@@ -41,6 +41,8 @@ from .frontends.batch import solve_batch
 from .events.compiled import Event, angle_event, section_event, velocity_event
 from .events.njit import event_table, solve_njit_events, solve_njit_function_events
 from .junction.iv import IVCurve, iv_curve
+from .junction.units import Junction
+from .junction.fits import beta_from_retrapping, retrapping_current
 from .model import Pendulum, identify_model
 from .junction.shapiro import ShapiroStep, ShapiroSteps, shapiro_steps
 from .frontends.reference import reference
@@ -56,11 +58,13 @@ __all__ = [
     "Event",
     "IVCurve",
     "Integrator",
+    "Junction",
     "Pendulum",
     "ShapiroStep",
     "ShapiroSteps",
     "angle_event",
     "approximant_names",
+    "beta_from_retrapping",
     "event_table",
     "get_approximant",
     "identify_model",
@@ -68,6 +72,7 @@ __all__ = [
     "pendulum_flow",
     "period",
     "reference",
+    "retrapping_current",
     "section_event",
     "shapiro_steps",
     "solve",
