@@ -4,7 +4,8 @@ The undriven junction  θ'' + β θ' + ω² sin θ = γ  is bistable for γ_r(β
 when β is small: the running cycle is born at γ_r in a homoclinic bifurcation, where
 the unstable manifold of the saddle θ_s = π − arcsin(γ/ω²) reaches the next saddle
 θ_s + 2π.  Scaling time by ω, γ_r(β, ω) = ω² g_r(β/ω), g_r the ω = 1 curve: g_r ≈ 4β/π
-for small β (Melnikov), g_r = 1 (no hysteresis) above β* ≈ 1.19 (β_c ≈ 0.7).
+for small β (Melnikov), g_r = 1 (no hysteresis) above β* ≈ 1.192 (β_c ≈ 0.70; measured:
+beta_from_retrapping(1 − 1e-6) = 1.19204).
 
 The manifold is followed by :func:`mbm.solve` (Taylor, rtol 1e-12) from the saddle,
 offset along its unstable eigenvector, until it passes the next saddle or turns back;
