@@ -42,7 +42,7 @@ from .events.compiled import Event, angle_event, section_event, velocity_event
 from .events.njit import event_table, solve_njit_events, solve_njit_function_events
 from .junction.iv import IVCurve, iv_curve
 from .junction.units import Junction
-from .junction.fits import beta_from_retrapping, retrapping_current
+from .junction.fits import IVFit, beta_from_retrapping, fit_iv, retrapping_current
 from .model import Pendulum, identify_model
 from .junction.shapiro import ShapiroStep, ShapiroSteps, shapiro_steps
 from .frontends.reference import reference
@@ -57,6 +57,7 @@ __all__ = [
     "ApproximantDomainError",
     "Event",
     "IVCurve",
+    "IVFit",
     "Integrator",
     "Junction",
     "Pendulum",
@@ -66,6 +67,7 @@ __all__ = [
     "approximant_names",
     "beta_from_retrapping",
     "event_table",
+    "fit_iv",
     "get_approximant",
     "identify_model",
     "iv_curve",
