@@ -33,28 +33,29 @@ __all__ = ["retrapping_current", "beta_from_retrapping", "fit_iv", "IVFit"]
 # linear eigenvector's error is O(offset²) ≈ 1e-16, far below the tolerance, while the
 # run still leaves the saddle in log(1/offset)/λ ≈ 20/λ time units.
 MANIFOLD_OFFSET = 1e-8
-# The runs' tolerances: the miss is located to ~1e-12 in γ (measured: the root moves by
-# < 1e-11 between rtol 1e-10 and 1e-12).
+# The runs' tolerances (measured at β = 0.5: γ_r moves by 6e-16 between rtol 1e-10 and
+# 1e-12, and by less with the offset 1e-6 in place of 1e-8).
 MANIFOLD_RTOL = 1e-12
 MANIFOLD_ATOL = 1e-14
 # Longest run: a manifold that neither passes the next saddle nor turns back within it
 # creeps onto an overdamped node (trapped).
 MANIFOLD_SPAN = 1e5
 # Largest γ/ω² probed: at γ → ω² the saddle merges with the node (λ → 0); a γ_r above
-# this is reported as ω² (no hysteresis), an error below 1e-6 (the manifold then
-# takes ~5000 time units through the bottleneck; 10 times closer, ~3 times longer).
+# this is reported as ω² (no hysteresis), an error below 1e-6 (there the manifold
+# takes ~4500 time units through the bottleneck at β = 0.5, measured; at 1 − 1e-8 it
+# does not pass within 1e4).
 GAMMA_TOP = 1.0 - 1e-6
-# β (at ω = 1) above which the undriven junction has no hysteresis (γ_r = 1): β* ≈ 1.19
-# (measured); 2 brackets every γ_r < 1 from above.
+# β* ≈ 1.192 (at ω = 1) is where hysteresis ends (γ_r = 1 above it, measured): 2
+# brackets the β of every γ_r < 1 from above.
 BETA_TOP = 2.0
 # Brent's absolute tolerance on the root (γ or β).
 ROOT_XTOL = 1e-14
 # fit_iv: points with abs(V) at most this fraction of the largest abs(V) count as zero-voltage
 # (locked, no information on the running branch's shape) and are left out by default.
 ZERO_VOLTAGE_FRACTION = 0.02
-# fit_iv's finite-difference step on log β, log I_c, log R: ⟨θ'⟩ is settled to ~1e-9
-# (tests/test_junction.py), so a relative step of 1e-6 keeps the Jacobian's noise at
-# ~1e-3 of its entries while its truncation error (~step) is as small.
+# fit_iv's finite-difference step (scipy's diff_step: 1e-6 · max(1, |x|) on log β,
+# log I_c, log R): V moves by ~1e-6 of itself, 1000 times ⟨θ'⟩'s settling error
+# (~1e-9, tests/test_junction.py).
 FIT_DIFF_STEP = 1e-6
 # fit_iv without sigma: residuals in units of this fraction of the largest voltage.
 RESIDUAL_UNIT = 1e-3
