@@ -41,6 +41,8 @@ from .frontends.batch import solve_batch
 from .events.compiled import Event, angle_event, section_event, velocity_event
 from .events.njit import event_table, solve_njit_events, solve_njit_function_events
 from .junction.iv import IVCurve, iv_curve
+from .junction.units import Junction
+from .junction.fits import IVFit, beta_from_retrapping, fit_iv, retrapping_current
 from .model import Pendulum, identify_model
 from .junction.shapiro import ShapiroStep, ShapiroSteps, shapiro_steps
 from .frontends.reference import reference
@@ -55,19 +57,24 @@ __all__ = [
     "ApproximantDomainError",
     "Event",
     "IVCurve",
+    "IVFit",
     "Integrator",
+    "Junction",
     "Pendulum",
     "ShapiroStep",
     "ShapiroSteps",
     "angle_event",
     "approximant_names",
+    "beta_from_retrapping",
     "event_table",
+    "fit_iv",
     "get_approximant",
     "identify_model",
     "iv_curve",
     "pendulum_flow",
     "period",
     "reference",
+    "retrapping_current",
     "section_event",
     "shapiro_steps",
     "solve",
