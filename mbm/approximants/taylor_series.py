@@ -13,7 +13,7 @@ import numpy as np
 from numba import njit
 
 from ..special.dd import two_prod, two_sum
-from ..compile.jit import kernel
+from ..compile.jit import INLINE, kernel
 from .taylor_simd import SIMD_ORDER, taylor24_driven_series, taylor24_series
 
 
@@ -44,7 +44,7 @@ STATUS_BAD_ORDER = 2  # degree outside 1 .. MAX_ORDER
 # dropped; the recurrence vectorized 10-25 % better with reassociation).
 
 
-@njit(cache=True, inline="always")
+@njit(**INLINE)
 def _header(coef, scratch, n_order, beta, gamma, omega):
     # The header of the layout at module top, in the caller's buffer: (True, the vector's
     # view), or (False, coef[:HEADER] with STATUS_BAD_ORDER) for a degree outside
@@ -61,7 +61,7 @@ def _header(coef, scratch, n_order, beta, gamma, omega):
     return True, coef
 
 
-@njit(cache=True, inline="always")
+@njit(**INLINE)
 def _prepared(coef, scratch, n_order, beta, gamma, omega, finite):
     # (True, the vector's view with its header: _header), or (False, the status vector to
     # return): a degree or buffer _header refuses, or a non-finite input (``finite``
@@ -74,7 +74,7 @@ def _prepared(coef, scratch, n_order, beta, gamma, omega, finite):
     return ok, coef
 
 
-@njit(cache=True, inline="always")
+@njit(**INLINE)
 def _header_into(coef, n_order, beta, gamma, omega):
     # The header of the layout at module top (status OK).
     coef[0] = STATUS_OK
@@ -84,13 +84,13 @@ def _header_into(coef, n_order, beta, gamma, omega):
     coef[4] = omega
 
 
-@njit(cache=True, inline="always")
+@njit(**INLINE)
 def _finite5(beta, gamma, omega, theta0, v0):
     return (math.isfinite(theta0) and math.isfinite(v0) and math.isfinite(beta)
             and math.isfinite(gamma) and math.isfinite(omega))
 
 
-@njit(cache=True, inline="always")
+@njit(**INLINE)
 def _start(a, scratch, nt, theta0, v0):
     # The recurrence's start, shared by the undriven and the driven kernels: a₀, a₁,
     # and the scratch views (b_j = j a_j backwards, br[nt − j] = b_j; s_m, c_m forwards;
@@ -108,7 +108,7 @@ def _start(a, scratch, nt, theta0, v0):
     return br, sn, cn, s0
 
 
-@njit(cache=True, inline="always")
+@njit(**INLINE)
 def _sin_order(k, off, br, sn, cn):
     # Order k of s = sin θ and c = cos θ from s' = cθ', c' = −sθ' (the module's
     # "Coefficients"): k s_k = Σ_{m<k} T_m with T_m = b_{k−m} c_m (and likewise c_k);
@@ -391,7 +391,7 @@ def taylor24_driven_coefficients_into(beta, gamma, omega, amp, freq, phase, t0, 
     return coef
 
 
-@njit(cache=True, inline="always")
+@njit(**INLINE)
 def _driven_finite(beta, gamma, omega, amp, freq, phase, t0, theta0, v0):
     return (_finite5(beta, gamma, omega, theta0, v0) and math.isfinite(amp) and math.isfinite(freq)
             and math.isfinite(phase) and math.isfinite(t0))

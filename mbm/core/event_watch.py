@@ -32,7 +32,7 @@ from ..regimes.cycle import CYC_PERIOD, CYC_SIGN, CYC_T_OFF, CYC_WIND, CYCLE_TAG
 from ..regimes.cycle_windows import _period_store
 from ..regimes.common import REGIME_NONE, REGIMES_ALL
 from ..regimes.locked import LCK_V0, LCK_X0, LOCKED_TAG, _potential, locked_amplitude
-from ..compile.jit import kernel
+from ..compile.jit import INLINE, kernel
 from ..special.polyroots import crossings
 from .window import KIND_TAYLOR, evaluate, theta_of
 
@@ -323,7 +323,7 @@ def locate(starts, start_theta, coefs, n, ev, hits, stored, cap, drive_freq, dri
     return evf, evi, count, -1, WATCH_OK
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(**INLINE)
 def window_may_cross(c, h, k, ev):
     """Whether a Taylor window (coefficients ``c``, length ``h``, winding ``k``) may hold
     an event of ``ev``: False only where every level lies outside the window's range

@@ -20,7 +20,7 @@ import math
 import numba
 import numpy as np
 
-from ..compile.jit import kernel
+from ..compile.jit import INLINE, kernel
 from .common import SWITCH_SAFETY
 
 # (L3): relative widening of the amplitude bound A, covering the rounding of H₀ and U
@@ -133,13 +133,13 @@ def locked_constants(beta, gamma, omega):
     return d, wl2, g0, g1
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(**INLINE)
 def _rho(sd, a):
     # (L1): bound on |r(x)| for |x| ≤ a.
     return 0.5 * sd * a * a + a * a * a / 6.0
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(**INLINE)
 def _x_minus_sin(x):
     # x − sin x without cancellation: its Taylor series below X_MINUS_SIN_SERIES.
     if abs(x) < X_MINUS_SIN_SERIES:
@@ -157,12 +157,12 @@ def _potential(w2, gamma, d, x):
     return w2 * (2.0 * math.cos(d) * h * h) - gamma * _x_minus_sin(x)
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(**INLINE)
 def _nearest_k(theta, d):
     return math.floor((theta - d) / (2.0 * math.pi) + 0.5)
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(**INLINE)
 def _bounds_fail(a, sd, cd, g0, g1, omega, tol, tol_v, second):
     # At a lower bound ``a`` of A: L5's first-order bounds ω²ρ(A)G₀, ω²ρ(A)G₁ and, where
     # ``second``, L7's, which are at least ω²G₀ρ₃(A) and ω²G₁ρ₃(A), all fail (each
@@ -177,7 +177,7 @@ def _bounds_fail(a, sd, cd, g0, g1, omega, tol, tol_v, second):
     return w2 * g0 * rho3 > tol or w2 * g1 * rho3 > tol_v
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(**INLINE)
 def locked_far(theta, v, d, sd, wl2, g0, omega, rtol, atol, q2):
     """True where :func:`locked_quick_reject`'s first stage surely rejects: its test by
     products in place of its quotients (off the window's critical path: 1/ω_l²
