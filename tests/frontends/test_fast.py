@@ -362,9 +362,9 @@ def test_batch_honours_the_callers_numba_thread_count(monkeypatch):
     real = mbm.core.lanes.run_batch
 
     class Spy:
-        def __call__(self, *args):
+        def __call__(self, *args, **kwargs):
             seen.append(numba.get_num_threads())
-            return real(*args)
+            return real(*args, **kwargs)
 
     monkeypatch.setattr(mbm.core.lanes, "run_batch", Spy())
     before = numba.get_num_threads()
