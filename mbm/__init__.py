@@ -41,8 +41,6 @@ from .frontends.batch import solve_batch
 from .events.compiled import Event, angle_event, section_event, velocity_event
 from .events.njit import event_table, solve_njit_events, solve_njit_function_events
 from .junction.iv import IVCurve, iv_curve
-from .junction.units import Junction
-from .junction.fits import IVFit, beta_from_retrapping, fit_iv, retrapping_current
 from .model import Pendulum, identify_model
 from .junction.shapiro import ShapiroStep, ShapiroSteps, shapiro_steps
 from .frontends.reference import reference
@@ -97,6 +95,12 @@ _LAZY = {
     "solver": ("mbm.frontends.ivp", None),
     # xarray and dask are optional (pip install "mbm[dask]"): loaded on first use
     "sweep": ("mbm.junction.sweeps", "sweep"),
+    # scipy.constants and scipy.optimize (~0.2 s and more): loaded on first use
+    "Junction": ("mbm.junction.units", "Junction"),
+    "IVFit": ("mbm.junction.fits", "IVFit"),
+    "beta_from_retrapping": ("mbm.junction.fits", "beta_from_retrapping"),
+    "fit_iv": ("mbm.junction.fits", "fit_iv"),
+    "retrapping_current": ("mbm.junction.fits", "retrapping_current"),
 }
 
 
