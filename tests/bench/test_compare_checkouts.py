@@ -27,3 +27,16 @@ def test_rounds_below_one_are_refused(tmp_path, capsys):
     with pytest.raises(SystemExit):
         cc.main([str(tmp_path), "--rounds", "0"])
     assert "--rounds and --repeats must be >= 1" in capsys.readouterr().err
+
+
+def test_first_call_rows_are_rows_of_benchmarks_first_calls():
+    from benchmarks import first_calls as fc
+
+    rows = dict(fc.ROWS, **fc.HELPERLESS_ROWS)
+    assert set(cc.FIRST_CALL_ROWS) <= set(rows)
+
+
+def test_compare_takes_the_median_of_each_side_over_rounds(tmp_path):
+    seen = iter([{"r": 3.0}, {"r": 1.0}, {"r": 1.0}, {"r": 2.0}, {"r": 2.0}, {"r": 9.0}])
+    rows = cc.compare(tmp_path, 3, 1, "", measure=lambda checkout: next(seen))
+    assert rows == {"r": (2.0, 2.0)}
