@@ -102,7 +102,7 @@ def check_real(name, value):
         return value  # the common call: a finite float
     v = _float(name, value)
     if not math.isfinite(v):
-        raise ValueError(f"{name} must be finite, got {value!r}")
+        raise ValueError(f"{name} must be finite, got {v!r}")
     return v
 
 
@@ -116,9 +116,9 @@ def check_positive(name, value, allow_inf=False):
         return value  # the common call, accepted as below without the conversions
     v = _float(name, value)
     if math.isnan(v) or (math.isinf(v) and not allow_inf):
-        raise ValueError(f"{name} must be finite, got {value!r}")
+        raise ValueError(f"{name} must be finite, got {v!r}")
     if not v > 0.0:
-        raise ValueError(f"{name} must be > 0, got {value!r}")
+        raise ValueError(f"{name} must be > 0, got {v!r}")
     return v
 
 
@@ -128,7 +128,7 @@ def check_rule(name, value, rule=None):
     v = check_real(name, value)
     rule = PARAMETER_RULES.get(name) if rule is None else rule
     if rule is not None and not _RULES[rule[0]](v):
-        raise ValueError(f"{name} must be {rule[1]}, got {value!r}")
+        raise ValueError(f"{name} must be {rule[1]}, got {v!r}")
     return v
 
 

@@ -517,3 +517,16 @@ def test_budget_does_not_refuse_what_it_cannot_bound(params, span, kw):
 def test_budget_allows_an_ordinary_runaway():
     r = mbm.solve(mbm.Pendulum(0.0, 1e4), (0.0, 10.0), [0.0, 0.0], t_eval=[10.0])
     assert r.success and r.n_windows > 10**4
+
+
+@pytest.mark.parametrize("value", [np.float64(-0.1) * 1.0000000000000003, np.float32(-0.5), -2])
+def test_a_refused_number_is_printed_as_a_plain_float(value):
+    # numpy scalars in a message read as plain floats, not np.float64(...)
+    with pytest.raises(ValueError, match=r"beta must be >= 0 \(damping\), got -") as info:
+        mbm.Pendulum(beta=value)
+    assert "np." not in str(info.value) and str(info.value).endswith(repr(float(value)))
+    with pytest.raises(ValueError, match=r"omega must be > 0, got ") as info:
+        mbm.Pendulum(omega=value)
+    assert "np." not in str(info.value) and str(info.value).endswith(repr(float(value)))
+    with pytest.raises(ValueError, match="must be finite, got nan"):
+        mbm.Pendulum(beta=np.float64("nan"))
