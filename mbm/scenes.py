@@ -180,7 +180,7 @@ class Scene:
         return (self.beta, self.gamma, self.omega, self.theta0, self.v0, self.t_end)
 
 
-def _scene(name, beta, gamma, theta0, v0, t_end, description, source, aliases=()):
+def _scene(name, beta, gamma, theta0, v0, t_end, description, source, *, aliases=()):
     return Scene(name, Pendulum(beta=beta, gamma=gamma, omega=1.0), (theta0, v0), (0.0, t_end),
                  description, source, tuple(aliases))
 
@@ -191,27 +191,27 @@ CATALOGUE = {
     for s in (
         _scene("P1", 0.4, 0.0, 0.0, 0.25, 20.0,
                "first paper: beta=0.4, gamma=0, theta0=0, v0=0.25",
-               "Salas (2021), Figure 1 and (3.10)–(3.11): 2ε = 0.4", ("paper1",)),
+               "Salas (2021), Figure 1 and (3.10)–(3.11): 2ε = 0.4", aliases=("paper1",)),
         _scene("P2", 0.1, 0.3, math.radians(30.0), 0.0, 80.0,
                "Example 1: beta=0.1, gamma=0.3, theta0=30 deg",
-               "Salas, Martínez & Ocampo (2022), Example 1, (4.33)", ("ex1",)),
+               "Salas, Martínez & Ocampo (2022), Example 1, (4.33)", aliases=("ex1",)),
         _scene("P3", 0.1, 0.6, math.radians(90.0), 0.0, 80.0,
                "Example 2 scene: beta=0.1, gamma=0.6, theta0=90 deg",
                "Salas, Martínez & Ocampo (2022), Example 2, (4.37) (its printed constants "
-               "belong to θ₀ ≈ 94.6°)", ("ex2",)),
+               "belong to θ₀ ≈ 94.6°)", aliases=("ex2",)),
         _scene("P4", 0.01, 0.3, 1.0, 0.0, 1.0e4,
                "weak damping: beta=0.01, gamma=0.3, theta0=1, t<=1e4",
-               "benchmark: weak damping over a long horizon", ("longweak",)),
+               "benchmark: weak damping over a long horizon", aliases=("longweak",)),
         _scene("P5", 0.1, 1.2, 0.0, 0.0, 1000.0,
                "running: beta=0.1, gamma=1.2, t<=1000",
-               "benchmark: running state, γ > ω² (θ grows to ~1.2e4)", ("running",)),
+               "benchmark: running state, γ > ω² (θ grows to ~1.2e4)", aliases=("running",)),
         _scene("P6", 0.0, 0.0, 0.0, 1.999, 200.0,
                "near separatrix: beta=gamma=0, v0=1.999, t<=200",
-               "benchmark: just inside the separatrix (θ̇₀ = 2), m = 0.999", ("separatrix",)),
+               "benchmark: just inside the separatrix (θ̇₀ = 2), m = 0.999", aliases=("separatrix",)),
         _scene("free135", 0.0, 0.0, math.radians(135.0), 0.0, 40.0,
                "free pendulum: beta=gamma=0, theta0=135 deg, t<=40",
                "Beléndez et al. (2007): large amplitude (\"practically harmonic below 135°\")",
-               ("free",)),
+               aliases=("free",)),
         _scene("undamped-long", 0.0, 0.0, 1.0, 0.0, 1.0e6,
                "undamped: beta=gamma=0, theta0=1 rad from rest, t<=1e6",
                "benchmark extra: the exact elliptic flow over a long horizon"),

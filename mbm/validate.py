@@ -338,7 +338,7 @@ def _transient_angle(beta, gamma, omega, v0, span):
     return max(angle, 0.0), t
 
 
-def check_window_budget(beta, gamma, omega, drive_amplitude, t0, t1, v0, tau, max_step, max_windows,
+def check_window_budget(beta, gamma, omega, drive_amplitude, t0, t1, v0, tau, *, max_step, max_windows,
                         exact=False):
     """Refuse a run whose windows would exceed ``max_windows`` by a wide margin, before it runs.
 

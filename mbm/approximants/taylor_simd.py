@@ -64,11 +64,13 @@ _V2 = ir.VectorType(_DBL, 2)
 _V4 = ir.VectorType(_DBL, 4)
 
 
-def _emit(builder, data, n_order, beta, gamma, w2, s0, c0, theta0, v0, drive):
+def _emit(builder, data, n_order, anchor, drive):
     """Emit the recurrence (module docstring) storing a₀ … a_{N+2} at data[HEADER + k].
 
-    ``drive`` is None or the IR values (f, freq, u, w) of taylor.py's driven form.
+    ``anchor`` is the IR values (β, γ, ω², sin θ₀, cos θ₀, θ₀, θ'₀) of the anchor, ``drive``
+    None or the IR values (f, freq, u, w) of taylor.py's driven form.
     """
+    beta, gamma, w2, s0, c0, theta0, v0 = anchor
     nt = n_order + N_EXTRA
 
     def cst(x):
@@ -243,7 +245,7 @@ def _series(typingctx, beta, gamma, w2, s0, c0, theta0, v0, coef):
 
     def codegen(context, builder, signature, args):
         data = _coef_data(context, builder, signature.args[-1], args[-1])
-        _emit(builder, data, SIMD_ORDER, *args[:-1], None)
+        _emit(builder, data, SIMD_ORDER, tuple(args[:-1]), None)
         return context.get_dummy_value()
 
     return sig, codegen
@@ -256,7 +258,7 @@ def _driven_series(typingctx, beta, gamma, w2, f, freq, u, w, s0, c0, theta0, v0
     def codegen(context, builder, signature, args):
         data = _coef_data(context, builder, signature.args[-1], args[-1])
         beta_, gamma_, w2_, f_, freq_, u_, w_, s0_, c0_, theta0_, v0_ = args[:-1]
-        _emit(builder, data, SIMD_ORDER, beta_, gamma_, w2_, s0_, c0_, theta0_, v0_, (f_, freq_, u_, w_))
+        _emit(builder, data, SIMD_ORDER, (beta_, gamma_, w2_, s0_, c0_, theta0_, v0_), (f_, freq_, u_, w_))
         return context.get_dummy_value()
 
     return sig, codegen
@@ -283,7 +285,7 @@ def _lane_series(typingctx, ins, coefs, soa):
         for q in range(7):
             ptr = builder.gep(ins_ary.data, [ir.Constant(_I64, q * LANES)])
             rows.append(builder.load(builder.bitcast(ptr, vt.as_pointer()), align=8))
-        _emit(_LaneBuilder(builder, out_ary.data, stride, soa_ary.data), None, SIMD_ORDER, *rows, None)
+        _emit(_LaneBuilder(builder, out_ary.data, stride, soa_ary.data), None, SIMD_ORDER, tuple(rows), None)
         return context.get_dummy_value()
 
     return sig, codegen

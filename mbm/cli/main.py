@@ -207,7 +207,7 @@ def _require_matplotlib(parser, option):
     matplotlib.use("Agg")  # writes files only: no display is needed or assumed
 
 
-def solve_command(beta, gamma, omega, theta0, v0, t_end, tau=None, approximant="auto",
+def solve_command(beta, gamma, omega, theta0, v0, t_end, *, tau=None, approximant="auto",
                   rtol=1e-6, atol=1e-9, n_out=201, out=None, plot=None, stdout=None):
     """Solve one scene and write θ, θ' at ``n_out`` times (the ``mbm solve`` command).
 
@@ -256,7 +256,8 @@ def solve_command(beta, gamma, omega, theta0, v0, t_end, tau=None, approximant="
             _write_csv(f, t, y)
     # Phase slips: net 2π turns over the run (the junction's count of voltage pulses).
     slips = int(round((y[0, -1] - y[0, 0]) / (2.0 * math.pi)))
-    v_mean = _mean_velocity_label(model, t_end, [theta0, v0], t, y, approximant, tau, rtol, atol)
+    v_mean = _mean_velocity_label(model, t_end, [theta0, v0], t, y, approximant=approximant, tau=tau, rtol=rtol,
+                                  atol=atol)
     print(f"phase slips (net 2*pi turns): {slips}" + (f"; mean velocity {v_mean}" if v_mean else ""),
           file=sys.stderr)
     if plot is not None:
@@ -289,7 +290,7 @@ def solve_command(beta, gamma, omega, theta0, v0, t_end, tau=None, approximant="
     return t, y
 
 
-def _mean_velocity_label(model, t_end, y0, t, y, approximant, tau, rtol, atol):
+def _mean_velocity_label(model, t_end, y0, t, y, *, approximant, tau, rtol, atol):
     """⟨θ'⟩ for a running state: exact (2π/T_c) where the compiled run reached the cycle,
     else "≈" the second half's (θ(T) − θ(T/2))/(T/2); "" when θ moved less than 2π there."""
     import mbm
@@ -353,7 +354,7 @@ BENCH_MOVED = (
 )
 
 
-def iv_command(beta, gamma_max, points, omega=1.0, current_tol=1e-4, csv=None, plot=None, out=None,
+def iv_command(beta, gamma_max, points, *, omega=1.0, current_tol=1e-4, csv=None, plot=None, out=None,
                drive_amplitude=0.0, drive_frequency=0.0, drive_phase=0.0):
     """``mbm iv``: an up-and-down I–V sweep 0 → gamma_max → 0; print the currents, write CSV/PNG
     (with an AC drive A sin(Ωt + φ) on every bias point where ``drive_amplitude`` ≠ 0).
@@ -401,7 +402,7 @@ def iv_command(beta, gamma_max, points, omega=1.0, current_tol=1e-4, csv=None, p
     return curve
 
 
-def steps_command(beta, gamma_max, points, omega=1.0, current_tol=1e-4, csv=None, plot=None, out=None,
+def steps_command(beta, gamma_max, points, *, omega=1.0, current_tol=1e-4, csv=None, plot=None, out=None,
                   drive_amplitude=0.0, drive_frequency=0.0, drive_phase=0.0):
     """``mbm iv --steps``: the Shapiro steps over [0, gamma_max] (:func:`mbm.shapiro_steps`,
     ``points`` grid points), their edges bisected to ``current_tol``; print the step

@@ -116,25 +116,26 @@ def first_window_for(kind):
     callee's IR at each site, which was most of a first call's compile."""
 
     @kernel
-    def first_window(coef, t, y0, y1, off, direction, t_bound, omega, max_step, rtol, atol,
-                     error_order, log_eps):
+    def first_window(coef, t, y0, y1, off, omega, ctl):
         """Initial adaptive window length: the a-priori window (:func:`prior_window`) where
         the kind has one, else searched from the anchored formula's own error estimate.
-        ``off`` (2π × the winding count) is added to θ where it sets the tolerance's scale."""
-        prior = prior_window(kind, coef, off + y0, y1, rtol, atol, log_eps)
+        ``off`` (2π × the winding count) is added to θ where it sets the tolerance's scale;
+        ``ctl`` is the run's :data:`~mbm.core.record.WindowControl`."""
+        rtol, atol = ctl.rtol, ctl.atol
+        prior = prior_window(kind, coef, off + y0, y1, rtol, atol, ctl.log_eps)
         if prior < math.inf:
-            return min(prior, max_step)
-        h_abs = min(FIRST_WINDOW_PERIODS * 2.0 * math.pi / omega, max_step)
-        inv = -1.0 / (error_order + 1.0)
+            return min(prior, ctl.max_step)
+        h_abs = min(FIRST_WINDOW_PERIODS * 2.0 * math.pi / omega, ctl.max_step)
+        inv = -1.0 / (ctl.error_order + 1.0)
         for _ in range(FIRST_WINDOW_ITERS):
-            h = _window_end(t, direction, t_bound, h_abs) - t
+            h = _window_end(t, ctl.direction, ctl.t_bound, h_abs) - t
             theta, v, et, ev = step(kind, coef, h, True)
             err = _error_norm(et, ev, off + y0, y1, off + theta, v, rtol, atol)
             if not (math.isfinite(err) and math.isfinite(theta) and math.isfinite(v)):
                 h_abs *= MIN_FACTOR
                 continue
             fac = MAX_FACTOR if err == 0.0 else SAFETY * err**inv
-            h_abs = min(h_abs * min(MAX_FACTOR, max(MIN_FACTOR, fac)), max_step)
+            h_abs = min(h_abs * min(MAX_FACTOR, max(MIN_FACTOR, fac)), ctl.max_step)
         return h_abs
 
     return first_window
@@ -161,8 +162,7 @@ def adaptive_window_for(kind):
     callee's IR at each site, which was most of a first call's compile."""
 
     @kernel
-    def adaptive_window(coef, t, y0, y1, off, direction, t_bound, h_abs, max_step, rtol, atol,
-                        error_order, log_eps):
+    def adaptive_window(coef, t, y0, y1, off, h_abs, ctl):
         """Adaptive controller: one accepted window under rtol/atol.
 
         The window tried is ``h_abs`` (the previous proposal, or ``first_step``), no longer
@@ -173,17 +173,19 @@ def adaptive_window_for(kind):
         (the next anchor's own prior decides; the cap only lets a ``first_step`` grow);
         without, scipy's factor from the estimate.  After a rejection, no longer than the
         window accepted.  ``off`` (2π × the winding count) is added to θ where it sets the
-        tolerance's scale (scipy's atol + rtol·|y| of the whole angle).
+        tolerance's scale (scipy's atol + rtol·|y| of the whole angle); ``ctl`` is the
+        run's :data:`~mbm.core.record.WindowControl`.
         """
+        rtol, atol = ctl.rtol, ctl.atol
         min_h = MIN_WINDOW_ULPS * _EPS * max(abs(t), 1e-300)
-        prior = prior_window(kind, coef, off + y0, y1, rtol, atol, log_eps)
-        h_abs = min(h_abs, max_step, prior)
+        prior = prior_window(kind, coef, off + y0, y1, rtol, atol, ctl.log_eps)
+        h_abs = min(h_abs, ctl.max_step, prior)
         rejected = False
-        inv = -1.0 / (error_order + 1.0)
+        inv = -1.0 / (ctl.error_order + 1.0)
         while True:
             if h_abs < min_h:
                 return STATUS_TOO_SMALL, t, y0, y1, h_abs
-            t_new = _window_end(t, direction, t_bound, h_abs)
+            t_new = _window_end(t, ctl.direction, ctl.t_bound, h_abs)
             theta, v, et, ev = step(kind, coef, t_new - t, True)
             err = _error_norm(et, ev, off + y0, y1, off + theta, v, rtol, atol)
             fac = _accepted_factor(err, theta, v, prior, inv, rejected)
@@ -211,47 +213,46 @@ _adaptive_window_split = adaptive_window_for(KIND_SPLIT)
 
 
 @numba.njit(**INLINE)
-def _first(kind, coef, t, y0, y1, off, direction, t_bound, omega, max_step, rtol, atol, error_order, log_eps):
+def _first(kind, coef, t, y0, y1, off, omega, ctl):
     """:func:`first_window` of kind ``kind`` through its compiled entry (a splitting's through
     the table of :mod:`mbm.core.kind_ops`); h = −1 (no window) for a kind without an
     error estimate."""
     if kind == KIND_TAYLOR:
-        return _first_window_taylor(coef, t, y0, y1, off, direction, t_bound, omega, max_step, rtol, atol,
-                                    error_order, log_eps)
+        return _first_window_taylor(coef, t, y0, y1, off, omega, ctl)
     if kind == KIND_SPLIT:
-        return call_first(KIND_SPLIT * OPS_PER_KIND + OP_FIRST, (coef, t, y0, y1, off, direction, t_bound, omega,
-                                                                 max_step, rtol, atol, error_order, log_eps))
+        return call_first(KIND_SPLIT * OPS_PER_KIND + OP_FIRST, (coef, t, y0, y1, off, omega, ctl))
     return -1.0
 
 
 @numba.njit(**INLINE)
-def first_try(kind, coef, t, y0, y1, off, direction, t_bound, h_abs, max_step, rtol, atol, log_eps):
+def first_try(kind, coef, t, y0, y1, off, h_abs, ctl):
     """:func:`adaptive_window`'s first try: ``(ok, h, prior, t_new)``, the window tried
-    (``h_abs`` no longer than ``max_step`` nor the kind's a-priori window ``prior``),
+    (``h_abs`` no longer than ``ctl.max_step`` nor the kind's a-priori window ``prior``),
     and whether it is above the floor (``ok``; else the controller's own status).
     Shared by the loop (:func:`_adaptive`) and the lanes (:mod:`mbm.core.lanes`)."""
     min_h = MIN_WINDOW_ULPS * _EPS * max(abs(t), 1e-300)
-    prior = prior_window(kind, coef, off + y0, y1, rtol, atol, log_eps)
-    h = min(h_abs, max_step, prior)
+    prior = prior_window(kind, coef, off + y0, y1, ctl.rtol, ctl.atol, ctl.log_eps)
+    h = min(h_abs, ctl.max_step, prior)
     if h >= min_h:
-        return True, h, prior, _window_end(t, direction, t_bound, h)
+        return True, h, prior, _window_end(t, ctl.direction, ctl.t_bound, h)
     return False, h, prior, t
 
 
 @kernel
-def accept_try(et, ev, y0, y1, off, theta, v, rtol, atol, prior, error_order, h):
-    """The test of the first try of length ``h`` (estimate ``et``, ``ev``; the state from
-    φ = ``y0``, θ' = ``y1`` to ``theta``, ``v``): ``(accepted, h_next)``, as
-    :func:`adaptive_window`'s."""
-    err = _error_norm(et, ev, off + y0, y1, off + theta, v, rtol, atol)
+def accept_try(est, start, end, off, prior, h, ctl):
+    """The test of the first try of length ``h``: ``(accepted, h_next)``, as
+    :func:`adaptive_window`'s (``est`` the estimate (err_θ, err_θ'), the state from
+    ``start`` (φ, θ') to ``end`` (θ, θ'))."""
+    y0, y1 = start
+    theta, v = end
+    err = _error_norm(est[0], est[1], off + y0, y1, off + theta, v, ctl.rtol, ctl.atol)
     # np.bool_: a literal False would compile _accepted_factor a second time.
-    fac = _accepted_factor(err, theta, v, prior, -1.0 / (error_order + 1.0), np.bool_(False))
+    fac = _accepted_factor(err, theta, v, prior, -1.0 / (ctl.error_order + 1.0), np.bool_(False))
     return fac > 0.0, h * fac
 
 
 @numba.njit(**INLINE)
-def _adaptive(kind, coef, t, y0, y1, off, direction, t_bound, h_abs, max_step, rtol, atol, error_order,
-              log_eps):
+def _adaptive(kind, coef, t, y0, y1, off, h_abs, ctl):
     """:func:`adaptive_window` of kind ``kind``: its first try here (inlined: the common
     window, accepted at once), and on a rejection the kind's compiled controller from
     the start (the same first try again, then its retries: the same bits; a splitting's
@@ -261,16 +262,12 @@ def _adaptive(kind, coef, t, y0, y1, off, direction, t_bound, h_abs, max_step, r
         return STATUS_TOO_SMALL, t, y0, y1, h_abs
     if kind == KIND_SALAS_TORQUE:
         return STATUS_TOO_SMALL, t, y0, y1, h_abs
-    ok, h, prior, t_new = first_try(kind, coef, t, y0, y1, off, direction, t_bound, h_abs, max_step, rtol, atol,
-                                    log_eps)
+    ok, h, prior, t_new = first_try(kind, coef, t, y0, y1, off, h_abs, ctl)
     if ok:
         theta, v, et, ev = step(kind, coef, t_new - t, True)
-        accepted, h_next = accept_try(et, ev, y0, y1, off, theta, v, rtol, atol, prior, error_order, h)
+        accepted, h_next = accept_try((et, ev), (y0, y1), (theta, v), off, prior, h, ctl)
         if accepted:
             return STATUS_OK, t_new, theta, v, h_next
     if kind == KIND_SPLIT:
-        return call_adaptive(KIND_SPLIT * OPS_PER_KIND + OP_ADAPTIVE, (coef, t, y0, y1, off, direction, t_bound,
-                                                                       h_abs, max_step, rtol, atol, error_order,
-                                                                       log_eps))
-    return _adaptive_window_taylor(coef, t, y0, y1, off, direction, t_bound, h_abs, max_step, rtol,
-                                   atol, error_order, log_eps)
+        return call_adaptive(KIND_SPLIT * OPS_PER_KIND + OP_ADAPTIVE, (coef, t, y0, y1, off, h_abs, ctl))
+    return _adaptive_window_taylor(coef, t, y0, y1, off, h_abs, ctl)

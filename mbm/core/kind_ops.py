@@ -37,7 +37,7 @@ from ..approximants.belendez2007 import belendez_anchor_kernel
 from ..approximants.salas2022 import salas_torque_anchor
 from ..approximants.splitting import split_anchor
 from ..compile.jit import kernel
-from .record import RUN
+from .record import RUN, WindowControl
 
 __all__ = ["OPS", "SIGNATURES", "call_adaptive", "call_anchor", "call_crossing", "call_error", "call_eval",
            "call_first", "call_period_store", "call_period_value", "call_refine", "slot_of"]
@@ -54,8 +54,11 @@ _F8, _I8 = types.float64, types.int64
 _COEF = types.Array(_F8, 1, "C")
 _PAIR = types.UniTuple(_F8, 2)
 _RECORD = numba.from_dtype(RUN)
-# The controllers' arguments (mbm.core.controller.first_window_for, adaptive_window_for).
-_CONTROL_ARGS = (_COEF,) + (_F8,) * 10 + (_I8, _F8)
+# The controllers' arguments (mbm.core.controller.first_window_for, adaptive_window_for):
+# the window's start (coef, t, φ, θ', the winding's offset), ω or h_abs, the run's
+# WindowControl (as mbm.core.record.window_control types it).
+_CONTROL = types.NamedTuple((_F8, _F8, _F8, _F8, _F8, _I8, _F8), WindowControl)
+_CONTROL_ARGS = (_COEF,) + (_F8,) * 5 + (_CONTROL,)
 #: Each op's signature: an anchor (karg, β, γ, ω, θ₀, θ̇₀) -> coefficients (coef[0] the
 #: status), an evaluation (coef, t) -> (θ, θ'), an estimate (coef, h) -> (err_θ, err_θ');
 #: the controllers', the crossing's, the stored period's as their kernels'.
@@ -216,7 +219,8 @@ call_eval = _table_call(OP_EVAL)
 #: ``call_error(slot, (coef, h))`` -> (err_θ, err_θ').
 call_error = _table_call(OP_ERROR)
 #: The controllers: ``call_first(slot, args)`` -> h, ``call_adaptive(slot, args)`` ->
-#: (status, t_new, θ, θ', h_next), args as mbm.core.controller.first_window's.
+#: (status, t_new, θ, θ', h_next); args (coef, t, φ, θ', off, ω or h_abs, WindowControl) as
+#: mbm.core.controller.first_window's and adaptive_window's.
 call_first = _table_call(OP_FIRST)
 call_adaptive = _table_call(OP_ADAPTIVE)
 #: The return map's step at a crossing (mbm.regimes.cycle_windows._cycle_crossing_for).

@@ -31,6 +31,7 @@ from .controller import (
     first_try,
 )
 from .chains import REACHES, _run_sets, set_flag
+from .record import window_control
 from .loop import _regime_set, damped_setup, emit_taylor, locked_test
 from .window import (
     KIND_TAYLOR,
@@ -186,12 +187,10 @@ def _lane_try(r, ln, coef):
     t, y0, y1 = ln.t, ln.phi, ln.v
     off = ln.wind * _TWO_PI
     c = r.control
+    ctl = window_control(ln.direction, r.state.t_bound, c.max_step, c.rtol, c.atol, c.error_order, ln.log_eps)
     if ln.h_abs <= 0.0:
-        ln.h_abs = _first_window_taylor(coef, t, y0, y1, off, ln.direction, r.state.t_bound, r.model.omega,
-                                        c.max_step, c.rtol, c.atol, c.error_order, ln.log_eps)
-    first, ln.h_try, ln.prior, ln.t_end = first_try(KIND_TAYLOR, coef, t, y0, y1, off, ln.direction,
-                                                    r.state.t_bound, ln.h_abs, c.max_step, c.rtol, c.atol,
-                                                    ln.log_eps)
+        ln.h_abs = _first_window_taylor(coef, t, y0, y1, off, r.model.omega, ctl)
+    first, ln.h_try, ln.prior, ln.t_end = first_try(KIND_TAYLOR, coef, t, y0, y1, off, ln.h_abs, ctl)
     # A window below the floor: adaptive_window's own status (_lane_window).
     ln.first = 1 if first else 0
     return ln.t_end - t if first else 0.0
@@ -210,14 +209,13 @@ def _lane_window(p, ln, coef, h, th, v, t_eval, out, wrapped, win_t, win_y, win_
     t, y0, y1, k = ln.t, ln.phi, ln.v, ln.wind
     off = k * _TWO_PI
     accepted, t_new, h_next = False, ln.t_end, 0.0
+    ctl = window_control(ln.direction, r.state.t_bound, c.max_step, c.rtol, c.atol, c.error_order, ln.log_eps)
     if ln.first != 0:
-        et, ev = estimate(KIND_TAYLOR, coef, h)
-        accepted, h_next = accept_try(et, ev, y0, y1, off, th, v, c.rtol, c.atol, ln.prior, c.error_order, ln.h_try)
+        accepted, h_next = accept_try(estimate(KIND_TAYLOR, coef, h), (y0, y1), (th, v), off, ln.prior, ln.h_try,
+                                      ctl)
     if not accepted:
         # Rejected (or below the floor): adaptive_window itself, from the start.
-        st, t_new, th, v, h_next = _adaptive_window_taylor(coef, t, y0, y1, off, ln.direction, r.state.t_bound,
-                                                           ln.h_abs, c.max_step, c.rtol, c.atol, c.error_order,
-                                                           ln.log_eps)
+        st, t_new, th, v, h_next = _adaptive_window_taylor(coef, t, y0, y1, off, ln.h_abs, ctl)
         if st != STATUS_OK:
             _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel, handed)
             return math.nan

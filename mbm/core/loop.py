@@ -59,7 +59,7 @@ from .controller import (
     _window_end,
     fixed_window,
 )
-from .record import RUN, WORD, start_record, words_of
+from .record import RUN, WORD, start_record, window_control, words_of
 from .window import (
     KIND_EXACT,
     KIND_SALAS_TORQUE,
@@ -367,11 +367,10 @@ def _source(kind, rset, simd, r, t, y0, y1, k, off, direction, max_step, h_abs, 
     coef = _anchored(kind, rset, simd, r, t, y0, y1, ws)
     if coef[0] != 0.0:
         return Window(STATUS_ANCHOR, coef, t, y0, y1, k, h_abs, h_abs, False, per)
+    ctl = window_control(direction, t_bound, max_step, rtol, atol, error_order, log_eps)
     if h_abs <= 0.0:
-        h_abs = _first(kind, coef, t, y0, y1, off, direction, t_bound, omega, max_step, rtol, atol, error_order,
-                       log_eps)
-    st, t_new, th, v, h_next = _adaptive(kind, coef, t, y0, y1, off, direction, t_bound, h_abs, max_step, rtol,
-                                         atol, error_order, log_eps)
+        h_abs = _first(kind, coef, t, y0, y1, off, omega, ctl)
+    st, t_new, th, v, h_next = _adaptive(kind, coef, t, y0, y1, off, h_abs, ctl)
     return Window(st, coef, t_new, th, v, k, h_abs, h_next, False, per)
 
 

@@ -7,13 +7,16 @@ and writes the state reached back, so a caller may resume a run where it stopped
 :func:`new_run` is the one initialiser of a fresh record.
 """
 
+import collections
 import math
+from typing import NamedTuple
+
 import numba
 import numpy as np
 
 from ..regimes.common import REGIME_NONE
 from ..regimes.strobe import STROBE_MAX_PERIODS, STROBE_RING
-from ..compile.jit import kernel
+from ..compile.jit import INLINE, kernel
 
 def _group(*fields):
     return np.dtype(list(fields), align=True)
@@ -224,17 +227,78 @@ def init_runs(p, model, t0, y0, t_bound, plan, h_abs, max_step, rtol, atol, max_
                  max_windows, 0, 1)
 
 
-def new_run(beta, gamma, omega, t0, theta0, v0, t_bound, kind, karg, controller, h_abs,
-            max_step, rtol, atol, error_order, max_windows, call_windows=0, max_dtheta=math.inf,
-            regimes=1, drive_amplitude=0.0, drive_frequency=0.0, drive_phase=0.0):
-    """A run record array of one row, at the start of its run (:func:`init_run`; regime
-    switching on unless ``regimes=0``; a driven run, ``drive_amplitude`` ≠ 0, may reach
-    the phase-locked regime only)."""
+class RunModel(NamedTuple):
+    """The model group of a record (:data:`MODEL`): θ'' + βθ' + ω² sin θ = γ + A sin(Ωt + φ)."""
+
+    beta: float
+    gamma: float
+    omega: float
+    drive_amp: float = 0.0
+    drive_freq: float = 0.0
+    drive_phase: float = 0.0
+
+
+class RunState(NamedTuple):
+    """The state group of a record (:data:`STATE`): the start (t, θ, θ') and the span's end."""
+
+    t: float
+    theta: float
+    v: float
+    t_bound: float
+
+
+class RunControl(NamedTuple):
+    """The control group of a record (:data:`CONTROL`): the approximant and its controller,
+    the window limits and the tolerances, in the group's order."""
+
+    kind: int
+    karg: int
+    controller: int
+    h_abs: float
+    max_step: float
+    max_dtheta: float
+    rtol: float
+    atol: float
+    error_order: int
+
+
+#: What the adaptive controller needs besides a window's own start (coefficients, t, φ, θ',
+#: the winding's offset): the direction of time, the span's end, the longest window,
+#: scipy's rtol and atol, the estimate's order (the exponent −1/(error_order + 1)) and
+#: log(rtol)-ish ``log_eps`` of the a-priori window (mbm.core.window.window_log_eps).
+WindowControl = collections.namedtuple(
+    "WindowControl", ("direction", "t_bound", "max_step", "rtol", "atol", "error_order", "log_eps"))
+
+
+@numba.njit(**INLINE)
+def window_control(direction, t_bound, max_step, rtol, atol, error_order, log_eps):
+    """A :data:`WindowControl` with its fields' types fixed (float64, the order int64), so
+    that every caller's compiles to the one type the controllers take."""
+    return WindowControl(float(direction), float(t_bound), float(max_step), float(rtol), float(atol),
+                         np.int64(error_order), float(log_eps))
+
+
+def new_run(model, state, control, max_windows, call_windows=0, regimes=1):
+    """A run record array of one row, at the start of its run (:func:`init_run`).
+
+    Parameters
+    ----------
+    model : RunModel
+        β, γ, ω and the drive (a driven run, ``drive_amp`` ≠ 0, may reach the
+        phase-locked regime only).
+    state : RunState
+        The start (t, θ, θ') and the span's end ``t_bound``.
+    control : RunControl
+        The approximant, its controller, the window limits and the tolerances.
+    max_windows, call_windows : int
+        Windows the whole run may take; windows one call may take (0: no limit).
+    regimes : int
+        1: regime switching on; 0: off.
+    """
     p = np.empty(1, dtype=RUN)
-    init_run(p, 0, (float(beta), float(gamma), float(omega), float(drive_amplitude), float(drive_frequency),
-                    float(drive_phase)),
-             (float(t0), float(theta0), float(v0), float(t_bound)),
-             (int(kind), int(karg), int(controller), float(h_abs), float(max_step), float(max_dtheta),
-              float(rtol), float(atol), int(error_order)),
+    c = control
+    init_run(p, 0, tuple(float(x) for x in model), tuple(float(x) for x in state),
+             (int(c.kind), int(c.karg), int(c.controller), float(c.h_abs), float(c.max_step), float(c.max_dtheta),
+              float(c.rtol), float(c.atol), int(c.error_order)),
              int(max_windows), int(call_windows), int(regimes))
     return p

@@ -111,7 +111,7 @@ _EVALUATORS = {KIND_TAYLOR: _evaluate_windows_taylor, KIND_EXACT: _evaluate_wind
                KIND_SALAS_TORQUE: _evaluate_windows_salas_torque, KIND_SPLIT: _evaluate_windows_split}
 
 
-def evaluate_windows(kind, starts, start_theta, coefs, n, direction, t, out_theta, out_v):
+def evaluate_windows(kind, starts, start_theta, coefs, n, direction, t, *, out_theta, out_v):
     """Evaluate ``n`` stored windows (``win_t``, ``win_y[:, 0]``, ``win_coef`` of :func:`run`)
     of kind ``kind`` at times ``t`` (see :func:`_evaluate_windows`)."""
     _EVALUATORS[kind](starts, start_theta, coefs, n, direction, t, out_theta, out_v)

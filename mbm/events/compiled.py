@@ -250,7 +250,7 @@ def check_max_events(max_events):
     return int(max_events)
 
 
-def solve_events(ig, t0, t1, theta0, v0, t_eval, wrap, events, max_events=None):
+def solve_events(ig, t0, t1, theta0, v0, t_eval, wrap, events, *, max_events=None):
     """:meth:`mbm.Integrator.solve` with ``events`` (span and state checked): the run with
     its events located on its windows; returns the result with ``t_events``,
     ``y_events``, ``winding_events`` and ``n_events``."""
@@ -283,7 +283,7 @@ def solve_events(ig, t0, t1, theta0, v0, t_eval, wrap, events, max_events=None):
         words[_W["h_abs"]] = h
         if t_eval is not None:
             out[:] = np.nan
-        run = _Run(ig, ev, cap, t0, t1, te, out, words.view(record.RUN), items, funcs)
+        run = _Run(ig, ev, cap, t0, t1, te, out, p=words.view(record.RUN), items=items, funcs=funcs)
         if run.go() or regimes == REGIMES_PERIODIC:
             return run.result(items, wrap)
         regimes = REGIMES_PERIODIC  # a locked window may reach a level: without the locked regime
@@ -296,7 +296,7 @@ class _Run:
     them the windows are the approximant's (no regime) and each chunk's events of every
     kind are merged in time order (:meth:`_merge`)."""
 
-    def __init__(self, ig, ev, cap, t0, t1, te, out, p, items, funcs):
+    def __init__(self, ig, ev, cap, t0, t1, te, out, *, p, items, funcs):
         self.ig, self.ev, self.t0, self.t1, self.te, self.out, self.p = ig, ev, t0, t1, te, out, p
         self.direction = 1.0 if t1 >= t0 else -1.0
         self.width = max(_HEADER + int(p[0]["control"]["karg"]) + 1 + _N_EXTRA, CYCLE_WIDTH)
@@ -358,7 +358,7 @@ class _Run:
                 return True
             cap = min(2 * cap, LAST_CHUNK)
 
-    def _locate(self, win_t, start_theta, win_coef, n, ev=None, hits=None, stored=None, cap=None):
+    def _locate(self, win_t, start_theta, win_coef, n, *, ev=None, hits=None, stored=None, cap=None):
         # The built-in events of n windows (locate): (stop window, verdict).
         model = self.ig.model
         lock = np.array([model.gamma, model.omega, self.ig.rtol, self.ig.atol])
@@ -375,8 +375,8 @@ class _Run:
         if self.builtin.size:
             c0 = self.count
             zeros = np.zeros(self.ev.shape[0], np.int64)
-            _, ok = self._locate(win_t, start_theta, win_coef, n, self.ev_all, zeros, zeros.copy(),
-                                 np.full_like(zeros, -1))
+            _, ok = self._locate(win_t, start_theta, win_coef, n, ev=self.ev_all, hits=zeros, stored=zeros.copy(),
+                                 cap=np.full_like(zeros, -1))
             if ok != WATCH_OK:
                 return -1, ok
             found = self.evf[c0: self.count]
@@ -564,8 +564,8 @@ def run_batch_functions(p, te, out, order, ev, cap, items, drive):
         m, c = r["model"], r["control"]
         scene = _Scene(int(c["kind"]), float(m["gamma"]), float(m["omega"]), float(drive[1][i]),
                        float(drive[2][i]), float(c["rtol"]), float(c["atol"]))
-        run = _Run(scene, ev, cap, float(r["state"]["t"]), float(r["state"]["t_bound"]), te, out[i], p[i: i + 1],
-                   items, funcs)
+        run = _Run(scene, ev, cap, float(r["state"]["t"]), float(r["state"]["t_bound"]), te, out[i],
+                   p=p[i: i + 1], items=items, funcs=funcs)
         run.go()
         if run.stopped:
             stop_row(p, i, out[i], te, run.evf, np.int64(run.count - 1), np.int64(run.windows_before), run.direction)

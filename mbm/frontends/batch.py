@@ -152,7 +152,7 @@ def _scene_states(y0, n):
     return y0
 
 
-def _check_budgets(beta, gamma, omega, amp, y0, t0, t1, tau_checked, max_step, max_windows):
+def _check_budgets(beta, gamma, omega, amp, y0, t0, t1, *, tau_checked, max_step, max_windows):
     """check_window_budget on the scenes its cheap test does not clear (vectorized here)."""
     span = t1 - t0
     longest = min(np.inf if tau_checked is None else tau_checked, max_step)
@@ -165,12 +165,12 @@ def _check_budgets(beta, gamma, omega, amp, y0, t0, t1, tau_checked, max_step, m
     for i in np.flatnonzero(maybe) if span > 0.0 else ():
         try:
             check_window_budget(float(beta[i]), float(gamma[i]), float(omega[i]), 0.0, t0, t1, float(y0[i, 1]),
-                                tau_checked, max_step, max_windows)
+                                tau_checked, max_step=max_step, max_windows=max_windows)
         except ValueError as exc:
             raise ValueError(f"scene {i}: {exc}") from None
 
 
-def _plan_scenes(approximant, beta, gamma, omega, amp, freq, phase, driven_call, tau, max_step, t0, t1):
+def _plan_scenes(approximant, beta, gamma, omega, amp, freq, phase, *, driven_call, tau, max_step, t0, t1):
     """Per scene: the drive (3, N), the plan (kind, karg, controller, error_order), h_abs, names."""
     n = beta.size
     undamped = (beta == 0.0) & (gamma == 0.0)
@@ -251,7 +251,7 @@ def _run_options(t_span, t_eval, rtol, atol, max_step, max_windows, wrap):
     return _RunOptions(t0, t1, te, rtol, atol, max_step, max_windows)
 
 
-def _run_events(p, te, out, order, ev, cap, items, drive, fresh):
+def _run_events(p, te, out, order, ev, cap, items, drive, *, fresh):
     # The scenes run with their events: the stored events and the counts.
     if any(compiled_events.is_event_function(e) for e in items):
         return compiled_events.run_batch_functions(p, te, out, order, ev, cap, items, drive)
@@ -333,9 +333,10 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
     if events is not None and isinstance(approximant, str) and approximant == "auto":
         approximant = auto_name(False)  # events are located on Taylor windows (mbm.solve)
     tau_checked = None if tau is None else check_positive("tau", tau)
-    _check_budgets(beta, gamma, omega, amp, y0, t0, t1, tau_checked, max_step, max_windows)
-    drive, plan, h, names = _plan_scenes(approximant, beta, gamma, omega, amp, freq, phase, driven_call, tau,
-                                         max_step, t0, t1)
+    _check_budgets(beta, gamma, omega, amp, y0, t0, t1, tau_checked=tau_checked, max_step=max_step,
+                   max_windows=max_windows)
+    drive, plan, h, names = _plan_scenes(approximant, beta, gamma, omega, amp, freq, phase, driven_call=driven_call,
+                                         tau=tau, max_step=max_step, t0=t0, t1=t1)
     ev, cap, items = compiled_events.batch_table(events, max_events, plan[0], drive[0], drive[1], names)
     model = np.stack([beta, gamma, omega, drive[0], drive[1], drive[2]]).astype(np.float64)
     y0 = np.ascontiguousarray(y0, dtype=np.float64)
@@ -354,7 +355,7 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
     if ev is None:
         _run_batch_interruptibly(p, te, out, order)
         return _batch_result(p, te, out, wrap, names)
-    found = _run_events(p, te, out, order, ev, cap, items, drive, fresh)
+    found = _run_events(p, te, out, order, ev, cap, items, drive, fresh=fresh)
     res = _batch_result(p, te, out, wrap, names)
     res["t_events"], res["y_events"], res["winding_events"], res["n_events"] = compiled_events.batch_event_arrays(
         items, cap, *found)

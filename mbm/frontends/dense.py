@@ -227,7 +227,7 @@ _ENTRIES = {(RS_PLAIN, False): _entries(RS_PLAIN), (RS_STROBE, False): _entries(
 
 def _fallback_into(starts, start_theta, coefs, n, direction, t, out, kind):
     # A kind without an entry here: mbm.core.loop's own evaluator.
-    stored.evaluate_windows(kind, starts, np.ascontiguousarray(start_theta), coefs, n, direction, t, out[0], out[1])
+    stored.evaluate_windows(kind, starts, np.ascontiguousarray(start_theta), coefs, n, direction, t, out_theta=out[0], out_v=out[1])
 
 
 def _fallback_at(starts, start_theta, coefs, n, direction, tj, kind):

@@ -326,8 +326,8 @@ class MBM(_MBMBase):
             if tau is not None:
                 tau = min(tau, run_max_step)
         check_window_budget(self.model.beta, self.model.gamma, self.model.omega, self.model.drive_amplitude,
-                            float(t0), float(t_bound), float(self.y[1]), tau, run_max_step,
-                            check_max_windows(max_windows), self.approximant.exact)
+                            float(t0), float(t_bound), float(self.y[1]), tau, max_step=run_max_step,
+                            max_windows=check_max_windows(max_windows), exact=self.approximant.exact)
         plan = plan_windows(self.approximant, tau, run_max_step, abs(t_bound - t0))
         if plan is None:
             if tol_given:
@@ -359,10 +359,13 @@ class MBM(_MBMBase):
         self._windows = None
         if self._kind is not None:
             self._store_size = min(WINDOW_BUFFER, wps or WINDOW_BUFFER)
+            theta0, v0 = self.y.tolist()
             self._words = _new_record(
-                self.model, float(self.t), self.y, float(self.t_bound), self._kind, controller, h_abs,
-                run_max_step, self.rtol, self.atol, error_order, check_max_windows(max_windows), max_dtheta,
-                0 if wps else CALL_WINDOWS,
+                self.model, record.RunState(float(self.t), theta0, v0, float(self.t_bound)),
+                record.RunControl(kind=self._kind[0], karg=self._kind[1], controller=controller, h_abs=h_abs,
+                                  max_step=run_max_step, max_dtheta=max_dtheta, rtol=self.rtol, atol=self.atol,
+                                  error_order=error_order),
+                check_max_windows(max_windows), 0 if wps else CALL_WINDOWS,
             )
             self._run = np.ndarray(1, record.RUN, self._words)
             self._buf = self._words.reshape(1, -1)  # as the loop's entries take the record
@@ -528,36 +531,34 @@ def _coefficient_width(approximant, karg, model, y):
     return entry[1]
 
 
-def _new_record(model, t0, y, t_bound, kind, controller, h_abs, max_step, rtol, atol, error_order,
-                max_windows, max_dtheta, call_windows):
+def _new_record(model, start, control, max_windows, call_windows):
     """The float64 words of a fresh run record: those of :func:`mbm.core.record.new_run`'s record,
     bit for bit (tests/frontends/test_steps.py).
 
-    The words set by the option set (kind, controller, tolerances, budgets, whether
-    there is a drive: regimes off) are copied from a template that new_run builds
-    once per option set (:data:`RECORD_TEMPLATES` kept); the words of this run
-    (``_W_CALL``: the model, t0, the state, t_bound, the first window, φ = θ₀ and the
-    drive) are set.
+    ``start`` is the run's :class:`~mbm.core.record.RunState`, ``control`` its
+    :class:`~mbm.core.record.RunControl`.  The words set by the option set (kind,
+    controller, tolerances, budgets, whether there is a drive: regimes off) are copied
+    from a template that new_run builds once per option set (:data:`RECORD_TEMPLATES`
+    kept); the words of this run (``_W_CALL``: the model, t0, the state, t_bound, the
+    first window, φ = θ₀ and the drive) are set.
     """
     amp, freq, phase = model.drive
-    key = (kind, controller, max_step, rtol, atol, error_order, max_windows, max_dtheta, call_windows,
-           amp != 0.0)
+    options = control._replace(h_abs=0.0)
+    key = (options, max_windows, call_windows, amp != 0.0)
     template = _TEMPLATES.get(key)
     if template is None:
         if len(_TEMPLATES) >= RECORD_TEMPLATES:
             _TEMPLATES.clear()
         template = record.new_run(
-            0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, kind[0], kind[1], controller, 0.0, max_step, rtol, atol,
-            error_order, max_windows, call_windows=call_windows, max_dtheta=max_dtheta,
-            drive_amplitude=1.0 if amp != 0.0 else 0.0,
+            record.RunModel(0.0, 0.0, 1.0, drive_amp=1.0 if amp != 0.0 else 0.0), record.RunState(0.0, 0.0, 0.0, 0.0),
+            options, max_windows, call_windows=call_windows,
         ).view(np.float64).copy()
         _TEMPLATES[key] = template
     words = template.copy()
     # One item at a time: cheaper than a fancy-indexed assignment of the twelve.
     words[_W_BETA], words[_W_GAMMA], words[_W_OMEGA] = model.params
-    theta0, v0 = y.tolist()
-    words[_W_T], words[_W_THETA], words[_W_V], words[_W_TBOUND] = t0, theta0, v0, t_bound
-    words[_W_H], words[_W_PHI] = h_abs, theta0
+    words[_W_T], words[_W_THETA], words[_W_V], words[_W_TBOUND] = start
+    words[_W_H], words[_W_PHI] = control.h_abs, start.theta
     words[_W_AMP], words[_W_FREQ], words[_W_PHASE] = amp, freq, phase
     return words
 

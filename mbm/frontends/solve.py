@@ -239,10 +239,11 @@ class Integrator:
         self._max_windows = check_max_windows(max_windows)
         beta, gamma, omega = model.params
         amp, freq, phase = model.drive
-        template = record.new_run(beta, gamma, omega, 0.0, 0.0, 0.0, 0.0, kind, karg, controller,
-                                h_abs, self.max_step, self.rtol, self.atol, error_order,
-                                self._max_windows, CALL_WINDOWS, drive_amplitude=amp,
-                                drive_frequency=freq, drive_phase=phase)
+        template = record.new_run(
+            record.RunModel(beta, gamma, omega, amp, freq, phase), record.RunState(0.0, 0.0, 0.0, 0.0),
+            record.RunControl(kind=kind, karg=karg, controller=controller, h_abs=h_abs, max_step=self.max_step,
+                              max_dtheta=math.inf, rtol=self.rtol, atol=self.atol, error_order=error_order),
+            self._max_windows, CALL_WINDOWS)
         # The record's words as float64: each call's compiled entry copies them into
         # words of its own.
         self._words = template.view(np.float64).copy()
@@ -293,7 +294,7 @@ class Integrator:
         theta0, v0 = _state(y0)
         _check_budget(self, t0, t1, v0)
         if events is not None:
-            return solve_events(self, t0, t1, theta0, v0, t_eval, wrap, events, max_events)
+            return solve_events(self, t0, t1, theta0, v0, t_eval, wrap, events, max_events=max_events)
         if max_events is not None:
             raise ValueError("max_events needs events")
         return self._solve(t0, t1, theta0, v0, t_eval, wrap)
@@ -478,7 +479,7 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
     ig = _solver_for(model, rtol, atol, approximant, tau, max_step, max_windows, events is not None)
     _check_budget(ig, t0, t1, v0)
     if events is not None:
-        return solve_events(ig, t0, t1, theta0, v0, t_eval, wrap, events, max_events)
+        return solve_events(ig, t0, t1, theta0, v0, t_eval, wrap, events, max_events=max_events)
     if max_events is not None:
         raise ValueError("max_events needs events")
     return ig._solve(t0, t1, theta0, v0, t_eval, wrap)  # span and state checked above
@@ -501,8 +502,8 @@ def _solver_for(model, rtol, atol, approximant, tau, max_step, max_windows, watc
 def _check_budget(ig, t0, t1, v0):
     # check_window_budget for a run of ig (a run far past max_windows is refused).
     m = ig.model
-    check_window_budget(m.beta, m.gamma, m.omega, m.drive_amplitude, t0, t1, v0, ig._tau, ig.max_step,
-                        ig._max_windows, ig.approximant.exact)
+    check_window_budget(m.beta, m.gamma, m.omega, m.drive_amplitude, t0, t1, v0, ig._tau, max_step=ig.max_step,
+                        max_windows=ig._max_windows, exact=ig.approximant.exact)
 
 
 @functools.lru_cache(maxsize=INTEGRATOR_CACHE)

@@ -675,8 +675,9 @@ def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0
         converged.append(ok)
     converged = np.array(converged, dtype=bool)
     _warn_unsettled(g, converged, velocity_tol)
-    switching, retrapping, unsettled = _currents(beta, omega, g, regimes, velocities, states, current_tol, integrate,
-                                                 drive, velocity_tol)
+    switching, retrapping, unsettled = _currents(beta, omega, g, regimes, velocities, states,
+                                                 current_tol=current_tol, integrate=integrate, drive=drive,
+                                                 velocity_tol=velocity_tol)
     _warn_unsettled_probes(unsettled)
     return IVCurve(gamma=g, mean_velocity=np.array(velocities), regime=np.array(regimes),
                    period=np.array(periods), start_state=np.array(starts),
@@ -688,7 +689,7 @@ def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0
                    retrapping_settled=not unsettled["retrapping"])
 
 
-def _currents(beta, omega, g, regimes, velocities, states, current_tol, integrate, drive, velocity_tol):
+def _currents(beta, omega, g, regimes, velocities, states, *, current_tol, integrate, drive, velocity_tol):
     # The first locked -> running and running -> locked transitions between visited points,
     # bisected: their brackets ((nan, nan) if none) and each bisection's unsettled probes.
     none = (math.nan, math.nan)
@@ -701,14 +702,15 @@ def _currents(beta, omega, g, regimes, velocities, states, current_tol, integrat
             continue
         if a == LOCKED and switching is none:
             g_a, g_b, unsettled["switching"] = _bisect(beta, omega, g[i - 1], g[i], states[i - 1], LOCKED,
-                                                       current_tol, integrate, drive, velocity_tol)
+                                                       current_tol, integrate, drive=drive, velocity_tol=velocity_tol)
             lo, hi = sorted((g_a, g_b))
             # No zero-voltage state beyond |γ| = ω² (IVCurve): the bracket within it.
             w2 = omega * omega
             switching = (max(lo, -w2), min(hi, w2))
         elif a == RUNNING and retrapping is none:
             g_a, g_b, unsettled["retrapping"] = _bisect(beta, omega, g[i - 1], g[i], states[i - 1], RUNNING,
-                                                        current_tol, integrate, drive, velocity_tol)
+                                                        current_tol, integrate, drive=drive,
+                                                        velocity_tol=velocity_tol)
             retrapping = tuple(sorted((g_a, g_b)))
     return switching, retrapping, unsettled
 
@@ -741,7 +743,7 @@ def _midpoint(bracket):
     return float(min(max(0.5 * (lo + hi), lo), hi))
 
 
-def _bisect(beta, omega, g_a, g_b, y_a, regime_a, tol, integrate, drive=(0.0, 0.0, 0.0),
+def _bisect(beta, omega, g_a, g_b, y_a, regime_a, tol, integrate, *, drive=(0.0, 0.0, 0.0),
             velocity_tol=DRIVE_VELOCITY_TOL):
     # [g_a, g_b]: regime_a at g_a (settled state y_a), the other regime at g_b; returns
     # the final (g_a, g_b), |g_b − g_a| ≤ tol, and the γ of the probes whose voltage

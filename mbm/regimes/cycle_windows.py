@@ -16,6 +16,7 @@ import numpy as np
 
 from ..approximants.taylor import taylor_workspace
 from ..core.controller import _EPS, _adaptive, _first
+from ..core.record import window_control
 from ..core.window import (
     KIND_SPLIT,
     KIND_TAYLOR,
@@ -192,11 +193,10 @@ def _period_windows_for(kind, simd=False):
                 break
             if n == 0:
                 coefs = np.empty((cap, coef.size))
+            ctl = window_control(1.0, period, math.inf, rtol, atol, error_order, log_eps)
             if h <= 0.0:
-                h = _first(kind, coef, tt, a0, a1, off, 1.0, period, omega, math.inf, rtol, atol,
-                                 error_order, log_eps)
-            st, t_new, th, v, h_next = _adaptive(kind, coef, tt, a0, a1, off, 1.0, period, h, math.inf,
-                                                       rtol, atol, error_order, log_eps)
+                h = _first(kind, coef, tt, a0, a1, off, omega, ctl)
+            st, t_new, th, v, h_next = _adaptive(kind, coef, tt, a0, a1, off, h, ctl)
             if st != STATUS_OK:
                 break
             # Element loops, not slice assignments: those compile numpy's broadcast-error

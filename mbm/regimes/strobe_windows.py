@@ -13,6 +13,7 @@ import numpy as np
 
 from ..approximants.taylor import drive_phase_sincos, taylor_workspace
 from ..core.controller import _adaptive, _first
+from ..core.record import window_control
 from ..core.window import (
     KIND_TAYLOR,
     TWO_PI_A,
@@ -73,11 +74,10 @@ def _strobe_eval_taylor(c, t):
         coef = anchor_driven(KIND_TAYLOR, karg, beta, gamma, omega, amp, freq, psi, tt, a0, a1, ws_coef, ws_scratch)
         if coef[0] != 0.0:
             break
+        ctl = window_control(1.0, p_hi, math.inf, rtol, atol, error_order, log_eps)
         if h <= 0.0:
-            h = _first(KIND_TAYLOR, coef, tt, a0, a1, off, 1.0, p_hi, omega, math.inf, rtol, atol,
-                             error_order, log_eps)
-        st, t_new, th, v, h_next = _adaptive(KIND_TAYLOR, coef, tt, a0, a1, off, 1.0, p_hi, h, math.inf,
-                                                   rtol, atol, error_order, log_eps)
+            h = _first(KIND_TAYLOR, coef, tt, a0, a1, off, omega, ctl)
+        st, t_new, th, v, h_next = _adaptive(KIND_TAYLOR, coef, tt, a0, a1, off, h, ctl)
         if st != STATUS_OK:
             break
         if t_new >= s:

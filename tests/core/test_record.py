@@ -48,9 +48,9 @@ def test_documented_size_is_the_record_size():
 
 
 def test_words_and_flat_view_address_the_same_fields():
-    p = record.new_run(0.1, 0.2, 1.5, 3.0, 0.4, -0.5, 9.0, window.KIND_TAYLOR, 24, controller.CONTROLLER_ADAPTIVE,
-                     -1.0, 2.5, 1e-7, 1e-8, 24, 1000, drive_amplitude=0.3, drive_frequency=0.7,
-                     drive_phase=0.2)
+    p = record.new_run(record.RunModel(0.1, 0.2, 1.5, 0.3, 0.7, 0.2), record.RunState(3.0, 0.4, -0.5, 9.0),
+                       record.RunControl(window.KIND_TAYLOR, 24, controller.CONTROLLER_ADAPTIVE, -1.0, 2.5, math.inf,
+                                         1e-7, 1e-8, 24), 1000)
     words = p.view(np.float64)
     ints = p.view(np.int64)
     f = record.flat(p)[0]
@@ -65,8 +65,9 @@ def test_words_and_flat_view_address_the_same_fields():
 
 
 def test_new_run_is_the_fresh_record():
-    p = record.new_run(0.1, 0.2, 1.5, 3.0, 0.4, -0.5, 9.0, window.KIND_SPLIT, 4, controller.CONTROLLER_FIXED, 0.1,
-                     math.inf, 1e-6, 1e-9, 4, 77, call_windows=5, max_dtheta=0.5, regimes=0)
+    p = record.new_run(record.RunModel(0.1, 0.2, 1.5), record.RunState(3.0, 0.4, -0.5, 9.0),
+                       record.RunControl(window.KIND_SPLIT, 4, controller.CONTROLLER_FIXED, 0.1, math.inf, 0.5, 1e-6,
+                                         1e-9, 4), 77, call_windows=5, regimes=0)
     r = record.flat(p)[0]
     assert (r["beta"], r["gamma"], r["omega"]) == (0.1, 0.2, 1.5)
     assert (r["t"], r["theta"], r["v"], r["t_bound"]) == (3.0, 0.4, -0.5, 9.0)
@@ -91,8 +92,9 @@ def test_batch_records_are_new_run_records_bit_for_bit():
     p = np.empty(2, dtype=record.RUN)
     record.init_runs(p, model, 0.0, y0, 5.0, plan, h, math.inf, 1e-8, 1e-9, 1000)
     for i in range(2):
-        want = record.new_run(beta[i], gamma[i], omega[i], 0.0, y0[i, 0], y0[i, 1], 5.0, plan[0, i], plan[1, i],
-                            plan[2, i], h[i], math.inf, 1e-8, 1e-9, plan[3, i], 1000)
+        want = record.new_run(record.RunModel(beta[i], gamma[i], omega[i]), record.RunState(0.0, *y0[i], 5.0),
+                              record.RunControl(plan[0, i], plan[1, i], plan[2, i], h[i], math.inf, math.inf, 1e-8,
+                                                1e-9, plan[3, i]), 1000)
         assert p[i:i + 1].tobytes() == want.tobytes()
 
 
@@ -107,8 +109,9 @@ def test_solve_njit_and_batch_build_records_with_the_initialiser():
 
 
 def test_a_fresh_record_has_no_damped_constants():
-    p = record.new_run(0.1, 0.2, 1.5, 0.0, 0.4, -0.5, 9.0, window.KIND_TAYLOR, 24, controller.CONTROLLER_ADAPTIVE, -1.0,
-                     math.inf, 1e-8, 1e-8, 24, 1000)
+    p = record.new_run(record.RunModel(0.1, 0.2, 1.5), record.RunState(0.0, 0.4, -0.5, 9.0),
+                       record.RunControl(window.KIND_TAYLOR, 24, controller.CONTROLLER_ADAPTIVE, -1.0, math.inf,
+                                         math.inf, 1e-8, 1e-8, 24), 1000)
     d = p[0]["damped"]
     assert math.isnan(d["dmp_beta"]) and math.isnan(d["dmp_gamma"]) and math.isnan(d["dmp_omega"])
 
@@ -118,8 +121,9 @@ _DAMPED_SCENES = [(0.5, 0.3, 1.2, 0.8, 0.0, 60.0), (0.2, 1.3, 1.0, 0.0, 0.0, 30.
 
 
 def _damped_buffer(beta, gamma, omega):
-    p = record.new_run(beta, gamma, omega, 0.0, 0.0, 0.0, 0.0, window.KIND_TAYLOR, 24, controller.CONTROLLER_ADAPTIVE,
-                     -1.0, math.inf, 1e-9, 1e-9, 24, 10**6)
+    p = record.new_run(record.RunModel(beta, gamma, omega), record.RunState(0.0, 0.0, 0.0, 0.0),
+                       record.RunControl(window.KIND_TAYLOR, 24, controller.CONTROLLER_ADAPTIVE, -1.0, math.inf,
+                                         math.inf, 1e-9, 1e-9, 24), 10**6)
     assert loop.set_of(p[0]) == loop.RS_DAMPED
     buf = np.empty((2, record.RUN.itemsize // 8))
     buf[0] = p.view(np.float64)

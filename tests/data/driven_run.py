@@ -21,9 +21,10 @@ def run(params, y0, T, t, tol, regimes_on=1, call_windows=0):
     """The loop by hand (mbm.solve's defaults), θ wrapped with its winding count."""
     beta, gamma, omega, amp, freq, phase = params
     ap, kind, karg = mbm.frontends.solve.compiled(mbm.get_approximant("taylor"))
-    p = record.new_run(beta, gamma, omega, 0.0, y0[0], y0[1], T, kind, karg, controller.CONTROLLER_ADAPTIVE,
-                     -1.0, np.inf, tol, tol, int(ap.error_order), 10**8, call_windows=call_windows,
-                     regimes=regimes_on, drive_amplitude=amp, drive_frequency=freq, drive_phase=phase)
+    p = record.new_run(record.RunModel(beta, gamma, omega, amp, freq, phase), record.RunState(0.0, y0[0], y0[1], T),
+                       record.RunControl(kind, karg, controller.CONTROLLER_ADAPTIVE, -1.0, np.inf, np.inf, tol, tol,
+                                         int(ap.error_order)),
+                       10**8, call_windows=call_windows, regimes=regimes_on)
     out = np.full((3, t.size), np.nan)
     while True:
         loop.run(p, t, out, np.empty(0), np.empty((0, 2)), np.empty((0, 0)), np.zeros(1, np.int64))

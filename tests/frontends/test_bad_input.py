@@ -510,8 +510,8 @@ def test_budget_does_not_refuse_what_it_cannot_bound(params, span, kw):
     from mbm.validate import DEFAULT_MAX_WINDOWS, check_window_budget
     m = mbm.Pendulum(*params)
     t0, t1 = (0.0, span) if np.ndim(span) == 0 else span
-    check_window_budget(m.beta, m.gamma, m.omega, m.drive_amplitude, t0, t1, 0.0, kw.get("tau"), math.inf,
-                        kw.get("max_windows", DEFAULT_MAX_WINDOWS))
+    check_window_budget(m.beta, m.gamma, m.omega, m.drive_amplitude, t0, t1, 0.0, kw.get("tau"), max_step=math.inf,
+                        max_windows=kw.get("max_windows", DEFAULT_MAX_WINDOWS))
 
 
 def test_budget_allows_an_ordinary_runaway():

@@ -62,7 +62,7 @@ def test_same_bits_as_loop_evaluate_windows(name, kw):
     contiguous = np.ascontiguousarray(start_theta)
     for t in _times(starts, n, rng):
         th, v = np.empty(t.size), np.empty(t.size)
-        stored.evaluate_windows(kind, starts, contiguous, coefs, n, 1.0, t, th, v)
+        stored.evaluate_windows(kind, starts, contiguous, coefs, n, 1.0, t, out_theta=th, out_v=v)
         for theta_starts in (start_theta, contiguous):  # a strided view, as MBM passes, or not
             out = np.empty((2, t.size))
             dense.evaluate_windows_into(kind, starts, theta_starts, coefs, n, 1.0, t, out)

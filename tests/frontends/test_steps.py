@@ -132,19 +132,19 @@ def test_record_from_template_is_new_runs_bit_for_bit(case):
     kind = window.kind_of(get_approximant(name))
     beta, gamma, omega = model.params
     amp, freq, phase = model.drive
-    ref = record.new_run(beta, gamma, omega, t0, y0[0], y0[1], t1, kind[0], kind[1], controller, h_abs,
-                       max_step, rtol, atol, order, max_windows, call_windows=calls, max_dtheta=dtheta,
-                       drive_amplitude=amp, drive_frequency=freq, drive_phase=phase)
+    control = record.RunControl(kind=kind[0], karg=kind[1], controller=controller, h_abs=h_abs, max_step=max_step,
+                                max_dtheta=dtheta, rtol=rtol, atol=atol, error_order=order)
+    ref = record.new_run(record.RunModel(beta, gamma, omega, amp, freq, phase),
+                         record.RunState(t0, y0[0], y0[1], t1), control, max_windows, call_windows=calls)
     msolver._TEMPLATES.clear()
     for _ in range(2):  # built from new_run, then from the cached template
-        words = msolver._new_record(model, t0, np.array(y0, dtype=float), t1, kind, controller, h_abs,
-                                    max_step, rtol, atol, order, max_windows, dtheta, calls)
+        words = msolver._new_record(model, record.RunState(t0, *y0, t1), control, max_windows, calls)
         np.testing.assert_array_equal(words.view(np.int64), ref.view(np.int64))
     # Another run of the same option set: only the run's own words change.
-    other = msolver._new_record(mbm.Pendulum(0.7, 0.1), 2.0, np.array([0.3, 0.4]), 9.0, kind, controller,
-                                0.5, max_step, rtol, atol, order, max_windows, dtheta, calls)
-    ref2 = record.new_run(0.7, 0.1, 1.0, 2.0, 0.3, 0.4, 9.0, kind[0], kind[1], controller, 0.5, max_step, rtol,
-                        atol, order, max_windows, call_windows=calls, max_dtheta=dtheta)
+    start2 = record.RunState(2.0, 0.3, 0.4, 9.0)
+    control2 = control._replace(h_abs=0.5)
+    other = msolver._new_record(mbm.Pendulum(0.7, 0.1), start2, control2, max_windows, calls)
+    ref2 = record.new_run(record.RunModel(0.7, 0.1, 1.0), start2, control2, max_windows, call_windows=calls)
     np.testing.assert_array_equal(other.view(np.int64), ref2.view(np.int64))
 
 

@@ -44,8 +44,9 @@ def _trapped(rng):
 def _taylor_run(gamma, omega, y0, T, t, tol, regimes_on):
     """The loop run by hand (mbm.solve's defaults, β = 0), with the switch on or off."""
     ap, kind, karg = mbm.frontends.solve.compiled(mbm.get_approximant("taylor"))
-    p = record.new_run(0.0, gamma, omega, 0.0, y0[0], y0[1], T, kind, karg, controller.CONTROLLER_ADAPTIVE,
-                     -1.0, np.inf, tol, tol, int(ap.error_order), 10**7, regimes=regimes_on)
+    p = record.new_run(record.RunModel(0.0, gamma, omega), record.RunState(0.0, y0[0], y0[1], T),
+                       record.RunControl(kind, karg, controller.CONTROLLER_ADAPTIVE, -1.0, np.inf, np.inf, tol, tol,
+                                         int(ap.error_order)), 10**7, regimes=regimes_on)
     out = np.full((2, t.size), np.nan)
     loop.run(p, t, out, np.empty(0), np.empty((0, 2)), np.empty((0, 0)), np.zeros(1, np.int64))
     return out, record.flat(p)[0]

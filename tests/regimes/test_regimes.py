@@ -53,8 +53,9 @@ def heyoka_ref():
 def _taylor_run(beta, gamma, omega, y0, T, t, tol, regimes_on):
     """The loop run by hand (mbm.solve's defaults), with the switch on or off."""
     ap, kind, karg = mbm.frontends.solve.compiled(mbm.get_approximant("taylor"))
-    p = record.new_run(beta, gamma, omega, 0.0, y0[0], y0[1], T, kind, karg, controller.CONTROLLER_ADAPTIVE,
-                     -1.0, np.inf, tol, tol, int(ap.error_order), 10**7, regimes=regimes_on)
+    p = record.new_run(record.RunModel(beta, gamma, omega), record.RunState(0.0, y0[0], y0[1], T),
+                       record.RunControl(kind, karg, controller.CONTROLLER_ADAPTIVE, -1.0, np.inf, np.inf, tol, tol,
+                                         int(ap.error_order)), 10**7, regimes=regimes_on)
     out = np.full((2, t.size), np.nan)
     loop.run(p, t, out, np.empty(0), np.empty((0, 2)), np.empty((0, 0)), np.zeros(1, np.int64))
     return out, record.flat(p)[0]
@@ -259,8 +260,9 @@ def test_section_is_the_saddle_so_a_libration_does_no_section_work():
     assert regimes.section_offset(0.5, 1.0) == math.pi - math.asin(0.5)
     assert regimes.section_offset(3.0, 1.0) == math.pi / 2  # |γ| > ω²: clamped
     model = mbm.Pendulum(0.05, 0.2)
-    p = record.new_run(*model.params, 0.0, 1.0, 0.0, 200.0, window.KIND_TAYLOR, 24,
-                     controller.CONTROLLER_ADAPTIVE, -1.0, math.inf, 1e-9, 1e-9, 24, 10**7)
+    p = record.new_run(record.RunModel(*model.params), record.RunState(0.0, 1.0, 0.0, 200.0),
+                       record.RunControl(window.KIND_TAYLOR, 24, controller.CONTROLLER_ADAPTIVE, -1.0, math.inf,
+                                         math.inf, 1e-9, 1e-9, 24), 10**7)
     loop.run(p, np.empty(0), np.empty((2, 0)), np.empty(0), np.empty((0, 2)),
              np.empty((0, 0)), np.zeros(1, dtype=np.int64))
     rec = record.flat(p)[0]

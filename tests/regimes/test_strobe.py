@@ -398,9 +398,9 @@ def test_a_later_start_time_sets_the_samples():
     assert r.regime == "phase-locked" and t0 < r.t_regime < t0 + 1000.0 and r.mean_velocity == 1.0
     b, g, w, amp, freq, phase = STEP
     ap, kind, karg = mbm.frontends.solve.compiled(mbm.get_approximant("taylor"))
-    p = record.new_run(b, g, w, t0, Y0[0], Y0[1], t[-1], kind, karg, controller.CONTROLLER_ADAPTIVE, -1.0, np.inf, 1e-10,
-                     1e-10, int(ap.error_order), 10**8, regimes=0, drive_amplitude=amp, drive_frequency=freq,
-                     drive_phase=phase)
+    p = record.new_run(record.RunModel(b, g, w, amp, freq, phase), record.RunState(t0, Y0[0], Y0[1], t[-1]),
+                       record.RunControl(kind, karg, controller.CONTROLLER_ADAPTIVE, -1.0, np.inf, np.inf, 1e-10,
+                                         1e-10, int(ap.error_order)), 10**8, regimes=0)
     out = np.full((2, t.size), np.nan)
     loop.run(p, t, out, np.empty(0), np.empty((0, 2)), np.empty((0, 0)), np.zeros(1, np.int64))
     assert record.flat(p)[0]["regime"] == regimes.REGIME_NONE
