@@ -152,7 +152,7 @@ def _scene_states(y0, n):
     return y0
 
 
-def _check_budgets(beta, gamma, omega, amp, y0, t0, t1, *, tau_checked, max_step, max_windows):
+def _check_budgets(beta, gamma, omega, amp, y0, t0, t1, tau_checked, *, max_step, max_windows):
     """check_window_budget on the scenes its cheap test does not clear (vectorized here)."""
     span = t1 - t0
     longest = min(np.inf if tau_checked is None else tau_checked, max_step)
@@ -333,8 +333,7 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
     if events is not None and isinstance(approximant, str) and approximant == "auto":
         approximant = auto_name(False)  # events are located on Taylor windows (mbm.solve)
     tau_checked = None if tau is None else check_positive("tau", tau)
-    _check_budgets(beta, gamma, omega, amp, y0, t0, t1, tau_checked=tau_checked, max_step=max_step,
-                   max_windows=max_windows)
+    _check_budgets(beta, gamma, omega, amp, y0, t0, t1, tau_checked, max_step=max_step, max_windows=max_windows)
     drive, plan, h, names = _plan_scenes(approximant, beta, gamma, omega, amp, freq, phase, driven_call=driven_call,
                                          tau=tau, max_step=max_step, t0=t0, t1=t1)
     ev, cap, items = compiled_events.batch_table(events, max_events, plan[0], drive[0], drive[1], names)
