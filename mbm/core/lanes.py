@@ -9,6 +9,7 @@ lane, so the same bits); every other window (a regime's, a failure's, the run's 
 is the loop's own, the lane handing its scene over as a paused run.
 """
 
+import collections
 import math
 import threading
 
@@ -32,7 +33,7 @@ from .controller import (
 )
 from .chains import REACHES, _run_sets, set_flag
 from .record import window_control
-from .loop import _regime_set, damped_setup, emit_taylor, locked_test
+from .loop import Outputs, _regime_set, damped_setup, emit_taylor, locked_test
 from .window import (
     KIND_TAYLOR,
     _reduce_phi,
@@ -137,11 +138,18 @@ def _lane_trap(p, ln, n_out, ev):
         r.switch.t_regime = r.state.t
 
 
+#: Where a lane's scene goes when it leaves the lanes: the output times and rows, the
+#: loop's (empty) window store, the interrupt flag, and the scenes handed to the event
+#: watch's loop (empty without events).
+HandOff = collections.namedtuple("HandOff", ("t_eval", "out", "win_t", "win_y", "win_coef", "cancel", "handed"))
+
+
 @kernel
-def _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel, handed):
+def _lane_hand_off(p, ln, ho):
     # The lane's state written back as a paused run's, and the run finished by the loop
-    # (a lane's scene is in RS_DAMPED, or reached RS_CYCLE); with events (``handed`` not
-    # empty) marked in ``handed`` instead, for the event watch's loop to finish.
+    # (a lane's scene is in RS_DAMPED, or reached RS_CYCLE); with events (``ho.handed``
+    # not empty) marked there instead, for the event watch's loop to finish.
+    t_eval, out, win_t, win_y, win_coef, cancel, handed = ho
     i = ln.scene
     _lane_write_back(p[i], ln)
     if handed.size:
@@ -151,7 +159,7 @@ def _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel, handed):
 
 
 @numba.njit(**INLINE)
-def _lane_before(p, ln, q, ins, t_eval, out, win_t, win_y, win_coef, cancel, handed):
+def _lane_before(p, ln, q, ins, ho):
     """The loop's tests before the lane's next window, in its order: a lane whose window
     is not an ordinary Taylor one (the run's end, ``max_windows``, the interrupt flag, a
     non-finite state, the locked form) hands off; else the lane's inputs of the
@@ -159,15 +167,15 @@ def _lane_before(p, ln, q, ins, t_eval, out, win_t, win_y, win_coef, cancel, han
     r = p[ln.scene]
     t, y0, y1, k = ln.t, ln.phi, ln.v, ln.wind
     if (not (ln.direction * (r.state.t_bound - t) > 0.0) or ln.n_windows >= r.progress.max_windows
-            or cancel[0] != 0 or not (math.isfinite(y0) and math.isfinite(y1))):
-        _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel, handed)
+            or ho.cancel[0] != 0 or not (math.isfinite(y0) and math.isfinite(y1))):
+        _lane_hand_off(p, ln, ho)
         return False
     k, y0 = _reduce_phi(k, y0)
     ln.wind, ln.phi = k, y0
     if ln.can_lock != 0:
         lk = (ln.lk_d, ln.lk_wl2, ln.lk_g0, ln.lk_g1, ln.lk_sd, ln.lk_q2, ln.can_lock2 != 0)
         if locked_test(r, y0, y1, k * _TWO_PI, lk, False)[0] > 0:
-            _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel, handed)
+            _lane_hand_off(p, ln, ho)
             return False
     ins[0, q] = r.model.beta
     ins[1, q] = r.model.gamma
@@ -197,12 +205,14 @@ def _lane_try(r, ln, coef):
 
 
 @numba.njit(**INLINE)
-def _lane_window(p, ln, coef, h, th, v, t_eval, out, wrapped, win_t, win_y, win_coef, cancel, handed):
+def _lane_window(p, ln, coef, h, th, v, ho):
     """The lane's window after the lane-wise Horner (``th``, ``v`` at the try's end, ``h``
     after the start): the loop's test of the first try (:func:`accept_try`), on a
     rejection the compiled controller, the outputs (:func:`emit_taylor`) and the cycle
-    watch; a failure or a regime switch hands off.  Returns the window's end (NaN:
-    no window taken)."""
+    watch; a failure or a regime switch hands off (``ho``: :data:`HandOff`).  Returns
+    the window's end (NaN: no window taken)."""
+    t_eval, out = ho.t_eval, ho.out
+    wrapped = out.shape[1] == 3
     i = ln.scene
     r = p[i]
     c = r.control
@@ -217,14 +227,14 @@ def _lane_window(p, ln, coef, h, th, v, t_eval, out, wrapped, win_t, win_y, win_
         # Rejected (or below the floor): adaptive_window itself, from the start.
         st, t_new, th, v, h_next = _adaptive_window_taylor(coef, t, y0, y1, off, ln.h_abs, ctl)
         if st != STATUS_OK:
-            _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel, handed)
+            _lane_hand_off(p, ln, ho)
             return math.nan
     j = ln.j
     if j < t_eval.size and ln.direction * (t_eval[j] - t_new) <= 0.0:
         # (The views of out made only for a window that has outputs.)
         out_theta = out[i, 0]
-        ln.j = emit_taylor(coef, t, t_new, t_eval, j, ln.direction, k, out_theta, out[i, 1],
-                           out[i, 2] if wrapped else out_theta, wrapped)
+        outs = Outputs(t_eval, out_theta, out[i, 1], out[i, 2] if wrapped else out_theta, wrapped)
+        ln.j = emit_taylor(coef, t, t_new, k, j, ln.direction, outs)
     if ln.can_cycle != 0 and r.switch.regime == REGIME_NONE:
         m = r.model
         _watch_cycle(KIND_TAYLOR, r, coef, t, t_new, y0, th, v, k, off, ln.sec_off, ln.sec_acc, m.beta, m.gamma,
@@ -232,7 +242,7 @@ def _lane_window(p, ln, coef, h, th, v, t_eval, out, wrapped, win_t, win_y, win_
     ln.t, ln.phi, ln.v, ln.h_abs = t_new, th, v, h_next
     ln.n_windows += 1
     if r.switch.regime != REGIME_NONE:
-        _lane_hand_off(p, ln, t_eval, out, win_t, win_y, win_coef, cancel, handed)
+        _lane_hand_off(p, ln, ho)
     return t_new
 
 
@@ -241,7 +251,7 @@ def _lanes_for(watch):
     constant of the closure: the other's branches are pruned, each closure cached apart)."""
 
     @numba.njit(cache=True, nogil=True)
-    def run_lanes(p, ids, t_eval, out, cancel, ev, cap, hits_all, stored_all, handed):
+    def run_lanes(p, ids, t_eval, out, cancel, events):
         """Run the scenes ``ids`` of ``p`` (output rows ``out[ids]``), LANES at a time in lockstep.
 
         Each lockstep round takes one window of every lane: the loop's window for an
@@ -256,8 +266,8 @@ def _lanes_for(watch):
         :func:`_rows_for`'s entry); another is STATUS_ANCHOR.  Compiled once: it takes the
         loop's entries of Taylor's RS_DAMPED and RS_CYCLE only.
 
-        With the watch, the events ``ev`` (at most ``cap`` of each stored, -1: all) are
-        located on each window's polynomial as :func:`mbm.core.event_watch.locate`
+        With the watch, the events (``events``, a :data:`LaneEvents`: the specs ``ev``, at
+        most ``cap`` of each stored, -1: all) are located on each window's polynomial as :func:`mbm.core.event_watch.locate`
         does (counts in ``hits_all``, ``stored_all``); a terminal event stops its scene
         (:func:`mbm.core.event_batch.stop_at`), a trapped scene ends before its next
         window (:func:`_lane_trap`; the event watch's loop tests it before each chunk of
@@ -265,7 +275,8 @@ def _lanes_for(watch):
         off is marked in ``handed`` for the event watch's loop to finish.  Returns the stored events
         (rows t, θ, θ', m; event; scene), empty without the watch.
         """
-        win_t, win_y, win_coef = np.empty(0), np.empty((0, 2)), np.empty((0, 0))
+        ev, cap, hits_all, stored_all, handed = events
+        ho = HandOff(t_eval, out, np.empty(0), np.empty((0, 2)), np.empty((0, 0)), cancel, handed)
         caps = np.full(ev.shape[0], cap, np.int64)
         n_buf = EVENTS_CAPACITY if watch else 0
         evf, evi, evs, count = np.empty((n_buf, 4)), np.empty(n_buf, np.int64), np.empty(n_buf, np.int64), 0
@@ -282,7 +293,6 @@ def _lanes_for(watch):
             lanes[q].scene = -1
         # The lanes' coefficient rows, as views made once.
         rows = (coefs[0], coefs[1], coefs[2], coefs[3], coefs[4], coefs[5], coefs[6], coefs[7])
-        wrapped = out.shape[1] == 3
         nxt = 0
         while True:
             live = 0
@@ -296,8 +306,7 @@ def _lanes_for(watch):
                     else:
                         # (run_batch sends the lanes only scenes that are lane_eligible)
                         p[i].progress.status = STATUS_ANCHOR
-                ln.ready = 1 if ln.scene >= 0 and _lane_before(p, ln, q, ins, t_eval, out, win_t, win_y, win_coef,
-                                                               cancel, handed) else 0
+                ln.ready = 1 if ln.scene >= 0 and _lane_before(p, ln, q, ins, ho) else 0
                 if watch and ln.ready != 0 and ln.can_lock != 0:
                     _lane_trap(p, ln, t_eval.size, ev)
                 live += ln.ready
@@ -315,8 +324,7 @@ def _lanes_for(watch):
                 if ln.ready != 0:
                     ln.ready = 0
                     i, t_w, k, direction = ln.scene, ln.t, ln.wind, ln.direction
-                    t_new = _lane_window(p, ln, rows[q], hs[q], hv[0, q], hv[1, q], t_eval, out, wrapped, win_t,
-                                         win_y, win_coef, cancel, handed)
+                    t_new = _lane_window(p, ln, rows[q], hs[q], hv[0, q], hv[1, q], ho)
                     if watch and t_new == t_new and window_may_cross(rows[q], t_new - t_w, k, ev):
                         evf, evi, evs, count = lane_events(p, ln, i, rows[q], t_w, t_new, k, direction, t_eval, out,
                                                            ev, caps, hits_all, stored_all, handed, ws, evf, evi,
@@ -332,11 +340,17 @@ _run_lanes = _lanes_for(False)
 run_lanes_events = _lanes_for(True)
 
 
+#: The event arguments of the lanes (:func:`_lanes_for`): the event specs, how many of
+#: each to store (-1: all), the counts found and stored per scene and event, and the
+#: scenes handed to the event watch's loop.
+LaneEvents = collections.namedtuple("LaneEvents", ("ev", "cap", "hits", "stored", "handed"))
+
+
 def no_events():
-    """The event arguments of :func:`_run_lanes` for a batch without events (an empty
+    """The :data:`LaneEvents` of :func:`_run_lanes` for a batch without events (an empty
     ``handed``: a lane hands its scene to the loop)."""
     counts = np.empty((0, 0), np.int64)
-    return np.empty((0, 5)), -1, counts, counts, np.empty(0, np.int64)
+    return LaneEvents(np.empty((0, 5)), -1, counts, counts, np.empty(0, np.int64))
 
 
 def _rows_for(flags):
@@ -423,7 +437,7 @@ def run_batch(p, t_eval, out, order, cancel, flags=None, eligible=None):
     lanes = (eligible_rows(p) if eligible is None else eligible)[order]
     others = order[~lanes]
     none = no_events()
-    tasks = [lambda ids=ids: _run_lanes(p, ids, t_eval, out, cancel, *none) for ids in groups(order[lanes])]
+    tasks = [lambda ids=ids: _run_lanes(p, ids, t_eval, out, cancel, none) for ids in groups(order[lanes])]
     if others.size:
         entry = rows_entry(batch_flags(p[others]) if flags is None else tuple(flags))
         tasks += [lambda ids=ids: entry(p, ids, t_eval, out, cancel) for ids in groups(others)]

@@ -115,11 +115,12 @@ from ..status import (
 
 
 @numba.njit(**INLINE)
-def _stored_value(kind, rset, coef, per_starts, per_ends, per_coefs, per_n, t, tj):
+def _stored_value(kind, rset, coef, per, t, tj):
     """(φ, θ', winding count) of a stored period's window (RS_CYCLE, RS_STROBE) that
-    started at ``t``, at time ``tj``."""
+    started at ``t``, at time ``tj`` (``per``: the period's windows, starts, ends,
+    coefficients and count)."""
     if rset == RS_CYCLE:
-        return _period_value(kind, coef, per_starts, per_ends, per_coefs, per_n, tj - t)
+        return _period_value(kind, coef, per[0], per[1], per[2], per[3], tj - t)
     return _strobe_value(kind, coef, tj)
 
 
@@ -253,10 +254,11 @@ def _regime_setup(kind, rset, r, may, width, t, n_total):
 
 
 @numba.njit(**INLINE)
-def _stop_before(kind, rset, r, n, n_total, store, cap, seen, cancel):
+def _stop_before(kind, rset, r, counts, store, cap, seen, cancel):
     """Whether the run stops before its next window: ``(status, regime seen)``, status
-    STATUS_OK to go on.  A regime switch to another set pauses (the run goes on through
-    the new set's entry)."""
+    STATUS_OK to go on (``counts``: the windows this call and the run have taken).  A
+    regime switch to another set pauses (the run goes on through the new set's entry)."""
+    n, n_total = counts
     if n_total >= r.progress.max_windows:
         return STATUS_MAX_WINDOWS, seen
     budget = r.progress.call_windows
@@ -282,6 +284,14 @@ Window = collections.namedtuple(
 #: (:func:`damped_setup`), whether the libration test applies, the strobe's constants.
 RegimeSetup = collections.namedtuple(
     "RegimeSetup", ("can_lock", "lk", "can_cycle", "sec_off", "sec_acc", "can_librate", "sp"))
+
+#: A window's start: the time, φ and θ' (θ = 2πk + φ), the winding count k and its
+#: offset 2πk (θ's scale for the tolerances), the length to try (≤ 0: search it).
+At = collections.namedtuple("At", ("t", "phi", "v", "k", "off", "h_abs"))
+
+#: Where a call's outputs go: the times ``t_eval`` and the rows θ, θ' and (``wrapped``:
+#: θ wrapped to (−π, π]) the winding count ``w`` (``w`` is ``theta`` when not wrapped).
+Outputs = collections.namedtuple("Outputs", ("t_eval", "theta", "v", "w", "wrapped"))
 
 
 # The window sources, one per kind of window: run_entry branches on its constant set
@@ -332,32 +342,37 @@ def _anchored(kind, rset, simd, r, t, y0, y1, ws):
 
 
 @numba.njit(**INLINE)
-def _source_fixed(kind, rset, simd, r, t, y0, y1, k, direction, max_step, h_abs, ws, per):
-    """The window of a fixed length ``min(h_abs, max_step)`` (RS_FIXED, the kinds without
-    an estimate, a fixed controller's window), as :func:`_source` returns it."""
+def _source_fixed(kind, rset, simd, r, at, ctl, scratch):
+    """The window of a fixed length ``min(at.h_abs, ctl.max_step)`` (RS_FIXED, the kinds
+    without an estimate, a fixed controller's window), as :func:`_source` returns it."""
+    t, y0, y1, k, _, h_abs = at
+    ws, per = scratch
     coef = _anchored(kind, rset, simd, r, t, y0, y1, ws)
     if coef[0] != 0.0:
         return Window(STATUS_ANCHOR, coef, t, y0, y1, k, h_abs, h_abs, False, per)
-    st, t_new, th, v = fixed_window(kind, coef, t, direction, r.state.t_bound, min(h_abs, max_step))
+    st, t_new, th, v = fixed_window(kind, coef, t, ctl.direction, ctl.t_bound, min(h_abs, ctl.max_step))
     return Window(st, coef, t_new, th, v, k, h_abs, h_abs, False, per)
 
 
 @numba.njit(**INLINE)
-def _source(kind, rset, simd, r, t, y0, y1, k, off, direction, max_step, h_abs, log_eps, can_lock, lk, ws, per):
-    """The window from (t, φ = ``y0``, θ' = ``y1``, winding ``k``) outside the stored
-    periods: the locked closed form (L2, L5), or the approximant anchored at the state
-    under the adaptive controller (a fixed window: :func:`_source_fixed`).  Returns its
-    :data:`Window` (``per`` passed through)."""
-    m, c = r.model, r.control
+def _source(kind, rset, simd, r, at, ctl, rs, scratch):
+    """The window from ``at`` (an :data:`At`) outside the stored periods: the locked
+    closed form (L2, L5; ``rs`` the call's :data:`RegimeSetup`), or the approximant
+    anchored at the state under the adaptive controller (``ctl`` the run's
+    :data:`~mbm.core.record.WindowControl`; a fixed window: :func:`_source_fixed`).
+    ``scratch``: the coefficient workspace and the stored period's windows.  Returns
+    its :data:`Window` (the stored period passed through)."""
+    t, y0, y1, k, off, h_abs = at
+    ws, per = scratch
+    m = r.model
     beta, gamma, omega = m.beta, m.gamma, m.omega
-    rtol, atol, error_order = c.rtol, c.atol, c.error_order
-    t_bound = r.state.t_bound
+    lk = rs.lk
     lk_order, lk_ts = 0, 0.0
-    if rset == RS_DAMPED and can_lock:
+    if rset == RS_DAMPED and rs.can_lock:
         lk_order, lk_ts = locked_test(r, y0, y1, off, lk, True)
     if rset == RS_DAMPED and lk_order > 0:  # (the other sets' entries compile no locked window)
         coef = locked_coef(beta, lk[1], lk_ts, y0, y1, gamma, lk_order)
-        t_new = _window_end(t, direction, t_bound, max_step)
+        t_new = _window_end(t, ctl.direction, ctl.t_bound, ctl.max_step)
         th, v = locked_eval(coef, t_new - t)
         if r.switch.regime != REGIME_LOCKED:
             r.switch.regime = REGIME_LOCKED
@@ -367,7 +382,6 @@ def _source(kind, rset, simd, r, t, y0, y1, k, off, direction, max_step, h_abs, 
     coef = _anchored(kind, rset, simd, r, t, y0, y1, ws)
     if coef[0] != 0.0:
         return Window(STATUS_ANCHOR, coef, t, y0, y1, k, h_abs, h_abs, False, per)
-    ctl = window_control(direction, t_bound, max_step, rtol, atol, error_order, log_eps)
     if h_abs <= 0.0:
         h_abs = _first(kind, coef, t, y0, y1, off, omega, ctl)
     st, t_new, th, v, h_next = _adaptive(kind, coef, t, y0, y1, off, h_abs, ctl)
@@ -375,11 +389,12 @@ def _source(kind, rset, simd, r, t, y0, y1, k, off, direction, max_step, h_abs, 
 
 
 @numba.njit(**INLINE)
-def emit_taylor(coef, t, t_new, t_eval, j, direction, k, out_theta, out_v, out_w, wrapped):
-    """The outputs of an ordinary Taylor window in (t, t_new] in one call, four times at
-    once (the same Horner steps per time as evaluate, so the same bits; an output at
-    t_new is the evaluation that produced the state).  Returns the next output index.
-    Shared by the loop and the lanes."""
+def emit_taylor(coef, t, t_new, k, j, direction, outs):
+    """The outputs (:data:`Outputs` ``outs``) of an ordinary Taylor window in (t, t_new]
+    from index ``j`` in one call, four times at once (the same Horner steps per time as
+    evaluate, so the same bits; an output at t_new is the evaluation that produced the
+    state).  Returns the next output index.  Shared by the loop and the lanes."""
+    t_eval, out_theta, out_v, out_w, wrapped = outs
     j2 = j
     while j2 < t_eval.size and (direction * (t_eval[j2] - t_new) <= 0.0):
         j2 += 1
@@ -394,16 +409,17 @@ def emit_taylor(coef, t, t_new, t_eval, j, direction, k, out_theta, out_v, out_w
 
 
 @numba.njit(**INLINE)
-def _emit_stored(kind, rset, coef, per, t, t_new, th, v, k_new, t_eval, j, direction, out_theta, out_v, out_w,
-                 wrapped):
-    """The outputs in (t, t_new] of a stored period's window (RS_CYCLE, RS_STROBE);
-    returns the next output index."""
+def _emit_stored(kind, rset, t, win, j, direction, outs):
+    """The outputs in (t, win.t_new] of a stored period's window ``win`` (a
+    :data:`Window`: RS_CYCLE, RS_STROBE); returns the next output index."""
+    t_eval, out_theta, out_v, out_w, wrapped = outs
+    coef, t_new, th, v, k_new = win.coef, win.t_new, win.theta, win.v, win.k_new
     while j < t_eval.size and (direction * (t_eval[j] - t_new) <= 0.0):
         if t_eval[j] == t_new:
             _put(out_theta, out_w, wrapped, j, k_new, th)
             out_v[j] = v
         else:
-            a, b, kc = _stored_value(kind, rset, coef, per[0], per[1], per[2], per[3], t, t_eval[j])
+            a, b, kc = _stored_value(kind, rset, coef, win.per, t, t_eval[j])
             _put(out_theta, out_w, wrapped, j, kc, a)
             out_v[j] = b
         j += 1
@@ -411,13 +427,15 @@ def _emit_stored(kind, rset, coef, per, t, t_new, th, v, k_new, t_eval, j, direc
 
 
 @numba.njit(**INLINE)
-def _emit_formula(kind, rset, is_locked, coef, t, t_new, th, v, k, t_eval, j, direction, out_theta, out_v, out_w,
-                  wrapped):
-    """The outputs in (t, t_new] of the approximant's window or the locked form's
-    (RS_DAMPED); returns the next output index.  (Apart from :func:`_emit_stored`: an
-    inlined callee's calls are inlined before its pruned branches are dropped.)"""
+def _emit_formula(kind, rset, t, win, k, j, direction, outs):
+    """The outputs in (t, win.t_new] of the approximant's window or the locked form's
+    (RS_DAMPED; ``win`` a :data:`Window`, ``k`` its winding count); returns the next
+    output index.  (Apart from :func:`_emit_stored`: an inlined callee's calls are
+    inlined before its pruned branches are dropped.)"""
+    is_locked, coef, t_new, th, v = win.is_locked, win.coef, win.t_new, win.theta, win.v
+    t_eval, out_theta, out_v, out_w, wrapped = outs
     if kind == KIND_TAYLOR and not is_locked:
-        return emit_taylor(coef, t, t_new, t_eval, j, direction, k, out_theta, out_v, out_w, wrapped)
+        return emit_taylor(coef, t, t_new, k, j, direction, outs)
     while j < t_eval.size and (direction * (t_eval[j] - t_new) <= 0.0):
         if t_eval[j] == t_new:
             _put(out_theta, out_w, wrapped, j, k, th)
@@ -443,9 +461,12 @@ def _max_step(c, v):
 
 
 @kernel
-def _finish(r, status, t, y0, y1, k, h_abs, n_total, j, t_eval, out_theta, out_v, out_w, wrapped):
-    """The outputs of a span of zero length (the initial state), and the state reached,
-    the next window length, the counts and the status written back to the record."""
+def _finish(r, status, at, n_total, j, outs):
+    """The outputs (:data:`Outputs`) of a span of zero length (the initial state), and the
+    state reached ``at`` (t, φ, θ', winding count, next window length), the counts and
+    the status written back to the record."""
+    t, y0, y1, k, h_abs = at
+    t_eval, out_theta, out_v, out_w, wrapped = outs
     while j < t_eval.size and n_total == 0 and status != STATUS_PAUSED and t_eval[j] == t:
         _put(out_theta, out_w, wrapped, j, k, y0)
         out_v[j] = y1
@@ -509,7 +530,7 @@ def _runner(rset, simd=False):
         direction = 1.0 if t_bound >= t else -1.0
         store, cap, width = win_t.size > 0, win_t.size - 1, win_coef.shape[1]
         wrapped = out.shape[0] == 3  # θ wrapped to (−π, π] and its winding count in a third row
-        out_theta, out_v, out_w = out[0], out[1], out[2] if wrapped else out[0]
+        outs = Outputs(t_eval, out[0], out[1], out[2] if wrapped else out[0], wrapped)
         # n typed int64 from the start (a literal 0 compiles _store_window a second time).
         j, n, n_total, status = r.progress.j, np.int64(0), r.progress.n_windows, STATUS_OK
         # θ = 2πk + φ (TWO_PI_A): y0 holds φ, k the winding count; a fresh run starts
@@ -520,8 +541,8 @@ def _runner(rset, simd=False):
         if store:
             win_t[0], win_y[0, 0], win_y[0, 1] = t, theta_of(k, y0), y1
         may = r.switch.regimes != 0 and r.control.controller == CONTROLLER_ADAPTIVE and direction > 0.0
-        can_lock, lk, can_cycle, sec_off, sec_acc, can_librate, sp = _regime_setup(
-            kind, rset, r, may, width, t, n_total)
+        rs = _regime_setup(kind, rset, r, may, width, t, n_total)
+        can_cycle, sec_off, sec_acc, can_librate, sp = rs.can_cycle, rs.sec_off, rs.sec_acc, rs.can_librate, rs.sp
         if rset == RS_DAMPED and fresh:
             _keep_damped(buf)
         ws = taylor_workspace(r.control.karg)  # one coefficient workspace for the call's windows
@@ -529,7 +550,7 @@ def _runner(rset, simd=False):
         sp_next = sp[3]
         seen = -1  # the regime last checked against this entry's set (-1: the first window checks)
         while direction * (t_bound - t) > 0.0:
-            status, seen = _stop_before(kind, rset, r, n, n_total, store, cap, seen, cancel)
+            status, seen = _stop_before(kind, rset, r, (n, n_total), store, cap, seen, cancel)
             if status != STATUS_OK:
                 break
             max_step = _max_step(r.control, y1)
@@ -543,29 +564,26 @@ def _runner(rset, simd=False):
                 if r.switch.regime != REGIME_NONE:
                     status = STATUS_PAUSED  # the rest of the run is the stored period: RS_CYCLE's entry
                     break
+            c = r.control
+            ctl = window_control(direction, t_bound, max_step, c.rtol, c.atol, c.error_order, log_eps)
             if rset == RS_CYCLE:  # (each branch on the constants inlines only its own callees)
-                st, coef, t_new, th, v, k_new, h_abs, h_next, is_locked, per = _source_cycle(
-                    kind, simd, r, t, direction, max_step, h_abs, per)
+                win = _source_cycle(kind, simd, r, t, direction, max_step, h_abs, per)
             elif rset == RS_STROBE:
-                st, coef, t_new, th, v, k_new, h_abs, h_next, is_locked, per = _source_strobe(
-                    kind, r, t, direction, max_step, h_abs, per)
+                win = _source_strobe(kind, r, t, direction, max_step, h_abs, per)
             elif (rset == RS_FIXED or (rset != RS_DAMPED and rset != RS_CONSERVATIVE  # (adaptive: regime_set)
                                        and (kind == KIND_EXACT or kind == KIND_SALAS_TORQUE
                                             or r.control.controller != CONTROLLER_ADAPTIVE))):
-                st, coef, t_new, th, v, k_new, h_abs, h_next, is_locked, per = _source_fixed(
-                    kind, rset, simd, r, t, y0, y1, k, direction, max_step, h_abs, ws, per)
+                win = _source_fixed(kind, rset, simd, r, At(t, y0, y1, k, off, h_abs), ctl, (ws, per))
             else:
-                st, coef, t_new, th, v, k_new, h_abs, h_next, is_locked, per = _source(
-                    kind, rset, simd, r, t, y0, y1, k, off, direction, max_step, h_abs, log_eps, can_lock, lk, ws, per)
+                win = _source(kind, rset, simd, r, At(t, y0, y1, k, off, h_abs), ctl, rs, (ws, per))
+            st, coef, t_new, th, v, k_new, h_abs, h_next, is_locked, per = win
             if st != STATUS_OK:
                 status = st
                 break
             if rset == RS_CYCLE or rset == RS_STROBE:
-                j = _emit_stored(kind, rset, coef, per, t, t_new, th, v, k_new, t_eval, j, direction, out_theta,
-                                 out_v, out_w, wrapped)
+                j = _emit_stored(kind, rset, t, win, j, direction, outs)
             else:  # (k_new = k outside the stored periods)
-                j = _emit_formula(kind, rset, is_locked, coef, t, t_new, th, v, k, t_eval, j, direction, out_theta,
-                                  out_v, out_w, wrapped)
+                j = _emit_formula(kind, rset, t, win, k, j, direction, outs)
             if rset == RS_DAMPED and not is_locked and can_cycle and r.switch.regime == REGIME_NONE:
                 _watch_cycle(kind, r, coef, t, t_new, y0, th, v, k, off, sec_off, sec_acc, r.model.beta,
                              r.model.gamma, r.model.omega, t_bound, r.control.rtol, r.control.atol)
@@ -576,7 +594,7 @@ def _runner(rset, simd=False):
             t, y0, y1, h_abs, k = t_new, th, v, h_next, k_new
             n += 1
             n_total += 1
-        _finish(r, status, t, y0, y1, k, h_abs, n_total, j, t_eval, out_theta, out_v, out_w, wrapped)
+        _finish(r, status, (t, y0, y1, k, h_abs), n_total, j, outs)
         return n
 
     return run_entry

@@ -522,7 +522,8 @@ def run_batch_events(p, te, out, order, ev, cap, cancel, fresh):
 
     while ids.size:
         in_lanes = lanes.eligible_rows(p)[ids]
-        tasks = [lambda g=g: lanes.run_lanes_events(p, g, te, out, cancel, ev, cap, hits, stored, handed)
+        tasks = [lambda g=g: lanes.run_lanes_events(p, g, te, out, cancel,
+                                                         lanes.LaneEvents(ev, cap, hits, stored, handed))
                  for g in lanes.groups(ids[in_lanes])]
         if not in_lanes.all():
             tasks += rows(ids[~in_lanes])
