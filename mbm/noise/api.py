@@ -296,7 +296,11 @@ def switching_currents(beta, temperature, ramp_rate, n, *, omega=1.0, seed=None,
     g0 = _check_gamma(check_rule("gamma_start", gamma_start, (">=0", ">= 0")), omega, "gamma_start")
     seed = resolve_seed(seed)
     g_end = GAMMA_END * omega * omega
-    steps = _steps((g_end - g0) / ramp_rate, dt, name="(1.5 omega**2 - gamma_start) / ramp_rate")
+    slowest = (g_end - g0) / (MAX_STEPS * dt)
+    if ramp_rate < slowest:
+        raise ValueError(f"ramp_rate must be >= {slowest!r} with dt = {dt!r} (the ramp to "
+                         f"1.5 omega**2 in at most {MAX_STEPS} steps), got {ramp_rate!r}")
+    steps = _steps((g_end - g0) / ramp_rate, dt)
     p = make_params(beta, omega, g0, ramp_rate, 0.0, 0.0, 0.0, temperature)
     with _threads(threads):
         t = switching_kernel(p, np.uint64(seed), n, math.asin(g0 / (omega * omega)), dt,
