@@ -158,27 +158,32 @@ def moments_kernel(p, seed, n, start, h, plan, burn_steps, steps):
 
 
 @njit(**NJIT_OPTIONS)
-def path_kernel(p, seed, scene, start, h, plan, steps):
-    """One scene's states at t = 0, h, ..., steps·h: (steps + 1, 2) of [θ, θ'].
+def path_kernel(p, seed, scene, start, h, plan, marks):
+    """One scene's states after marks[j] steps of length h: (len(marks), 2) of [θ, θ'].
 
-    Row 0 is the start; row k ≥ 1 the symmetric scheme's state after k full steps, each
-    half O with a deviate of its own (pair k of the stream: numbers differ from the run
-    kernels').
+    ``marks``: sorted step counts ≥ 0 (0 is the start).  Each state is the symmetric
+    scheme's after whole steps, each half O with a deviate of its own (pair k of the
+    stream for step k: these numbers differ from the run kernels', which fuse the
+    half steps).
     """
-    out = np.empty((steps + 1, 2))
+    m = marks.shape[0]
+    out = np.empty((m, 2))
     c2, s2 = _ou(p, h)[2:]
     b = np.empty(TAYLOR_ORDER + 1)
     sn = np.empty(TAYLOR_ORDER + 1)
     cn = np.empty(TAYLOR_ORDER + 1)
     key = scene_key(seed, scene)
     theta, v = start[0], start[1]
-    out[0, 0], out[0, 1] = theta, v
-    for k in range(steps):
-        # the full O(h/2) D(h) O(h/2), two deviates a step (2k and 2k + 1)
+    j = 0
+    k = 0
+    while j < m:
+        if marks[j] == k:
+            out[j, 0], out[j, 1] = theta, v
+            j += 1
+            continue
         z0, z1 = normal_pair(key, k)
         v = c2 * v + s2 * z0
         theta, v = hamiltonian_flow(theta, v, k * h, h, plan, p, b, sn, cn)
         v = c2 * v + s2 * z1
-        out[k + 1, 0], out[k + 1, 1] = theta, v
+        k += 1
     return out
-
