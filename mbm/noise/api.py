@@ -70,6 +70,22 @@ def kramers_rate(beta, gamma, temperature, omega=1.0):
     and β ΔU / T ≫ ω_a (the spatial-diffusion regime; at weaker damping the
     energy-diffusion rate of Büttiker–Harris–Landauer is lower).  For γ = 0 the two
     barriers are both counted (k doubled).
+
+    Parameters
+    ----------
+    beta : float
+        Damping, > 0.
+    gamma : float
+        Bias, |γ| < ω².
+    temperature : float
+        T > 0 (as :func:`escape_times`).
+    omega : float, optional
+        Plasma frequency ω > 0.
+
+    Returns
+    -------
+    float
+        The rate k (escapes per unit time).
     """
     beta = check_positive("beta", beta)
     temperature = check_positive("temperature", temperature)
@@ -85,7 +101,9 @@ def kramers_rate(beta, gamma, temperature, omega=1.0):
 class EscapeTimes:
     """First-slip times out of the starting well (:func:`escape_times`).
 
-    Attributes
+    A frozen dataclass built by :func:`escape_times`: each parameter is an attribute.
+
+    Parameters
     ----------
     times : ndarray (n,)
         Each scene's escape time; inf for a scene still in its well at ``t_max``.
@@ -94,7 +112,10 @@ class EscapeTimes:
     rate : float
         Escapes per unit time: escaped count / total time spent in the well (the
         maximum-likelihood rate of an exponential law, censored scenes counted).
-    seed, dt, t_max : the run's seed (reproduces it), step and horizon.
+    seed : int
+        The run's seed (reproduces it).
+    dt, t_max : float
+        The step and the horizon.
     """
 
     times: np.ndarray
@@ -108,9 +129,11 @@ class EscapeTimes:
 
 @dataclasses.dataclass(frozen=True)
 class SwitchingHistogram:
-    """Switching biases under a linear ramp γ = r t (:func:`switching_currents`).
+    """Switching biases under a linear ramp γ = γ0 + r t (:func:`switching_currents`).
 
-    Attributes
+    A frozen dataclass built by :func:`switching_currents`: each parameter is an attribute.
+
+    Parameters
     ----------
     currents : ndarray (n,)
         Each scene's switching bias γ_sw (the equation's units; I_sw/I_c = γ_sw/ω²);
@@ -122,7 +145,10 @@ class SwitchingHistogram:
     kurtosis : float
         m4 / m2², not the excess (≈ 5 for thermal activation; a Gumbel law has 5.4,
         a normal law 3).
-    seed, dt, ramp_rate : the run's seed, step and ramp.
+    seed : int
+        The run's seed (reproduces it).
+    dt, ramp_rate : float
+        The step and the ramp r.
     """
 
     currents: np.ndarray
@@ -276,11 +302,13 @@ def switching_currents(beta, temperature, ramp_rate, n, *, omega=1.0, seed=None,
         r > 0, bias per unit time.
     n : int
         Number of scenes, ≥ 1.
-    omega, seed, dt, threads
+    omega, seed, dt : optional
         As :func:`escape_times`.
     gamma_start : float, optional
         γ0, the bias at t = 0, in [0, ω²) (a start where escape is negligible saves
         the ramp's uneventful part; the scene thermalises within ~2/β).
+    threads : int, optional
+        As :func:`escape_times`.
 
     Returns
     -------
