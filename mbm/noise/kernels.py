@@ -20,7 +20,7 @@ from ..compile.jit import INLINE, NJIT_OPTIONS
 from .flow import P_BETA, P_GAMMA0, P_RATE, P_TEMP, TAYLOR_ORDER, hamiltonian_flow
 from .rng import normal_pair, scene_key
 
-__all__ = ["escape_kernel", "switching_kernel", "moments_kernel", "path_kernel"]
+__all__ = ["escape_kernel", "switching_kernel", "moments_kernel", "path_kernel", "batch_path_kernel"]
 
 # numba's options of the parallel run kernels: the package's, with prange threads.
 PARALLEL_OPTIONS = dict(NJIT_OPTIONS, parallel=True, nogil=True)
@@ -154,6 +154,17 @@ def moments_kernel(p, seed, n, start, h, plan, burn_steps, steps):
         out[i, 0] = a0 / steps
         out[i, 1] = a1 / steps
         out[i, 2] = a2 / steps
+    return out
+
+
+@njit(**PARALLEL_OPTIONS)
+def batch_path_kernel(params, seed, starts, h, plans, marks):
+    """:func:`path_kernel` for scenes i = 0 .. N − 1 (params (N, 8), starts (N, 2),
+    plans (N, 2)) on the streams (seed, i): an (N, len(marks), 2) array."""
+    n = params.shape[0]
+    out = np.empty((n, marks.shape[0], 2))
+    for i in prange(n):
+        out[i] = path_kernel(params[i], seed, i, starts[i], h, (plans[i, 0], plans[i, 1]), marks)
     return out
 
 

@@ -10,18 +10,27 @@ import math
 import numpy as np
 
 from ..result import SolveResult
-from ..validate import as_t_eval, check_positive
+from ..validate import as_t_eval, check_positive, check_real_array, check_rule_array
 from .api import DT_DEFAULT, DT_MAX, MAX_STEPS
 from .flow import make_params, substeps
-from .kernels import path_kernel
+from .kernels import batch_path_kernel, path_kernel
 from .rng import resolve_seed
 
-__all__ = ["solve_langevin"]
+__all__ = ["solve_langevin", "solve_langevin_batch"]
 
 # A t_eval time is on the step grid when within this many steps of a grid point.
 GRID_SLACK = 1e-6
 # The method's name in the result (``approximant``).
 METHOD = "langevin-odo"
+
+
+def _check_dt(dt, w_eff):
+    # The step: default DT_DEFAULT / ω_eff, else in (0, DT_MAX / ω_eff].
+    dt = DT_DEFAULT / w_eff if dt is None else check_positive("dt", dt)
+    if dt * w_eff > DT_MAX:
+        raise ValueError(f"dt must be in (0, {DT_MAX}/max(omega, drive_frequency)] = "
+                         f"(0, {DT_MAX / w_eff!r}], got {dt!r}")
+    return dt
 
 
 def _marks(t_eval, t0, t1, dt):
@@ -73,11 +82,7 @@ def solve_langevin(model, t0, t1, theta0, v0, *, temperature, seed=None, dt=None
         raise ValueError(f"model.beta must be > 0 with a temperature (noise 2*beta*T), got {model.beta!r}")
     if not t1 > t0:
         raise ValueError(f"t_span must run forward (t_bound > t0) with a temperature, got ({t0!r}, {t1!r})")
-    w_eff = max(model.omega, model.drive_frequency)
-    dt = DT_DEFAULT / w_eff if dt is None else check_positive("dt", dt)
-    if dt * w_eff > DT_MAX:
-        raise ValueError(f"dt must be in (0, {DT_MAX}/max(omega, drive_frequency)] = "
-                         f"(0, {DT_MAX / w_eff!r}], got {dt!r}")
+    dt = _check_dt(dt, max(model.omega, model.drive_frequency))
     marks = _marks(t_eval, t0, t1, dt)
     seed = resolve_seed(seed)
     amp = model.drive_amplitude
@@ -89,3 +94,50 @@ def solve_langevin(model, t0, t1, theta0, v0, *, temperature, seed=None, dt=None
                        message="Langevin path completed (fixed step)", n_steps=int(marks[-1]) if marks.size else 0,
                        approximant=METHOD, seed=seed, temperature=temperature, dt=dt,
                        regime=None, t_regime=math.nan, period=math.nan, mean_velocity=math.nan)
+
+
+def solve_langevin_batch(params, y0, t0, t1, *, temperature, seed=None, dt=None, t_eval=None):
+    """:func:`solve_langevin` for N scenes in parallel: scene i on the stream (seed, i).
+
+    Parameters
+    ----------
+    params : tuple of ndarray
+        (β, γ, ω, A, Ω, φ), each (N,) (A, Ω, φ None: no drive), checked by the caller
+        (β > 0 is checked here).
+    y0 : ndarray (N, 2)
+        The starts.
+    t0, t1 : float
+        The common span (forward, whole steps).
+    temperature : float or array_like
+        T > 0, one or one per scene (broadcast to (N,)).
+    seed, dt, t_eval
+        As :func:`solve_langevin` (dt from the largest max(ω, Ω) of the scenes).
+
+    Returns
+    -------
+    SolveResult
+        ``t`` (m,), ``y`` (N, 2, m), ``status`` (N,) zeros, ``success`` (N,),
+        ``n_steps``, ``seed``, ``temperature`` (N,), ``dt``, ``approximant``.  Scene 0
+        is :func:`solve_langevin`'s path for the same seed.
+    """
+    beta, gamma, omega, amp, freq, phase = params
+    n = beta.size
+    amp, freq, phase = (np.zeros(n) if a is None else a for a in (amp, freq, phase))
+    temps = np.broadcast_to(check_rule_array("temperature", check_real_array("temperature", temperature),
+                                             (">0", "> 0")), (n,)).astype(float)
+    check_rule_array("beta", beta, (">0", "> 0 with a temperature (noise 2*beta*T)"))
+    if not t1 > t0:
+        raise ValueError(f"t_span must run forward (t_bound > t0) with a temperature, got ({t0!r}, {t1!r})")
+    dt = _check_dt(dt, float(np.max(np.maximum(omega, freq))))
+    marks = _marks(t_eval, t0, t1, dt)
+    seed = resolve_seed(seed)
+    table = np.stack([make_params(beta[i], omega[i], gamma[i], 0.0, amp[i], freq[i],
+                                  phase[i] + freq[i] * t0, temps[i]) for i in range(n)])
+    plans = np.array([substeps(dt, omega[i], abs(gamma[i]) + abs(amp[i]), freq[i]) for i in range(n)],
+                     dtype=np.int64)
+    y = batch_path_kernel(table, np.uint64(seed), np.ascontiguousarray(y0, dtype=float), dt, plans, marks)
+    return SolveResult(t=t0 + marks * dt, y=np.ascontiguousarray(y.transpose(0, 2, 1)),
+                       status=np.zeros(n, dtype=np.int64), success=np.ones(n, dtype=bool),
+                       message="Langevin paths completed (fixed step)",
+                       n_steps=int(marks[-1]) if marks.size else 0, approximant=METHOD, seed=seed,
+                       temperature=temps, dt=dt)

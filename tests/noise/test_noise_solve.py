@@ -86,3 +86,37 @@ def test_gallery_example_runs(tmp_path):
     # lower temperature, later switching
     means = [data["histograms"][t].mean for t in ex.TEMPERATURES]
     assert means[0] > means[1] > means[2]
+
+
+def test_batch_paths_match_solve_and_do_not_depend_on_threads():
+    import numba
+
+    betas, gammas = np.array([0.5, 0.5, 1.0]), np.array([0.2, 0.2, 0.0])
+    t = np.linspace(0, 10, 11)
+    kw = dict(temperature=[0.1, 0.1, 0.3], seed=42, dt=0.05)
+    r = mbm.solve_batch(betas, gammas, 1.0, [0.0, 0.0], (0, 10), t, **kw)
+    assert r.y.shape == (3, 2, 11) and np.all(r.success) and np.array_equal(r.temperature, [0.1, 0.1, 0.3])
+    one = mbm.solve(mbm.Pendulum(0.5, 0.2), (0, 10), [0.0, 0.0], t_eval=t, temperature=0.1, seed=42, dt=0.05)
+    assert np.array_equal(r.y[0], one.y)  # scene 0 is solve's path for the seed
+    assert not np.array_equal(r.y[1], r.y[0])  # same scene, its own stream
+    before = numba.get_num_threads()
+    try:
+        numba.set_num_threads(1)
+        single = mbm.solve_batch(betas, gammas, 1.0, [0.0, 0.0], (0, 10), t, **kw)
+    finally:
+        numba.set_num_threads(before)
+    assert np.array_equal(single.y, r.y)
+
+
+def test_batch_noise_off_is_unchanged_and_refusals():
+    t = np.linspace(0, 10, 6)
+    plain = mbm.solve_batch([0.1, 0.2], 0.3, 1.0, [0.5, 0.0], (0, 10), t)
+    for temp in (None, 0.0, [0.0, 0.0]):
+        r = mbm.solve_batch([0.1, 0.2], 0.3, 1.0, [0.5, 0.0], (0, 10), t, temperature=temp, seed=1)
+        assert np.array_equal(r.y, plain.y)
+    with pytest.raises(ValueError, match="beta must be > 0 with a temperature"):
+        mbm.solve_batch([0.0, 0.2], 0.3, 1.0, [0.5, 0.0], (0, 10), t, temperature=0.1)
+    with pytest.raises(ValueError, match="temperature must be > 0"):
+        mbm.solve_batch([0.1, 0.2], 0.3, 1.0, [0.5, 0.0], (0, 10), t, temperature=[0.1, -1.0])
+    with pytest.raises(ValueError, match="wrap is not supported"):
+        mbm.solve_batch([0.1, 0.2], 0.3, 1.0, [0.5, 0.0], (0, 10), t, temperature=0.1, wrap=True)
