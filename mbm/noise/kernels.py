@@ -17,7 +17,7 @@ import numpy as np
 from numba import njit, prange
 
 from ..compile.jit import INLINE, NJIT_OPTIONS
-from .flow import P_BETA, P_GAMMA0, P_RATE, P_TEMP, TAYLOR_ORDER, hamiltonian_flow
+from .flow import P_BETA, P_GAMMA0, P_OMEGA2, P_RATE, P_TEMP, TAYLOR_ORDER, hamiltonian_flow
 from .rng import normal_pair, scene_key
 
 __all__ = ["escape_kernel", "switching_kernel", "moments_kernel", "path_kernel", "batch_path_kernel"]
@@ -93,7 +93,7 @@ def switching_kernel(p, seed, n, theta0, h, plan, max_steps, theta_done):
     """
     out = np.empty(n)
     c, s, c2, s2 = _ou(p, h)
-    w2 = p[1]
+    w2 = p[P_OMEGA2]
     for i in prange(n):
         b = np.empty(TAYLOR_ORDER + 1)
         sn = np.empty(TAYLOR_ORDER + 1)
