@@ -97,12 +97,24 @@ def weak_benchmark(size):
     return r
 
 
+def kramers_law(beta, temperature, ramp_rate, gamma_start=0.0, points=40001):
+    """(mean, width, skewness, kurtosis) of P(γ) = (k/r) exp(−∫ k/r dγ), k Kramers' rate."""
+    g = np.linspace(gamma_start, 0.99999, points)
+    k = np.array([mbm.kramers_rate(beta, x, temperature) for x in g])
+    cum = np.concatenate([[0.0], np.cumsum(0.5 * (k[1:] + k[:-1]) * np.diff(g))]) / ramp_rate
+    w = k * np.exp(-cum)
+    w /= np.trapezoid(w, g)
+    m = np.trapezoid(w * g, g)
+    m2, m3, m4 = (np.trapezoid(w * (g - m)**j, g) for j in (2, 3, 4))
+    return float(m), math.sqrt(m2), float(m3 / m2**1.5), float(m4 / m2**2)
+
+
 def switching_benchmark(size):
     """A switching histogram at SWITCH, timed: a dict with the histogram and the times."""
     mbm.switching_currents(n=2, seed=1, **SWITCH)  # compile
     med, s = _timed(lambda: mbm.switching_currents(n=size["switching"], seed=99, **SWITCH),
                     size["repeats"])
-    return {"hist": s, "wall": med, "n": size["switching"]}
+    return {"hist": s, "wall": med, "n": size["switching"], "kramers": kramers_law(**SWITCH)}
 
 
 def render(name, esc, wk, sw):
@@ -155,6 +167,13 @@ def render(name, esc, wk, sw):
         f"{sw['n']} events in **{sw['wall']:.1f} s** (median of {esc['repeats']}, compile apart; "
         f"dt = {s.dt}).  Mean {s.mean:.4f}, width {s.width:.4f}, skewness {s.skewness:.2f}, "
         f"kurtosis {s.kurtosis:.2f} (not the excess); {int(np.isnan(s.currents).sum())} did not switch.",
+        "",
+        "The Kramers rate (moderate-damping formula, a rough guide at β = 0.2, where the",
+        "energy-diffusion regime begins) integrated over the ramp predicts mean "
+        f"{sw['kramers'][0]:.4f}, width {sw['kramers'][1]:.4f}, skewness {sw['kramers'][2]:.2f}, "
+        f"kurtosis {sw['kramers'][3]:.2f}.  The skewness ≈ −1 and kurtosis ≈ 5 of experiments "
+        "belong to far slower ramps in units of the plasma period (this law gives −0.92 and 4.5 "
+        "only at T = 0.001, r = 1e-7).",
         "",
     ]
     return "\n".join(lines)
