@@ -53,6 +53,7 @@ __all__ = [
     "Anchored",
     "Approximant",
     "ApproximantDomainError",
+    "EscapeTimes",
     "Event",
     "IVCurve",
     "IVFit",
@@ -61,14 +62,17 @@ __all__ = [
     "Pendulum",
     "ShapiroStep",
     "ShapiroSteps",
+    "SwitchingHistogram",
     "angle_event",
     "approximant_names",
     "beta_from_retrapping",
+    "escape_times",
     "event_table",
     "fit_iv",
     "get_approximant",
     "identify_model",
     "iv_curve",
+    "kramers_rate",
     "pendulum_flow",
     "period",
     "reference",
@@ -82,6 +86,7 @@ __all__ = [
     "solve_njit_function_events",
     "successive",
     "sweep",
+    "switching_currents",
     "velocity_event",
 ]
 
@@ -101,6 +106,13 @@ _LAZY = {
     "beta_from_retrapping": ("mbm.junction.fits", "beta_from_retrapping"),
     "fit_iv": ("mbm.junction.fits", "fit_iv"),
     "retrapping_current": ("mbm.junction.fits", "retrapping_current"),
+    # thermal noise (issue 54): its kernels compile on first use, not at import
+    "noise": ("mbm.noise", None),
+    "EscapeTimes": ("mbm.noise.api", "EscapeTimes"),
+    "SwitchingHistogram": ("mbm.noise.api", "SwitchingHistogram"),
+    "escape_times": ("mbm.noise.api", "escape_times"),
+    "kramers_rate": ("mbm.noise.api", "kramers_rate"),
+    "switching_currents": ("mbm.noise.api", "switching_currents"),
 }
 
 

@@ -237,6 +237,17 @@ def _batch_result(p, te, out, wrap, names):
 _RunOptions = collections.namedtuple("_RunOptions", ("t0", "t1", "t_eval", "rtol", "atol", "max_step", "max_windows"))
 
 
+def _langevin_batch(params, y0, times, noise, refused):
+    # solve_batch with a temperature: mbm.noise.paths, loaded on first use.
+    from ..noise.paths import solve_langevin_batch
+
+    for name, value in refused.items():
+        if value is not None and value is not False:
+            raise ValueError(f"{name} is not supported with a temperature > 0 (Langevin paths)")
+    (t0, t1), (temperature, seed, dt) = check_span(times[0]), noise
+    return solve_langevin_batch(params, y0, t0, t1, temperature=temperature, seed=seed, dt=dt, t_eval=times[1])
+
+
 def _run_options(t_span, t_eval, rtol, atol, max_step, max_windows, wrap):
     # solve_batch's options common to every scene, checked.
     if t_eval is None:
@@ -262,7 +273,7 @@ def _run_events(p, te, out, order, ev, cap, items, drive, *, fresh):
 def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
                 approximant="auto", tau=None, max_step=np.inf, max_windows=DEFAULT_MAX_WINDOWS,
                 drive_amplitude=0.0, drive_frequency=0.0, drive_phase=0.0, wrap=False, events=None,
-                max_events=None):
+                max_events=None, temperature=None, seed=None, dt=None):
     """Solve N scenes at once, in parallel over scenes (groups of scenes on numba's threads).
 
     Parameters
@@ -271,10 +282,8 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
         Model parameters, broadcast to a common shape (N,), N ≥ 1.
     y0 : array_like, shape (2,) or (N, 2)
         Initial states.
-    t_span : (float, float)
-        Common time span.
-    t_eval : array_like, shape (m,)
-        Common output times.
+    t_span, t_eval : (float, float), array_like (m,)
+        Common time span and output times.
     rtol, atol, approximant, tau, max_step, max_windows
         As in :func:`mbm.solve` (one value for all scenes; "auto" chooses per scene).
     drive_amplitude, drive_frequency, drive_phase : array_like, optional
@@ -284,14 +293,15 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
         As in :func:`mbm.solve`.
     events : Event, numba.njit function, or sequence of them, optional
         Built-in events (:func:`mbm.angle_event`, :func:`mbm.velocity_event`,
-        :func:`mbm.section_event`) watched in every scene as :func:`mbm.solve` does (the
-        same events, bit for bit); a terminal event stops its scene only.  Every scene
-        must run Taylor windows, and be driven for a section event.  The scenes the
-        lockstep lanes take are watched in the lanes; the others by the compiled loop.
-        With a function g(t, θ, θ') (:mod:`mbm.events.functions`) the scenes run in turn,
-        as :func:`mbm.solve` runs them.
+        :func:`mbm.section_event`) watched in every scene as :func:`mbm.solve` does (bit
+        for bit; in the lockstep lanes or the compiled loop); a terminal event stops its
+        scene only.  Every scene must run Taylor windows, and be driven for a section
+        event.  With a g(t, θ, θ') (:mod:`mbm.events.functions`) the scenes run in turn.
     max_events : int, optional
         Events of each kind stored per scene, K (default: the most any scene has).
+    temperature, seed, dt : array_like, int, float, optional
+        T > 0 (or one per scene): Langevin paths, scene i on the stream (seed, i), by
+        :func:`mbm.noise.paths.solve_langevin_batch`.  None or 0: as above.
 
     Returns
     -------
@@ -300,9 +310,8 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
         (N,) bool, ``n_windows`` (N,), ``approximant`` (N,) names, ``regime``,
         ``t_regime``, ``period``, ``mean_velocity`` (N,) as in :func:`mbm.solve`, ``winding``
         (N, m) int64 with ``wrap=True`` (else None).  Each scene's answer equals
-        :func:`mbm.solve` for that scene (a trapped scene's end apart).  A scene that
-        fails at run time (a status other than 0: its approximant's domain, ``max_windows``) keeps the
-        outputs it reached and NaN after them; the other scenes are unaffected.
+        :func:`mbm.solve` for that scene (a trapped scene's end apart).  A scene failing at
+        run time (status ≠ 0) keeps its outputs so far, NaN after; the others are unaffected.
         With ``events``: ``t_events`` (N, n_events, K) and ``y_events``
         (N, n_events, K, 2), NaN past each scene's stored count, ``winding_events``
         (N, n_events, K) int64 (0 past it) and ``n_events`` (N, n_events), every
@@ -313,21 +322,22 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
     Raises
     ------
     ValueError
-        For invalid arguments (naming the argument and, for parameter arrays, the
-        first bad scene), ``max_events`` < 1 or without ``events``, events on a scene
-        without Taylor windows, an approximant outside the domain of some scene's model, or
-        a scene that would exceed ``max_windows`` a hundred times over (as
-        :func:`mbm.solve`, naming the scene).
+        Invalid arguments (named; for parameter arrays the first bad scene),
+        ``max_events`` < 1 or without ``events``, events on a scene without Taylor
+        windows, an approximant outside some scene's domain, a scene past 100 ``max_windows``.
     TypeError
-        For an argument that is not real numbers (a str, bool, complex), an event that
-        is not an mbm event or a ``numba.njit`` function, a non-int ``max_events``.
+        Not real numbers (a str, bool, complex), an event neither mbm's nor ``numba.njit``,
+        a non-int ``max_events``.
     KeyboardInterrupt
-        Honoured while the batch runs: every scene stops at its next window.
+        Honoured while the batch runs (every scene stops at its next window).
     """
     driven_call = not (_is_zero(drive_amplitude) and _is_zero(drive_frequency) and _is_zero(drive_phase))
     beta, gamma, omega, amp, freq, phase = _scene_arrays(
         (beta, gamma, omega, drive_amplitude, drive_frequency, drive_phase), driven_call)
     y0 = _scene_states(y0, beta.size)
+    if temperature is not None and np.any(check_real_array("temperature", temperature) != 0.0):
+        return _langevin_batch((beta, gamma, omega, amp, freq, phase), y0, (t_span, t_eval), (temperature, seed, dt),
+                               {"tau": tau, "wrap": wrap, "events": events})
     t0, t1, te, rtol, atol, max_step, max_windows = _run_options(t_span, t_eval, rtol, atol, max_step,
                                                                  max_windows, wrap)
     if events is not None and isinstance(approximant, str) and approximant == "auto":

@@ -23,6 +23,7 @@ from ..validate import (
     as_t_eval,
     check_max_windows,
     check_positive,
+    check_rule,
     check_span,
     check_state,
     check_t_eval,
@@ -385,7 +386,7 @@ class Integrator:
 
 def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="auto",
           t_eval=None, max_step=np.inf, max_windows=DEFAULT_MAX_WINDOWS, wrap=False, events=None,
-          max_events=None):
+          max_events=None, temperature=None, seed=None, dt=None):
     """Solve one scene by the moving boundary method, the whole run compiled.
 
     The one-shot form of :class:`Integrator` (build one for many runs of one model).
@@ -413,16 +414,13 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
         Longest window.
     max_windows : int, optional
         Windows the run may take (default 10⁷, seconds of compute); past it the run
-        stops with status 4 and the outputs it reached.  A run that would certainly
-        take more than 100 times as many (a runaway torque abs(γ) ≫ ω² over the span, or a
-        tiny ``tau``: :func:`mbm.validate.check_window_budget`) is refused before it
-        runs, with a ValueError naming the cause.
+        stops with status 4 and the outputs it reached.  A run certain to take 100 times
+        as many (a runaway torque abs(γ) ≫ ω², a tiny ``tau``:
+        :func:`mbm.validate.check_window_budget`) is refused before it runs.
     wrap : bool, optional
         Report θ wrapped to (−π, π] (``y[0]``) with its winding count ``winding``
-        (θ = 2π·winding + y[0]; needs ``t_eval``).  The Taylor and splitting runs
-        hold θ this way inside (a count and an angle in (−π, π]), so the wrapped
-        angle keeps its full precision however far the run has wound; unwrapped,
-        θ is rounded once per output at its own magnitude.
+        (θ = 2π·winding + y[0]; needs ``t_eval``), at full precision however far the
+        run has wound (the Taylor and splitting runs hold θ so inside).
     events : Event, numba.njit function, or sequence of them, optional
         Built-in events (:func:`mbm.angle_event`, :func:`mbm.velocity_event`,
         :func:`mbm.section_event`) located inside the compiled run on each window's
@@ -441,6 +439,9 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
         Occurrences of each event stored (the first ``max_events``); all are counted
         in ``n_events``.  Default None: all.  Past it a running cycle's or a libration's
         turns are counted whole, so counting slips over 10⁶ time units costs what 10³ do.
+    temperature, seed, dt : float, int, float, optional
+        T > 0: a Langevin path (noise 2βT) at the fixed step ``dt`` from ``seed``
+        (:func:`mbm.noise.paths.solve_langevin`); None or 0: the run above.
 
     Returns
     -------
@@ -468,14 +469,14 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
     Raises
     ------
     ValueError, TypeError
-        For invalid arguments (naming the argument: TypeError for what is not a real
-        number), an approximant without a compiled kernel, or a run that would exceed
-        ``max_windows`` a hundred times over (naming the parameter that causes it).
+        Invalid arguments, named (TypeError: not a real number); an approximant without
+        a compiled kernel; a run past 100 ``max_windows`` (naming the parameter causing it).
     """
     if not isinstance(model, Pendulum):
         raise TypeError(f"model must be an mbm.Pendulum, got {type(model).__name__}")
-    t0, t1 = check_span(t_span)
-    theta0, v0 = _state(y0)
+    (t0, t1), (theta0, v0) = check_span(t_span), _state(y0)
+    if temperature is not None and check_rule("temperature", temperature, (">=0", ">= 0")) > 0.0:
+        return _langevin(model, (t0, t1, theta0, v0), temperature, seed, dt, t_eval, tau, wrap, events)
     ig = _solver_for(model, rtol, atol, approximant, tau, max_step, max_windows, events is not None)
     _check_budget(ig, t0, t1, v0)
     if events is not None:
@@ -483,6 +484,18 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
     if max_events is not None:
         raise ValueError("max_events needs events")
     return ig._solve(t0, t1, theta0, v0, t_eval, wrap)  # span and state checked above
+
+
+def _langevin(model, start, temperature, seed, dt, t_eval, tau, wrap, events):
+    # mbm.solve with a temperature > 0: mbm.noise.paths, loaded on first use.
+    for name, value in (("tau", tau), ("wrap", wrap), ("events", events)):
+        if value is not None and value is not False:
+            raise ValueError(f"{name} is not supported with a temperature > 0 (a Langevin path)")
+    from ..noise.paths import solve_langevin
+
+    t0, t1, theta0, v0 = start
+    return solve_langevin(model, t0, t1, theta0, v0, temperature=temperature, seed=seed, dt=dt,
+                          t_eval=t_eval)
 
 
 def _solver_for(model, rtol, atol, approximant, tau, max_step, max_windows, watched):

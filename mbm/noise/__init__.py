@@ -1,0 +1,20 @@
+"""Thermal noise: Langevin junctions, escape times and switching-current histograms.
+
+θ'' + βθ' + ω² sin θ = γ(t) + A sin(Ωt + φ) + ξ(t), ⟨ξ(t)ξ(t')⟩ = 2βT δ(t − t'),
+integrated by the symmetric splitting O(h/2) D(h) O(h/2) of an exact Ornstein–Uhlenbeck
+step O and a high-order Taylor flow D (:mod:`mbm.noise.flow`, :mod:`mbm.noise.kernels`),
+with a counter-based generator per scene (:mod:`mbm.noise.rng`).  The deterministic
+path of mbm is untouched.  docs/guide/noise.md has the theory and the checks.
+"""
+
+from .api import (
+    EscapeTimes,
+    SwitchingHistogram,
+    escape_times,
+    kramers_rate,
+    switching_currents,
+    well,
+)
+
+__all__ = ["EscapeTimes", "SwitchingHistogram", "escape_times", "kramers_rate",
+           "switching_currents", "well"]

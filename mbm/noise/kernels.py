@@ -1,0 +1,200 @@
+r"""The Langevin runs at compiled speed: many scenes in parallel (``numba.prange``, no GIL).
+
+One step of length h is the symmetric splitting O(h/2) D(h) O(h/2) of
+:mod:`mbm.noise.flow`.  Two half O steps in a row are one exact O(h) (the OU flow is a
+semigroup), so a run is O(h/2), then [D(h), O(h)] repeated: one normal deviate a step.
+θ between D and O is θ of the symmetric scheme at the step's end (O leaves θ alone);
+θ' there is the scheme's θ' before its last O(h/2), which, like every intermediate
+state, has the Boltzmann law when the scene has one (each piece preserves it).
+
+Scene ``i`` draws its deviates from the counter-based stream (seed, i)
+(:mod:`mbm.noise.rng`): results do not depend on the thread count.
+"""
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from ..compile.jit import INLINE, NJIT_OPTIONS
+from .flow import P_BETA, P_GAMMA0, P_OMEGA2, P_RATE, P_TEMP, TAYLOR_ORDER, hamiltonian_flow
+from .rng import normal_pair, scene_key
+
+__all__ = ["escape_kernel", "switching_kernel", "moments_kernel", "path_kernel", "batch_path_kernel"]
+
+# numba's options of the parallel run kernels: the package's, with prange threads.
+PARALLEL_OPTIONS = dict(NJIT_OPTIONS, parallel=True, nogil=True)
+
+
+@njit(**INLINE)
+def _next(key, k, spare):
+    # The k-th deviate of a stream read in order: (deviate, spare for k + 1). An even k
+    # draws a pair and keeps its second half; an odd k returns the spare.
+    if (k & 1) == 0:
+        return normal_pair(key, k >> 1)
+    return spare, spare
+
+
+@njit(**INLINE)
+def _ou(p, h):
+    # (decay, spread) of the exact OU step over h, and of the half step h/2.
+    beta = p[P_BETA]
+    temp = p[P_TEMP]
+    c = math.exp(-beta * h)
+    c2 = math.exp(-0.5 * beta * h)
+    return c, math.sqrt(temp * -math.expm1(-2.0 * beta * h)), c2, math.sqrt(temp * -math.expm1(-beta * h))
+
+
+@njit(**PARALLEL_OPTIONS)
+def escape_kernel(p, seed, n, start, h, plan, max_steps, bounds):
+    """First times θ leaves (bounds[0], bounds[1]), ``n`` scenes from ``start`` at t = 0.
+
+    Returns
+    -------
+    ndarray (n,)
+        Per scene, the end time of the first step whose θ is outside the open
+        interval; inf when none within ``max_steps`` steps.
+    """
+    out = np.empty(n)
+    lo, hi = bounds[0], bounds[1]
+    c, s, c2, s2 = _ou(p, h)
+    for i in prange(n):
+        b = np.empty(TAYLOR_ORDER + 1)
+        sn = np.empty(TAYLOR_ORDER + 1)
+        cn = np.empty(TAYLOR_ORDER + 1)
+        key = scene_key(seed, i)
+        theta = start[0]
+        z, spare = _next(key, 0, 0.0)
+        v = c2 * start[1] + s2 * z
+        t_hit = np.inf
+        for k in range(max_steps):
+            theta, v = hamiltonian_flow(theta, v, k * h, h, plan, p, b, sn, cn)
+            if theta >= hi or theta <= lo:
+                t_hit = (k + 1) * h
+                break
+            z, spare = _next(key, k + 1, spare)
+            v = c * v + s * z
+        out[i] = t_hit
+    return out
+
+
+@njit(**PARALLEL_OPTIONS)
+def switching_kernel(p, seed, n, theta0, h, plan, max_steps, theta_done):
+    """Under the bias γ0 + r t, the time each scene crossed the barrier before θ ≥ theta_done.
+
+    Each scene starts at θ = ``theta0`` with θ' = 0 (after the first half O step: a
+    deviate's worth of velocity).
+
+    The barrier of the well at θ ∈ (−π/2, π/2]: θ is past its top when π/2 < θ < π and
+    sin θ < γ(t)/ω² (the top is π − arcsin(γ/ω²)); the time recorded is the end of the
+    last step that went from not past to past before θ reached ``theta_done``.  θ ≤ −π
+    (a backward slip) is wrapped by 2π.  Returns (n,) times, inf for scenes that did not
+    switch within ``max_steps``.
+    """
+    out = np.empty(n)
+    c, s, c2, s2 = _ou(p, h)
+    w2 = p[P_OMEGA2]
+    for i in prange(n):
+        b = np.empty(TAYLOR_ORDER + 1)
+        sn = np.empty(TAYLOR_ORDER + 1)
+        cn = np.empty(TAYLOR_ORDER + 1)
+        key = scene_key(seed, i)
+        theta = 0.0
+        z, spare = _next(key, 0, 0.0)
+        v = s2 * z
+        t_cross = np.inf
+        past = False
+        out[i] = np.inf
+        for k in range(max_steps):
+            t = (k + 1) * h
+            theta, v = hamiltonian_flow(theta, v, k * h, h, plan, p, b, sn, cn)
+            if theta <= -math.pi:
+                theta += 2.0 * math.pi
+            now = theta > 0.5 * math.pi and (theta >= math.pi or
+                                              w2 * math.sin(theta) < p[P_GAMMA0] + p[P_RATE] * t)
+            if now and not past:
+                t_cross = t
+            past = now
+            if theta >= theta_done:
+                out[i] = t_cross
+                break
+            z, spare = _next(key, k + 1, spare)
+            v = c * v + s * z
+    return out
+
+
+@njit(**PARALLEL_OPTIONS)
+def moments_kernel(p, seed, n, start, h, plan, burn_steps, steps):
+    """Per scene, time averages of θ'², cos θ and θ over ``steps`` steps after ``burn_steps``.
+
+    Returns (n, 3): columns ⟨θ'²⟩, ⟨cos θ⟩, ⟨θ⟩ of each scene (its states between D
+    and O, module docstring).
+    """
+    out = np.zeros((n, 3))
+    c, s, c2, s2 = _ou(p, h)
+    for i in prange(n):
+        b = np.empty(TAYLOR_ORDER + 1)
+        sn = np.empty(TAYLOR_ORDER + 1)
+        cn = np.empty(TAYLOR_ORDER + 1)
+        key = scene_key(seed, i)
+        theta = start[0]
+        z, spare = _next(key, 0, 0.0)
+        v = c2 * start[1] + s2 * z
+        a0 = 0.0
+        a1 = 0.0
+        a2 = 0.0
+        for k in range(burn_steps + steps):
+            theta, v = hamiltonian_flow(theta, v, k * h, h, plan, p, b, sn, cn)
+            if k >= burn_steps:
+                a0 += v * v
+                a1 += math.cos(theta)
+                a2 += theta
+            z, spare = _next(key, k + 1, spare)
+            v = c * v + s * z
+        out[i, 0] = a0 / steps
+        out[i, 1] = a1 / steps
+        out[i, 2] = a2 / steps
+    return out
+
+
+@njit(**PARALLEL_OPTIONS)
+def batch_path_kernel(params, seed, starts, h, plans, marks):
+    """:func:`path_kernel` for scenes i = 0 .. N − 1 (params (N, 8), starts (N, 2),
+    plans (N, 2)) on the streams (seed, i): an (N, len(marks), 2) array."""
+    n = params.shape[0]
+    out = np.empty((n, marks.shape[0], 2))
+    for i in prange(n):
+        out[i] = path_kernel(params[i], seed, i, starts[i], h, (plans[i, 0], plans[i, 1]), marks)
+    return out
+
+
+@njit(**NJIT_OPTIONS)
+def path_kernel(p, seed, scene, start, h, plan, marks):
+    """One scene's states after marks[j] steps of length h: (len(marks), 2) of [θ, θ'].
+
+    ``marks``: sorted step counts ≥ 0 (0 is the start).  Each state is the symmetric
+    scheme's after whole steps, each half O with a deviate of its own (pair k of the
+    stream for step k: these numbers differ from the run kernels', which fuse the
+    half steps).
+    """
+    m = marks.shape[0]
+    out = np.empty((m, 2))
+    c2, s2 = _ou(p, h)[2:]
+    b = np.empty(TAYLOR_ORDER + 1)
+    sn = np.empty(TAYLOR_ORDER + 1)
+    cn = np.empty(TAYLOR_ORDER + 1)
+    key = scene_key(seed, scene)
+    theta, v = start[0], start[1]
+    j = 0
+    k = 0
+    while j < m:
+        if marks[j] == k:
+            out[j, 0], out[j, 1] = theta, v
+            j += 1
+            continue
+        z0, z1 = normal_pair(key, k)
+        v = c2 * v + s2 * z0
+        theta, v = hamiltonian_flow(theta, v, k * h, h, plan, p, b, sn, cn)
+        v = c2 * v + s2 * z1
+        k += 1
+    return out
