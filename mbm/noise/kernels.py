@@ -68,7 +68,7 @@ def escape_kernel(p, seed, n, start, h, plan, max_steps, bounds):
         v = c2 * start[1] + s2 * z
         t_hit = np.inf
         for k in range(max_steps):
-            theta, v = hamiltonian_flow(theta, v, k * h, h, plan, p, b, sn, cn)
+            theta, v = hamiltonian_flow(theta, v, k * h, h, plan, p, (b, sn, cn))
             if theta >= hi or theta <= lo:
                 t_hit = (k + 1) * h
                 break
@@ -107,7 +107,7 @@ def switching_kernel(p, seed, n, theta0, h, plan, max_steps, theta_done):
         out[i] = np.inf
         for k in range(max_steps):
             t = (k + 1) * h
-            theta, v = hamiltonian_flow(theta, v, k * h, h, plan, p, b, sn, cn)
+            theta, v = hamiltonian_flow(theta, v, k * h, h, plan, p, (b, sn, cn))
             if theta <= -math.pi:
                 theta += 2.0 * math.pi
             now = theta > 0.5 * math.pi and (theta >= math.pi or
@@ -144,7 +144,7 @@ def moments_kernel(p, seed, n, start, h, plan, burn_steps, steps):
         a1 = 0.0
         a2 = 0.0
         for k in range(burn_steps + steps):
-            theta, v = hamiltonian_flow(theta, v, k * h, h, plan, p, b, sn, cn)
+            theta, v = hamiltonian_flow(theta, v, k * h, h, plan, p, (b, sn, cn))
             if k >= burn_steps:
                 a0 += v * v
                 a1 += math.cos(theta)
@@ -194,7 +194,7 @@ def path_kernel(p, seed, scene, start, h, plan, marks):
             continue
         z0, z1 = normal_pair(key, k)
         v = c2 * v + s2 * z0
-        theta, v = hamiltonian_flow(theta, v, k * h, h, plan, p, b, sn, cn)
+        theta, v = hamiltonian_flow(theta, v, k * h, h, plan, p, (b, sn, cn))
         v = c2 * v + s2 * z1
         k += 1
     return out
