@@ -43,7 +43,7 @@ import numbers
 
 import numpy as np
 
-from ..validate import check_positive, check_real, check_real_array, check_rule, check_rule_array
+from ..validate import check_positive, check_real, check_real_array, check_rule, check_rule_array, keywords_named
 
 __all__ = ["shapiro_steps", "ShapiroSteps", "ShapiroStep"]
 
@@ -336,6 +336,7 @@ def _grid(at, gammas, omega_d, orders):
     return np.array(velocities), on, states
 
 
+@keywords_named
 def shapiro_steps(beta, gamma_range, *, amplitude, frequency, omega=1.0, phase=0.0, orders=None,
                   current_tol=1e-4, points=41):
     """The Shapiro steps of the driven junction over ``gamma_range``, their edges bisected.
@@ -388,7 +389,7 @@ def shapiro_steps(beta, gamma_range, *, amplitude, frequency, omega=1.0, phase=0
     """
     from ..model import Pendulum
 
-    beta = check_positive("beta", beta)
+    beta = check_positive("beta", beta, why="damping: an I–V curve needs a damped junction")
     lo, hi = _check_range(gamma_range)
     amplitude = check_positive("amplitude", amplitude)
     frequency = check_positive("frequency", frequency)
