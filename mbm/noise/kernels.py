@@ -46,8 +46,10 @@ def _ou(p, h):
 
 
 @njit(**PARALLEL_OPTIONS)
-def escape_kernel(p, seed, n, start, h, plan, max_steps, bounds):
+def escape_kernel(p, stream, n, start, h, plan, max_steps, bounds):
     """First times θ leaves (bounds[0], bounds[1]), ``n`` scenes from ``start`` at t = 0.
+
+    ``stream`` = (seed, first scene): scene i draws the stream of scene first + i.
 
     Returns
     -------
@@ -62,7 +64,7 @@ def escape_kernel(p, seed, n, start, h, plan, max_steps, bounds):
         b = np.empty(TAYLOR_ORDER + 1)
         sn = np.empty(TAYLOR_ORDER + 1)
         cn = np.empty(TAYLOR_ORDER + 1)
-        key = scene_key(seed, i)
+        key = scene_key(stream[0], stream[1] + i)
         theta = start[0]
         z, spare = _next(key, 0, 0.0)
         v = c2 * start[1] + s2 * z
@@ -79,8 +81,10 @@ def escape_kernel(p, seed, n, start, h, plan, max_steps, bounds):
 
 
 @njit(**PARALLEL_OPTIONS)
-def switching_kernel(p, seed, n, theta0, h, plan, max_steps, theta_done):
+def switching_kernel(p, stream, n, theta0, h, plan, max_steps, theta_done):
     """Under the bias γ0 + r t, the time each scene crossed the barrier before θ ≥ theta_done.
+
+    ``stream`` = (seed, first scene): scene i draws the stream of scene first + i.
 
     Each scene starts at θ = ``theta0`` with θ' = 0 (after the first half O step: a
     deviate's worth of velocity).
@@ -98,7 +102,7 @@ def switching_kernel(p, seed, n, theta0, h, plan, max_steps, theta_done):
         b = np.empty(TAYLOR_ORDER + 1)
         sn = np.empty(TAYLOR_ORDER + 1)
         cn = np.empty(TAYLOR_ORDER + 1)
-        key = scene_key(seed, i)
+        key = scene_key(stream[0], stream[1] + i)
         theta = 0.0
         z, spare = _next(key, 0, 0.0)
         v = s2 * z
