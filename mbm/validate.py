@@ -7,6 +7,8 @@ tolerance is accepted or refused in the same way everywhere.  Each failure is a
 the allowed range.  A leaf module: it imports nothing of mbm.
 """
 
+import functools
+import inspect
 import math
 import numbers
 import warnings
@@ -106,11 +108,12 @@ def check_real(name, value):
     return v
 
 
-def check_positive(name, value, allow_inf=False):
+def check_positive(name, value, allow_inf=False, why=None):
     """``value`` as a float > 0 (finite unless ``allow_inf``), or an error naming ``name``.
 
-    Wording: "``name`` must be > 0, got ..." (ValueError; nan and, unless
-    ``allow_inf``, inf: "``name`` must be finite"), and :func:`check_real`'s TypeError.
+    Wording: "``name`` must be > 0, got ..." (with ``why``: "``name`` must be > 0 (why),
+    got ..."; ValueError; nan and, unless ``allow_inf``, inf: "``name`` must be
+    finite"), and :func:`check_real`'s TypeError.
     """
     if type(value) is float and value > 0.0 and (allow_inf or value != math.inf):
         return value  # the common call, accepted as below without the conversions
@@ -118,8 +121,29 @@ def check_positive(name, value, allow_inf=False):
     if math.isnan(v) or (math.isinf(v) and not allow_inf):
         raise ValueError(f"{name} must be finite, got {v!r}")
     if not v > 0.0:
-        raise ValueError(f"{name} must be > 0, got {v!r}")
+        raise ValueError(f"{name} must be > 0{'' if why is None else f' ({why})'}, got {v!r}")
     return v
+
+
+def keywords_named(fn):
+    """``fn`` whose calls with too many positional arguments raise a TypeError that names
+    the parameters it takes by keyword (Python's own message names none of them)."""
+    sig = inspect.signature(fn)
+    params = sig.parameters.values()
+    positional = [p.name for p in params if p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD)]
+    keywords = [p.name for p in params if p.kind == p.KEYWORD_ONLY]
+
+    @functools.wraps(fn)
+    def call(*args, **kwargs):
+        if len(args) > len(positional):
+            takes = ", ".join(positional) if positional else "none"
+            extra = ", ".join(f"{k}=..." for k in keywords[:len(args) - len(positional)])
+            raise TypeError(f"{fn.__name__}() takes {len(positional)} positional argument(s) ({takes}) but "
+                            f"{len(args)} were given; pass the others by keyword ({extra}, ...): the "
+                            f"keywords are {', '.join(keywords)}")
+        return fn(*args, **kwargs)
+
+    return call
 
 
 def check_rule(name, value, rule=None):

@@ -3,8 +3,9 @@
 Subcommands: ``demo`` (the second paper's Example 1, error and time), ``solve`` (one
 scene to CSV/NPZ, optional PNG), ``study`` (a step-size / accuracy study with fitted
 orders), ``iv`` (a Josephson-junction I–V sweep with its switching and retrapping
-currents; with a drive, ``--steps`` prints the Shapiro steps' table).  ``bench`` only says where the work-precision benchmark went: it runs from a
-checkout, ``python -m benchmarks``.
+currents; with a drive, ``--steps`` prints the Shapiro steps' table).  ``bench`` only
+says where the work-precision benchmark went: it runs from a checkout, ``python -m
+benchmarks``.
 """
 
 import argparse
@@ -13,6 +14,18 @@ import sys
 import time
 
 import numpy as np
+
+#: ``python -m mbm --help``'s description: the module docstring's content in plain text
+#: (a terminal shows reStructuredText's quotes and roles as typed).
+HELP = """mbm integrates theta'' + beta theta' + omega^2 sin(theta) = gamma (+ A sin(Omega t + phi))
+by the moving boundary method.
+
+Subcommands: demo (the second paper's Example 1, error and time), solve (one scene to
+CSV/NPZ, optional PNG), study (a step-size / accuracy study with fitted orders), iv (a
+Josephson-junction I-V sweep with its switching and retrapping currents; with a drive,
+--steps prints the Shapiro steps' table).  bench only says where the work-precision
+benchmark went: it runs from a checkout, python -m benchmarks.
+"""
 
 __all__ = ["main", "demo", "solve_command", "study_command", "iv_command", "steps_command", "parse_angle"]
 
@@ -445,7 +458,7 @@ def _bench(argv):
 def _build_parser():
     from mbm.cli.study import DEFAULT_TAUS, SCENES
 
-    parser = argparse.ArgumentParser(prog="mbm", description=__doc__,
+    parser = argparse.ArgumentParser(prog="mbm", description=HELP,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = parser.add_subparsers(dest="command", required=True)
     p_demo = sub.add_parser("demo", help="solve the second paper's Example 1, print error and time")

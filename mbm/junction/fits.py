@@ -121,7 +121,7 @@ def retrapping_current(beta, *, omega=1.0):
     beta_from_retrapping : its inverse.
     mbm.iv_curve : the retrapping current bisected on a sweep.
     """
-    beta = check_positive("beta", beta)
+    beta = check_positive("beta", beta, why="damping: an I–V curve needs a damped junction")
     omega = check_rule("omega", omega)
     return omega * omega * _reduced_gamma_r(beta / omega)
 

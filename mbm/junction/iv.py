@@ -71,7 +71,8 @@ import warnings
 
 import numpy as np
 
-from ..validate import check_drive, check_positive, check_real, check_real_array, check_rule, check_rule_array, check_state
+from ..validate import (check_drive, check_positive, check_real, check_real_array, check_rule, check_rule_array,
+                        check_state, keywords_named)
 from .progress import progress as _progress
 from ..model import Pendulum
 from ..regimes import REGIME_NAMES, REGIME_PHASE_LOCKED, STROBE_MAX_PERIODS
@@ -597,6 +598,7 @@ def _voltage_state(regime, v, drive_frequency):
     return regime
 
 
+@keywords_named
 def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0=0.0,
              integrate=integrate_mbm, drive_amplitude=0.0, drive_frequency=0.0, drive_phase=0.0,
              velocity_tol=DRIVE_VELOCITY_TOL, progress=False):
@@ -651,7 +653,7 @@ def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0
     TypeError
         For an argument that is not a real number (or, ``gamma``, real numbers).
     """
-    beta = check_positive("beta", beta)
+    beta = check_positive("beta", beta, why="damping: an I–V curve needs a damped junction")
     omega = check_rule("omega", omega)
     current_tol = check_positive("current_tol", current_tol)
     velocity_tol = check_positive("velocity_tol", velocity_tol)

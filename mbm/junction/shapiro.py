@@ -40,10 +40,11 @@ import dataclasses
 import fractions
 import math
 import numbers
+import warnings
 
 import numpy as np
 
-from ..validate import check_positive, check_real, check_real_array, check_rule, check_rule_array
+from ..validate import check_positive, check_real, check_real_array, check_rule, check_rule_array, keywords_named
 
 __all__ = ["shapiro_steps", "ShapiroSteps", "ShapiroStep"]
 
@@ -93,6 +94,9 @@ class ShapiroStep:
         lo on, hi off); NaN for the side never found off the step.
     width : float
         ``upper − lower`` (NaN with an edge).
+    sweep : {"up", "down", "both"}
+        The bias sweep the step was found on ("both": found on each, with the same
+        edges to within twice ``current_tol``).
     """
 
     p: int
@@ -103,6 +107,7 @@ class ShapiroStep:
     lower_bracket: tuple
     upper_bracket: tuple
     width: float
+    sweep: str = "up"
 
 
 @dataclasses.dataclass(frozen=True)
@@ -114,14 +119,19 @@ class ShapiroSteps:
     Parameters
     ----------
     steps : tuple of ShapiroStep
-        The steps found, by voltage (then lower edge).
+        The steps found, by voltage (then lower edge, then sweep).
     gamma : ndarray
-        The coarse grid over ``gamma_range``.
+        The coarse grid over ``gamma_range``, increasing.
     mean_velocity : ndarray
-        ⟨θ'⟩ on the grid (bias up, each point from the previous one's state,
-        :func:`mbm.junction.iv.mean_velocity`).
+        ⟨θ'⟩ on the grid on the way up (each point from the previous one's state,
+        :func:`mbm.junction.iv.mean_velocity`); NaN where the bias was swept down only.
     beta, omega, amplitude, frequency, phase, current_tol : float
         The junction, the drive A sin(Ωt + φ) and the bisection width.
+    mean_velocity_down : ndarray or None
+        ⟨θ'⟩ on the grid on the way down (in the grid's increasing order), None where
+        the bias was swept up only.
+    sweep : {"up", "down", "both"}
+        The sweeps run.
     """
 
     steps: tuple
@@ -133,6 +143,8 @@ class ShapiroSteps:
     frequency: float
     phase: float
     current_tol: float
+    mean_velocity_down: np.ndarray = None
+    sweep: str = "up"
 
     def step(self, p, q=1):
         """The step p/q (the first one found, by lower edge), or None.
@@ -168,7 +180,7 @@ class ShapiroSteps:
         return "\n".join(rows)
 
     def plot(self, ax=None):
-        """Draw ⟨θ'⟩/Ω on the grid against γ, each step's bisected range shaded.
+        """Draw ⟨θ'⟩/Ω on the grid against γ (each sweep run), each step's bisected range shaded.
 
         Parameters
         ----------
@@ -183,7 +195,11 @@ class ShapiroSteps:
             import matplotlib.pyplot as plt
 
             ax = plt.subplots(figsize=(7, 5))[1]
-        ax.plot(self.gamma, self.mean_velocity / self.frequency, "k.-", ms=3, lw=0.8, label="grid")
+        if self.sweep != "down":
+            ax.plot(self.gamma, self.mean_velocity / self.frequency, "k.-", ms=3, lw=0.8, label="grid, bias up")
+        if self.mean_velocity_down is not None:
+            ax.plot(self.gamma, self.mean_velocity_down / self.frequency, "b.--", ms=3, lw=0.8,
+                    label="grid, bias down")
         for s in self.steps:
             lo = s.lower if math.isfinite(s.lower) else self.gamma[0]
             hi = s.upper if math.isfinite(s.upper) else self.gamma[-1]
@@ -313,12 +329,13 @@ def _edge(at, g, y, step, pq, tol, max_steps):
     return g, g_off
 
 
-def _grid(at, gammas, omega_d, orders):
-    # ⟨θ'⟩ on the grid (bias up, adiabatic) and the step (p, q) each point is on (None
-    # off the steps), with the state it settled to.
+def _grid(at, gammas, omega_d, orders, y0=None):
+    # ⟨θ'⟩ on the grid (in its order, adiabatic: each point from the previous one's
+    # state, the first from y0 or rest) and the step (p, q) each point is on (None off
+    # the steps), with the state it settled to.
     from .iv import mean_velocity
 
-    y = np.zeros(2)
+    y = np.zeros(2) if y0 is None else np.array(y0, dtype=float)
     velocities, on, states = [], [], []
     for g in gammas:
         model = at(g)
@@ -336,8 +353,9 @@ def _grid(at, gammas, omega_d, orders):
     return np.array(velocities), on, states
 
 
+@keywords_named
 def shapiro_steps(beta, gamma_range, *, amplitude, frequency, omega=1.0, phase=0.0, orders=None,
-                  current_tol=1e-4, points=41):
+                  current_tol=1e-4, points=41, sweep="up"):
     """The Shapiro steps of the driven junction over ``gamma_range``, their edges bisected.
 
     The junction θ'' + βθ' + ω² sin θ = γ + A sin(Ωt + φ); a step p/q is the range of γ
@@ -367,6 +385,12 @@ def shapiro_steps(beta, gamma_range, *, amplitude, frequency, omega=1.0, phase=0
     points : int, optional
         Points of the coarse grid (≥ 3, default 41): a step narrower than its spacing
         may fall between two points and be missed.
+    sweep : {"up", "down", "both"}, optional
+        The bias followed up from ``gamma_range[0]``, down from ``gamma_range[1]`` (each
+        from rest at its first bias), or both ("both": the down sweep from the state the
+        up sweep ended in, as a measured I–V loop).  A junction with hysteresis may sit
+        on a step on one sweep direction only; a step found on both with the same edges
+        is listed once (:attr:`ShapiroStep.sweep`).
 
     Returns
     -------
@@ -376,7 +400,13 @@ def shapiro_steps(beta, gamma_range, *, amplitude, frequency, omega=1.0, phase=0
     ------
     ValueError
         For β ≤ 0, A ≤ 0, Ω ≤ 0, ω ≤ 0, ``current_tol`` ≤ 0, a non-finite argument,
-        ``gamma_range`` not an increasing pair, ``points`` < 3, or an order with q < 1.
+        ``gamma_range`` not an increasing pair, ``points`` < 3, an order with q < 1, or
+        ``sweep`` not "up", "down" or "both".
+
+    Warns
+    -----
+    RuntimeWarning
+        Where a step asked for in ``orders`` was not found.
     TypeError
         For an argument that is not a real number (``points``: an integer; ``orders``:
         integers, fractions or (p, q) pairs of integers).
@@ -388,7 +418,7 @@ def shapiro_steps(beta, gamma_range, *, amplitude, frequency, omega=1.0, phase=0
     """
     from ..model import Pendulum
 
-    beta = check_positive("beta", beta)
+    beta = check_positive("beta", beta, why="damping: an I–V curve needs a damped junction")
     lo, hi = _check_range(gamma_range)
     amplitude = check_positive("amplitude", amplitude)
     frequency = check_positive("frequency", frequency)
@@ -397,13 +427,42 @@ def shapiro_steps(beta, gamma_range, *, amplitude, frequency, omega=1.0, phase=0
     current_tol = check_positive("current_tol", current_tol)
     orders = _check_orders(orders)
     points = _check_points(points)
+    sweep = _check_sweep(sweep)
 
     def at(g):
         return Pendulum(beta, g, omega, amplitude, frequency, phase)
 
     gammas = np.linspace(lo, hi, points)
-    dg = gammas[1] - gammas[0]
-    velocities, on, states = _grid(at, gammas, frequency, orders)
+    velocities, down, steps, y_top = np.full(points, np.nan), None, [], None
+    if sweep in ("up", "both"):
+        velocities, on, states = _grid(at, gammas, frequency, orders)
+        steps += _steps_on(at, gammas, (on, states), frequency, current_tol, "up")
+        y_top = states[-1]
+    if sweep in ("down", "both"):
+        v_down, on, states = _grid(at, gammas[::-1], frequency, orders, y_top)
+        steps += _steps_on(at, gammas[::-1], (on, states), frequency, current_tol, "down")
+        down = v_down[::-1].copy()
+    steps = _merged(steps, current_tol)
+    steps.sort(key=lambda st: (st.p / st.q, st.lower, st.sweep))
+    _warn_missing(orders, steps, (lo, hi, points), sweep)
+    return ShapiroSteps(steps=tuple(steps), gamma=gammas, mean_velocity=velocities, beta=beta, omega=omega,
+                        amplitude=amplitude, frequency=frequency, phase=phase, current_tol=current_tol,
+                        mean_velocity_down=down, sweep=sweep)
+
+
+def _check_sweep(sweep):
+    if sweep not in ("up", "down", "both"):
+        raise ValueError(f"sweep must be 'up', 'down' or 'both', got {sweep!r}")
+    return sweep
+
+
+def _steps_on(at, gammas, grid, frequency, current_tol, sweep):
+    """The steps on one sweep's grid ``gammas`` (in the sweep's order; ``grid`` its points'
+    steps and states, :func:`_grid`): each run of points on a step followed back and
+    ahead past its last point and the edges bisected (drive frequency ``frequency``)."""
+    on, states = grid
+    points = gammas.size
+    dg = gammas[1] - gammas[0]  # signed: negative on the way down
     steps, covered = [], np.zeros(points, dtype=bool)
     for i in range(points):
         if on[i] is None or covered[i]:
@@ -411,22 +470,59 @@ def shapiro_steps(beta, gamma_range, *, amplitude, frequency, omega=1.0, phase=0
         j = i
         while j + 1 < points and on[j + 1] == on[i]:
             j += 1
-        g_on, g_off = _edge(at, gammas[i], states[i], -dg, on[i], current_tol, points)
-        lower = (g_off, g_on)
-        g_on, g_off = _edge(at, gammas[j], states[j], dg, on[i], current_tol, points)
-        upper = (g_on, g_off)
-        # later grid points of this step up to its upper edge belong to it (a run past a gap)
-        top = upper[1] if math.isfinite(upper[1]) else math.inf
-        covered |= np.array([pq == on[i] for pq in on]) & (gammas <= top)
-        steps.append(_step(on[i], frequency, lower, upper))
-    steps.sort(key=lambda s: (s.p / s.q, s.lower))
-    return ShapiroSteps(steps=tuple(steps), gamma=gammas, mean_velocity=velocities, beta=beta, omega=omega,
-                        amplitude=amplitude, frequency=frequency, phase=phase, current_tol=current_tol)
+        back = _edge(at, gammas[i], states[i], -dg, on[i], current_tol, points)
+        ahead = _edge(at, gammas[j], states[j], dg, on[i], current_tol, points)
+        lower, upper = (_bracket(back, -dg), _bracket(ahead, dg)) if dg > 0 else (_bracket(ahead, dg),
+                                                                                  _bracket(back, -dg))
+        # Later points of the sweep on this step up to its far edge belong to it (a run past a gap).
+        far = ahead[1] if math.isfinite(ahead[1]) else math.copysign(math.inf, dg)
+        covered |= np.array([pq == on[i] for pq in on]) & (np.sign(dg) * (gammas - far) <= 0.0)
+        steps.append(_step(on[i], frequency, lower, upper, sweep))
+    return steps
 
 
-def _step(pq, frequency, lower, upper):
+def _bracket(edge, step):
+    # An edge's bracket (lo, hi) from _edge's (g_on, g_off) found moving by ``step``.
+    g_on, g_off = edge
+    return (g_off, g_on) if step < 0 else (g_on, g_off)
+
+
+def _same_edge(a, b, tol):
+    return (math.isnan(a) and math.isnan(b)) or abs(a - b) <= 2.0 * tol
+
+
+def _merged(steps, tol):
+    """``steps`` with a step found on both sweeps with the same edges (to 2 ``tol``) once,
+    its sweep "both"."""
+    out = []
+    for st in steps:
+        twin = next((k for k, o in enumerate(out) if (o.p, o.q) == (st.p, st.q) and o.sweep != st.sweep
+                     and _same_edge(o.lower, st.lower, tol) and _same_edge(o.upper, st.upper, tol)), None)
+        if twin is None:
+            out.append(st)
+        else:
+            out[twin] = dataclasses.replace(out[twin], sweep="both")
+    return out
+
+
+def _warn_missing(orders, steps, grid, sweep):
+    # A step asked for by name and not found: say so, and why it may be missing.
+    if orders is None:
+        return
+    lo, hi, points = grid
+    found = {(st.p, st.q) for st in steps}
+    missing = [f"{p}" if q == 1 else f"{p}/{q}" for p, q in orders if (p, q) not in found]
+    if missing:
+        where = "on either sweep" if sweep == "both" else f"on the {sweep} sweep (try sweep='both')"
+        warnings.warn(f"shapiro_steps: step(s) {', '.join(missing)} not found {where} over gamma in "
+                      f"[{lo:g}, {hi:g}]: a step narrower than the grid spacing {(hi - lo) / (points - 1):.3g} "
+                      f"(points={points}) falls between points, and with hysteresis a step may be reached "
+                      f"on one sweep direction only", RuntimeWarning, stacklevel=3)
+
+
+def _step(pq, frequency, lower, upper, sweep):
     # A ShapiroStep from its brackets: each edge the midpoint of its bracket.
     lo_edge, hi_edge = 0.5 * (lower[0] + lower[1]), 0.5 * (upper[0] + upper[1])
     return ShapiroStep(p=pq[0], q=pq[1], voltage=frequency * pq[0] / pq[1], lower=float(lo_edge),
                        upper=float(hi_edge), lower_bracket=tuple(map(float, lower)),
-                       upper_bracket=tuple(map(float, upper)), width=float(hi_edge - lo_edge))
+                       upper_bracket=tuple(map(float, upper)), width=float(hi_edge - lo_edge), sweep=sweep)

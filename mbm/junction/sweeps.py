@@ -60,6 +60,7 @@ from ..validate import (
     check_span,
     check_t_eval,
     check_tolerances,
+    keywords_named,
 )
 from ..approximants import Approximant, get_approximant
 from ..frontends.batch import solve_batch
@@ -527,6 +528,7 @@ def _dataset(data, values, dims, fixed, t_span, t_eval, reduce, options):
     )
 
 
+@keywords_named
 def sweep(*, beta, gamma, omega=1.0, theta0=0.0, theta_dot0=0.0, t_span, t_eval=None, reduce=None,
           rtol=1e-6, atol=1e-9, approximant="auto", tau=None, chunks=None, progress=False,
           max_windows=DEFAULT_MAX_WINDOWS, drive_amplitude=0.0, drive_frequency=0.0, drive_phase=0.0):

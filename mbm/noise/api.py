@@ -41,6 +41,10 @@ GAMMA_END = 1.5
 # past the first barrier's far side π: in the underdamped regime above retrapping,
 # the running state).
 THETA_DONE = 3.0 * math.pi
+# Scenes per compiled call of escape_times and switching_currents: a Ctrl-C lands between
+# calls (about a second each at the benchmark's scenes on 2 cores), enough scenes per
+# call to keep every thread busy.
+CHUNK_SCENES = 1024
 
 
 def well(gamma, omega=1.0):
@@ -203,6 +207,17 @@ def _threads(threads):
         numba.set_num_threads(before)
 
 
+def _chunked(run, seed, n):
+    """``run((seed, first), m)`` over the n scenes CHUNK_SCENES at a time, the results
+    joined: scene i draws the stream of scene i whatever the chunks, and a
+    KeyboardInterrupt lands between two compiled calls."""
+    out = np.empty(n)
+    for first in range(0, n, CHUNK_SCENES):
+        m = min(CHUNK_SCENES, n - first)
+        out[first:first + m] = run((np.uint64(seed), np.int64(first)), m)
+    return out
+
+
 def _steps(t_max, dt, name="t_max"):
     steps = int(math.ceil(t_max / dt))
     if steps > MAX_STEPS:
@@ -262,8 +277,9 @@ def escape_times(beta, gamma, temperature, n, *, omega=1.0, seed=None, dt=DT_DEF
     p = make_params(beta, omega, gamma, 0.0, 0.0, 0.0, 0.0, temperature)
     bounds = np.array([th0 - 2.0 * math.pi, th0 + 2.0 * math.pi])
     with _threads(threads):
-        times = escape_kernel(p, np.uint64(seed), n, np.array([th0, 0.0]), dt,
-                              substeps(dt, omega, abs(gamma), 0.0), steps, bounds)
+        plan = substeps(dt, omega, abs(gamma), 0.0)
+        times = _chunked(lambda stream, m: escape_kernel(p, stream, m, np.array([th0, 0.0]), dt, plan, steps,
+                                                         bounds), seed, n)
     done = times[np.isfinite(times)]
     mean = float(done.mean()) if done.size else math.nan
     se = float(done.std(ddof=1) / math.sqrt(done.size)) if done.size > 1 else math.nan
@@ -331,7 +347,8 @@ def switching_currents(beta, temperature, ramp_rate, n, *, omega=1.0, seed=None,
     steps = _steps((g_end - g0) / ramp_rate, dt)
     p = make_params(beta, omega, g0, ramp_rate, 0.0, 0.0, 0.0, temperature)
     with _threads(threads):
-        t = switching_kernel(p, np.uint64(seed), n, math.asin(g0 / (omega * omega)), dt,
-                             substeps(dt, omega, g_end, 0.0), steps, THETA_DONE)
+        plan = substeps(dt, omega, g_end, 0.0)
+        t = _chunked(lambda stream, m: switching_kernel(p, stream, m, math.asin(g0 / (omega * omega)), dt, plan,
+                                                        steps, THETA_DONE), seed, n)
     currents = np.where(np.isfinite(t), g0 + ramp_rate * t, np.nan)
     return SwitchingHistogram(currents, *_moments(currents), seed, dt, ramp_rate)

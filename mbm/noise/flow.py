@@ -73,8 +73,9 @@ def substeps(h, omega, force_max, freq):
 
 
 @njit(**INLINE)
-def _substep(theta, v, t, hs, n, p, b, sn, cn):
+def _substep(theta, v, t, hs, n, p, scratch):
     # One Taylor substep of D (degree n) over hs from (theta, v) at t: the new (theta, v).
+    b, sn, cn = scratch
     w2 = p[P_OMEGA2]
     amp = p[P_AMP]
     hs2 = hs * hs
@@ -119,16 +120,16 @@ def _substep(theta, v, t, hs, n, p, b, sn, cn):
 
 
 @njit(**INLINE)
-def hamiltonian_flow(theta, v, t, h, plan, p, b, sn, cn):
+def hamiltonian_flow(theta, v, t, h, plan, p, scratch):
     """D over ``h`` from (θ, v) at time ``t``: the new (θ, v).
 
-    ``plan`` = (substeps, degree) of :func:`substeps`; ``b``, ``sn``, ``cn``: scratch
-    arrays of TAYLOR_ORDER + 1 floats.
+    ``plan`` = (substeps, degree) of :func:`substeps`; ``scratch``: three arrays
+    (b, sn, cn) of TAYLOR_ORDER + 1 floats.
     """
     nsub, order = plan
     hs = h / nsub
     for i in range(nsub):
-        theta, v = _substep(theta, v, t + i * hs, hs, order, p, b, sn, cn)
+        theta, v = _substep(theta, v, t + i * hs, hs, order, p, scratch)
     return theta, v
 
 

@@ -46,8 +46,10 @@ def _ou(p, h):
 
 
 @njit(**PARALLEL_OPTIONS)
-def escape_kernel(p, seed, n, start, h, plan, max_steps, bounds):
+def escape_kernel(p, stream, n, start, h, plan, max_steps, bounds):
     """First times θ leaves (bounds[0], bounds[1]), ``n`` scenes from ``start`` at t = 0.
+
+    ``stream`` = (seed, first scene): scene i draws the stream of scene first + i.
 
     Returns
     -------
@@ -62,13 +64,13 @@ def escape_kernel(p, seed, n, start, h, plan, max_steps, bounds):
         b = np.empty(TAYLOR_ORDER + 1)
         sn = np.empty(TAYLOR_ORDER + 1)
         cn = np.empty(TAYLOR_ORDER + 1)
-        key = scene_key(seed, i)
+        key = scene_key(stream[0], stream[1] + i)
         theta = start[0]
         z, spare = _next(key, 0, 0.0)
         v = c2 * start[1] + s2 * z
         t_hit = np.inf
         for k in range(max_steps):
-            theta, v = hamiltonian_flow(theta, v, k * h, h, plan, p, b, sn, cn)
+            theta, v = hamiltonian_flow(theta, v, k * h, h, plan, p, (b, sn, cn))
             if theta >= hi or theta <= lo:
                 t_hit = (k + 1) * h
                 break
@@ -79,8 +81,10 @@ def escape_kernel(p, seed, n, start, h, plan, max_steps, bounds):
 
 
 @njit(**PARALLEL_OPTIONS)
-def switching_kernel(p, seed, n, theta0, h, plan, max_steps, theta_done):
+def switching_kernel(p, stream, n, theta0, h, plan, max_steps, theta_done):
     """Under the bias γ0 + r t, the time each scene crossed the barrier before θ ≥ theta_done.
+
+    ``stream`` = (seed, first scene): scene i draws the stream of scene first + i.
 
     Each scene starts at θ = ``theta0`` with θ' = 0 (after the first half O step: a
     deviate's worth of velocity).
@@ -98,7 +102,7 @@ def switching_kernel(p, seed, n, theta0, h, plan, max_steps, theta_done):
         b = np.empty(TAYLOR_ORDER + 1)
         sn = np.empty(TAYLOR_ORDER + 1)
         cn = np.empty(TAYLOR_ORDER + 1)
-        key = scene_key(seed, i)
+        key = scene_key(stream[0], stream[1] + i)
         theta = 0.0
         z, spare = _next(key, 0, 0.0)
         v = s2 * z
@@ -107,7 +111,7 @@ def switching_kernel(p, seed, n, theta0, h, plan, max_steps, theta_done):
         out[i] = np.inf
         for k in range(max_steps):
             t = (k + 1) * h
-            theta, v = hamiltonian_flow(theta, v, k * h, h, plan, p, b, sn, cn)
+            theta, v = hamiltonian_flow(theta, v, k * h, h, plan, p, (b, sn, cn))
             if theta <= -math.pi:
                 theta += 2.0 * math.pi
             now = theta > 0.5 * math.pi and (theta >= math.pi or
@@ -144,7 +148,7 @@ def moments_kernel(p, seed, n, start, h, plan, burn_steps, steps):
         a1 = 0.0
         a2 = 0.0
         for k in range(burn_steps + steps):
-            theta, v = hamiltonian_flow(theta, v, k * h, h, plan, p, b, sn, cn)
+            theta, v = hamiltonian_flow(theta, v, k * h, h, plan, p, (b, sn, cn))
             if k >= burn_steps:
                 a0 += v * v
                 a1 += math.cos(theta)
@@ -194,7 +198,7 @@ def path_kernel(p, seed, scene, start, h, plan, marks):
             continue
         z0, z1 = normal_pair(key, k)
         v = c2 * v + s2 * z0
-        theta, v = hamiltonian_flow(theta, v, k * h, h, plan, p, b, sn, cn)
+        theta, v = hamiltonian_flow(theta, v, k * h, h, plan, p, (b, sn, cn))
         v = c2 * v + s2 * z1
         k += 1
     return out

@@ -60,7 +60,7 @@ def coupled_levels_kernel(p, seed, n, start, h0, levels, fine_steps, plans):
                 m += span
                 if t >= fine_steps * h0 - 0.5 * h0:
                     break
-                theta, v = hamiltonian_flow(theta, v, t, h, plan, p, b, sn, cn)
+                theta, v = hamiltonian_flow(theta, v, t, h, plan, p, (b, sn, cn))
                 t += h
             out[i, lev] = math.cos(theta)
     return out

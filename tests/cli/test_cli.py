@@ -277,3 +277,13 @@ def test_iv_report_flags_an_unsettled_bracket(monkeypatch):
     retrapping = next(x for x in lines if x.startswith("retrapping current"))
     assert "probes changed voltage state" in switching and "probes changed" not in retrapping
     assert "not settled: 2 of 4 points (velocity_tol = 1e-09), gamma = [1, 1]; converged False in the CSV" in lines
+
+
+def test_help_is_plain_text(capsys):
+    # A terminal shows reStructuredText as typed: the description has no quotes or roles.
+    from mbm.cli.main import main
+    with pytest.raises(SystemExit):
+        main(["--help"])
+    out = capsys.readouterr().out
+    assert "Subcommands: demo" in out
+    assert "``" not in out and ":func:" not in out

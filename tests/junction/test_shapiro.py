@@ -87,7 +87,8 @@ def test_edges_bracket_the_step(steps):
 def test_fractional_step():
     # The 3/2 step at β = 1, A = 0.5, Ω = 0.6 comes in two pieces (≈ 1.198-1.204 and
     # ≈ 1.231-1.263), with motion off the steps between them (⟨θ'⟩ = 0.86 at γ = 1.22).
-    s = mbm.shapiro_steps(1.0, (1.18, 1.26), orders=[fractions.Fraction(3, 2), 1, 2], points=5, **SCENE)
+    with pytest.warns(RuntimeWarning, match=r"step\(s\) 2 not found on the up sweep \(try sweep='both'\)"):
+        s = mbm.shapiro_steps(1.0, (1.18, 1.26), orders=[fractions.Fraction(3, 2), 1, 2], points=5, **SCENE)
     halves = [x for x in s.steps if (x.p, x.q) == (3, 2)]
     assert len(halves) == 2 and s.step(3, 2) is halves[0]
     assert all(h.voltage == pytest.approx(0.9, abs=1e-15) for h in halves)
@@ -152,6 +153,7 @@ GOOD = dict(beta=1.0, gamma_range=(0.0, 1.0), amplitude=0.5, frequency=0.6)
     (dict(orders=[1.5]), TypeError, "orders must hold integers"),
     (dict(orders=[(1, 0)]), ValueError, "q must be >= 1"),
     (dict(orders=[]), ValueError, "orders must hold at least one step"),
+    (dict(sweep="upward"), ValueError, "sweep must be 'up', 'down' or 'both', got 'upward'"),
 ])
 def test_bad_input(kw, err, match):
     args = {**GOOD, **kw}
@@ -175,3 +177,27 @@ def test_cli_steps(capsys, tmp_path):
     with pytest.raises(SystemExit):
         main(["iv", "--beta", "1", "--steps"])
     assert "--steps needs a drive" in capsys.readouterr().err
+
+
+def test_sweep_directions():
+    # β = 1 (no hysteresis on these steps): the down sweep, from rest at the top of the
+    # range, finds the steps the up sweep finds, with the same edges; "both" lists each
+    # once, found on both sweeps, with both grids' voltages.
+    kw = dict(orders=[1, 2], points=7, current_tol=1e-3, **SCENE)
+    up = mbm.shapiro_steps(1.0, (0.7, 1.5), **kw)
+    down = mbm.shapiro_steps(1.0, (0.7, 1.5), sweep="down", **kw)
+    both = mbm.shapiro_steps(1.0, (0.7, 1.5), sweep="both", **kw)
+    assert up.sweep == "up" and up.mean_velocity_down is None
+    assert down.sweep == "down" and np.isnan(down.mean_velocity).all()
+    assert {s.sweep for s in up.steps} == {"up"} and {s.sweep for s in down.steps} == {"down"}
+    assert [(s.p, s.q) for s in up.steps] == [(s.p, s.q) for s in down.steps] == [(1, 1), (2, 1)]
+    for a, b in zip(up.steps, down.steps):
+        assert abs(a.lower - b.lower) <= 2e-3 and abs(a.upper - b.upper) <= 2e-3
+        # each bracket holds one bias on the step and one off it, lo < hi
+        assert a.lower_bracket[0] < a.lower_bracket[1] and b.upper_bracket[0] < b.upper_bracket[1]
+    assert [(s.p, s.sweep) for s in both.steps] == [(1, "both"), (2, "both")]
+    np.testing.assert_array_equal(both.mean_velocity, up.mean_velocity)
+    assert both.mean_velocity_down.shape == both.gamma.shape
+    # on a step the two grids agree on the voltage
+    on = np.abs(both.mean_velocity / 0.6 - np.round(both.mean_velocity / 0.6)) < 1e-6
+    np.testing.assert_allclose(both.mean_velocity_down[on], both.mean_velocity[on], atol=1e-6)

@@ -21,7 +21,7 @@ N_SE = 4.5
 
 @njit
 def _flow(theta, v, t, h, plan, p, b, sn, cn):
-    return flow.hamiltonian_flow(theta, v, t, h, plan, p, b, sn, cn)
+    return flow.hamiltonian_flow(theta, v, t, h, plan, p, (b, sn, cn))
 
 
 @pytest.mark.parametrize("omega,gamma,amp,freq,h", [

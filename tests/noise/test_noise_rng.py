@@ -67,3 +67,19 @@ def test_seed_none_is_drawn_and_kept():
 def test_bad_seeds_are_refused(seed, err):
     with pytest.raises(err, match="seed"):
         rng.resolve_seed(seed)
+
+
+def test_chunks_do_not_change_the_bits(monkeypatch):
+    # The scenes run CHUNK_SCENES per compiled call (a Ctrl-C lands between calls):
+    # scene i draws stream i whatever the chunking.
+    from mbm.noise import api
+
+    whole = mbm.escape_times(1.0, 0.5, 0.15, 10, seed=7).times
+    sw = mbm.switching_currents(0.5, 0.05, 1e-3, 10, seed=7).currents
+    monkeypatch.setattr(api, "CHUNK_SCENES", 3)
+    np.testing.assert_array_equal(mbm.escape_times(1.0, 0.5, 0.15, 10, seed=7).times.view(np.int64),
+                                  whole.view(np.int64))
+    np.testing.assert_array_equal(mbm.switching_currents(0.5, 0.05, 1e-3, 10, seed=7).currents.view(np.int64),
+                                  sw.view(np.int64))
+    # ... and the first scenes of a larger run are those of a smaller one.
+    np.testing.assert_array_equal(mbm.escape_times(1.0, 0.5, 0.15, 4, seed=7).times, whole[:4])
