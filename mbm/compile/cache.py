@@ -36,8 +36,9 @@ SKIP_DIRS = ("__pycache__",)
 KEEP_CACHE_ENV = "MBM_KEEP_CACHE"
 # Environment variable that silences the compile notice when set to 0 / false / no / off.
 NOTICE_ENV = "MBM_COMPILE_NOTICE"
-# What the notice says a first call compiles for (docs/first_calls.md, 2 cores).
-NOTICE_COST = "about 6 s on 2 cores with the compile helper, 7-9 s without"
+# What the notice says a first call compiles for: solve's 5-9 s and the junction
+# toolkit's 12-18 s from an empty cache on 2 cores (docs/first_calls.md, issue 53).
+NOTICE_COST = "typically 5-20 s on 2 cores"
 
 # The package root (mbm/), one folder above this module's.
 _PACKAGE_ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -263,6 +264,21 @@ def check_sources(root=_PACKAGE_ROOT):
     return complete
 
 
+def _entry_point():
+    """The mbm function the caller called (the outermost mbm frame on the stack, the
+    compile machinery's own and mbm.validate's wrappers apart), e.g. ``"iv_curve"``;
+    None where there is none."""
+    frame, name = sys._getframe(1), None
+    while frame is not None:
+        module = frame.f_globals.get("__name__", "")
+        code = frame.f_code.co_name
+        if ((module == "mbm" or module.startswith("mbm.")) and not module.startswith(("mbm.compile", "mbm.validate"))
+                and not code.startswith("<")):
+            name = code
+        frame = frame.f_back
+    return name
+
+
 def _install_listener():
     """Register the notice's listener on ``"numba:compile"``; returns it."""
     from numba.core import event
@@ -288,12 +304,13 @@ def _install_listener():
             # A flag, not unregister: numba's broadcast iterates the listener list, and
             # removing from it mid-iteration would skip the next listener's event.
             self.done = True
-            name = "%s.%s" % (module, getattr(py_func, "__qualname__", "?"))
-            saved = ("cached under %s for later calls" % where) if where else "not cached"
+            saved = ("once: later calls load them from %s" % where) if where else "not cached: each process compiles"
+            entry = _entry_point()
+            what = ("%s is compiling mbm's numba kernels" % entry if entry else
+                    "compiling numba kernels for %s.%s" % (module, getattr(py_func, "__qualname__", "?")))
             try:
-                sys.stderr.write(
-                    "mbm: compiling numba kernels for %s (first call from an empty or "
-                    "outdated cache; %s; %s)\n" % (name, NOTICE_COST, saved))
+                sys.stderr.write("mbm: %s (the first call after installing or upgrading mbm; %s, %s)\n"
+                                 % (what, NOTICE_COST, saved))
                 sys.stderr.flush()
             except (OSError, ValueError, AttributeError):  # closed or missing stderr
                 pass
