@@ -164,7 +164,8 @@ def identify_model(fun, t0=0.0, t_bound=None):
     if not all(math.isfinite(x) for x in (gamma, beta, w2)):
         raise ValueError(NOT_FAMILY + " (non-finite values at probe states)")
     window = _window(t0, t_bound, w2)
-    times = t0 + window * (np.arange(1, DETECT_TIMES + 1) / DETECT_TIMES)
+    # off any regular grid, so that no drive period divides their spacing
+    times = _stage_times(t0, window, DETECT_TIMES)
     times[-1] = t_bound if t_bound != t0 else times[-1]
     if all(abs(p.g(t) - g) <= 4 * EPS * abs(g) for t in times):
         _check_autonomous(p, t0, gamma, beta, w2)
