@@ -349,17 +349,19 @@ def _first_mismatch(p, model, times):
     n = len(times)
     at = [(t, 0.0, 0.0) for t in times]
     at += [(times[j], theta, v) for theta, v, _ in PROBE_CHECK_STATES for j in (0, 1, n // 2)]
+    got = np.array([p(t, theta, v) for t, theta, v in at])
+    t, theta, v = (np.array(c) for c in zip(*at))
     beta, gamma, omega = model.params
     amp, freq, phase = model.drive
-    w2 = omega * omega
-    for t, theta, v in at:
-        out = p(t, theta, v)
-        expect = model(t, [theta, v])
-        terms = abs(beta * v) + w2 * abs(math.sin(theta)) + abs(v)
-        allowed = float(_roundoff(gamma, amp, freq, phase, np.array([t]), terms)[0])
-        if not (abs(out[0] - v) <= ROUNDOFF_ULPS * EPS * abs(v)) or not (abs(out[1] - expect[1]) <= allowed):
-            return t, theta, v, out.tolist(), expect.tolist(), allowed
-    return None
+    w2 = omega**2
+    expect = (gamma + amp * np.sin(freq * t + phase)) - beta * v - w2 * np.sin(theta)
+    allowed = _roundoff(gamma, amp, freq, phase, t, np.abs(beta * v) + w2 * np.abs(np.sin(theta)) + np.abs(v))
+    ok = (np.abs(got[:, 0] - v) <= ROUNDOFF_ULPS * EPS * np.abs(v)) & (np.abs(got[:, 1] - expect) <= allowed)
+    if ok.all():
+        return None
+    i = int(np.argmin(ok))
+    return (float(t[i]), float(theta[i]), float(v[i]), got[i].tolist(), [float(v[i]), float(expect[i])],
+            float(allowed[i]))
 
 
 def _mismatch_message(bad, model):
