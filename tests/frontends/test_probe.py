@@ -68,8 +68,8 @@ def _ulps(a, b):
 def test_bound_method_cos_drive():
     j = Junction(0.3, 0.4, 0.7, 0.913, 2.5)
     a = _against_dop853(j.rhs)
-    m = a.nfev and mbm.identify_model(j.rhs, *SPAN)[0]
-    assert a.nfev <= MAX_PROBES
+    m, n = mbm.identify_model(j.rhs, *SPAN)
+    assert 0 < a.nfev == n <= MAX_PROBES  # solve_ivp's nfev: the probing's calls
     # cos(Ωt + φ) = sin(Ωt + φ + π/2): A ≥ 0, φ in [−π, π]
     assert _ulps(m.drive_frequency, 0.913) <= 2
     assert abs(math.remainder(m.drive_phase - (2.5 + math.pi / 2), 2 * math.pi)) < 1e-13
@@ -159,6 +159,11 @@ def test_other_time_dependence_refused_naming_it(rhs, found):
     assert msg.endswith(".") and msg.count("(") == msg.count(")"), msg  # whole, not cut off
     # the samples or the disagreeing values are in the message
     assert "fun gives" in msg or "g(" in msg, msg
+
+
+def test_driven_first_component_not_theta_dot():
+    with pytest.raises(ValueError, match=r"fun's first component is -?[0-9.]+, not theta'\)\.$"):
+        mbm.identify_model(lambda t, y: [2 * y[1], 0.3 + 0.5 * np.sin(t) - np.sin(y[0])], 0.0, 100.0)
 
 
 def test_refusal_names_the_values():
