@@ -76,34 +76,44 @@ def clients():
     ]
 
 
-def _timed(fun, span, t_eval, method, rtol, atol, kw):
+def _timed(fun, span, t_eval, method, rtol, atol, kw, repeats):
     best, sol = np.inf, None
-    for _ in range(REPEATS):
+    for _ in range(repeats):
         start = time.perf_counter()
         sol = solve_ivp(fun, span, Y0, method=method, t_eval=t_eval, rtol=rtol, atol=atol, **kw)
         best = min(best, time.perf_counter() - start)
     return best, sol
 
 
-def main(argv=None):
+def rows(spans=SPANS, repeats=REPEATS):
+    """One dict per client, span and tolerance: ``client, T, rtol, probes`` (MBM's calls of
+    fun), ``mbm_s, rk45_s`` (best of ``repeats``), ``mbm_err, rk45_err`` (vs DOP853)."""
     import mbm
 
+    out = []
+    for name, fun, kw in clients():
+        solve_ivp(fun, (0.0, 1.0), Y0, method=mbm.MBM, **kw)  # compile outside the timing
+        for T in spans:
+            span, t_eval = (0.0, T), np.linspace(0.0, T, int(N_PER_UNIT * T) + 1)
+            ref = solve_ivp(fun, span, Y0, method="DOP853", t_eval=t_eval, rtol=REF_TOL, atol=REF_TOL, **kw).y
+            for rtol, atol in CLIENT_TOLS:
+                t_mbm, a = _timed(fun, span, t_eval, mbm.MBM, rtol, atol, kw, repeats)
+                t_rk, b = _timed(fun, span, t_eval, "RK45", rtol, atol, kw, repeats)
+                out.append({"client": name, "T": T, "rtol": rtol, "probes": a.nfev, "mbm_s": t_mbm,
+                            "rk45_s": t_rk, "mbm_err": float(np.max(np.abs(a.y - ref))),
+                            "rk45_err": float(np.max(np.abs(b.y - ref)))})
+    return out
+
+
+def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--spans", type=float, nargs="+", default=list(SPANS))
     args = parser.parse_args(argv)
     print(f"{'client':8} {'T':>6} {'rtol':>6} {'probes':>6} {'MBM ms':>8} {'RK45 ms':>8} {'speed-up':>8} "
           f"{'MBM err':>9} {'RK45 err':>9}")
-    for name, fun, kw in clients():
-        solve_ivp(fun, (0.0, 1.0), Y0, method=mbm.MBM, **kw)  # compile outside the timing
-        for T in args.spans:
-            span, t_eval = (0.0, T), np.linspace(0.0, T, int(N_PER_UNIT * T) + 1)
-            ref = solve_ivp(fun, span, Y0, method="DOP853", t_eval=t_eval, rtol=REF_TOL, atol=REF_TOL, **kw).y
-            for rtol, atol in CLIENT_TOLS:
-                t_mbm, a = _timed(fun, span, t_eval, mbm.MBM, rtol, atol, kw)
-                t_rk, b = _timed(fun, span, t_eval, "RK45", rtol, atol, kw)
-                ea, eb = np.max(np.abs(a.y - ref)), np.max(np.abs(b.y - ref))
-                print(f"{name:8} {T:6.0f} {rtol:6.0e} {a.nfev:6d} {1e3 * t_mbm:8.2f} {1e3 * t_rk:8.2f} "
-                      f"{t_rk / t_mbm:8.1f} {ea:9.1e} {eb:9.1e}", flush=True)
+    for r in rows(args.spans):
+        print(f"{r['client']:8} {r['T']:6.0f} {r['rtol']:6.0e} {r['probes']:6d} {1e3 * r['mbm_s']:8.2f} "
+              f"{1e3 * r['rk45_s']:8.2f} {r['rk45_s'] / r['mbm_s']:8.1f} {r['mbm_err']:9.1e} {r['rk45_err']:9.1e}")
 
 
 if __name__ == "__main__":
