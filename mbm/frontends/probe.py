@@ -374,7 +374,8 @@ def _mismatch_message(bad, model):
                 f"phi={model.drive_phase!r}) gives {expect[1]!r} (they differ by {abs(got[1] - expect[1])!r}, "
                 f"round-off allows {allowed!r}).")
     if not abs(got[0] - v) <= ROUNDOFF_ULPS * EPS * abs(v):
-        return NOT_FAMILY + f" (at theta={theta}, theta'={v}, t={t!r}, fun's first component is {got[0]!r}, not theta')."
+        return NOT_FAMILY + (f" (at theta={theta}, theta'={v}, t={t!r}, fun's first component is "
+                             f"{got[0]!r}, not theta').")
     return (NOT_FAMILY + f" (mismatch at theta={theta}, theta'={v}, t={t!r}: fun gives {got}, the "
             f"model identified at theta = theta' = 0, {model!r}, gives {expect}, round-off allows "
             f"{allowed!r}); fun's time dependence is not added to the torque (multiplicative?), and "
