@@ -101,6 +101,8 @@ def test_args_are_identified_with_the_drive():
 
 def test_gross_form():
     _against_dop853(gross)
+    _against_dop853(gross, span=(1e4, 1e4 + 100.0))  # a late start: Ωt large
+    _against_dop853(gross, span=(10.0, 0.0))  # backward (anti-damped: kept short)
 
 
 @pytest.mark.parametrize("span", [(0.0, 2000.0), (1e4, 1.2e4), (50.0, 0.0), (3.0, 3.0)])
