@@ -41,7 +41,8 @@ from .frontends.batch import solve_batch
 from .events.compiled import Event, angle_event, section_event, velocity_event
 from .events.njit import event_table, solve_njit_events, solve_njit_function_events
 from .junction.iv import IVCurve, iv_curve
-from .model import Pendulum, identify_model
+from .model import Pendulum
+from .frontends.probe import identify_model
 from .junction.shapiro import ShapiroStep, ShapiroSteps, shapiro_steps
 from .frontends.reference import reference
 

@@ -1,6 +1,7 @@
-"""The pendulum family  θ'' + β θ' + ω² sin θ = γ  and the probing of plain callables.
+"""The pendulum family  θ'' + β θ' + ω² sin θ = γ + A sin(Ωt + φ).
 
-This module knows the equation only: no approximant, no window control.
+This module knows the equation only: no approximant, no window control, no probing
+(the probing of plain callables: :mod:`mbm.frontends.probe`).
 """
 
 import math
@@ -9,36 +10,7 @@ import numpy as np
 
 from .validate import check_drive, check_rule
 
-__all__ = ["Pendulum", "identify_model"]
-
-# Relative tolerance for accepting a probed callable as a member of the family:
-# a member reproduces the fitted β, γ, ω² to round-off (a few ulps of the
-# largest term), anything above this is a different equation.
-PROBE_RTOL = 1e-10
-
-# Probe states (θ, θ', t) used to check the fit after β, γ, ω² are identified;
-# chosen off the identification states, with large |θ| and non-zero t so that
-# a θ³ term, a time dependence or a periodic forcing shows up.
-PROBE_CHECK_STATES = (
-    (0.7, -1.3, 0.37),
-    (-2.1, 0.4, 3.1),
-    (2.9, 2.2, -1.7),
-    (11.3, -0.8, 12.9),
-    (-0.3, 5.5, 100.25),
-)
-
-# A state that fails the fit is probed again this much later: a changed value means
-# fun depends on t (irrational in units of the probe times, so that no period of a
-# forcing among them hides it).
-PROBE_TIME_SHIFT = 1.0 / 3.0 + 2.0**-0.5
-
-# What the probing tells a caller whose fun depends on t: the one time dependence MBM
-# integrates is the AC drive of the model.
-TIME_DEPENDENT_HINT = (
-    "; fun depends on t: MBM integrates the AC drive gamma + A*sin(Omega*t + phi) of "
-    "model=mbm.Pendulum(beta, gamma, omega, drive_amplitude=A, drive_frequency=Omega, "
-    "drive_phase=phi) (approximant 'taylor' or 'auto'), any other time dependence not"
-)
+__all__ = ["Pendulum"]
 
 
 class Pendulum:
@@ -268,76 +240,3 @@ class Pendulum:
     def params(self):
         """``(beta, gamma, omega)`` as floats: the autonomous part (the drive: :attr:`drive`)."""
         return (self._beta, self._gamma, self._omega)
-
-
-def identify_model(fun, t0=0.0):
-    """Identify β, γ, ω of the pendulum family from a right-hand side ``fun(t, y)``.
-
-    The family is linear in the basis (1, θ', sin θ) for the second component, and
-    the first component must be θ'.  Three probe states identify γ, β and ω²; further
-    states (with other t) check the fit.
-
-    Parameters
-    ----------
-    fun : callable
-        ``fun(t, y)`` returning an array_like of shape (2,).
-    t0 : float, optional
-        Time offset added to the probe times.
-
-    Returns
-    -------
-    model : Pendulum
-        The identified member (``fun`` itself when it already is a Pendulum).
-    nfev : int
-        Number of calls made to ``fun``.
-
-    Raises
-    ------
-    ValueError
-        If ``fun`` is not of the family θ'' + βθ' + ω² sin θ = γ with β ≥ 0, ω > 0.
-    """
-    if isinstance(fun, Pendulum):
-        return fun, 0
-    nfev = 0
-
-    def call(theta, v, t):
-        nonlocal nfev
-        nfev += 1
-        out = np.asarray(fun(t0 + t, np.array([theta, v], dtype=float)), dtype=float).reshape(-1)
-        if out.shape != (2,):
-            raise ValueError(f"fun must return 2 values for a pendulum state, got shape {out.shape}")
-        return out
-
-    not_family = (
-        "fun is not of the pendulum family theta'' + beta*theta' + omega**2*sin(theta) = gamma "
-        "(first component theta', second gamma - beta*theta' - omega**2*sin(theta)); "
-        "MBM solves only that family"
-    )
-    g = call(0.0, 0.0, 0.0)[1]
-    gb = call(0.0, 1.0, 0.0)[1]
-    gw = call(0.5 * math.pi, 0.0, 0.0)[1]
-    gamma = g
-    beta = g - gb
-    w2 = g - gw
-    if not all(math.isfinite(x) for x in (gamma, beta, w2)):
-        raise ValueError(not_family + " (non-finite values at probe states)")
-    for theta, v, t in PROBE_CHECK_STATES:
-        out = call(theta, v, t)
-        expect = gamma - beta * v - w2 * math.sin(theta)
-        scale = abs(gamma) + abs(beta * v) + abs(w2) + 1e-300
-        if not (abs(out[0] - v) <= PROBE_RTOL * (abs(v) + 1.0)) or not (
-            abs(out[1] - expect) <= PROBE_RTOL * scale
-        ):
-            where = f" (mismatch at theta={theta}, theta'={v}, t={t0 + t})"
-            # The same state at another time: a different value means fun depends on t.
-            other = call(theta, v, t + PROBE_TIME_SHIFT)
-            if np.any(np.abs(other - out) > PROBE_RTOL * (np.abs(out) + scale)):
-                raise ValueError(not_family + where + TIME_DEPENDENT_HINT)
-            raise ValueError(not_family + where)
-    if w2 <= 0.0:
-        raise ValueError(
-            f"fun is of the pendulum form but with omega**2 = {w2!r}; omega**2 must be > 0"
-        )
-    if beta < 0.0:
-        raise ValueError(f"fun is of the pendulum form but with beta = {beta!r}; beta must be >= 0")
-    return Pendulum(beta=beta, gamma=gamma, omega=math.sqrt(w2)), nfev

@@ -35,7 +35,8 @@ from ..validate import (
 from ..approximants import get_approximant
 from ..approximants.taylor import HEADER as _TAYLOR_HEADER, N_EXTRA as _TAYLOR_EXTRA
 from ..choice import auto_name, auto_reason
-from ..model import Pendulum, identify_model
+from ..model import Pendulum
+from .probe import check_model, identify_model
 from ..regimes import REGIME_NAMES, REGIME_NONE, REGIME_PHASE_LOCKED, cycle_summary, strobe_summary
 
 __all__ = ["MBM", "MBMEventPoints", "MBMDenseOutput", "MBMWindowsDenseOutput"]
@@ -134,10 +135,12 @@ class _MBMBase(OdeSolver):
             DEFAULT_RTOL if rtol is None else rtol, DEFAULT_ATOL if atol is None else atol, stacklevel=4
         )
         if model is None:
-            model, nprobe = identify_model(fun, t0=float(t0))
-            self.nfev += nprobe
+            model, nprobe = identify_model(fun, t0=float(t0), t_bound=float(t_bound))
         elif not isinstance(model, Pendulum):
             raise TypeError(f"model must be an mbm.Pendulum, got {type(model).__name__}")
+        else:
+            nprobe = check_model(fun, model, t0=float(t0), t_bound=float(t_bound))
+        self.nfev += nprobe
         self.model = model
         if isinstance(approximant, str) and approximant == "auto":
             approximant, reason = _auto_choice(model.beta == 0.0 and model.gamma == 0.0 and not model.driven,
@@ -196,9 +199,9 @@ class MBM(_MBMBase):
     ----------
     fun : callable
         Right-hand side ``fun(t, y)``: an :class:`mbm.Pendulum`, or any callable of
-        the family, whose β, γ, ω are identified by probing (see
-        :func:`mbm.model.identify_model`).  A callable outside the family raises
-        ``ValueError``.
+        the family, whose β, γ, ω and AC drive A sin(Ωt + φ) are identified by
+        probing (see :func:`mbm.frontends.probe.identify_model`).  A callable outside
+        the family raises ``ValueError``.
     t0 : float
         Initial time.
     y0 : array_like, shape (2,)
@@ -215,7 +218,8 @@ class MBM(_MBMBase):
         ``"auto"`` (default: the exact flow when β = γ = 0 without a drive, else the Taylor series,
         see :mod:`mbm.choice`) or a registered name (:func:`mbm.approximant_names`).
     model : Pendulum, optional
-        The model; skips probing ``fun``.
+        The model; ``fun`` is checked against it (``ValueError`` naming the
+        parameters that differ, :func:`mbm.frontends.probe.check_model`).
     anchors : {"windows", "events"}, optional
         ``"windows"`` (default): this class.  ``"events"``: anchor at event points
         (3.32), an :class:`MBMEventPoints` is built instead, with the options it takes

@@ -312,22 +312,22 @@ def test_event_anchors_refuse_the_drive():
         solve_ivp(DRIVEN, (0.0, 1.0), Y0, method=mbm.MBM, anchors="events")
 
 
-def test_time_dependent_callable_names_the_drive_option():
+def test_time_dependent_callable_is_identified():
     def forced(t, y):
         return [y[1], 0.3 + 1.2 * math.sin(0.7 * t + 0.3) - 0.5 * y[1] - math.sin(y[0])]
 
-    with pytest.raises(ValueError, match=r"not of the pendulum family.*depends on t.*"
-                       r"mbm\.Pendulum\(beta, gamma, omega, drive_amplitude=A, drive_frequency=Omega, "
-                       r"drive_phase=phi\)"):
-        solve_ivp(forced, (0.0, 1.0), Y0, method=mbm.MBM)
-    # the same equation given as the model: integrated
-    sol = solve_ivp(forced, (0.0, 20.0), Y0, method=mbm.MBM, model=DRIVEN, rtol=1e-10, atol=1e-10)
+    # the drive identified by probing (tests/frontends/test_probe.py: the client forms)
+    model, _ = mbm.identify_model(forced, 0.0, 20.0)
+    assert model.drive_frequency == 0.7 and model.drive_phase == pytest.approx(0.3, abs=1e-14)
+    assert model.drive_amplitude == pytest.approx(1.2, rel=1e-14) and model.gamma == pytest.approx(0.3, rel=1e-14)
     ref = mbm.reference(DRIVEN, (0.0, 20.0), Y0, t_eval=[20.0])
-    assert abs(sol.y[0, -1] - ref.y[0, -1]) < 1e-9
-    # a non-member without time dependence: no drive hint
+    for kw in ({}, {"model": DRIVEN}):
+        sol = solve_ivp(forced, (0.0, 20.0), Y0, method=mbm.MBM, rtol=1e-10, atol=1e-10, **kw)
+        assert abs(sol.y[0, -1] - ref.y[0, -1]) < 1e-9
+    # a non-member without time dependence: no drive in the message
     with pytest.raises(ValueError, match="not of the pendulum family") as err:
         solve_ivp(lambda t, y: [y[1], (1 - y[0] ** 2) * y[1] - y[0]], (0.0, 1.0), Y0, method=mbm.MBM)
-    assert "drive_amplitude" not in str(err.value)
+    assert "depends on t" not in str(err.value)
 
 
 # ---------------------------------------------------------------------------

@@ -65,7 +65,7 @@ def test_identify_model_recovers_parameters():
     [
         lambda t, y: [y[1], (1 - y[0] ** 2) * y[1] - y[0]],  # Van der Pol
         lambda t, y: [y[1], -y[0] + 2 * y[0] ** 3 / 13],  # the cubic model itself
-        lambda t, y: [y[1], -0.1 * y[1] - np.sin(y[0]) + 0.2 * np.cos(t)],  # periodic forcing
+        lambda t, y: [y[1], -0.1 * (1 + 0.2 * np.cos(t)) * y[1] - np.sin(y[0])],  # damping modulated in t
         lambda t, y: [2 * y[1], -np.sin(y[0])],  # first component not θ'
         lambda t, y: [y[1], -0.1 * y[1] * abs(y[1]) - np.sin(y[0])],  # quadratic drag
     ],
@@ -80,12 +80,17 @@ def test_negative_damping_rejected():
         mbm.identify_model(lambda t, y: [y[1], 0.1 * y[1] - np.sin(y[0])])
 
 
-def test_model_option_skips_probing():
+def test_model_option_checks_fun():
+    # model= is checked against fun (tests/frontends/test_probe.py: the mismatches)
     def never(t, y):
-        raise AssertionError("fun must not be called when model= is given")
+        raise AssertionError("fun is called to check it against model=")
 
-    sol = solve_ivp(never, (0.0, 3.0), EX1_Y0, method=mbm.MBM, approximant="salas-torque", model=EX1, tau=0.5)
-    assert sol.success and sol.nfev == 0
+    with pytest.raises(AssertionError, match="check it against model="):
+        solve_ivp(never, (0.0, 3.0), EX1_Y0, method=mbm.MBM, approximant="salas-torque", model=EX1, tau=0.5)
+    rhs = lambda t, y: [y[1], 0.3 - 0.1 * y[1] - np.sin(y[0])]  # noqa: E731
+    sol = solve_ivp(rhs, (0.0, 3.0), EX1_Y0, method=mbm.MBM, approximant="salas-torque", model=EX1, tau=0.5)
+    ref = solve_ivp(EX1, (0.0, 3.0), EX1_Y0, method=mbm.MBM, approximant="salas-torque", tau=0.5)
+    assert sol.success and sol.nfev > 0 and np.array_equal(sol.y, ref.y)
     with pytest.raises(TypeError, match="model"):
         solve_ivp(never, (0.0, 3.0), EX1_Y0, method=mbm.MBM, approximant="salas-torque", model=(0.1, 0.3, 1.0))
 
