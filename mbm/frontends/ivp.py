@@ -119,7 +119,7 @@ class _MBMBase(OdeSolver):
         Always 0.
     """
 
-    def __init__(self, fun, t0, y0, t_bound, approximant, model, max_step, rtol, atol, vectorized,
+    def __init__(self, fun, t0, y0, t_bound, *, approximant, model, max_step, rtol, atol, vectorized,
                  extraneous):
         warn_extraneous(extraneous, stacklevel=4)
         super().__init__(fun, t0, y0, t_bound, vectorized, support_complex=False)
@@ -292,13 +292,13 @@ class MBM(_MBMBase):
             raise ValueError(f"anchors must be 'windows' or 'events', got {anchors!r}")
         return super().__new__(cls)
 
-    def __init__(self, fun, t0, y0, t_bound, tau=None, approximant="auto", model=None,
+    def __init__(self, fun, t0, y0, t_bound, *, tau=None, approximant="auto", model=None,
                  anchors="windows", windows_per_step="auto", max_step=np.inf, first_step=None,
                  rtol=None, atol=None, max_windows=DEFAULT_MAX_WINDOWS, vectorized=False,
                  **extraneous):
         tol_given = rtol is not None or atol is not None
-        super().__init__(fun, t0, y0, t_bound, approximant, model, max_step, rtol, atol, vectorized,
-                         extraneous)
+        super().__init__(fun, t0, y0, t_bound, approximant=approximant, model=model, max_step=max_step, rtol=rtol,
+                         atol=atol, vectorized=vectorized, extraneous=extraneous)
         if first_step is not None:
             first_step = check_positive("first_step", first_step)
         if tau is not None:
@@ -462,7 +462,8 @@ class MBM(_MBMBase):
         if self._run is not None:
             starts, start_theta, coefs, n = self._windows
             return MBMWindowsDenseOutput(self.t_old, self.t, self._kind[0], starts, start_theta, coefs, n,
-                                         self.direction, self._ints.item(_W_REGIME), self._simd)
+                                         direction=self.direction, regime=self._ints.item(_W_REGIME),
+                                         simd=self._simd)
         return MBMDenseOutput(self.t_old, self.t, self.approximant, self._coef)
 
 
@@ -611,15 +612,15 @@ class MBMEventPoints(_MBMBase):
         Windows taken so far.
     """
 
-    def __init__(self, fun, t0, y0, t_bound, approximant="auto", model=None, anchors="events",
+    def __init__(self, fun, t0, y0, t_bound, *, approximant="auto", model=None, anchors="events",
                  events_from="cvode", max_step=np.inf, rtol=None, atol=None, vectorized=False,
                  **extraneous):
         if anchors != "events":
             raise ValueError(f"MBMEventPoints anchors at events, got anchors={anchors!r}")
         if events_from not in ("cvode", "approximant"):
             raise ValueError(f"events_from must be 'cvode' or 'approximant', got {events_from!r}")
-        super().__init__(fun, t0, y0, t_bound, approximant, model, max_step, rtol, atol, vectorized,
-                         extraneous)
+        super().__init__(fun, t0, y0, t_bound, approximant=approximant, model=model, max_step=max_step, rtol=rtol,
+                         atol=atol, vectorized=vectorized, extraneous=extraneous)
         if self.model.driven:
             raise ValueError(
                 f"anchors='events' cannot take the AC drive (drive_amplitude="
@@ -761,7 +762,7 @@ class MBMWindowsDenseOutput(DenseOutput):
         then re-taken by the vector kernel; default False: any degree).
     """
 
-    def __init__(self, t_old, t, kind, starts, start_theta, coefs, n, direction, regime=REGIME_NONE, simd=False):
+    def __init__(self, t_old, t, kind, starts, start_theta, coefs, n, *, direction, regime=REGIME_NONE, simd=False):
         super().__init__(t_old, t)
         self.kind = kind
         self.starts = starts

@@ -476,7 +476,8 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
         raise TypeError(f"model must be an mbm.Pendulum, got {type(model).__name__}")
     (t0, t1), (theta0, v0) = check_span(t_span), _state(y0)
     if temperature is not None and check_rule("temperature", temperature, (">=0", ">= 0")) > 0.0:
-        return _langevin(model, (t0, t1, theta0, v0), temperature, seed, dt, t_eval, tau, wrap, events)
+        return _langevin(model, (t0, t1, theta0, v0), (temperature, seed, dt), t_eval, tau=tau, wrap=wrap,
+                         events=events)
     ig = _solver_for(model, rtol, atol, approximant, tau, max_step, max_windows, events is not None)
     _check_budget(ig, t0, t1, v0)
     if events is not None:
@@ -486,8 +487,10 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
     return ig._solve(t0, t1, theta0, v0, t_eval, wrap)  # span and state checked above
 
 
-def _langevin(model, start, temperature, seed, dt, t_eval, tau, wrap, events):
-    # mbm.solve with a temperature > 0: mbm.noise.paths, loaded on first use.
+def _langevin(model, start, noise, t_eval, *, tau, wrap, events):
+    # mbm.solve with a temperature > 0 (noise: temperature, seed, dt): mbm.noise.paths,
+    # loaded on first use.
+    temperature, seed, dt = noise
     for name, value in (("tau", tau), ("wrap", wrap), ("events", events)):
         if value is not None and value is not False:
             raise ValueError(f"{name} is not supported with a temperature > 0 (a Langevin path)")
