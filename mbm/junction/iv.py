@@ -128,6 +128,10 @@ DRIVE_SETTLE_MIN_PERIODS = 4
 DRIVE_AVERAGE_PERIODS = 120
 # Two successive blocks whose averages agree to this (absolute, in units of ω): converged.
 DRIVE_VELOCITY_TOL = 1e-9
+# iv_curve warns where |γ| passes this many times ω² (+ the drive's A): an I–V curve's
+# features lie within a few ω² (switching at ω², steps a few A wide), and 10× is where a
+# current typed in µA or mA for a junction of I_c ~ 1 µA or 1 mA lands.
+IMPLAUSIBLE_BIAS = 10.0
 # Blocks measured before the weighted average over all of them is reported unconverged
 # (between steps: quasi-periodic or chaotic motion).
 DRIVE_MAX_BLOCKS = 4
@@ -638,6 +642,8 @@ def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0
     Warns
     -----
     RuntimeWarning
+        When |γ| passes IMPLAUSIBLE_BIAS (10) times ω² + A: γ is the reduced bias I/I_c,
+        and a current typed in µA or mA lands there (:class:`mbm.Junction` converts).
         Once, when some driven points did not settle to ``velocity_tol``, naming how
         many and their γ (``IVCurve.converged`` False there); once more for each
         bisection with probes whose voltage state changed between their blocks,
@@ -663,6 +669,7 @@ def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0
     g = check_rule_array("gamma", check_real_array("gamma", gamma)).reshape(-1)
     if g.size == 0:
         raise ValueError("gamma must hold at least one bias point")
+    _warn_implausible_bias(g, omega, drive[0])
     if progress is not False and progress is not True:
         raise TypeError(f"progress must be True or False, got {progress!r}")
     y = check_state("(theta0, theta_dot0)", [check_real("theta0", theta0), check_real("theta_dot0", theta_dot0)])
@@ -715,6 +722,17 @@ def _currents(beta, omega, g, regimes, velocities, states, *, current_tol, integ
                                                         velocity_tol=velocity_tol)
             retrapping = tuple(sorted((g_a, g_b)))
     return switching, retrapping, unsettled
+
+
+def _warn_implausible_bias(g, omega, amplitude):
+    # A reduced bias far above the switching range is most often a current entered in
+    # µA or mA: say so (the run goes on; the answer is right for the numbers given).
+    top = float(np.max(np.abs(g)))
+    w2 = omega * omega
+    if top > IMPLAUSIBLE_BIAS * (w2 + abs(amplitude)):
+        warnings.warn(f"iv_curve: |gamma| reaches {top:g}, {top / w2:.3g} times the critical current omega**2 = "
+                      f"{w2:g}: gamma is the reduced bias I/I_c (a current in µA or mA by mistake? "
+                      f"mbm.Junction(I_c=..., R=..., C=...).gamma(I) converts)", RuntimeWarning, stacklevel=3)
 
 
 def _warn_unsettled(g, converged, velocity_tol):

@@ -49,3 +49,17 @@ def test_keywords_named_keeps_the_signature_and_the_call():
     # A keyword it does not take is Python's own error, unchanged.
     with pytest.raises(TypeError, match="unexpected keyword argument 'd'"):
         g(1, d=3)
+
+
+def test_implausible_bias_warns():
+    # gamma up to 50: a bias in µA by mistake; the warning names the reduced bias and the converter.
+    with pytest.warns(RuntimeWarning, match=r"iv_curve: \|gamma\| reaches 50, 50 times the critical current "
+                                            r"omega\*\*2 = 1: gamma is the reduced bias I/I_c .*mbm\.Junction"):
+        with pytest.raises(TypeError, match="progress must be True or False"):
+            # (the warning comes before the run; a bad progress stops it there)
+            mbm.iv_curve(0.5, [10.0, 50.0], progress="yes")
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(TypeError, match="progress must be True or False"):
+            mbm.iv_curve(0.5, [0.0, 2.0, 9.0], progress="yes")
