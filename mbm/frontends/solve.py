@@ -415,8 +415,7 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
     max_windows : int, optional
         Windows the run may take (default 10⁷, seconds of compute); past it the run
         stops with status 4 and the outputs it reached.  A run certain to take 100 times
-        as many (a runaway torque abs(γ) ≫ ω², a tiny ``tau``:
-        :func:`mbm.validate.check_window_budget`) is refused before it runs.
+        as many (a runaway torque abs(γ) ≫ ω², a tiny ``tau``) is refused before it runs.
     wrap : bool, optional
         Report θ wrapped to (−π, π] (``y[0]``) with its winding count ``winding``
         (θ = 2π·winding + y[0]; needs ``t_eval``), at full precision however far the

@@ -642,7 +642,7 @@ def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0
     Warns
     -----
     RuntimeWarning
-        When |γ| passes IMPLAUSIBLE_BIAS (10) times ω² + A: γ is the reduced bias I/I_c,
+        When abs(γ) passes IMPLAUSIBLE_BIAS (10) times ω² + A: γ is the reduced bias I/I_c,
         and a current typed in µA or mA lands there (:class:`mbm.Junction` converts).
         Once, when some driven points did not settle to ``velocity_tol``, naming how
         many and their γ (``IVCurve.converged`` False there); once more for each

@@ -48,14 +48,14 @@ CHUNK_SCENES = 1024
 
 
 def well(gamma, omega=1.0):
-    """The well of U(θ) = −ω² cos θ − γθ holding θ = arcsin(γ/ω²) (|γ| < ω²).
+    """The well of U(θ) = −ω² cos θ − γθ holding θ = arcsin(γ/ω²) (abs(γ) < ω²).
 
     Returns
     -------
     dict
         ``theta_min``, ``theta_max`` (the barrier top on the downhill side,
         π − arcsin(γ/ω²) for γ ≥ 0), ``barrier`` ΔU = 2 sqrt(ω⁴ − γ²) −
-        2|γ| arccos(|γ|/ω²), ``omega_well`` = ``omega_barrier`` = (ω⁴ − γ²)^{1/4}.
+        2abs(γ) arccos(abs(γ)/ω²), ``omega_well`` = ``omega_barrier`` = (ω⁴ − γ²)^{1/4}.
     """
     w2 = omega * omega
     x = gamma / w2
@@ -80,7 +80,7 @@ def kramers_rate(beta, gamma, temperature, omega=1.0):
     beta : float
         Damping, > 0.
     gamma : float
-        Bias, |γ| < ω².
+        Bias, abs(γ) < ω².
     temperature : float
         T > 0 (as :func:`escape_times`).
     omega : float, optional
@@ -231,7 +231,7 @@ def escape_times(beta, gamma, temperature, n, *, omega=1.0, seed=None, dt=DT_DEF
 
     Each scene starts at the well bottom θ0 = arcsin(γ/ω²) with θ' = 0 and runs
     θ'' + βθ' + ω² sin θ = γ + ξ(t), ⟨ξ(t)ξ(t')⟩ = 2βT δ(t − t'), until θ reaches the
-    next well's bottom θ0 ± 2π: one completed phase slip, ΔU + 2π|γ| below the barrier
+    next well's bottom θ0 ± 2π: one completed phase slip, ΔU + 2πabs(γ) below the barrier
     top on the downhill side, so that a crossing counted is not undone (the time from
     the barrier top down there is O(1/ω), against the e^{ΔU/T} of the wait).
 
@@ -240,7 +240,7 @@ def escape_times(beta, gamma, temperature, n, *, omega=1.0, seed=None, dt=DT_DEF
     beta : float
         Damping, > 0 (the noise strength is 2βT).
     gamma : float
-        Bias, |γ| < ω² (a well to escape from).
+        Bias, abs(γ) < ω² (a well to escape from).
     temperature : float
         T > 0 in the unit of the energy θ'²/2 − ω² cos θ − γθ.
     n : int
