@@ -461,7 +461,7 @@ def test_a_drive_needs_a_positive_frequency():
     (dict(omega=-1.0), ValueError, "omega must be > 0, got -1.0"),
     (dict(gamma=["0.1"]), TypeError, "gamma must be a real number or an array of real numbers, got ['0.1']"),
     (dict(gamma=[0.1, math.nan]), ValueError, "gamma must be finite, got gamma[1] = nan"),
-    (dict(beta=0.0), ValueError, "beta must be > 0, got 0.0"),
+    (dict(beta=0.0), ValueError, "beta must be > 0 (damping: an I–V curve needs a damped junction), got 0.0"),
 ])
 def test_iv_curve_same_wording(kw, exc, message):
     args = dict(beta=0.5, gamma=[0.1])
