@@ -33,7 +33,7 @@ from .controller import (
 )
 from .chains import REACHES, _run_sets, set_flag
 from .record import window_control
-from .loop import Outputs, _regime_set, damped_setup, emit_taylor, locked_test
+from .loop import _regime_set, damped_setup, emit_taylor, locked_test
 from .window import (
     KIND_TAYLOR,
     _reduce_phi,
@@ -233,8 +233,8 @@ def _lane_window(p, ln, coef, h, th, v, ho):
     if j < t_eval.size and ln.direction * (t_eval[j] - t_new) <= 0.0:
         # (The views of out made only for a window that has outputs.)
         out_theta = out[i, 0]
-        outs = Outputs(t_eval, out_theta, out[i, 1], out[i, 2] if wrapped else out_theta, wrapped)
-        ln.j = emit_taylor(coef, t, t_new, k, j, ln.direction, outs)
+        ln.j = emit_taylor(coef, t, t_new, t_eval, j, ln.direction, k, out_theta, out[i, 1],
+                           out[i, 2] if wrapped else out_theta, wrapped)
     if ln.can_cycle != 0 and r.switch.regime == REGIME_NONE:
         m = r.model
         _watch_cycle(KIND_TAYLOR, r, coef, t, t_new, y0, th, v, k, off, ln.sec_off, ln.sec_acc, m.beta, m.gamma,
