@@ -516,10 +516,8 @@ def _runner(rset, simd=False):
 
     @numba.njit(cache=True)
     def run_entry(buf, fresh, t0, theta0, v0, t1, h, t_eval, out, win_t, win_y, win_coef, cancel):
-        """Advance the run in ``buf``'s last row window by window, set up first from
-        row 0 where ``fresh``; returns the windows this call took, or −(the t_eval
-        problem's code) where a fresh call's ``t_eval`` fails (nothing run).  The
-        arguments, stops and write-back: the entries' contract above :func:`_runner`."""
+        """Advance the run in ``buf``'s last row window by window (the entries' contract above
+        :func:`_runner`); returns the windows taken, or −(the t_eval problem's code)."""
         if fresh:
             problem = t_eval_problem(t_eval, t0, t1, False)
             if problem != 0:
@@ -536,8 +534,7 @@ def _runner(rset, simd=False):
         outs = Outputs(t_eval, out[0], out[1], out[2] if wrapped else out[0], wrapped)
         # n typed int64 from the start (a literal 0 compiles _store_window a second time).
         j, n, n_total, status = r.progress.j, np.int64(0), r.progress.n_windows, STATUS_OK
-        # θ = 2πk + φ (TWO_PI_A): y0 holds φ, k the winding count; a fresh run starts
-        # from θ as given (k = 0), a resumed one where it stopped.
+        # θ = 2πk + φ (TWO_PI_A): y0 holds φ, k the winding (0 fresh, else where it stopped).
         k = 0.0
         if n_total > 0:
             k, y0 = r.winding.wind, r.winding.phi
@@ -550,10 +547,7 @@ def _runner(rset, simd=False):
             _keep_damped(buf)
         ws = taylor_workspace(r.control.karg)  # one coefficient workspace for the call's windows
         per = (np.empty(0), np.empty((0, 2)), np.empty((0, 0)), -2)  # the stored period (R3)
-        # The sources' scratch, once per call (a tuple of arrays built per window costs
-        # their reference counts each time); the stored period changes only in RS_CYCLE,
-        # whose source takes it on its own.
-        scratch = (ws, per)
+        scratch = (ws, per)  # once per call: per window, a tuple of arrays costs their refcounts
         sp_next = sp[3]
         seen = -1  # the regime last checked against this entry's set (-1: the first window checks)
         while direction * (t_bound - t) > 0.0:
@@ -585,8 +579,6 @@ def _runner(rset, simd=False):
                 st, coef, t_new, th, v, k_new, h_abs, h_next, is_locked, per = _source_fixed(
                     kind, rset, simd, r, At(t, y0, y1, k, off, h_abs), ctl, scratch)
             else:
-                c = r.control
-                ctl = window_control(direction, t_bound, max_step, c.rtol, c.atol, c.error_order, log_eps)
                 st, coef, t_new, th, v, k_new, h_abs, h_next, is_locked, per = _source(
                     kind, rset, simd, r, t, y0, y1, k, off, direction, max_step, h_abs, log_eps, rs.can_lock, rs.lk,
                     ws, per)
