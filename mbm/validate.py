@@ -312,6 +312,16 @@ def check_t_eval(t_eval, t0, t1, strict=False):
     return te
 
 
+def check_integer(name, value, least):
+    """``value`` as an int ≥ ``least``: a TypeError ("``name`` must be an integer") for a
+    bool or a non-integer, a ValueError ("``name`` must be >= least") below it."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
+        raise TypeError(f"{name} must be an integer, got {value!r}")
+    if value < least:
+        raise ValueError(f"{name} must be >= {least}, got {value!r}")
+    return int(value)
+
+
 def check_max_windows(max_windows):
     """``max_windows`` as an int ≥ 1, or a ValueError."""
     if type(max_windows) is int and max_windows >= 1:

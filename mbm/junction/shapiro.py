@@ -44,7 +44,8 @@ import warnings
 
 import numpy as np
 
-from ..validate import check_positive, check_real, check_real_array, check_rule, check_rule_array, keywords_named
+from ..validate import (check_integer, check_positive, check_real, check_real_array, check_rule, check_rule_array,
+                        keywords_named)
 
 __all__ = ["shapiro_steps", "ShapiroSteps", "ShapiroStep"]
 
@@ -263,11 +264,7 @@ def _check_range(gamma_range):
 
 
 def _check_points(points):
-    if isinstance(points, (bool, np.bool_)) or not isinstance(points, numbers.Integral):
-        raise TypeError(f"points must be an integer, got {points!r}")
-    if points < 3:
-        raise ValueError(f"points must be >= 3, got {points!r}")
-    return int(points)
+    return check_integer("points", points, 3)
 
 
 def _probe(model, y, p, q):

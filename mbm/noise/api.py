@@ -13,7 +13,7 @@ import numbers
 import numba
 import numpy as np
 
-from ..validate import check_positive, check_real, check_rule
+from ..validate import check_integer, check_positive, check_real, check_rule
 from .flow import make_params, substeps
 from .kernels import escape_kernel, switching_kernel
 from .rng import resolve_seed
@@ -174,11 +174,7 @@ def _check_gamma(gamma, omega, name="gamma"):
 
 
 def _check_count(n):
-    if isinstance(n, (bool, np.bool_)) or not isinstance(n, numbers.Integral):
-        raise TypeError(f"n must be an integer >= 1, got {n!r}")
-    if n < 1:
-        raise ValueError(f"n must be >= 1, got {n!r}")
-    return int(n)
+    return check_integer("n", n, 1)
 
 
 def _check_dt(dt, omega):
