@@ -114,6 +114,9 @@ _LAZY = {
     "escape_times": ("mbm.noise.api", "escape_times"),
     "kramers_rate": ("mbm.noise.api", "kramers_rate"),
     "switching_currents": ("mbm.noise.api", "switching_currents"),
+    # error bars and sensitivities (issue 51)
+    "AccuracyWarning": ("mbm.tangent.api", "AccuracyWarning"),
+    "SENSITIVITY_NAMES": ("mbm.tangent.api", "SENSITIVITY_NAMES"),
 }
 
 

@@ -36,6 +36,7 @@ from ..choice import auto_name, auto_reason
 from ..events.compiled import solve_events
 from ..model import Pendulum
 from ..result import SolveResult
+from .. import tangent as _tangent
 from ..regimes import (
     REGIME_NAMES,
     REGIME_NONE,
@@ -266,7 +267,8 @@ class Integrator:
         self._base = dict.fromkeys(_RESULT_KEYS)
         self._base.update(approximant=ap.name, reason=self.reason)
 
-    def solve(self, t_span, y0, t_eval=None, wrap=False, events=None, max_events=None):
+    def solve(self, t_span, y0, t_eval=None, wrap=False, events=None, max_events=None, *, error_estimate=False,
+              sensitivities=None):
         """Solve from ``y0`` over ``t_span``: what :func:`solve` returns.
 
         Parameters
@@ -285,6 +287,11 @@ class Integrator:
             (see :func:`solve`); needs a Taylor approximant.
         max_events : int, optional
             Occurrences of each event stored (see :func:`solve`); default all.
+        error_estimate : bool, optional
+            Add ``error_estimate``, an estimate of y_computed − y_true at each output
+            (see :func:`solve`).
+        sensitivities : sequence of str, optional
+            Add ``sensitivities`` ∂y/∂p for these names (see :func:`solve`).
 
         Returns
         -------
@@ -294,13 +301,37 @@ class Integrator:
         t0, t1 = check_span(t_span)
         theta0, v0 = _state(y0)
         _check_budget(self, t0, t1, v0)
+        tangent = _tangent_request(error_estimate, sensitivities, events)
         if events is not None:
             return solve_events(self, t0, t1, theta0, v0, t_eval, wrap, events, max_events=max_events)
         if max_events is not None:
             raise ValueError("max_events needs events")
-        return self._solve(t0, t1, theta0, v0, t_eval, wrap)
+        return self._solve(t0, t1, theta0, v0, t_eval, wrap, tangent)
 
-    def _solve(self, t0, t1, theta0, v0, t_eval, wrap):
+    def _run_stored(self, buf, t0, theta0, v0, t1, h, outs):
+        # The run in ``buf`` with its window ends stored, the store grown as it fills
+        # (chunked: Ctrl-C gets in between calls); ``outs``: (t_eval, its output rows) or
+        # none.  Returns (window ends' times, states, windows taken).
+        te, y = outs
+        ints = buf[1].view(np.int64)
+        entry, item = self._entry, ints.item
+        win_t = np.empty(ENDS_CAPACITY + 1)
+        win_y = np.empty((ENDS_CAPACITY + 1, 2))
+        n = entry(buf, True, t0, theta0, v0, t1, h, te, y, win_t, win_y, _NO_COEF, _NEVER)
+        if n < 0:
+            raise t_eval_error(-n, t0, t1)
+        chosen = REGIME_NONE
+        while item(_W_STATUS) == _PAUSED:
+            if n + 1 == win_t.size:
+                win_t = np.concatenate((win_t, np.empty(win_t.size)))
+                win_y = np.concatenate((win_y, np.empty((win_y.shape[0], 2))))
+            regime = item(_W_REGIME)
+            if regime != chosen:  # a regime switch: its set's entry
+                entry, chosen = _entry_at(self, regime), regime
+            n += entry(buf, False, t0, theta0, v0, t1, h, te, y, win_t[n:], win_y[n:], _NO_COEF, _NEVER)
+        return win_t, win_y, n
+
+    def _solve(self, t0, t1, theta0, v0, t_eval, wrap, tangent=None):
         # solve with the span and the state checked (float t0, t1, theta0, v0).
         if wrap is not False and wrap is not True:
             if t_eval is not None:
@@ -326,24 +357,16 @@ class Integrator:
             buf[0] = self._words
             words, ints = buf[1], buf[1].view(np.int64)
         try:
-            entry, item = self._entry, ints.item
-            if t_eval is None:
-                # The window ends: stored from the start, the store grown as it fills.
-                win_t = np.empty(ENDS_CAPACITY + 1)
-                win_y = np.empty((ENDS_CAPACITY + 1, 2))
-                n = entry(buf, True, t0, theta0, v0, t1, h, _NO_T, _NO_OUT, win_t, win_y, _NO_COEF, _NEVER)
-                chosen = REGIME_NONE
-                while item(_W_STATUS) == _PAUSED:  # chunked: Ctrl-C gets in between calls
-                    if n + 1 == win_t.size:
-                        win_t = np.concatenate((win_t, np.empty(win_t.size)))
-                        win_y = np.concatenate((win_y, np.empty((win_y.shape[0], 2))))
-                    regime = item(_W_REGIME)
-                    if regime != chosen:  # a regime switch: its set's entry
-                        entry, chosen = _entry_at(self, regime), regime
-                    n += entry(buf, False, t0, theta0, v0, t1, h, _NO_T, _NO_OUT, win_t[n:], win_y[n:],
-                               _NO_COEF, _NEVER)
-                t, y = win_t[: n + 1], win_y[: n + 1].T
+            item = ints.item
+            if t_eval is None or tangent is not None:
+                # The window ends stored (the outputs, or the tangent pass's track).
+                win_t, win_y, n = self._run_stored(buf, t0, theta0, v0, t1, h, (_NO_T, _NO_OUT) if t_eval is None
+                                                   else (te, y))
+                win_t, win_y = win_t[: n + 1], win_y[: n + 1]
+                if t_eval is None:
+                    t, y = win_t, win_y.T
             else:
+                entry = self._entry
                 problem = entry(buf, True, t0, theta0, v0, t1, h, te, y, _NO_T, _NO_Y, _NO_COEF, _NEVER)
                 if problem < 0:
                     raise t_eval_error(-problem, t0, t1)
@@ -353,6 +376,7 @@ class Integrator:
                     if regime != chosen:  # a regime switch: its set's entry
                         entry, chosen = _entry_at(self, regime), regime
                     entry(buf, False, t0, theta0, v0, t1, h, te, y, _NO_T, _NO_Y, _NO_COEF, _NEVER)
+            if t_eval is not None:
                 t = te
                 j = item(_W_J)
                 if j != te.size:
@@ -381,12 +405,14 @@ class Integrator:
         r["t_regime"] = t_regime
         r["period"] = period
         r["mean_velocity"] = mean_velocity
+        if tangent is not None:
+            _tangent.attach(r, self, tangent, (win_t, win_y))
         return r
 
 
 def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="auto",
           t_eval=None, max_step=np.inf, max_windows=DEFAULT_MAX_WINDOWS, wrap=False, events=None,
-          max_events=None, temperature=None, seed=None, dt=None):
+          max_events=None, temperature=None, seed=None, dt=None, error_estimate=False, sensitivities=None):
     """Solve one scene by the moving boundary method, the whole run compiled.
 
     The one-shot form of :class:`Integrator` (build one for many runs of one model).
@@ -441,6 +467,17 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
     temperature, seed, dt : float, int, float, optional
         T > 0: a Langevin path (noise 2βT) at the fixed step ``dt`` from ``seed``
         (:func:`mbm.noise.paths.solve_langevin`); None or 0: the run above.
+    error_estimate : bool, optional
+        Add ``error_estimate`` (the shape of ``y``): an estimate of y_computed − y_true
+        at each output, the windows' signed local errors transported by the tangent map
+        (:mod:`mbm.tangent`), and warn (:class:`mbm.AccuracyWarning`) where it exceeds
+        10 times the tolerance atol + rtol·|y|.  The run takes the same windows and
+        gives the same ``y`` bit for bit as without it.
+    sensitivities : sequence of str, optional
+        Any of ``"theta0"``, ``"v0"``, ``"beta"``, ``"gamma"``, ``"omega"``,
+        ``"drive_amplitude"``, ``"drive_frequency"``, ``"drive_phase"``: add
+        ``sensitivities`` (len(names), 2, n), ∂(θ, θ')/∂p at each output along the
+        computed run, and ``sensitivity_names``.  Not with ``events`` or a temperature.
 
     Returns
     -------
@@ -475,15 +512,28 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
         raise TypeError(f"model must be an mbm.Pendulum, got {type(model).__name__}")
     (t0, t1), (theta0, v0) = check_span(t_span), _state(y0)
     if temperature is not None and check_rule("temperature", temperature, (">=0", ">= 0")) > 0.0:
+        if error_estimate is not False or sensitivities is not None:
+            raise ValueError("error_estimate and sensitivities are not supported with a temperature > 0")
         return _langevin(model, (t0, t1, theta0, v0), (temperature, seed, dt), t_eval, tau=tau, wrap=wrap,
                          events=events)
     ig = _solver_for(model, rtol, atol, approximant, tau, max_step, max_windows, events is not None)
     _check_budget(ig, t0, t1, v0)
+    tangent = _tangent_request(error_estimate, sensitivities, events)
     if events is not None:
         return solve_events(ig, t0, t1, theta0, v0, t_eval, wrap, events, max_events=max_events)
     if max_events is not None:
         raise ValueError("max_events needs events")
-    return ig._solve(t0, t1, theta0, v0, t_eval, wrap)  # span and state checked above
+    return ig._solve(t0, t1, theta0, v0, t_eval, wrap, tangent)  # span and state checked above
+
+
+def _tangent_request(error_estimate, sensitivities, events):
+    # The tangent pass's request (mbm.tangent.request), or None; not with events.
+    if error_estimate is False and sensitivities is None:
+        return None
+    req = _tangent.request(error_estimate, sensitivities)
+    if req is not None and events is not None:
+        raise ValueError("error_estimate and sensitivities are not supported with events")
+    return req
 
 
 def _langevin(model, start, noise, t_eval, *, tau, wrap, events):

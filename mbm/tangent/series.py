@@ -1,0 +1,126 @@
+r"""The Taylor recurrence of the variational equations along a window.
+
+Along a solution θ(t) of θ'' + βθ' + ω² sin θ = γ + A sin(Ωt + φ), a first-order
+perturbation δ of the state or of a parameter p obeys
+
+    δ'' + β δ' + ω² cos θ · δ = b_p(t),
+
+with b = 0 for the initial state (θ₀: δ(0) = 1, δ'(0) = 0; θ̇₀: δ(0) = 0, δ'(0) = 1) and,
+from zero initial values, b_β = −θ', b_γ = 1, b_ω = −2ω sin θ, b_A = sin(Ωt + φ),
+b_Ω = A t cos(Ωt + φ), b_φ = A cos(Ωt + φ).  In powers of s = t − t₀ the product
+cos θ · δ is a Cauchy product of the series c_k of cos θ (which the recurrence of θ
+computes anyway: s' = cθ', c' = −sθ') with δ's, so every column costs one convolution
+per order:
+
+    δ_{k+2} = (b_k − β (k+1) δ_{k+1} − ω² Σ_{j≤k} c_j δ_{k−j}) / ((k+1)(k+2)).
+"""
+
+import math
+
+import numpy as np
+from numba import njit
+
+from ..approximants.taylor_series import drive_phase_sincos
+from ..compile.jit import INLINE
+
+#: Column codes: the sensitivity names in their order (the public names of
+#: :data:`mbm.tangent.SENSITIVITY_NAMES`).
+COL_THETA0, COL_V0, COL_BETA, COL_GAMMA, COL_OMEGA, COL_AMP, COL_FREQ, COL_PHASE = range(8)
+
+
+@njit(**INLINE)
+def drive_series(freq, u, w, nt, ds, dc):
+    """ds_k, dc_k: the coefficients of sin(ψ + Ωs), cos(ψ + Ωs) in s (u = sin ψ, w = cos ψ)."""
+    f = 1.0
+    for k in range(nt + 1):
+        ds[k] = f * u
+        dc[k] = f * w
+        f = f * freq / (k + 1.0)
+        u, w = w, -u
+
+
+@njit(**INLINE)
+def _forcing(code, k, sc, t0, a, sn, ds, dc):
+    # b_k of the column ``code`` (module docstring); sc = (β, γ, ω, A, Ω, φ).
+    if code == COL_BETA:
+        return -(k + 1.0) * a[k + 1]
+    if code == COL_GAMMA:
+        return 1.0 if k == 0 else 0.0
+    if code == COL_OMEGA:
+        return -2.0 * sc[2] * sn[k]
+    if code == COL_AMP:
+        return ds[k]
+    if code == COL_FREQ:
+        return sc[3] * (t0 * dc[k] + (dc[k - 1] if k > 0 else 0.0))
+    if code == COL_PHASE:
+        return sc[3] * dc[k]
+    return 0.0
+
+
+@njit(cache=True)
+def tangent_series(sc, t0, theta0, v0, codes, ws):
+    """Taylor coefficients, at ``t0``, of θ and of the variational columns ``codes``.
+
+    Parameters
+    ----------
+    sc : tuple of 6 floats
+        (β, γ, ω, A, Ω, φ).
+    t0, theta0, v0 : float
+        The anchor: time and state.
+    codes : int64 array
+        The columns (``COL_*``): ``d[i]`` holds column ``codes[i]``'s coefficients.
+    ws : tuple of arrays
+        ``(a, sn, cn, ds, dc, d)`` from :func:`workspace`: θ's coefficients a_0 … a_nt,
+        sin θ's and cos θ's, the drive's, and d (len(codes), nt + 1).
+    """
+    a, sn, cn, ds, dc, d = ws
+    nt = a.size - 1
+    beta, gamma, omega, amp, freq, phase = sc
+    w2 = omega * omega
+    if amp != 0.0:
+        u, w = drive_phase_sincos(freq, phase, t0)
+    else:
+        u, w = 0.0, 1.0
+    drive_series(freq, u, w, nt, ds, dc)
+    a[0], a[1] = theta0, v0
+    sn[0], cn[0] = math.sin(theta0), math.cos(theta0)
+    for i in range(codes.size):
+        d[i, 0] = 1.0 if codes[i] == COL_THETA0 else 0.0
+        d[i, 1] = 1.0 if codes[i] == COL_V0 else 0.0
+    for k in range(nt - 1):
+        if k > 0:
+            ss = 0.0
+            cc = 0.0
+            for j in range(1, k + 1):
+                ja = j * a[j]
+                ss += ja * cn[k - j]
+                cc += ja * sn[k - j]
+            sn[k] = ss / k
+            cn[k] = -cc / k
+        inv = 1.0 / ((k + 1.0) * (k + 2.0))
+        g = gamma if k == 0 else 0.0
+        a[k + 2] = (g + amp * ds[k] - beta * (k + 1.0) * a[k + 1] - w2 * sn[k]) * inv
+        for i in range(codes.size):
+            conv = 0.0
+            for j in range(k + 1):
+                conv += cn[j] * d[i, k - j]
+            b = _forcing(codes[i], k, sc, t0, a, sn, ds, dc)
+            d[i, k + 2] = (b - beta * (k + 1.0) * d[i, k + 1] - w2 * conv) * inv
+
+
+@njit(**INLINE)
+def value_rate(c, s):
+    """(value, derivative) at ``s`` of the polynomial with coefficients ``c`` (Horner)."""
+    n = c.size - 1
+    p = c[n]
+    q = 0.0
+    for k in range(n - 1, -1, -1):
+        q = q * s + p
+        p = p * s + c[k]
+    return p, q
+
+
+def workspace(nt, n_cols):
+    """The arrays :func:`tangent_series` fills, for degree ``nt`` and ``n_cols`` columns."""
+    return (np.empty(nt + 1), np.empty(nt + 1), np.empty(nt + 1), np.empty(nt + 1), np.empty(nt + 1),
+            np.empty((n_cols, nt + 1)))
