@@ -51,15 +51,22 @@ Report = collections.namedtuple("Report", ("err", "sens", "rows"))
 
 
 @njit(cache=True)
-def _reference_step(a, rtol, atol):
-    # The Taylor step of the reference series at the anchor (Jorba & Zou's rule on the
-    # last two coefficients) for an error of REF_SHARPNESS of the local tolerance.
-    scale = max(abs(a[0]), abs(a[1]))
+def _reference_step(ws, rtol, atol):
+    # The Taylor step of the reference series at the anchor: Jorba & Zou's rule on the
+    # last two coefficients of θ and of every column (the columns converge on the same
+    # disc, but near an equilibrium θ's coefficients are tiny while Φ's are not), for an
+    # error of REF_SHARPNESS of the local tolerance.
+    a, d = ws[0], ws[5]
+    # θ's scale counts at most half a turn: rtol·|θ| of a far-wound angle is the run's
+    # loose criterion, and a reference that loose would drift over a long window.
+    scale = max(min(abs(a[0]), math.pi), abs(a[1]))
     eps = max(REF_SHARPNESS * (atol + rtol * scale), REF_ULPS * _EPS * max(scale, 1.0))
     nt = a.size - 1
     h = math.inf
     for k in (nt - 1, nt):
         c = abs(a[k])
+        for i in range(d.shape[0]):
+            c = max(c, abs(d[i, k]))
         if c > 0.0:
             h = min(h, (eps / c) ** (1.0 / k))
     return h
@@ -102,8 +109,9 @@ def transport(sc, codes, track, tol, report, ws):
     codes : int64 array
         The series' columns: θ₀'s and θ̇₀'s (Φ), then the parameters' (``COL_*``).
     track : Track
-    tol : (float, float)
-        The run's (rtol, atol).
+    tol : (float, float, float)
+        The run's (rtol, atol), and the time until which its windows' local errors are
+        measured (± inf: all or none).
     report : Report
         Filled for the outputs reached.
     ws : tuple
@@ -116,7 +124,7 @@ def transport(sc, codes, track, tol, report, ws):
     """
     wt, wy, te, yo = track
     err, sens, rows = report
-    rtol, atol = tol
+    rtol, atol, t_measured = tol
     m, ns = te.size, rows.size
     e = np.zeros(2)
     S = np.zeros((2, ns))
@@ -137,7 +145,7 @@ def transport(sc, codes, track, tol, report, ws):
         ts, x0, x1 = wt[n], wy[n, 0], wy[n, 1]
         while True:
             tangent_series(sc, ts, x0, x1, codes, ws)
-            hs = _reference_step(ws[0], rtol, atol)
+            hs = _reference_step(ws, rtol, atol)
             if not hs > 0.0:
                 return -1
             n_sub += 1
@@ -145,8 +153,11 @@ def transport(sc, codes, track, tol, report, ws):
             t_sub = tb if last else ts + direction * hs
             while j < m and direction * (te[j] - t_sub) <= 0.0:
                 th, v = _columns_at(ws, te[j] - ts, rows, e, S, e2, S2)
-                err[0, j] = e2[0] + _wrapped(yo[0, j] - th)
-                err[1, j] = e2[1] + (yo[1, j] - v)
+                err[0, j] = e2[0]
+                err[1, j] = e2[1]
+                if direction * (t_measured - wt[n]) > 0.0:
+                    err[0, j] += _wrapped(yo[0, j] - th)
+                    err[1, j] += yo[1, j] - v
                 sens[:, :, j] = S2.T
                 j += 1
             x0, x1 = _columns_at(ws, t_sub - ts, rows, e, S, e2, S2)
@@ -155,6 +166,7 @@ def transport(sc, codes, track, tol, report, ws):
             ts = t_sub
             if last:
                 break
-        e[0] += _wrapped(wy[n + 1, 0] - x0)
-        e[1] += wy[n + 1, 1] - x1
+        if direction * (t_measured - wt[n]) > 0.0:
+            e[0] += _wrapped(wy[n + 1, 0] - x0)
+            e[1] += wy[n + 1, 1] - x1
     return n_sub
