@@ -49,6 +49,7 @@ from .frontends.reference import reference
 __version__ = "0.1.0"
 
 __all__ = [
+    "AccuracyWarning",
     "MBM",
     "MBMEventPoints",
     "Anchored",
@@ -78,6 +79,7 @@ __all__ = [
     "period",
     "reference",
     "retrapping_current",
+    "SENSITIVITY_NAMES",
     "section_event",
     "shapiro_steps",
     "solve",
