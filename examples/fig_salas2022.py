@@ -13,15 +13,21 @@
 
 Usage::
 
-    python examples/fig_salas2022.py [OUT_DIR]      # or set MBM_EXAMPLES_OUT
+    python fig_salas2022.py [OUT_DIR]   # PNGs to OUT_DIR, else $MBM_EXAMPLES_OUT, else ./out
 """
 
 import math
+import os
+import sys
+from pathlib import Path
 
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from _common import cli_out, out_dir, pyplot
+import matplotlib
+
+matplotlib.use("Agg")  # the figures go to PNG files: no display needed
+import matplotlib.pyplot as plt  # noqa: E402
 
 import mbm
 import mbm.scenes
@@ -46,6 +52,13 @@ APPROXIMANT = "salas-torque"
 # the cubic model on [0, jτ] and drifts after it, so growing j extends the good part.
 TAU = 2.0
 JS = (0, 3, 10, 40)
+
+
+def out_dir(path=None):
+    """The folder the PNGs go to (created): ``path``, else ``$MBM_EXAMPLES_OUT``, else ``./out``."""
+    d = Path(path or os.environ.get("MBM_EXAMPLES_OUT") or "out")
+    d.mkdir(parents=True, exist_ok=True)
+    return d
 
 
 def _scene(name):
@@ -108,7 +121,6 @@ def main(out=None, n_points=N_POINTS, js=JS):
     (dict, list of Path)
         The plotted data (:func:`compute`) and the PNGs written.
     """
-    plt = pyplot()
     d = compute(n_points, js)
     t = d["t"]
     out = out_dir(out)
@@ -174,7 +186,7 @@ def main(out=None, n_points=N_POINTS, js=JS):
 
 
 if __name__ == "__main__":
-    data, pngs = main(cli_out())
+    data, pngs = main(sys.argv[1] if len(sys.argv) > 1 else None)
     for name in EXAMPLES:
         e = data[name]
         print(f"{name}: single approximant max error {np.max(np.abs(e['approximant'][0] - e['numerical'][0])):.3e}")
