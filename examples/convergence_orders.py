@@ -27,17 +27,16 @@ import sys
 from fractions import Fraction
 from pathlib import Path
 
+import matplotlib
 import numpy as np
 
-import matplotlib
+import mbm
+import mbm.scenes
+from mbm.cli import orderfit
+from mbm.cli import study as cli_study
 
 matplotlib.use("Agg")  # the figure goes to a PNG file: no display needed
 import matplotlib.pyplot as plt  # noqa: E402
-
-import mbm  # noqa: E402
-import mbm.scenes  # noqa: E402
-from mbm.cli import orderfit  # noqa: E402
-from mbm.cli import study as cli_study  # noqa: E402
 
 # The scene: the second paper's Example 1, the first row of docs/convergent.md.
 SCENE = "ex1"

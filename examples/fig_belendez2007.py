@@ -17,14 +17,13 @@ import os
 import sys
 from pathlib import Path
 
+import matplotlib
 import numpy as np
 
-import matplotlib
+import mbm
 
 matplotlib.use("Agg")  # the figures go to PNG files: no display needed
 import matplotlib.pyplot as plt  # noqa: E402
-
-import mbm
 
 # The amplitudes of Figs. 1-6, in units of π, as printed in the captions.
 AMPLITUDES_PI = (0.1, 0.25, 0.5, 0.75, 0.9, 0.99)

@@ -16,16 +16,15 @@ import os
 import sys
 from pathlib import Path
 
+import matplotlib
 import numpy as np
 from scipy.integrate import solve_ivp
 
-import matplotlib
+import mbm
+import mbm.scenes
 
 matplotlib.use("Agg")  # the figures go to PNG files: no display needed
 import matplotlib.pyplot as plt  # noqa: E402
-
-import mbm
-import mbm.scenes
 
 # The paper's scene (3.10): ε = 0.2 (β = 2ε), θ₀ = 0, θ̇₀ = 0.25, ω = 1, T = 20
 # (mbm.scenes: P1, alias "paper1").

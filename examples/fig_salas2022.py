@@ -21,13 +21,9 @@ import os
 import sys
 from pathlib import Path
 
+import matplotlib
 import numpy as np
 from scipy.integrate import solve_ivp
-
-import matplotlib
-
-matplotlib.use("Agg")  # the figures go to PNG files: no display needed
-import matplotlib.pyplot as plt  # noqa: E402
 
 import mbm
 import mbm.scenes
@@ -40,6 +36,9 @@ from mbm.events.points import (
     hybrid_event_points,
     successive,
 )
+
+matplotlib.use("Agg")  # the figures go to PNG files: no display needed
+import matplotlib.pyplot as plt  # noqa: E402
 
 # The paper's Examples 1 and 2 (mbm.scenes: P2 and P3), by their catalogue aliases.
 EXAMPLES = {"ex1": mbm.scenes.get("ex1"), "ex2": mbm.scenes.get("ex2")}

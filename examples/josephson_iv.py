@@ -18,14 +18,13 @@ import os
 import sys
 from pathlib import Path
 
+import matplotlib
 import numpy as np
 
-import matplotlib
+import mbm
 
 matplotlib.use("Agg")  # the figures go to PNG files: no display needed
 import matplotlib.pyplot as plt  # noqa: E402
-
-import mbm
 
 BETA = 0.1
 

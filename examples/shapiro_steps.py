@@ -20,14 +20,13 @@ import sys
 import warnings
 from pathlib import Path
 
+import matplotlib
 import numpy as np
 
-import matplotlib
+import mbm
 
 matplotlib.use("Agg")  # the figures go to PNG files: no display needed
 import matplotlib.pyplot as plt  # noqa: E402
-
-import mbm
 
 BETA = 2.0
 FREQ = 1.0

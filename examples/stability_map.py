@@ -24,14 +24,13 @@ import os
 import sys
 from pathlib import Path
 
+import matplotlib
 import numpy as np
 
-import matplotlib
+from mbm.junction.sweeps import sweep
 
 matplotlib.use("Agg")  # the figures go to PNG files: no display needed
 import matplotlib.pyplot as plt  # noqa: E402
-
-from mbm.junction.sweeps import sweep
 
 # Damping range: from the weakly damped (strong hysteresis) to β = 1, where the
 # bistable band has closed to a sliver below γ = 1.

@@ -21,10 +21,7 @@ import os
 import sys
 from pathlib import Path
 
-import matplotlib
-
-matplotlib.use("Agg")  # the figure goes to a PNG file (before mbm.cli.study imports pyplot)
-from mbm.cli import study as cli_study  # noqa: E402
+from mbm.cli import study as cli_study
 
 # Scene: the second paper's Example 1 (β = 0.1, γ = 0.3, θ₀ = 30°, 0 ≤ t ≤ 80).
 SCENE = cli_study.SCENES["ex1"]

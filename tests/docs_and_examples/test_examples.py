@@ -202,3 +202,16 @@ def test_shapiro_steps(tmp_path):
     w = np.exp(-1.0 / (x * (1.0 - x)))
     mean = np.dot(w / w.sum(), np.diff(ref)) / period
     assert abs(mean - ex.FREQ) > 0.1 and mean == pytest.approx(c.mean_velocity[j], abs=1e-5)
+
+
+def test_fit_iv_curve(tmp_path):
+    ex = _load("fit_iv_curve")
+    fit, png = ex.main(tmp_path)
+    assert png.exists() and png.stat().st_size > 10_000
+    # the zero-voltage points below retrapping (≈ 6.7 µA) are left out, the rest fitted
+    current, voltage = ex.measure()
+    assert fit.success and np.array_equal(fit.fitted, current > 6.7e-6)
+    # the truth within 3σ (the guide's coverage over 20 noisy curves: all within 3σ)
+    for value, err, truth in ((fit.beta, fit.beta_err, ex.TRUE.beta), (fit.beta_c, fit.beta_c_err, ex.TRUE.beta_c),
+                              (fit.I_c, fit.I_c_err, ex.TRUE.I_c), (fit.R, fit.R_err, ex.TRUE.R)):
+        assert 0.0 < err < 0.25 * truth and abs(value - truth) <= 3 * err, (value, err, truth)

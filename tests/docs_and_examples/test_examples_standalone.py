@@ -27,8 +27,8 @@ EXAMPLES = ROOT / "examples"
 REPOSITORY_SCRIPTS = {"convergence_study"}
 # Quick examples (a few seconds each with warm numba caches) run as downloaded, with the
 # figures they write to ./out by default.
-RUN_AS_DOWNLOADED = {"josephson_iv": ["josephson_iv.png"], "fig_salas2021": ["salas2021_fig1.png"],
-                     "convergence_orders": ["convergence_orders.png"]}
+RUN_AS_DOWNLOADED = {"josephson_iv": ["josephson_iv.png"], "convergence_orders": ["convergence_orders.png"],
+                     "fit_iv_curve": ["fit_iv_curve.png"]}
 
 
 def _gallery():
