@@ -11,7 +11,6 @@ from pathlib import Path
 
 DOCS = Path(__file__).resolve().parent
 ROOT = DOCS.parent
-sys.path.insert(0, str(ROOT / "examples"))  # the examples import their _common helper
 sys.path.insert(0, str(DOCS))  # _gallery_scraper
 
 os.environ.setdefault("MPLBACKEND", "Agg")
@@ -51,10 +50,12 @@ numpydoc_class_members_toctree = False
 sphinx_gallery_conf = {
     "examples_dirs": str(ROOT / "examples"),
     "gallery_dirs": "auto_examples",
-    # Run every example but the measurement script behind docs/convergent.md (no figure;
-    # its table sweeps every convergent family: far past the build budget).
-    "filename_pattern": r"^(?!.*convergence_study).*\.py$",
-    "ignore_pattern": r"_common\.py$",
+    # Every example is a page, run, and self-contained: a reader downloads one file and
+    # runs it with mbm installed (tests/docs_and_examples/test_examples_standalone.py).
+    # Left out: the measurement script behind docs/convergent.md, a tool of the
+    # repository (it reads and writes tests/data; its sweeps are far past the build budget).
+    "filename_pattern": r"\.py$",
+    "ignore_pattern": r"convergence_study\.py$",
     "image_scrapers": (PngScraper(), "matplotlib"),
     "within_subsection_order": "FileNameSortKey",
     "download_all_examples": False,

@@ -11,7 +11,7 @@ Compares, over 0 ≤ t ≤ 80 against CVODE at 1e-12 (max abs(θ − θ_ref) on 
 
 Usage::
 
-    python examples/event_points.py
+    python event_points.py
 """
 
 import math

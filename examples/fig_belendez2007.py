@@ -9,16 +9,21 @@ every half period; in between the harmonic curve departs visibly from 0.75π on.
 
 Usage::
 
-    python examples/fig_belendez2007.py [OUT_DIR]      # or set MBM_EXAMPLES_OUT
+    python fig_belendez2007.py [OUT_DIR]   # PNGs to OUT_DIR, else $MBM_EXAMPLES_OUT, else ./out
 """
 
 import math
+import os
+import sys
+from pathlib import Path
 
+import matplotlib
 import numpy as np
 
-from _common import cli_out, out_dir, pyplot
-
 import mbm
+
+matplotlib.use("Agg")  # the figures go to PNG files: no display needed
+import matplotlib.pyplot as plt  # noqa: E402
 
 # The amplitudes of Figs. 1-6, in units of π, as printed in the captions.
 AMPLITUDES_PI = (0.1, 0.25, 0.5, 0.75, 0.9, 0.99)
@@ -26,6 +31,13 @@ AMPLITUDES_PI = (0.1, 0.25, 0.5, 0.75, 0.9, 0.99)
 T_END = 30.0
 # Output points: resolves the steep, nearly square wave at 0.99π.
 N_POINTS = 601
+
+
+def out_dir(path=None):
+    """The folder the PNGs go to (created): ``path``, else ``$MBM_EXAMPLES_OUT``, else ``./out``."""
+    d = Path(path or os.environ.get("MBM_EXAMPLES_OUT") or "out")
+    d.mkdir(parents=True, exist_ok=True)
+    return d
 
 
 def compute(n_points=N_POINTS, amplitudes_pi=AMPLITUDES_PI):
@@ -69,7 +81,6 @@ def main(out=None, n_points=N_POINTS, amplitudes_pi=AMPLITUDES_PI):
     (dict, list of Path)
         The plotted data (:func:`compute`) and the PNGs written.
     """
-    plt = pyplot()
     d = compute(n_points, amplitudes_pi)
     out = out_dir(out)
     paths = []
@@ -91,7 +102,7 @@ def main(out=None, n_points=N_POINTS, amplitudes_pi=AMPLITUDES_PI):
 
 
 if __name__ == "__main__":
-    data, pngs = main(cli_out())
+    data, pngs = main(sys.argv[1] if len(sys.argv) > 1 else None)
     for a, (exact, harmonic, per) in data["curves"].items():
         print(f"theta0 = {a:5.2f} pi: period {per:.6f}, max |exact - harmonic| = "
               f"{np.max(np.abs(exact - harmonic)):.4f} rad")

@@ -9,16 +9,22 @@ with no re-anchoring, as in the paper.
 
 Usage::
 
-    python examples/fig_salas2021.py [OUT_DIR]      # or set MBM_EXAMPLES_OUT
+    python fig_salas2021.py [OUT_DIR]   # PNGs to OUT_DIR, else $MBM_EXAMPLES_OUT, else ./out
 """
 
+import os
+import sys
+from pathlib import Path
+
+import matplotlib
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from _common import cli_out, out_dir, pyplot
-
 import mbm
 import mbm.scenes
+
+matplotlib.use("Agg")  # the figures go to PNG files: no display needed
+import matplotlib.pyplot as plt  # noqa: E402
 
 # The paper's scene (3.10): ε = 0.2 (β = 2ε), θ₀ = 0, θ̇₀ = 0.25, ω = 1, T = 20
 # (mbm.scenes: P1, alias "paper1").
@@ -29,6 +35,13 @@ N_POINTS = 401
 # Tolerances of the Runge–Kutta curve: tight enough to stand for "the numerical solution".
 RK_TOL = 1e-10
 APPROXIMANTS = ("johannessen", "salas-damped-linear", "salas-damped")
+
+
+def out_dir(path=None):
+    """The folder the PNGs go to (created): ``path``, else ``$MBM_EXAMPLES_OUT``, else ``./out``."""
+    d = Path(path or os.environ.get("MBM_EXAMPLES_OUT") or "out")
+    d.mkdir(parents=True, exist_ok=True)
+    return d
 
 
 def compute(n_points=N_POINTS):
@@ -60,7 +73,7 @@ def main(out=None, n_points=N_POINTS):
     Parameters
     ----------
     out : str or Path, optional
-        Output directory (see :func:`_common.out_dir`).
+        Output directory (see :func:`out_dir`).
     n_points : int, optional
 
     Returns
@@ -68,7 +81,6 @@ def main(out=None, n_points=N_POINTS):
     (dict, Path)
         The plotted data (:func:`compute`) and the PNG written.
     """
-    plt = pyplot()
     d = compute(n_points)
     fig, ax = plt.subplots(figsize=(8, 4.5))
     ax.plot(d["t"], d["runge_kutta"], "r--", lw=2.2, label="Runge–Kutta (RK45, 1e-10)")
@@ -88,7 +100,7 @@ def main(out=None, n_points=N_POINTS):
 
 
 if __name__ == "__main__":
-    data, png = main(cli_out())
+    data, png = main(sys.argv[1] if len(sys.argv) > 1 else None)
     for k in APPROXIMANTS:
         print(f"{k:<22s} max |theta - RK| = {np.max(np.abs(data[k] - data['runge_kutta'])):.3e}")
     print(f"wrote {png}")

@@ -13,15 +13,17 @@
 
 Usage::
 
-    python examples/fig_salas2022.py [OUT_DIR]      # or set MBM_EXAMPLES_OUT
+    python fig_salas2022.py [OUT_DIR]   # PNGs to OUT_DIR, else $MBM_EXAMPLES_OUT, else ./out
 """
 
 import math
+import os
+import sys
+from pathlib import Path
 
+import matplotlib
 import numpy as np
 from scipy.integrate import solve_ivp
-
-from _common import cli_out, out_dir, pyplot
 
 import mbm
 import mbm.scenes
@@ -35,6 +37,9 @@ from mbm.events.points import (
     successive,
 )
 
+matplotlib.use("Agg")  # the figures go to PNG files: no display needed
+import matplotlib.pyplot as plt  # noqa: E402
+
 # The paper's Examples 1 and 2 (mbm.scenes: P2 and P3), by their catalogue aliases.
 EXAMPLES = {"ex1": mbm.scenes.get("ex1"), "ex2": mbm.scenes.get("ex2")}
 # Output points on [0, 80]: resolves the ~6.5-long periods smoothly.
@@ -46,6 +51,13 @@ APPROXIMANT = "salas-torque"
 # the cubic model on [0, jτ] and drifts after it, so growing j extends the good part.
 TAU = 2.0
 JS = (0, 3, 10, 40)
+
+
+def out_dir(path=None):
+    """The folder the PNGs go to (created): ``path``, else ``$MBM_EXAMPLES_OUT``, else ``./out``."""
+    d = Path(path or os.environ.get("MBM_EXAMPLES_OUT") or "out")
+    d.mkdir(parents=True, exist_ok=True)
+    return d
 
 
 def _scene(name):
@@ -108,7 +120,6 @@ def main(out=None, n_points=N_POINTS, js=JS):
     (dict, list of Path)
         The plotted data (:func:`compute`) and the PNGs written.
     """
-    plt = pyplot()
     d = compute(n_points, js)
     t = d["t"]
     out = out_dir(out)
@@ -174,7 +185,7 @@ def main(out=None, n_points=N_POINTS, js=JS):
 
 
 if __name__ == "__main__":
-    data, pngs = main(cli_out())
+    data, pngs = main(sys.argv[1] if len(sys.argv) > 1 else None)
     for name in EXAMPLES:
         e = data[name]
         print(f"{name}: single approximant max error {np.max(np.abs(e['approximant'][0] - e['numerical'][0])):.3e}")

@@ -10,23 +10,34 @@ bisected to 1e-4.
 
 Usage::
 
-    python examples/josephson_iv.py [OUT_DIR]      # or set MBM_EXAMPLES_OUT
+    python josephson_iv.py [OUT_DIR]   # PNGs to OUT_DIR, else $MBM_EXAMPLES_OUT, else ./out
 """
 
 import math
+import os
+import sys
+from pathlib import Path
 
+import matplotlib
 import numpy as np
 
-from _common import cli_out, out_dir, pyplot
-
 import mbm
+
+matplotlib.use("Agg")  # the figures go to PNG files: no display needed
+import matplotlib.pyplot as plt  # noqa: E402
 
 BETA = 0.1
 
 
+def out_dir(path=None):
+    """The folder the PNGs go to (created): ``path``, else ``$MBM_EXAMPLES_OUT``, else ``./out``."""
+    d = Path(path or os.environ.get("MBM_EXAMPLES_OUT") or "out")
+    d.mkdir(parents=True, exist_ok=True)
+    return d
+
+
 def main(out=None, beta=BETA, points=81):
     """Compute the up-and-down I–V curve and save ``josephson_iv.png``; returns (curve, path)."""
-    plt = pyplot()
     up = np.linspace(0.0, 2.0, points)
     curve = mbm.iv_curve(beta, np.r_[up, up[::-1]])
     ax = curve.plot(plt.subplots(figsize=(7.5, 5))[1])
@@ -40,7 +51,7 @@ def main(out=None, beta=BETA, points=81):
 
 
 if __name__ == "__main__":
-    curve, png = main(cli_out())
+    curve, png = main(sys.argv[1] if len(sys.argv) > 1 else None)
     print(f"beta = {curve.beta:g}: switching {curve.switching_current:.4f}, retrapping "
           f"{curve.retrapping_current:.4f} (4 beta / pi = {4 * curve.beta / math.pi:.4f})")
     print("wrote", png)

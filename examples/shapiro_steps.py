@@ -12,17 +12,21 @@ first of the Bessel-like lobes, the zero step shrinking as the steps n = 1, 2 op
 
 Usage::
 
-    python examples/shapiro_steps.py [OUT_DIR] [--quick]   # or set MBM_EXAMPLES_OUT
+    python shapiro_steps.py [OUT_DIR] [--quick]   # PNGs to OUT_DIR, else $MBM_EXAMPLES_OUT, else ./out
 """
 
+import os
 import sys
 import warnings
+from pathlib import Path
 
+import matplotlib
 import numpy as np
 
-from _common import cli_out, out_dir, pyplot
-
 import mbm
+
+matplotlib.use("Agg")  # the figures go to PNG files: no display needed
+import matplotlib.pyplot as plt  # noqa: E402
 
 BETA = 2.0
 FREQ = 1.0
@@ -33,6 +37,13 @@ STEPS = (0, 1, 2)
 ON_STEP = 1e-6
 # The edges' bisection width: a hundredth of the widths drawn (the figure's resolution).
 CURRENT_TOL = 1e-3
+
+
+def out_dir(path=None):
+    """The folder the PNGs go to (created): ``path``, else ``$MBM_EXAMPLES_OUT``, else ``./out``."""
+    d = Path(path or os.environ.get("MBM_EXAMPLES_OUT") or "out")
+    d.mkdir(parents=True, exist_ok=True)
+    return d
 
 
 def step_widths(beta, freq, amplitudes, gamma_max, points):
@@ -65,7 +76,6 @@ def main(out=None, beta=BETA, freq=FREQ, n_gamma=161, n_amp=11, n_grid=41):
     """
     from scipy.special import jv
 
-    plt = pyplot()
     gammas = np.linspace(0.0, 2.6 * beta * freq, n_gamma)
     with warnings.catch_warnings():
         # points between the steps that did not settle are drawn as measured (their
@@ -102,7 +112,7 @@ def main(out=None, beta=BETA, freq=FREQ, n_gamma=161, n_amp=11, n_grid=41):
 if __name__ == "__main__":
     quick = "--quick" in sys.argv[1:]
     args = [a for a in sys.argv[1:] if a != "--quick"]
-    data, png = main(cli_out(args), **(dict(n_gamma=41, n_amp=4, n_grid=21) if quick else {}))
+    data, png = main(args[0] if args else None, **(dict(n_gamma=41, n_amp=4, n_grid=21) if quick else {}))
     for a, w in zip(data["amplitudes"], data["widths"].T):
         print(f"A/Omega = {a / FREQ:5.2f}: widths " + ", ".join(f"n={n}: {x:.3f}" for n, x in zip(STEPS, w)))
     print("wrote", png)

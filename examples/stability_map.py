@@ -17,14 +17,20 @@ whole grid with ``reduce=["mean_velocity", "regime"]``: no time series is stored
 
 Usage::
 
-    python examples/stability_map.py [OUT_DIR]      # or set MBM_EXAMPLES_OUT
+    python stability_map.py [OUT_DIR]   # PNGs to OUT_DIR, else $MBM_EXAMPLES_OUT, else ./out
 """
 
+import os
+import sys
+from pathlib import Path
+
+import matplotlib
 import numpy as np
 
-from _common import cli_out, out_dir, pyplot
-
 from mbm.junction.sweeps import sweep
+
+matplotlib.use("Agg")  # the figures go to PNG files: no display needed
+import matplotlib.pyplot as plt  # noqa: E402
 
 # Damping range: from the weakly damped (strong hysteresis) to β = 1, where the
 # bistable band has closed to a sliver below γ = 1.
@@ -40,6 +46,13 @@ V_MAX = 8.0
 # Horizon: the slowest transient, e^{-βt/2} at β = 0.05, has decayed by e^{-10} at
 # t = 400, so the second half [T/2, T] sees the settled regime.
 T_END = 400.0
+
+
+def out_dir(path=None):
+    """The folder the PNGs go to (created): ``path``, else ``$MBM_EXAMPLES_OUT``, else ``./out``."""
+    d = Path(path or os.environ.get("MBM_EXAMPLES_OUT") or "out")
+    d.mkdir(parents=True, exist_ok=True)
+    return d
 
 
 def main(out=None, n_beta=60, n_gamma=80, t_end=T_END, chunks=None):
@@ -65,7 +78,6 @@ def main(out=None, n_beta=60, n_gamma=80, t_end=T_END, chunks=None):
                theta_dot0=[0.0, LAUNCH], t_span=(0.0, t_end), reduce=["mean_velocity", "regime"],
                chunks=chunks)
     ds = ds.compute()
-    plt = pyplot()
     grid = ds.mean_velocity.plot(x="beta", y="gamma", col="theta_dot0", cmap="magma", vmin=0.0, vmax=V_MAX,
                                  cbar_kwargs={"label": "⟨θ'⟩ over [T/2, T]", "extend": "max"})
     beta = ds.beta.values
@@ -82,5 +94,5 @@ def main(out=None, n_beta=60, n_gamma=80, t_end=T_END, chunks=None):
 
 
 if __name__ == "__main__":
-    _, path = main(cli_out())
+    _, path = main(sys.argv[1] if len(sys.argv) > 1 else None)
     print(path)

@@ -14,10 +14,12 @@ its standard error (:mod:`mbm.cli.orderfit`).
 
 Usage::
 
-    python examples/step_size_study.py [OUT_DIR]      # or set MBM_EXAMPLES_OUT
+    python step_size_study.py [OUT_DIR]   # PNGs to OUT_DIR, else $MBM_EXAMPLES_OUT, else ./out
 """
 
-from _common import cli_out, out_dir, pyplot
+import os
+import sys
+from pathlib import Path
 
 from mbm.cli import study as cli_study
 
@@ -26,6 +28,13 @@ SCENE = cli_study.SCENES["ex1"]
 # One convergent high-order family, one classical-order splitting, the paper's formula.
 APPROXIMANTS = ("taylor8", "split4", "salas-torque")
 TAUS = cli_study.DEFAULT_TAUS
+
+
+def out_dir(path=None):
+    """The folder the PNGs go to (created): ``path``, else ``$MBM_EXAMPLES_OUT``, else ``./out``."""
+    d = Path(path or os.environ.get("MBM_EXAMPLES_OUT") or "out")
+    d.mkdir(parents=True, exist_ok=True)
+    return d
 
 
 def compute(taus=TAUS, approximants=APPROXIMANTS, n_out=201):
@@ -62,7 +71,6 @@ def main(out=None, taus=TAUS, approximants=APPROXIMANTS):
     (dict, Path)
         The study and the PNG written.
     """
-    pyplot()  # selects the Agg backend before cli_study imports pyplot
     study = compute(taus, approximants)
     path = out_dir(out) / "step_size_study.png"
     cli_study.plot_study(study, path)
@@ -70,6 +78,6 @@ def main(out=None, taus=TAUS, approximants=APPROXIMANTS):
 
 
 if __name__ == "__main__":
-    s, png = main(cli_out())
+    s, png = main(sys.argv[1] if len(sys.argv) > 1 else None)
     print(cli_study.format_table(s))
     print("wrote", png)

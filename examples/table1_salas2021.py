@@ -14,7 +14,7 @@ Columns: "johannessen" is (3.9) with the first term of ξ read as θ̇₀⁴ (se
 f ≈ f′(0)t ("Our solution"); "full" is (2.2) with the exact f of (2.6);
 "J-trig" is (3.9) with sin_m.  See ``docs/salas2021.md`` for the comparison.
 
-Run:  python examples/table1_salas2021.py
+Run:  python table1_salas2021.py
 """
 
 import numpy as np

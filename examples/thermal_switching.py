@@ -11,16 +11,21 @@ prefactor.  Self-contained (numpy, matplotlib, mbm).
 
 Usage::
 
-    python examples/thermal_switching.py [OUT_DIR]      # default examples/out/
+    python thermal_switching.py [OUT_DIR]   # PNGs to OUT_DIR, else $MBM_EXAMPLES_OUT, else ./out
 """
 
 import math
+import os
 import sys
 from pathlib import Path
 
+import matplotlib
 import numpy as np
 
 import mbm
+
+matplotlib.use("Agg")  # the figure goes to a PNG file: no display needed
+import matplotlib.pyplot as plt  # noqa: E402
 
 BETA = 1.0
 RAMP = 1e-4
@@ -28,6 +33,13 @@ GAMMA_START = 0.5
 TEMPERATURES = (0.01, 0.02, 0.05)
 ESCAPE_GAMMA = 0.6
 ESCAPE_TEMPERATURES = (0.08, 0.1, 0.13, 0.17)
+
+
+def out_dir(path=None):
+    """The folder the PNGs go to (created): ``path``, else ``$MBM_EXAMPLES_OUT``, else ``./out``."""
+    d = Path(path or os.environ.get("MBM_EXAMPLES_OUT") or "out")
+    d.mkdir(parents=True, exist_ok=True)
+    return d
 
 
 def kramers_histogram(beta, temperature, ramp, g0, grid):
@@ -39,10 +51,7 @@ def kramers_histogram(beta, temperature, ramp, g0, grid):
 
 def main(out=None, n=1000, n_escape=300, seed=2026):
     """Run both panels and save ``thermal_switching.png``; returns (data, path)."""
-    import matplotlib.pyplot as plt
-
-    out = Path(out) if out is not None else Path(__file__).resolve().parent / "out"
-    out.mkdir(parents=True, exist_ok=True)
+    out = out_dir(out)
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.5))
     data = {"histograms": {}, "rates": []}
     grid = np.linspace(GAMMA_START, 0.99999, 4000)

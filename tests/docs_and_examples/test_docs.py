@@ -19,11 +19,12 @@ DOCS = ROOT / "docs"
 # numpydoc's codes for a Parameters section that does not match the signature:
 # a parameter not documented, a documented one that does not exist, the wrong order.
 PARAMETER_MISMATCH = {"PR01", "PR02", "PR03"}
-# The examples the gallery runs (conf.py's filename_pattern leaves out the measurement
+# The examples the gallery runs (conf.py's ignore_pattern leaves out the measurement
 # script behind docs/convergent.md), each with the figures it draws.
 GALLERY_FIGURES = {
     "fig_salas2021": 1, "fig_salas2022": 4, "fig_belendez2007": 6, "josephson_iv": 1,
     "shapiro_steps": 1, "stability_map": 1, "step_size_study": 1, "convergence_orders": 1,
+    "thermal_switching": 1, "fit_iv_curve": 1,
 }
 
 

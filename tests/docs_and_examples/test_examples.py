@@ -7,11 +7,14 @@ computed them.
 
 import importlib
 import math
+from fractions import Fraction
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 import mbm
+import mbm.scenes
 
 
 @pytest.fixture(scope="module", autouse=True)
@@ -131,9 +134,23 @@ def test_convergence_orders(tmp_path):
     model = mbm.Pendulum(beta=0.1, gamma=0.3)
     t = np.arange(81.0)
     ref = _ref(model, [math.radians(30), 0.0], t)
-    ex_rk4 = ex.study.run_method("rk4", "ex1", 0.5)
+    ex_rk4 = ex.run_method("rk4", "ex1", Fraction(1, 2))
     err = max(np.max(np.abs(ex_rk4[:, 0] - ref[0])), np.max(np.abs(ex_rk4[:, 1] - ref[1])))
     assert c["error"][i] == pytest.approx(err, rel=1e-3)
+
+
+def test_convergence_orders_reference():
+    """The example's own fixed-point reference (it runs downloaded, without the repository's
+    data) is the one of tests/data/convergent_reference.npz (written by
+    tests/data/convergent_fixed_point.py, mpmath's sine) to far below its stated ~1e-25."""
+    ex = _load("convergence_orders")
+    ref = ex.reference(*mbm.scenes.get("ex1").params()[:5], 80)
+    with np.load(Path(__file__).resolve().parents[1] / "data" / "convergent_reference.npz") as f:
+        data = f["ex1"]
+    assert ref.shape == data.shape == (81, 4)
+    d_theta = (ref[:, 0] - data[:, 0]) + (ref[:, 1] - data[:, 1])
+    d_v = (ref[:, 2] - data[:, 2]) + (ref[:, 3] - data[:, 3])
+    assert max(np.max(np.abs(d_theta)), np.max(np.abs(d_v))) < 1e-28
 
 
 def test_josephson_iv(tmp_path):
@@ -185,3 +202,16 @@ def test_shapiro_steps(tmp_path):
     w = np.exp(-1.0 / (x * (1.0 - x)))
     mean = np.dot(w / w.sum(), np.diff(ref)) / period
     assert abs(mean - ex.FREQ) > 0.1 and mean == pytest.approx(c.mean_velocity[j], abs=1e-5)
+
+
+def test_fit_iv_curve(tmp_path):
+    ex = _load("fit_iv_curve")
+    fit, png = ex.main(tmp_path)
+    assert png.exists() and png.stat().st_size > 10_000
+    # the zero-voltage points below retrapping (≈ 6.7 µA) are left out, the rest fitted
+    current, voltage = ex.measure()
+    assert fit.success and np.array_equal(fit.fitted, current > 6.7e-6)
+    # the truth within 3σ (the guide's coverage over 20 noisy curves: all within 3σ)
+    for value, err, truth in ((fit.beta, fit.beta_err, ex.TRUE.beta), (fit.beta_c, fit.beta_c_err, ex.TRUE.beta_c),
+                              (fit.I_c, fit.I_c_err, ex.TRUE.I_c), (fit.R, fit.R_err, ex.TRUE.R)):
+        assert 0.0 < err < 0.25 * truth and abs(value - truth) <= 3 * err, (value, err, truth)
