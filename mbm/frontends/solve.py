@@ -49,6 +49,9 @@ __all__ = ["Integrator", "solve", "solve_njit"]
 
 # Initial capacity of the window-end record when no t_eval is given (doubled as needed).
 ENDS_CAPACITY = 64
+# The window store's first capacity for the tangent pass (it stores coefficients too): a
+# common run fits without a pause to grow it.
+TANGENT_CAPACITY = 1024
 # Windows one compiled call of solve may take before Python regains control (where
 # Ctrl-C is honoured): 2^15 windows are 10–300 ms (0.3 µs a Taylor window, ~10 µs a
 # splitting's), and a call costs ~1 µs, so the chunking costs nothing measurable.
@@ -308,16 +311,20 @@ class Integrator:
             raise ValueError("max_events needs events")
         return self._solve(t0, t1, theta0, v0, t_eval, wrap, tangent)
 
-    def _run_stored(self, buf, t0, theta0, v0, t1, h, outs):
-        # The run in ``buf`` with its window ends stored, the store grown as it fills
-        # (chunked: Ctrl-C gets in between calls); ``outs``: (t_eval, its output rows) or
-        # none.  Returns (window ends' times, states, windows taken).
+    def _run_stored(self, buf, start, outs, width=0):
+        # The run in ``buf`` from ``start`` = (t0, θ0, θ'0, t1, h) with its window ends
+        # stored, and with ``width`` > 0 its windows' coefficients, the store grown as it
+        # fills (chunked: Ctrl-C gets in between calls); ``outs``: (t_eval, its output
+        # rows) or none.  Returns (window ends' times, states, coefficients, windows taken).
+        t0, theta0, v0, t1, h = start
         te, y = outs
         ints = buf[1].view(np.int64)
         entry, item = self._entry, ints.item
-        win_t = np.empty(ENDS_CAPACITY + 1)
-        win_y = np.empty((ENDS_CAPACITY + 1, 2))
-        n = entry(buf, True, t0, theta0, v0, t1, h, te, y, win_t, win_y, _NO_COEF, _NEVER)
+        cap = TANGENT_CAPACITY if width else ENDS_CAPACITY
+        win_t = np.empty(cap + 1)
+        win_y = np.empty((cap + 1, 2))
+        win_c = np.empty((cap if width else 0, width))
+        n = entry(buf, True, t0, theta0, v0, t1, h, te, y, win_t, win_y, win_c, _NEVER)
         if n < 0:
             raise t_eval_error(-n, t0, t1)
         chosen = REGIME_NONE
@@ -325,11 +332,13 @@ class Integrator:
             if n + 1 == win_t.size:
                 win_t = np.concatenate((win_t, np.empty(win_t.size)))
                 win_y = np.concatenate((win_y, np.empty((win_y.shape[0], 2))))
+                if width:
+                    win_c = np.concatenate((win_c, np.empty((win_c.shape[0] + 1, width))))
             regime = item(_W_REGIME)
             if regime != chosen:  # a regime switch: its set's entry
                 entry, chosen = _entry_at(self, regime), regime
-            n += entry(buf, False, t0, theta0, v0, t1, h, te, y, win_t[n:], win_y[n:], _NO_COEF, _NEVER)
-        return win_t, win_y, n
+            n += entry(buf, False, t0, theta0, v0, t1, h, te, y, win_t[n:], win_y[n:], win_c[n:], _NEVER)
+        return win_t[: n + 1], win_y[: n + 1], win_c[:n], n
 
     def _solve(self, t0, t1, theta0, v0, t_eval, wrap, tangent=None):
         # solve with the span and the state checked (float t0, t1, theta0, v0).
@@ -359,10 +368,11 @@ class Integrator:
         try:
             item = ints.item
             if t_eval is None or tangent is not None:
-                # The window ends stored (the outputs, or the tangent pass's track).
-                win_t, win_y, n = self._run_stored(buf, t0, theta0, v0, t1, h, (_NO_T, _NO_OUT) if t_eval is None
-                                                   else (te, y))
-                win_t, win_y = win_t[: n + 1], win_y[: n + 1]
+                # The window ends stored (the outputs, or the tangent pass's track, which
+                # follows a Taylor run's windows on their own coefficients).
+                width = 0 if tangent is None else _tangent.coefficient_width(self._kind, self._karg)
+                win_t, win_y, win_c, n = self._run_stored(buf, (t0, theta0, v0, t1, h),
+                                                          (_NO_T, _NO_OUT) if t_eval is None else (te, y), width)
                 if t_eval is None:
                     t, y = win_t, win_y.T
             else:
@@ -406,7 +416,7 @@ class Integrator:
         r["period"] = period
         r["mean_velocity"] = mean_velocity
         if tangent is not None:
-            _tangent.attach(r, self, tangent, (win_t, win_y))
+            _tangent.attach(r, self, tangent, (win_t, win_y, win_c))
         return r
 
 

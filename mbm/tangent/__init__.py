@@ -6,6 +6,6 @@
 options and the result's fields).
 """
 
-from .api import SENSITIVITY_NAMES, AccuracyWarning, attach, request
+from .api import SENSITIVITY_NAMES, AccuracyWarning, attach, coefficient_width, request
 
-__all__ = ["SENSITIVITY_NAMES", "AccuracyWarning", "attach", "request"]
+__all__ = ["SENSITIVITY_NAMES", "AccuracyWarning", "attach", "coefficient_width", "request"]

@@ -4,9 +4,13 @@ import collections
 import warnings
 
 import numpy as np
+from numba import njit
 
+from ..approximants.taylor_series import HEADER, N_EXTRA
+from ..core.window import KIND_TAYLOR
 from .series import workspace
-from .transport import REF_DEGREE, Report, Track, transport
+from .reference import REF_DEGREE
+from .transport import TANGENT_DEGREE, Control, Report, Track, transport
 
 #: The sensitivities one may ask for, in the order of their series' columns
 #: (:mod:`mbm.tangent.series`): the initial state, then the parameters.
@@ -52,6 +56,13 @@ def request(error_estimate, sensitivities):
     return Request(error_estimate, names)
 
 
+def coefficient_width(kind, karg):
+    """Width of the window store's coefficient rows the pass reads for a run of kind id
+    ``kind`` and kind argument ``karg``: a Taylor window's whole layout (the pass follows
+    the run's own series and its tail), else 0 (every window by the reference series)."""
+    return HEADER + karg + N_EXTRA + 1 if kind == KIND_TAYLOR else 0
+
+
 def attach(r, ig, req, windows):
     """Run the tangent pass along a result's windows and add its fields to ``r``.
 
@@ -62,31 +73,37 @@ def attach(r, ig, req, windows):
     ig : Integrator
         What ran it (model and tolerances).
     req : Request
-    windows : (ndarray, ndarray)
-        The run's window ends: times (n + 1,) and states (n + 1, 2).
+    windows : (ndarray, ndarray, ndarray)
+        The run's window ends: times (n + 1,), states (n + 1, 2), and the windows'
+        coefficients (n, :func:`coefficient_width`).
 
     Adds ``error_estimate`` (the shape of ``y``: an estimate of y_computed − y_true at
     each output), and ``sensitivities`` (len(names), 2, n_out) with
     ``sensitivity_names``, as asked; warns (:class:`AccuracyWarning`) where the
     estimate exceeds WARN_FACTOR times the tolerance.
     """
-    m = ig.model
-    sc = tuple(float(x) for x in m.params + m.drive)
-    params = sorted({SENSITIVITY_NAMES.index(n) for n in req.names} - {0, 1})
-    codes = np.array([0, 1] + params, np.int64)
-    rows = np.array([SENSITIVITY_NAMES.index(n) if SENSITIVITY_NAMES.index(n) < 2
-                     else 2 + params.index(SENSITIVITY_NAMES.index(n)) for n in req.names], np.int64)
-    t_out = np.ascontiguousarray(r["t"], dtype=np.float64)
-    y_out = np.ascontiguousarray(r["y"][:2], dtype=np.float64)
+    sc, codes, rows, n_order, kt = _setup(ig, req.names, windows[2].shape[1] > 0)
+    t_out = r["t"]
+    y_out = r["y"][:2]
+    if not (t_out.flags.c_contiguous and y_out.flags.c_contiguous):
+        t_out, y_out = np.ascontiguousarray(t_out), np.ascontiguousarray(y_out)
     err = np.empty((2, t_out.size))
     sens = np.empty((rows.size, 2, t_out.size))
-    win_t, win_y = windows
-    # An exact flow's windows are exact to round-off: their local error is not measured
-    # (over such long windows the reference's own error would be what is measured).
-    t_measured = (-np.inf if ig.approximant.exact else np.inf) * (1.0 if win_t[-1] >= win_t[0] else -1.0)
-    taken = transport(sc, codes, Track(np.ascontiguousarray(win_t), np.ascontiguousarray(win_y), t_out, y_out),
-                      (float(ig.rtol), float(ig.atol), float(t_measured)), Report(err, sens, rows),
-                      workspace(REF_DEGREE, codes.size))
+    win_t, win_y, win_c = windows
+    if ig.approximant.exact and not req.names:
+        # An exact flow's windows are exact to round-off: no local error to transport.
+        err[:] = 0.0
+        taken = 0
+    else:
+        sign = 1.0 if win_t[-1] >= win_t[0] else -1.0
+        # An exact flow's local error is not measured (over such long windows the
+        # reference's own error would be); the run's own Taylor windows end where a
+        # regime's formula takes over.
+        t_measured = -np.inf * sign if ig.approximant.exact else np.inf * sign
+        t_taylor = r["t_regime"] if r["t_regime"] == r["t_regime"] else np.inf * sign
+        ctl = Control((ig.rtol, ig.atol), t_measured, t_taylor, n_order, kt, r["period"])
+        taken = transport(sc, codes, Track(win_t, win_y, win_c, t_out, y_out), ctl, Report(err, sens, rows),
+                          workspace(max(REF_DEGREE, int(n_order) + 2), codes.size))
     if taken < 0:
         err[:] = np.nan
         sens[:] = np.nan
@@ -94,20 +111,42 @@ def attach(r, ig, req, windows):
                       AccuracyWarning, stacklevel=5)
     if req.error_estimate:
         r["error_estimate"] = err
-        _warn_past_tolerance(err, y_out, t_out, ig.rtol, ig.atol)
+        ratio, row, col = worst_ratio(err, y_out, ig.rtol, ig.atol)
+        if ratio > WARN_FACTOR:
+            which = ("theta", "theta'")[row]
+            warnings.warn(f"the error estimate of {which} reaches {ratio:.3g} times the tolerance "
+                          f"(atol + rtol*|y|) at t = {t_out[col]:.6g} (estimated error {err[row, col]:.3g}); "
+                          "a tighter rtol/atol reduces it", AccuracyWarning, stacklevel=5)
     if req.names:
         r["sensitivities"] = sens
         r["sensitivity_names"] = req.names
 
 
-def _warn_past_tolerance(err, y, t, rtol, atol):
-    # AccuracyWarning where |estimate| > WARN_FACTOR·(atol + rtol·|y|) at some output.
-    if err.size == 0:
-        return
-    ratio = np.abs(err) / (atol + rtol * np.abs(y))
-    worst = np.unravel_index(np.nanargmax(ratio), ratio.shape)
-    if ratio[worst] > WARN_FACTOR:
-        which = ("theta", "theta'")[worst[0]]
-        warnings.warn(f"the error estimate of {which} reaches {ratio[worst]:.3g} times the tolerance "
-                      f"(atol + rtol*|y|) at t = {t[worst[1]]:.6g} (estimated error {err[worst]:.3g}); "
-                      "a tighter rtol/atol reduces it", AccuracyWarning, stacklevel=5)
+def _setup(ig, names, own):
+    # (sc, codes, rows, n_order, kt) of a pass over ig's runs for ``names``; cached on ig
+    # (an Integrator's model and approximant do not change).
+    key = (names, own)
+    cache = ig.__dict__.setdefault("_tangent_setups", {})
+    if key not in cache:
+        m = ig.model
+        params = sorted({SENSITIVITY_NAMES.index(n) for n in names} - {0, 1})
+        index = [SENSITIVITY_NAMES.index(n) for n in names]
+        rows = np.array([i if i < 2 else 2 + params.index(i) for i in index], np.int64)
+        n_order = int(ig._karg) if own else -1
+        # Only the error: the tangent map at TANGENT_DEGREE; sensitivities: the run's degree.
+        kt = n_order if names or n_order < 0 else min(TANGENT_DEGREE, n_order)
+        cache[key] = (tuple(float(x) for x in m.params + m.drive), np.array([0, 1] + params, np.int64), rows,
+                      float(n_order), kt)
+    return cache[key]
+
+
+@njit(cache=True)
+def worst_ratio(err, y, rtol, atol):
+    """(max |err|/(atol + rtol·|y|), its row, its column); (0, 0, 0) when empty."""
+    best, row, col = 0.0, 0, 0
+    for i in range(err.shape[0]):
+        for j in range(err.shape[1]):
+            q = abs(err[i, j]) / (atol + rtol * abs(y[i, j]))
+            if q > best:
+                best, row, col = q, i, j
+    return best, row, col

@@ -57,6 +57,52 @@ def _forcing(code, k, sc, t0, a, sn, ds, dc):
     return 0.0
 
 
+@njit(**INLINE)
+def _sincos_order(k, a, sn, cn):
+    # Order k ≥ 1 of s = sin θ and c = cos θ from s' = cθ', c' = −sθ'.
+    ss = 0.0
+    cc = 0.0
+    for j in range(1, k + 1):
+        ja = j * a[j]
+        ss += ja * cn[k - j]
+        cc += ja * sn[k - j]
+    sn[k] = ss / k
+    cn[k] = -cc / k
+
+
+@njit(**INLINE)
+def sincos_of(a, nt, sn, cn):
+    """sin θ's and cos θ's coefficients of orders 0 … nt from θ's (``a``, degree ≥ nt)."""
+    sn[0], cn[0] = math.sin(a[0]), math.cos(a[0])
+    for k in range(1, nt + 1):
+        _sincos_order(k, a, sn, cn)
+
+
+@njit(cache=True)
+def columns(sc, t0, codes, ws, nt):
+    """The variational columns ``codes`` to degree ``nt`` (``ws``'s d[:, :nt + 1]) along the
+    θ whose coefficients (a, to nt + 1) and sin/cos series (to nt − 2) ``ws`` holds."""
+    a, sn, cn, ds, dc, d = ws
+    beta, gamma, omega, amp, freq, phase = sc
+    w2 = omega * omega
+    if amp != 0.0:
+        u, w = drive_phase_sincos(freq, phase, t0)
+    else:
+        u, w = 0.0, 1.0
+    drive_series(freq, u, w, nt, ds, dc)
+    for i in range(codes.size):
+        d[i, 0] = 1.0 if codes[i] == COL_THETA0 else 0.0
+        d[i, 1] = 1.0 if codes[i] == COL_V0 else 0.0
+    for k in range(nt - 1):
+        inv = 1.0 / ((k + 1.0) * (k + 2.0))
+        for i in range(codes.size):
+            conv = 0.0
+            for j in range(k + 1):
+                conv += cn[j] * d[i, k - j]
+            b = _forcing(codes[i], k, sc, t0, a, sn, ds, dc)
+            d[i, k + 2] = (b - beta * (k + 1.0) * d[i, k + 1] - w2 * conv) * inv
+
+
 @njit(cache=True)
 def tangent_series(sc, t0, theta0, v0, codes, ws):
     """Taylor coefficients, at ``t0``, of θ and of the variational columns ``codes``.
@@ -84,28 +130,12 @@ def tangent_series(sc, t0, theta0, v0, codes, ws):
     drive_series(freq, u, w, nt, ds, dc)
     a[0], a[1] = theta0, v0
     sn[0], cn[0] = math.sin(theta0), math.cos(theta0)
-    for i in range(codes.size):
-        d[i, 0] = 1.0 if codes[i] == COL_THETA0 else 0.0
-        d[i, 1] = 1.0 if codes[i] == COL_V0 else 0.0
     for k in range(nt - 1):
         if k > 0:
-            ss = 0.0
-            cc = 0.0
-            for j in range(1, k + 1):
-                ja = j * a[j]
-                ss += ja * cn[k - j]
-                cc += ja * sn[k - j]
-            sn[k] = ss / k
-            cn[k] = -cc / k
-        inv = 1.0 / ((k + 1.0) * (k + 2.0))
+            _sincos_order(k, a, sn, cn)
         g = gamma if k == 0 else 0.0
-        a[k + 2] = (g + amp * ds[k] - beta * (k + 1.0) * a[k + 1] - w2 * sn[k]) * inv
-        for i in range(codes.size):
-            conv = 0.0
-            for j in range(k + 1):
-                conv += cn[j] * d[i, k - j]
-            b = _forcing(codes[i], k, sc, t0, a, sn, ds, dc)
-            d[i, k + 2] = (b - beta * (k + 1.0) * d[i, k + 1] - w2 * conv) * inv
+        a[k + 2] = (g + amp * ds[k] - beta * (k + 1.0) * a[k + 1] - w2 * sn[k]) / ((k + 1.0) * (k + 2.0))
+    columns(sc, t0, codes, ws, nt)
 
 
 @njit(**INLINE)

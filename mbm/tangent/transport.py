@@ -27,79 +27,171 @@ import math
 import numpy as np
 from numba import njit
 
-from .series import COL_THETA0, COL_V0, tangent_series, value_rate
+from ..approximants.taylor_series import HEADER
+from ..compile.jit import INLINE
+from .reference import REF_DEGREE, reference_eps, reference_step
+from .regimes import expm2, linear_columns, linear_forcing, period_at, period_map, period_store
+from .series import COL_THETA0, COL_V0, columns, sincos_of, tangent_series, value_rate
 
-#: Degree of the reference series: the default run's 24 plus 8, so that on the run's own
-#: windows the reference's tail is (h/ρ)⁸ below the run's.
-REF_DEGREE = 32
-#: The reference's error per sub-window as a fraction of the run's local tolerance: the
-#: estimate's own error stays three digits below what it estimates.
-REF_SHARPNESS = 1e-3
-#: The reference's tolerance is never below this many ulps of the state (round-off).
-REF_ULPS = 4.0
+#: Degree of the tangent map on the run's own Taylor windows when only the error is
+#: estimated: at the run's window (h/ρ ≈ rtol^(1/24) ≤ 0.75 at rtol ≤ 1e-3) its
+#: truncation is below 3 % of Φ, plenty for an error bar; sensitivities take the run's degree.
+TANGENT_DEGREE = 12
 
 _TWO_PI = 2.0 * math.pi
-_EPS = np.finfo(np.float64).eps
 
-#: The run a pass follows: the window ends ``t`` (n + 1,) and states ``y`` (n + 1, 2) and
-#: the outputs ``t_out`` (m,) and ``y_out`` (2 or 3 rows, m) at which to report.
-Track = collections.namedtuple("Track", ("t", "y", "t_out", "y_out"))
+#: The run a pass follows: the window ends ``t`` (n + 1,) and states ``y`` (n + 1, 2), the
+#: windows' stored coefficients ``coef`` (n, width; width 0: none) and the outputs
+#: ``t_out`` (m,) and ``y_out`` (2 rows, m) at which to report.
+Track = collections.namedtuple("Track", ("t", "y", "coef", "t_out", "y_out"))
+
+#: What the pass is told besides the run: the run's ``tol`` = (rtol, atol); ``t_measured``:
+#: the windows starting before it have their local errors measured (± inf: all or none);
+#: ``t_taylor``: those before it whose stored coefficients are a Taylor window of degree
+#: ``n_order`` are followed on those coefficients (later ones are a regime's), their columns
+#: to degree ``kt``.
+#: ``period``: the stored period of the run's regime (nan: none).
+Control = collections.namedtuple("Control", ("tol", "t_measured", "t_taylor", "n_order", "kt", "period"))
+
+#: One window as the pass follows it.
+#: ``lock``: (θ*, ω_l²) of a locked window (its rest taken by the linear flow once settled:
+#: :mod:`mbm.tangent.regimes`), else (nan, nan).
+Span = collections.namedtuple("Span", ("t0", "t1", "direction", "measured", "kt", "tol", "lock"))
+
+#: The transported error ``e`` (2,) and sensitivities ``S`` (2, n_sens), and their values
+#: at a time inside the window (``e2``, ``S2``).
+Transported = collections.namedtuple("Transported", ("e", "S", "e2", "S2"))
 
 #: Where the pass writes: ``err`` (2, m) and ``sens`` (n_sens, 2, m); ``rows`` (n_sens,):
 #: each sensitivity's row in the series' columns (0: θ₀'s, 1: θ̇₀'s, ≥ 2: a parameter's).
 Report = collections.namedtuple("Report", ("err", "sens", "rows"))
 
 
-@njit(cache=True)
-def _reference_step(ws, rtol, atol):
-    # The Taylor step of the reference series at the anchor: Jorba & Zou's rule on the
-    # last two coefficients of θ and of every column (the columns converge on the same
-    # disc, but near an equilibrium θ's coefficients are tiny while Φ's are not), for an
-    # error of REF_SHARPNESS of the local tolerance.
-    a, d = ws[0], ws[5]
-    # θ's scale counts at most half a turn: rtol·|θ| of a far-wound angle is the run's
-    # loose criterion, and a reference that loose would drift over a long window.
-    scale = max(min(abs(a[0]), math.pi), abs(a[1]))
-    eps = max(REF_SHARPNESS * (atol + rtol * scale), REF_ULPS * _EPS * max(scale, 1.0))
-    nt = a.size - 1
-    h = math.inf
-    for k in (nt - 1, nt):
-        c = abs(a[k])
-        for i in range(d.shape[0]):
-            c = max(c, abs(d[i, k]))
-        if c > 0.0:
-            h = min(h, (eps / c) ** (1.0 / k))
-    return h
-
-
-@njit(cache=True)
-def _columns_at(ws, s, rows, e, S, out_e, out_s):
-    # Φ(s)·e into out_e, Φ(s)·S + P(s) into out_s, and the reference state ŷ(s).
-    a, d = ws[0], ws[5]
-    p00, p10 = value_rate(d[0], s)
-    p01, p11 = value_rate(d[1], s)
+@njit(**INLINE)
+def _columns_at(ws, nt, s, rows, tr):
+    # Φ(s)·e into tr.e2 and Φ(s)·S + P(s) into tr.S2, from the columns' series to degree nt.
+    d, e, S, out_e, out_s = ws[5], tr.e, tr.S, tr.e2, tr.S2
+    p00, p10 = value_rate(d[0, : nt + 1], s)
+    p01, p11 = value_rate(d[1, : nt + 1], s)
     out_e[0] = p00 * e[0] + p01 * e[1]
     out_e[1] = p10 * e[0] + p11 * e[1]
     for i in range(rows.size):
         x0 = p00 * S[0, i] + p01 * S[1, i]
         x1 = p10 * S[0, i] + p11 * S[1, i]
         if rows[i] >= 2:
-            q0, q1 = value_rate(d[rows[i]], s)
+            q0, q1 = value_rate(d[rows[i], : nt + 1], s)
             x0 += q0
             x1 += q1
         out_s[0, i] = x0
         out_s[1, i] = x1
-    return value_rate(a, s)
 
 
-@njit(cache=True)
+@njit(**INLINE)
 def _wrapped(dtheta):
     # A difference of angles, to the nearest turn (the outputs may be θ wrapped).
     return dtheta - _TWO_PI * round(dtheta / _TWO_PI)
 
 
+@njit(**INLINE)
+def _tail(a, n, s):
+    # The signed local error of a degree-n Taylor window at s (θ, θ'): minus its first two
+    # neglected terms, a_{n+1} s^{n+1} + a_{n+2} s^{n+2} (the run's own error estimate's).
+    sn = s ** n
+    return (-(a[n + 1] + a[n + 2] * s) * sn * s,
+            -((n + 1.0) * a[n + 1] + (n + 2.0) * a[n + 2] * s) * sn)
+
+
+@njit(**INLINE)
+def _report(report, j, tr, d0, d1):
+    # Output j: the transported error plus the output's own (d0, d1), and S2.
+    report.err[0, j] = tr.e2[0] + d0
+    report.err[1, j] = tr.e2[1] + d1
+    for i in range(tr.S2.shape[1]):  # element loops: no broadcast machinery
+        report.sens[i, 0, j] = tr.S2[0, i]
+        report.sens[i, 1, j] = tr.S2[1, i]
+
+
+@njit(**INLINE)
+def _advance(tr):
+    tr.e[0], tr.e[1] = tr.e2[0], tr.e2[1]
+    for i in range(tr.S.shape[1]):
+        tr.S[0, i], tr.S[1, i] = tr.S2[0, i], tr.S2[1, i]
+
+
 @njit(cache=True)
-def transport(sc, codes, track, tol, report, ws):
+def _taylor_window(sc, codes, ws, coef, span, io, j):
+    # Window [t0, t1] of the run's own Taylor coefficients ``coef`` (degree n = coef[1]):
+    # Φ and the columns to degree span.kt from them, the local error from their tail.
+    # Returns the next output index.
+    t0, t1, direction, kt = span.t0, span.t1, span.direction, span.kt
+    track, report, tr = io
+    a = ws[0]
+    n = int(coef[1])
+    for k in range(kt + 1):
+        a[k] = coef[HEADER + k]
+    sincos_of(a, kt - 2, ws[1], ws[2])
+    columns(sc, t0, codes, ws, kt)
+    an = coef[HEADER:]
+    te = track.t_out
+    while j < te.size and direction * (te[j] - t1) <= 0.0:
+        s = te[j] - t0
+        _columns_at(ws, kt, s, report.rows, tr)
+        d0, d1 = _tail(an, n, s)
+        _report(report, j, tr, d0, d1)
+        j += 1
+    _columns_at(ws, kt, t1 - t0, report.rows, tr)
+    _advance(tr)
+    d0, d1 = _tail(an, n, t1 - t0)
+    tr.e[0] += d0
+    tr.e[1] += d1
+    return j
+
+
+@njit(cache=True)
+def _reference_window(sc, codes, ws, start, span, io, j):
+    # Window [t0, t1] from the run's state ``start`` = (θ, θ') by the reference series
+    # (sub-windows of REF_DEGREE), its local error measured unless span.measured is
+    # False.  Returns (next output index, sub-windows taken; −1: a non-finite state).
+    t0, t1, direction, measured = span.t0, span.t1, span.direction, span.measured
+    track, report, tr = io
+    rtol, atol = span.tol
+    nt = ws[0].size - 1
+    te, yo = track.t_out, track.y_out
+    ts, x0, x1 = t0, start[0], start[1]
+    n_sub = 0
+    while True:
+        tangent_series(sc, ts, x0, x1, codes, ws)
+        hs = reference_step(ws, rtol, atol)
+        if not hs > 0.0:
+            return j, -1
+        n_sub += 1
+        last = hs >= direction * (t1 - ts)
+        t_sub = t1 if last else ts + direction * hs
+        while j < te.size and direction * (te[j] - t_sub) <= 0.0:
+            _columns_at(ws, nt, te[j] - ts, report.rows, tr)
+            th, v = value_rate(ws[0], te[j] - ts)
+            if measured:
+                _report(report, j, tr, _wrapped(yo[0, j] - th), yo[1, j] - v)
+            else:
+                _report(report, j, tr, 0.0, 0.0)
+            j += 1
+        _columns_at(ws, nt, t_sub - ts, report.rows, tr)
+        x0, x1 = value_rate(ws[0], t_sub - ts)
+        _advance(tr)
+        ts = t_sub
+        if last:
+            break
+        if _settled(sc, span.lock, x0, x1, rtol, atol):
+            x0, x1, j = _linear_rest(sc, codes, (ts, x0, x1), span, io, j)
+            break
+    if measured:
+        tr.e[0] += _wrapped(start[2] - x0)
+        tr.e[1] += start[3] - x1
+    return j, n_sub
+
+
+@njit(cache=True)
+def transport(sc, codes, track, ctl, report, ws):
     """Error transport and sensitivities along a run (module docstring).
 
     Parameters
@@ -109,9 +201,7 @@ def transport(sc, codes, track, tol, report, ws):
     codes : int64 array
         The series' columns: θ₀'s and θ̇₀'s (Φ), then the parameters' (``COL_*``).
     track : Track
-    tol : (float, float, float)
-        The run's (rtol, atol), and the time until which its windows' local errors are
-        measured (± inf: all or none).
+    ctl : Control
     report : Report
         Filled for the outputs reached.
     ws : tuple
@@ -120,53 +210,227 @@ def transport(sc, codes, track, tol, report, ws):
     Returns
     -------
     int
-        Sub-windows taken, or −1 where a reference step failed (a non-finite state).
+        Reference sub-windows taken, or −1 where a reference step failed (a non-finite state).
     """
-    wt, wy, te, yo = track
-    err, sens, rows = report
-    rtol, atol, t_measured = tol
-    m, ns = te.size, rows.size
-    e = np.zeros(2)
-    S = np.zeros((2, ns))
+    wt, wy, coefs = track.t, track.y, track.coef
+    rows = report.rows
+    ns = rows.size
+    tr = Transported(np.zeros(2), np.zeros((2, ns)), np.empty(2), np.empty((2, ns)))
     for i in range(ns):
-        S[0, i] = 1.0 if rows[i] == COL_THETA0 else 0.0
-        S[1, i] = 1.0 if rows[i] == COL_V0 else 0.0
-    e2 = np.empty(2)
-    S2 = np.empty((2, ns))
+        tr.S[0, i] = 1.0 if rows[i] == COL_THETA0 else 0.0
+        tr.S[1, i] = 1.0 if rows[i] == COL_V0 else 0.0
+        tr.S2[0, i] = tr.S[0, i]
+        tr.S2[1, i] = tr.S[1, i]
+    tr.e2[:] = 0.0
     direction = 1.0 if wt[wt.size - 1] >= wt[0] else -1.0
     j = 0
-    while j < m and te[j] == wt[0]:
-        err[:, j] = 0.0
-        sens[:, :, j] = S.T
+    while j < track.t_out.size and track.t_out[j] == wt[0]:
+        _report(report, j, tr, 0.0, 0.0)
         j += 1
+    io = (track, report, tr)
+    store = period_store(codes.size, ws[0].size - 1) if ctl.period == ctl.period else period_store(0, 0)
     n_sub = 0
     for n in range(wt.size - 1):
-        tb = wt[n + 1]
-        ts, x0, x1 = wt[n], wy[n, 0], wy[n, 1]
-        while True:
-            tangent_series(sc, ts, x0, x1, codes, ws)
-            hs = _reference_step(ws, rtol, atol)
-            if not hs > 0.0:
+        t0, t1 = wt[n], wt[n + 1]
+        own = (n < coefs.shape[0] and direction * (ctl.t_taylor - t0) > 0.0 and coefs[n, 0] == 0.0
+               and coefs[n, 1] == ctl.n_order)
+        if own:
+            j = _taylor_window(sc, codes, ws, coefs[n], Span(t0, t1, direction, True, ctl.kt, ctl.tol, _NO_LOCK), io, j)
+        else:
+            j, taken = _regime_window(sc, codes, ws, n, ctl, direction, io, j, store)
+            if taken < 0:
                 return -1
-            n_sub += 1
-            last = hs >= direction * (tb - ts)
-            t_sub = tb if last else ts + direction * hs
-            while j < m and direction * (te[j] - t_sub) <= 0.0:
-                th, v = _columns_at(ws, te[j] - ts, rows, e, S, e2, S2)
-                err[0, j] = e2[0]
-                err[1, j] = e2[1]
-                if direction * (t_measured - wt[n]) > 0.0:
-                    err[0, j] += _wrapped(yo[0, j] - th)
-                    err[1, j] += yo[1, j] - v
-                sens[:, :, j] = S2.T
-                j += 1
-            x0, x1 = _columns_at(ws, t_sub - ts, rows, e, S, e2, S2)
-            e[:] = e2
-            S[:, :] = S2
-            ts = t_sub
-            if last:
-                break
-        if direction * (t_measured - wt[n]) > 0.0:
-            e[0] += _wrapped(wy[n + 1, 0] - x0)
-            e[1] += wy[n + 1, 1] - x1
+            n_sub += taken
     return n_sub
+
+
+_NO_LOCK = (math.nan, math.nan)
+_LOCKED_TAG = 101.0  # mbm.regimes.locked.LOCKED_TAG
+_CYCLE_TAG = 102.0  # mbm.regimes.cycle.CYCLE_TAG
+_STROBE_TAG = 103.0  # mbm.regimes.strobe.STROBE_TAG
+_COL_FREQ = 6  # mbm.tangent.series.COL_FREQ
+
+
+@njit(cache=True)
+def _regime_window(sc, codes, ws, n, ctl, direction, io, j, store):
+    # Window n when it is not the run's own Taylor window: a locked window (the reference
+    # until settled, then the linear flow), a stored period's (Floquet over the stored
+    # period), or any other (the reference).  Returns (next output, sub-windows; −1: failed).
+    track = io[0]
+    wt, wy, coefs = track.t, track.y, track.coef
+    t0, t1 = wt[n], wt[n + 1]
+    measured = direction * (ctl.t_measured - t0) > 0.0
+    ends = (wy[n, 0], wy[n, 1], wy[n + 1, 0], wy[n + 1, 1])
+    tag = coefs[n, 0] if n < coefs.shape[0] else 0.0
+    lock = _NO_LOCK
+    if tag == _LOCKED_TAG:
+        lock = (coefs[n, 1] - coefs[n, 2], coefs[n, 6])  # θ* = θ₀ − x₀, ω_l²
+    span = Span(t0, t1, direction, measured, ctl.kt, ctl.tol, lock)
+    periodic = ((tag == _CYCLE_TAG or tag == _STROBE_TAG) and ctl.period == ctl.period and direction > 0.0
+                and not (tag == _STROBE_TAG and _has(codes, _COL_FREQ)))
+    if periodic:
+        if tag == _CYCLE_TAG:  # (t_A = t0 − t_off, θ_c, v_c), T_c + T_lo (mbm.regimes.cycle's layout)
+            anchor, T = (t0 - coefs[n, 4], coefs[n, 1], coefs[n, 2]), coefs[n, 3] + coefs[n, 14]
+        else:  # (t_a, φ_a, θ'_a) (mbm.regimes.strobe's layout), T = q·2π/Ω
+            anchor, T = (coefs[n, 4], coefs[n, 1], coefs[n, 2]), ctl.period
+        j2, taken = _periodic_window(sc, codes, ws, ends, span, io, j, (store, T, anchor))
+        if taken >= 0:
+            return j2, taken
+    return _reference_window(sc, codes, ws, ends, span, io, j)
+
+
+@njit(cache=True)
+def _has(codes, code):
+    for c in codes:
+        if c == code:
+            return True
+    return False
+
+
+@njit(cache=True)
+def _settled(sc, lock, x0, x1, rtol, atol):
+    # Whether a locked window's state is so near θ* that the nonlinearity (ω²x²/2 of the
+    # deviation x) is below the reference's tolerance.
+    if lock[0] != lock[0]:
+        return False
+    x = _wrapped(x0 - lock[0])
+    dev = abs(x) + abs(x1) / math.sqrt(abs(lock[1]))
+    return sc[2] * sc[2] * dev * dev <= reference_eps(x0, x1, rtol, atol)
+
+
+@njit(**INLINE)
+def _linear_at(sc, codes, rows, lock, E, tr):
+    # tr.e2, tr.S2 = e^{Js}·(e, S) + the linear parameter columns (E = e^{Js}).
+    beta = sc[0]
+    tr.e2[0] = E[0] * tr.e[0] + E[1] * tr.e[1]
+    tr.e2[1] = E[2] * tr.e[0] + E[3] * tr.e[1]
+    for i in range(rows.size):
+        x0 = E[0] * tr.S[0, i] + E[1] * tr.S[1, i]
+        x1 = E[2] * tr.S[0, i] + E[3] * tr.S[1, i]
+        if rows[i] >= 2:
+            q0, q1 = linear_columns(E, lock[1], beta, linear_forcing(codes[rows[i]], sc, lock[0]))
+            x0 += q0
+            x1 += q1
+        tr.S2[0, i] = x0
+        tr.S2[1, i] = x1
+
+
+@njit(cache=True)
+def _linear_rest(sc, codes, at, span, io, j):
+    # The rest of a settled locked window from ``at`` = (t, θ, θ') by the linear flow about
+    # θ*; returns the reference state at the window's end and the next output index.
+    track, report, tr = io
+    ts, x0, x1 = at
+    theta_star, wl2 = span.lock
+    dx = _wrapped(x0 - theta_star)
+    te, yo = track.t_out, track.y_out
+    while j < te.size and span.direction * (te[j] - span.t1) <= 0.0:
+        E = expm2(wl2, sc[0], te[j] - ts)
+        _linear_at(sc, codes, report.rows, span.lock, E, tr)
+        th = x0 - dx + E[0] * dx + E[1] * x1
+        v = E[2] * dx + E[3] * x1
+        if span.measured:
+            _report(report, j, tr, _wrapped(yo[0, j] - th), yo[1, j] - v)
+        else:
+            _report(report, j, tr, 0.0, 0.0)
+        j += 1
+    E = expm2(wl2, sc[0], span.t1 - ts)
+    _linear_at(sc, codes, report.rows, span.lock, E, tr)
+    _advance(tr)
+    return x0 - dx + E[0] * dx + E[1] * x1, E[2] * dx + E[3] * x1, j
+
+
+@njit(**INLINE)
+def _floquet_step(M, PT, dT, rows, tr):
+    # One stored period on: e ← M e + d_T, S ← M S + P_T (the parameter columns).
+    e0 = M[0, 0] * tr.e[0] + M[0, 1] * tr.e[1] + dT[0]
+    e1 = M[1, 0] * tr.e[0] + M[1, 1] * tr.e[1] + dT[1]
+    tr.e[0], tr.e[1] = e0, e1
+    for i in range(rows.size):
+        x0 = M[0, 0] * tr.S[0, i] + M[0, 1] * tr.S[1, i]
+        x1 = M[1, 0] * tr.S[0, i] + M[1, 1] * tr.S[1, i]
+        if rows[i] >= 2:
+            x0 += PT[0, rows[i]]
+            x1 += PT[1, rows[i]]
+        tr.S[0, i], tr.S[1, i] = x0, x1
+
+
+@njit(**INLINE)
+def _floquet_at(phi, pc, rows, tr):
+    # tr.e2, tr.S2 at a phase of the current period: Φ(s)·(e, S) + P(s).
+    tr.e2[0] = phi[0, 0] * tr.e[0] + phi[0, 1] * tr.e[1]
+    tr.e2[1] = phi[1, 0] * tr.e[0] + phi[1, 1] * tr.e[1]
+    for i in range(rows.size):
+        x0 = phi[0, 0] * tr.S[0, i] + phi[0, 1] * tr.S[1, i]
+        x1 = phi[1, 0] * tr.S[0, i] + phi[1, 1] * tr.S[1, i]
+        if rows[i] >= 2:
+            x0 += pc[0, rows[i]]
+            x1 += pc[1, rows[i]]
+        tr.S2[0, i], tr.S2[1, i] = x0, x1
+
+
+@njit(cache=True)
+def _periodic_window(sc, codes, ws, ends, span, io, j, stored):
+    # A window of a stored period T (forwards), ``stored`` = (store, T, anchor): the run
+    # repeats the period from its anchor (t_A, φ_A reduced, θ'_A) exactly (a whole turn on
+    # or not).  The reference runs one period from the anchor; an output at t_A + kT + s
+    # has e = Φ_A(s) E_k + d(t) and S = Φ_A(s) Σ_k + P_A(s), with E_{k+1} = M E_k + d_T
+    # and Σ_{k+1} = M Σ_k + P_T (module mbm.tangent.regimes).  Returns (next output,
+    # sub-windows; −1: the period did not fit).
+    track, report, tr = io
+    store, T, anchor = stored
+    t0, t1 = span.t0, span.t1
+    t_a = anchor[0]
+    # The period's reference error recurs every period (along the cycle's neutral phase
+    # direction it adds up): its tolerance is divided by the periods in the window, which
+    # a degree-32 series pays for with steps shorter by (periods)^(1/32) only.
+    periods = max(1.0, (t1 - t_a) / T)
+    one = Span(t_a, t_a + T, 1.0, span.measured, span.kt, (span.tol[0] / periods, span.tol[1] / periods), _NO_LOCK)
+    n_sub = period_map(sc, codes, ws, anchor, one, store)
+    if n_sub < 0:
+        return j, -1
+    rows = report.rows
+    M, PT, thT, vT = period_at(store, n_sub, T, codes)
+    dT = np.zeros(2)
+    if span.measured:
+        dT[0], dT[1] = _wrapped(anchor[1] - thT), anchor[2] - vT
+    # The window's start in the anchor's frame: E_k0 = Φ_A(s0)⁻¹(e₀ − d(t0)), Σ likewise.
+    k = max(0, int(math.floor((t0 - t_a) / T)))
+    phi, pc, th, v = period_at(store, n_sub, min(max(t0 - t_a - k * T, 0.0), T), codes)
+    d0, d1 = (_wrapped(ends[0] - th), ends[1] - v) if span.measured else (0.0, 0.0)
+    _pull_back(phi, pc, rows, (d0, d1), tr)
+    te, yo = track.t_out, track.y_out
+    while True:
+        last = j >= te.size or te[j] > t1
+        t = t1 if last else te[j]
+        kk = max(0, int(math.floor((t - t_a) / T)))
+        while k < kk:
+            _floquet_step(M, PT, dT, rows, tr)
+            k += 1
+        phi, pc, th, v = period_at(store, n_sub, min(max(t - t_a - k * T, 0.0), T), codes)
+        _floquet_at(phi, pc, rows, tr)
+        y0, y1 = (ends[2], ends[3]) if last else (yo[0, j], yo[1, j])
+        d0, d1 = (_wrapped(y0 - th), y1 - v) if span.measured else (0.0, 0.0)
+        if last:
+            _advance(tr)
+            tr.e[0] += d0
+            tr.e[1] += d1
+            return j, n_sub
+        _report(report, j, tr, d0, d1)
+        j += 1
+
+
+@njit(cache=True)
+def _pull_back(phi, pc, rows, d, tr):
+    # tr.e ← Φ⁻¹(e − d), tr.S ← Φ⁻¹(S − P) (P the parameter columns): the window start's
+    # error and sensitivities in the stored period's anchor frame.
+    det = phi[0, 0] * phi[1, 1] - phi[0, 1] * phi[1, 0]
+    i00, i01, i10, i11 = phi[1, 1] / det, -phi[0, 1] / det, -phi[1, 0] / det, phi[0, 0] / det
+    x0, x1 = tr.e[0] - d[0], tr.e[1] - d[1]
+    tr.e[0], tr.e[1] = i00 * x0 + i01 * x1, i10 * x0 + i11 * x1
+    for i in range(rows.size):
+        x0, x1 = tr.S[0, i], tr.S[1, i]
+        if rows[i] >= 2:
+            x0 -= pc[0, rows[i]]
+            x1 -= pc[1, rows[i]]
+        tr.S[0, i], tr.S[1, i] = i00 * x0 + i01 * x1, i10 * x0 + i11 * x1

@@ -164,3 +164,26 @@ def test_options_are_checked():
         mbm.solve(DAMPED, span, y0, error_estimate=True, temperature=0.1, seed=1, dt=0.01)
     with pytest.raises(TypeError, match="error_estimate"):
         mbm.Integrator(DAMPED).solve(span, y0, error_estimate=1)
+
+
+@pytest.mark.parametrize("model, y0, t1, regime", [
+    (mbm.Pendulum(0.05, 0.3), [1.0, 0.0], 1500.0, "locked"),  # the linear flow once settled
+    (mbm.Pendulum(0.1, 1.2), [0.0, 0.0], 600.0, "running"),  # Floquet over the stored period
+    (mbm.Pendulum(0.2, 0.0, drive_amplitude=0.5, drive_frequency=1.5), [0.1, 0.0], 600.0, "phase-locked"),
+])
+def test_regime_windows(model, y0, t1, regime):
+    # The windows of a regime that stops integrating: the estimate against the true error,
+    # the sensitivities against heyoka's variational equations.
+    te = np.linspace(0.0, t1, 201)
+    names = ("theta0", "v0", "beta", "gamma", "omega")
+    r = _quiet(model, (0.0, t1), y0, t_eval=te, rtol=1e-9, atol=1e-9, error_estimate=True, sensitivities=names)
+    assert r.regime == regime
+    true = r.y - _truth(model, y0, te)
+    eff = np.abs(r.error_estimate[0]).max() / np.abs(true[0]).max()
+    assert 0.3 < eff < 3.0
+    vs = hy.var_ode_sys(_system(), hy.var_args.vars | hy.var_args.params, order=1)
+    ref = hy.taylor_adaptive(vs, y0, pars=_pars(model), tol=1e-15, compact_mode=True).propagate_grid(te)[-1]
+    cols = list(range(2, 7)) + list(range(10, 15))
+    mine = np.concatenate([r.sensitivities[:, 0, :].T, r.sensitivities[:, 1, :].T], axis=1)
+    scale = np.abs(ref[:, cols]).max()
+    assert np.abs(mine - ref[:, cols]).max() < 1e-5 * scale
