@@ -121,6 +121,12 @@ class _MBMBase(OdeSolver):
 
     def __init__(self, fun, t0, y0, t_bound, *, approximant, model, max_step, rtol, atol, vectorized,
                  extraneous):
+        for name in ("error_estimate", "sensitivities"):
+            if name in extraneous:
+                raise ValueError(
+                    f"{name} is not available through solve_ivp, which builds its own result: use "
+                    f"mbm.solve(model, t_span, y0, t_eval=..., {name}=...) or mbm.Integrator(model).solve(...), "
+                    "which take the same windows and give the same y bit for bit")
         warn_extraneous(extraneous, stacklevel=4)
         super().__init__(fun, t0, y0, t_bound, vectorized, support_complex=False)
         if self.y.shape != (2,):

@@ -1,24 +1,30 @@
 r"""The tangent pass: error transport and sensitivities along a run's windows.
 
 A run of the moving boundary method takes windows [t_n, t_{n+1}], each anchored at the
-state y_n it reached.  Along each window this pass integrates the exact equation from
-y_n by a Taylor series of degree :data:`REF_DEGREE` (sub-windows where the window is
-longer than that series' step at :data:`REF_SHARPNESS` of the tolerance), together with
-its variational columns (:mod:`mbm.tangent.series`).  That gives, per window,
+state y_n it reached.  Per window this pass finds
 
-* the signed local error d_n = y_{n+1} − φ(t_{n+1}; y_n) of what the run computed
-  (whatever formed y_{n+1}: a Taylor window, a splitting, the locked closed form, a
-  stored period: each regime's error enters as its windows' local errors),
+* the signed local error d_n = y_{n+1} − φ(t_{n+1}; y_n) of what the run computed,
 * the tangent map Φ_n = ∂φ(t_{n+1}; y_n)/∂y_n and the parameter columns P_n,
 
-and the linearised transport of the error and of the sensitivities S = ∂y/∂(y₀, p):
+and transports the error and the sensitivities S = ∂y/∂(y₀, p) linearly:
 
     e_{n+1} = Φ_n e_n + d_n,        S_{n+1} = Φ_n S_n + P_n,
 
-with the same inside a window at every output time (the output's own difference from
-the exact flow in place of d_n).  e estimates y_computed − y_true to first order; it is
-only first order where Φ varies across the error's size (near a separatrix, on a
-chaotic orbit once e is no longer small: :doc:`/theory/error_estimate`).
+with the same inside a window at every output time (the output's own local error in
+place of d_n).  e estimates y_computed − y_true to first order (only first order where Φ
+varies across the error's size: near a separatrix, on a chaotic orbit once e is no longer
+small: :doc:`/theory/error_estimate`).  The windows come in three sorts:
+
+* the run's own Taylor windows (their coefficients stored by the run): Φ and P by the
+  variational recurrence on those coefficients (:func:`mbm.tangent.series.columns`), at
+  TANGENT_DEGREE for the error alone and the run's degree for sensitivities, and d_n from
+  the series' first two neglected terms, which the run computed for its controller;
+* a regime's windows (locked, a stored period): :mod:`mbm.tangent.regimes`;
+* any other (another kind, an exact flow): the reference, a Taylor series of degree
+  REF_DEGREE from y_n with its variational columns, in sub-windows at REF_SHARPNESS of the
+  tolerance (:mod:`mbm.tangent.reference`); d_n = y_{n+1} − the reference's end, not
+  measured for an exact flow (exact to round-off, where the reference's own error would
+  be what is measured).
 """
 
 import collections

@@ -187,3 +187,33 @@ def test_regime_windows(model, y0, t1, regime):
     mine = np.concatenate([r.sensitivities[:, 0, :].T, r.sensitivities[:, 1, :].T], axis=1)
     scale = np.abs(ref[:, cols]).max()
     assert np.abs(mine - ref[:, cols]).max() < 1e-5 * scale
+
+
+def test_solve_batch_equals_solve():
+    gammas = np.array([0.3, 0.9, 1.2])
+    te = np.linspace(0.0, 150.0, 51)
+    b = mbm.solve_batch(0.1, gammas, 1.0, [0.5, 0.0], (0.0, 150.0), te, rtol=1e-8, atol=1e-8,
+                        drive_amplitude=[0.0, 0.3, 0.0], drive_frequency=[0.0, 0.7, 0.0],
+                        error_estimate=True, sensitivities=("gamma", "theta0"))
+    assert b.error_estimate.shape == (3, 2, 51) and b.sensitivities.shape == (3, 2, 2, 51)
+    for i, g in enumerate(gammas):
+        model = mbm.Pendulum(0.1, g, drive_amplitude=[0.0, 0.3, 0.0][i], drive_frequency=[0.0, 0.7, 0.0][i])
+        r = mbm.solve(model, (0.0, 150.0), [0.5, 0.0], t_eval=te, rtol=1e-8, atol=1e-8, error_estimate=True,
+                      sensitivities=("gamma", "theta0"))
+        assert np.array_equal(b.y[i], r.y)
+        assert np.array_equal(b.error_estimate[i], r.error_estimate)
+        assert np.array_equal(b.sensitivities[i], r.sensitivities)
+    with pytest.raises(ValueError, match="temperature"):
+        mbm.solve_batch(0.1, gammas, 1.0, [0.5, 0.0], (0.0, 1.0), te[:2] / 150, error_estimate=True,
+                        temperature=0.1, seed=1, dt=0.01)
+
+
+def test_solve_ivp_names_the_paths_that_carry_the_estimate():
+    from scipy.integrate import solve_ivp
+
+    def fun(t, y):
+        return [y[1], -0.1 * y[1] - np.sin(y[0]) + 0.3]
+
+    for name in ("error_estimate", "sensitivities"):
+        with pytest.raises(ValueError, match="mbm.solve"):
+            solve_ivp(fun, (0.0, 1.0), [0.1, 0.0], method=mbm.MBM, **{name: True})
