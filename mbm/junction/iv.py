@@ -60,6 +60,20 @@ over the last block (a zero-voltage point whose orbit was not identified), else
 "running".  The zero-voltage step (p = 0) is on the locked side of the switching and
 retrapping currents, every other step on the running side.
 
+Differential resistance (``iv_curve(..., differential=True)``): on a running cycle
+⟨θ'⟩ = ±2π/T_c, so d⟨θ'⟩/dγ = ∓2π/T_c² · dT_c/dγ, and dT_c/dγ is the period's
+sensitivity.  From the point's settled state y* (on the cycle) one run of one period
+with the sensitivities to θ₀, v₀ and γ (:func:`mbm.solve`, ``sensitivities``) gives the
+monodromy matrix Φ = ∂y(T_c)/∂y*, s = ∂y(T_c)/∂γ and f = y'(T_c); the cycle's return to
+the section θ = θ*, y(T_c(γ); (θ*, v*(γ)), γ) = (θ* ± 2π, v*(γ)), differentiated in γ,
+
+    f₀ T_c' + Φ₀₁ v*' = −s₀,   f₁ T_c' + (Φ₁₁ − 1) v*' = −s₁,
+
+a 2×2 system, regular on a running cycle (f₀ = θ' ≠ 0 and the cycle's other Floquet
+multiplier is e^{−βT_c} < 1).  A locked point's voltage is 0 over a neighbourhood of its
+γ on its branch, so d⟨θ'⟩/dγ = 0 there, and so on a Shapiro step (the locked orbit
+persists, ⟨θ'⟩ = (p/q)Ω); a driven point off the steps has no cycle to time: NaN.
+
 What is not modelled: thermal noise (no premature switching), non-sinusoidal
 current–phase relations, arrays of junctions, a capacitance that depends on the
 voltage.
@@ -193,6 +207,12 @@ class IVCurve:
     velocity_tol : float
         The agreement of two successive blocks asked of a driven point (absolute, in
         units of ω).
+    dvoltage_dgamma : ndarray or None
+        The differential resistance d⟨θ'⟩/dγ at each point in reduced units (module
+        docstring; :meth:`mbm.Junction.differential_resistance` gives ohms): from the
+        period's sensitivity on a running cycle, 0 at a locked point and on a Shapiro
+        step (phase-locked), NaN at a driven point off the steps.  None unless
+        :func:`iv_curve` was asked for it (``differential=True``).
     switching_settled, retrapping_settled : bool
         Whether every probe of the bisection behind ``switching_bracket`` (resp.
         ``retrapping_bracket``) kept one voltage state over the blocks it was measured
@@ -223,6 +243,7 @@ class IVCurve:
     velocity_tol: float = DRIVE_VELOCITY_TOL
     switching_settled: bool = True
     retrapping_settled: bool = True
+    dvoltage_dgamma: np.ndarray = None
 
     def branches(self):
         """Index arrays of the up (γ increasing) and down (γ decreasing) parts of the sweep."""
@@ -231,7 +252,8 @@ class IVCurve:
         return np.flatnonzero(step >= 0.0), np.flatnonzero(step < 0.0)
 
     def to_csv(self, path):
-        """Write gamma, mean_velocity, regime, period, converged as CSV (the currents in a header comment).
+        """Write gamma, mean_velocity, regime, period, converged as CSV (the currents in a header comment),
+        and dvoltage_dgamma where the curve has it.
 
         Parameters
         ----------
@@ -247,10 +269,12 @@ class IVCurve:
                     f"retrapping_bracket={tuple(map(float, self.retrapping_bracket))!r}, "
                     f"switching_settled={bool(self.switching_settled)!r}, "
                     f"retrapping_settled={bool(self.retrapping_settled)!r}\n")
-            f.write("gamma,mean_velocity,regime,period,converged\n")
+            slope = self.dvoltage_dgamma is not None
+            f.write("gamma,mean_velocity,regime,period,converged" + (",dvoltage_dgamma" if slope else "") + "\n")
             settled = [""] * self.gamma.size if self.converged is None else [str(bool(c)) for c in self.converged]
-            for g, v, r, p, c in zip(self.gamma, self.mean_velocity, self.regime, self.period, settled):
-                f.write(f"{float(g)!r},{float(v)!r},{r},{float(p)!r},{c}\n")
+            extra = [f",{float(x)!r}" for x in self.dvoltage_dgamma] if slope else [""] * self.gamma.size
+            for g, v, r, p, c, x in zip(self.gamma, self.mean_velocity, self.regime, self.period, settled, extra):
+                f.write(f"{float(g)!r},{float(v)!r},{r},{float(p)!r},{c}{x}\n")
 
     def plot(self, ax=None):
         """Draw the curve (voltage ⟨θ'⟩ across, bias γ up), up and down branches marked.
@@ -357,6 +381,22 @@ def integrate_mbm(model, y, span):
     sol.regime, sol.mean_velocity = solvers[0].regime, solvers[0].mean_velocity
     sol.period = solvers[0].period
     return sol
+
+
+def _running_slope(model, y, period):
+    # d⟨θ'⟩/dγ on the running cycle through y (period T_c) from the period's
+    # sensitivity (module docstring): one period with ∂/∂(θ₀, v₀, γ), then the 2×2 system.
+    from ..frontends.solve import solve
+
+    r = solve(model, (0.0, period), y, t_eval=[period], rtol=RUN_RTOL, atol=RUN_ATOL,
+              sensitivities=("theta0", "v0", "gamma"))
+    if not r.success:
+        raise RuntimeError(f"gamma={model.gamma!r}: {r.message}")
+    p = r.sensitivities[:, :, -1]  # p[j, i] = ∂y_i(T_c)/∂(θ₀, v₀, γ)_j
+    v, accel = model(r.t[-1], r.y[:, -1])  # f = y'(T_c)
+    a = np.array([[v, p[1, 0]], [accel, p[1, 1] - 1.0]])
+    dperiod = np.linalg.solve(a, -p[2])[0]
+    return -math.copysign(2.0 * math.pi, v) * dperiod / (period * period)
 
 
 def _passages(sol, theta_s, direction, count):
@@ -605,7 +645,7 @@ def _voltage_state(regime, v, drive_frequency):
 @keywords_named
 def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0=0.0,
              integrate=integrate_mbm, drive_amplitude=0.0, drive_frequency=0.0, drive_phase=0.0,
-             velocity_tol=DRIVE_VELOCITY_TOL, progress=False):
+             velocity_tol=DRIVE_VELOCITY_TOL, progress=False, differential=False):
     """The I–V curve of the RCSJ junction over the bias points ``gamma``, in the order given.
 
     Parameters
@@ -633,6 +673,11 @@ def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0
     progress : bool, optional
         Draw a progress bar over the bias points on stderr (:mod:`mbm.junction.progress`:
         only when stderr is a terminal; default False).
+    differential : bool, optional
+        Also compute the differential resistance d⟨θ'⟩/dγ at each point
+        (``IVCurve.dvoltage_dgamma``; module docstring): one more run of one period
+        per running point, with :func:`mbm.solve` whatever ``integrate`` is (default
+        False: None).
 
     Returns
     -------
@@ -672,6 +717,8 @@ def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0
     _warn_implausible_bias(g, omega, drive[0])
     if progress is not False and progress is not True:
         raise TypeError(f"progress must be True or False, got {progress!r}")
+    if differential is not False and differential is not True:
+        raise TypeError(f"differential must be True or False, got {differential!r}")
     y = check_state("(theta0, theta_dot0)", [check_real("theta0", theta0), check_real("theta_dot0", theta_dot0)])
     regimes, velocities, periods, states, starts, converged = [], [], [], [], [], []
     for gi in (_progress(g, label="I-V points") if progress else g):
@@ -688,6 +735,10 @@ def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0
                                                  current_tol=current_tol, integrate=integrate, drive=drive,
                                                  velocity_tol=velocity_tol)
     _warn_unsettled_probes(unsettled)
+    slope = None
+    if differential:
+        slope = np.array([_slope(Pendulum(beta, gi, omega, *drive), r, p, y)
+                          for gi, r, p, y in zip(g, regimes, periods, states)])
     return IVCurve(gamma=g, mean_velocity=np.array(velocities), regime=np.array(regimes),
                    period=np.array(periods), start_state=np.array(starts),
                    switching_current=_midpoint(switching), retrapping_current=_midpoint(retrapping),
@@ -695,7 +746,17 @@ def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0
                    drive_frequency=drive[1], drive_phase=drive[2], switching_bracket=tuple(map(float, switching)),
                    retrapping_bracket=tuple(map(float, retrapping)), converged=converged,
                    velocity_tol=velocity_tol, switching_settled=not unsettled["switching"],
-                   retrapping_settled=not unsettled["retrapping"])
+                   retrapping_settled=not unsettled["retrapping"], dvoltage_dgamma=slope)
+
+
+def _slope(model, regime, period, y):
+    # A point's d⟨θ'⟩/dγ: 0 locked or on a Shapiro step, the period's sensitivity on an
+    # undriven running cycle, NaN at a driven point off the steps (module docstring).
+    if regime == PHASE_LOCKED or (regime == LOCKED and not model.driven):
+        return 0.0
+    if model.driven:
+        return math.nan
+    return _running_slope(model, y, period)
 
 
 def _currents(beta, omega, g, regimes, velocities, states, *, current_tol, integrate, drive, velocity_tol):

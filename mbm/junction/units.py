@@ -186,6 +186,21 @@ class Junction:
         """
         return _array("voltage", voltage) / self.voltage_scale
 
+    def differential_resistance(self, dvoltage_dgamma):
+        """The differential resistance dV/dI = (Φ₀ ω_p / 2π I_c) d⟨θ'⟩/dγ = β R d⟨θ'⟩/dγ in ohms.
+
+        Parameters
+        ----------
+        dvoltage_dgamma : float or array_like
+            Reduced differential resistance (e.g. :attr:`mbm.IVCurve.dvoltage_dgamma`;
+            NaN stays NaN).  R on the ohmic branch, where ⟨θ'⟩ → γ/β.
+
+        Returns
+        -------
+        float or ndarray
+        """
+        return _array("dvoltage_dgamma", dvoltage_dgamma) * (self.voltage_scale / self.I_c)
+
     def Omega(self, frequency_hz):
         """The reduced drive frequency Ω = 2π f / ω_p.
 
