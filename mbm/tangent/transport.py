@@ -388,10 +388,9 @@ def _periodic_window(sc, codes, ws, ends, span, io, j, stored):
     t0, t1 = span.t0, span.t1
     t_a = anchor[0]
     # The period's reference error recurs every period (along the cycle's neutral phase
-    # direction it adds up): its tolerance is divided by the periods in the window, which
-    # a degree-32 series pays for with steps shorter by (periods)^(1/32) only.
-    periods = max(1.0, (t1 - t_a) / T)
-    one = Span(t_a, t_a + T, 1.0, span.measured, span.kt, (span.tol[0] / periods, span.tol[1] / periods), _NO_LOCK)
+    # direction it adds up): one period is taken at round-off (tolerance 0: REF_ULPS ulps
+    # per sub-window), which a degree-32 series pays for with a few more sub-windows.
+    one = Span(t_a, t_a + T, 1.0, span.measured, span.kt, (0.0, 0.0), _NO_LOCK)
     n_sub = period_map(sc, codes, ws, anchor, one, store)
     if n_sub < 0:
         return j, -1
