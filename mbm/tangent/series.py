@@ -20,7 +20,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ..approximants.taylor_series import drive_phase_sincos
+from ..approximants.taylor_series import _INV_K12, drive_phase_sincos
 from ..compile.jit import INLINE
 
 #: Column codes: the sensitivity names in their order (the public names of
@@ -78,23 +78,21 @@ def sincos_of(a, nt, sn, cn):
         _sincos_order(k, a, sn, cn)
 
 
-@njit(cache=True)
+@njit(**INLINE)
 def columns(sc, t0, codes, ws, nt):
     """The variational columns ``codes`` to degree ``nt`` (``ws``'s d[:, :nt + 1]) along the
     θ whose coefficients (a, to nt + 1) and sin/cos series (to nt − 2) ``ws`` holds."""
     a, sn, cn, ds, dc, d = ws
     beta, gamma, omega, amp, freq, phase = sc
     w2 = omega * omega
-    if amp != 0.0:
+    if codes[codes.size - 1] >= COL_AMP:  # (codes ascending) a drive column: the drive's series
         u, w = drive_phase_sincos(freq, phase, t0)
-    else:
-        u, w = 0.0, 1.0
-    drive_series(freq, u, w, nt, ds, dc)
+        drive_series(freq, u, w, nt, ds, dc)
     for i in range(codes.size):
         d[i, 0] = 1.0 if codes[i] == COL_THETA0 else 0.0
         d[i, 1] = 1.0 if codes[i] == COL_V0 else 0.0
     for k in range(nt - 1):
-        inv = 1.0 / ((k + 1.0) * (k + 2.0))
+        inv = _INV_K12[k]
         for i in range(codes.size):
             conv = 0.0
             for j in range(k + 1):
@@ -125,9 +123,9 @@ def tangent_series(sc, t0, theta0, v0, codes, ws):
     w2 = omega * omega
     if amp != 0.0:
         u, w = drive_phase_sincos(freq, phase, t0)
+        drive_series(freq, u, w, nt, ds, dc)
     else:
-        u, w = 0.0, 1.0
-    drive_series(freq, u, w, nt, ds, dc)
+        ds[:] = 0.0
     a[0], a[1] = theta0, v0
     sn[0], cn[0] = math.sin(theta0), math.cos(theta0)
     for k in range(nt - 1):

@@ -217,3 +217,16 @@ def test_solve_ivp_names_the_paths_that_carry_the_estimate():
     for name in ("error_estimate", "sensitivities"):
         with pytest.raises(ValueError, match="mbm.solve"):
             solve_ivp(fun, (0.0, 1.0), [0.1, 0.0], method=mbm.MBM, **{name: True})
+
+
+def test_drive_sensitivities_of_an_undriven_scene():
+    # ∂/∂A at A = 0 is the response to sin(Ωt + φ) (the drive's phase is still needed).
+    te = np.linspace(0.0, 20.0, 11)
+    kw = dict(t_eval=te, rtol=1e-12, atol=1e-12)
+    base = dict(beta=0.4, gamma=0.2, drive_frequency=0.9, drive_phase=0.5)
+    r = mbm.solve(mbm.Pendulum(**base), (0.0, 20.0), [0.2, 0.0], sensitivities=("drive_amplitude",), **kw)
+    h = 1e-5
+    up, down = (mbm.solve(mbm.Pendulum(drive_amplitude=s * h, **base), (0.0, 20.0), [0.2, 0.0], **kw).y
+                for s in (1.0, -1.0))
+    fd = (up - down) / (2 * h)
+    assert np.abs(fd).max() > 0.1 and np.abs(r.sensitivities[0] - fd).max() < 1e-6
