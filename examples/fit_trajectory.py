@@ -13,12 +13,12 @@ model θ − data, twice:
   parameter for every Jacobian, each differencing two runs a step of ~1.5e-8 apart.
 
 Both fits print their values with standard errors (cov = σ̂² (JᵀJ)⁻¹, J at the
-solution, σ̂² the residuals' sum of squares over 81 − 3), the number of calls of the residual and
-Jacobian functions (each call one :func:`mbm.solve`) and the wall time of the fit (after
-a warm-up run, best of a few repeats); then what one run costs plain and with the
-sensitivities, and how far the finite differences are from the sensitivities.  Both fits
-reach the same minimum in as many iterations: the sensitivities halve the runs (a
-Jacobian is one run, not one per parameter), though a run with them costs about three
+solution, σ̂² the residuals' sum of squares over 81 − 3), the number of calls of the
+residual and Jacobian functions (each call one :func:`mbm.solve`) and the wall time of
+the fit (after a warm-up run, best of a few repeats); then what one run costs plain and
+with the sensitivities, and how far the finite differences are from the sensitivities.
+Both fits reach the same minimum in as many iterations: the sensitivities halve the runs
+(a Jacobian is one run, not one per parameter), though a run with them costs about three
 plain ones, so on this small problem the two fits take about the same time.
 
 Usage::
