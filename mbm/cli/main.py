@@ -485,7 +485,9 @@ def _build_parser():
 
     q = sub.add_parser("study", help="step-size / accuracy study: table, fitted orders, plots",
                        description="Sweep tau (or rtol) for chosen approximants on one scene; print "
-                       "error, windows and time per point and the fitted order of error ~ C h^p.",
+                       "error, the run's own error estimate (mbm.solve(..., error_estimate=True); "
+                       "'—' for a run through solve_ivp), windows and time per point and the fitted "
+                       "order of error ~ C h^p.",
                        epilog="scenes (beta, gamma, omega, theta0 [deg], v0, t_end):\n" + "\n".join(
                            f"  {k:<8s} {b:g}, {g:g}, {w:g}, {math.degrees(th):g}, {v:g}, {te:g}"
                            for k, (b, g, w, th, v, te) in SCENES.items()),

@@ -9,6 +9,11 @@ second, independent integrator, and their largest difference is reported as the
 reference's error.  Points within 10× of it are at the reference's floor: marked in
 the table and never fitted; the order is fitted over the asymptotic range only, with
 its standard error and range (:func:`mbm.cli.orderfit.fit_order`).
+
+Beside the measured error each run through :func:`mbm.solve` states its own estimate,
+``max |error_estimate of θ|`` from ``mbm.solve(..., error_estimate=True)``
+(:func:`estimate_error`); runs through ``solve_ivp`` (approximants without a compiled
+window) have none.
 """
 
 import math
@@ -19,7 +24,7 @@ import numpy as np
 from . import orderfit
 from .. import scenes
 
-__all__ = ["SCENES", "SCENE_TAUS", "integrate", "heyoka_ld_available", "heyoka_ld_states",
+__all__ = ["SCENES", "SCENE_TAUS", "integrate", "estimate_error", "heyoka_ld_available", "heyoka_ld_states",
            "study_reference", "run_study", "fit_order", "format_table", "write_csv", "plot_study"]
 
 # name -> (beta, gamma, omega, theta0 [rad], v0, t_end): scenes of mbm.scenes under the
@@ -117,6 +122,47 @@ def integrate(model, t_span, y0, t_eval, approximant="auto", tau=None, rtol=1e-6
     if not sol.success:
         raise RuntimeError(sol.message)
     return np.asarray(sol.y), int(n_windows)
+
+
+def estimate_error(model, t_span, y0, t_eval, approximant="auto", tau=None, rtol=1e-6, atol=1e-9):
+    """The run's own estimate of its error in θ: ``max |error_estimate[0]|``, or None.
+
+    The run of :func:`integrate` with the same arguments, through :func:`mbm.solve` with
+    ``error_estimate=True`` (the same windows and ``y``); None where :func:`integrate`
+    goes through ``solve_ivp``, which gives no estimate.  :class:`mbm.AccuracyWarning`
+    is silenced: a study shows the estimate beside the measured error.
+
+    Parameters
+    ----------
+    model : Pendulum
+    t_span : (float, float)
+    y0 : array_like, shape (2,)
+    t_eval : array_like
+        Output times.
+    approximant : str, optional
+    tau : float, optional
+        Fixed window length; default: windows from rtol/atol.
+    rtol, atol : float, optional
+
+    Returns
+    -------
+    float or None
+        The estimate's largest magnitude over ``t_eval``.
+    """
+    import warnings
+
+    from ..frontends.solve import solve
+    from .. import AccuracyWarning
+
+    if not _compiled(approximant):
+        return None
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AccuracyWarning)
+        sol = solve(model, t_span, y0, tau=tau, rtol=rtol, atol=atol, approximant=approximant,
+                    t_eval=t_eval, error_estimate=True)
+    if not sol.success:
+        raise RuntimeError(sol.message)
+    return float(np.max(np.abs(sol.error_estimate[0])))
 
 
 def heyoka_ld_available():
@@ -253,8 +299,9 @@ def run_study(scene, approximants, taus=None, rtols=None, n_out=201, show_progre
     dict
         ``knob`` ("tau" or "rtol"), ``values``, ``t``, ``ref`` (θ_ref at t, float64),
         ``ref_error``, ``ref_name``, ``check_name`` (:func:`study_reference`),
-        ``rows`` (list of dicts: approximant, value, windows, h, error, time_s, note,
-        floor (at the reference's floor), fitted (in the order fit)),
+        ``rows`` (list of dicts: approximant, value, windows, h, error, estimate (the
+        run's own, :func:`estimate_error`; None without one), time_s, note, floor (at
+        the reference's floor), fitted (in the order fit)),
         ``fits`` ({approximant: :class:`mbm.cli.orderfit.OrderFit`}), ``orders``
         ({approximant: fitted order}), ``n_fit`` ({approximant: points in the fit}),
         ``scene`` and ``curves`` ({approximant: (value, |θ − θ_ref| at t)} at the
@@ -304,12 +351,13 @@ def _study_point(model, y0, t, ref, name, knob, v, first):
 
     ``first``: run once untimed before (numba compilation or cache loading is not the
     cost of a window and would swamp the first row's time).  The row carries the error
-    curve under ``"curve"`` (|θ − θ_ref| at t) when the run succeeded.
+    curve under ``"curve"`` (|θ − θ_ref| at t) when the run succeeded.  The estimate
+    comes from one more run, untimed: the time is the plain run's.
     """
     t_end = float(t[-1])
     kw = {"tau": v} if knob == "tau" else {"rtol": v, "atol": v}
     row = dict(approximant=name, value=v, windows=0, h=float("nan"),
-               error=float("nan"), time_s=float("nan"), note="")
+               error=float("nan"), estimate=None, time_s=float("nan"), note="")
     try:
         if first:
             integrate(model, (0.0, t_end), list(y0), t, approximant=name, **kw)
@@ -319,7 +367,8 @@ def _study_point(model, y0, t, ref, name, knob, v, first):
         # In the reference's precision (long double from heyoka): θ ~ 2400 on the
         # running scene, where rounding θ_ref to a double would add 2.3e-13.
         e = np.abs(np.asarray(y[0], dtype=ref.dtype) - ref).astype(float)
-        row.update(windows=n_w, h=t_end / max(n_w, 1), error=float(np.max(e)), curve=e)
+        row.update(windows=n_w, h=t_end / max(n_w, 1), error=float(np.max(e)), curve=e,
+                   estimate=estimate_error(model, (0.0, t_end), list(y0), t, approximant=name, **kw))
     except (ValueError, RuntimeError, ArithmeticError) as exc:
         # A domain error or an option the approximant rejects is a result of
         # the study (e.g. no error estimate for an rtol sweep), not a crash.
@@ -347,19 +396,23 @@ def format_table(study):
         f"v0={v0:g} 0<=t<={t_end:g}; error = max|theta - theta_ref| over {study['t'].size} times",
         f"reference: {study['ref_name']}; its error, max|reference - check| with the check "
         f"{study['check_name']}: {study['ref_error']:.2g}",
-        f"{'approximant':<20s} {knob:>9s} {'windows':>8s} {'mean h':>9s} {'error':>10s} {'time ms':>9s}",
+        "estimate = the run's own, max|error_estimate of theta| (mbm.solve(..., error_estimate=True)); "
+        "— for a run through solve_ivp",
+        f"{'approximant':<20s} {knob:>9s} {'windows':>8s} {'mean h':>9s} {'error':>10s} {'estimate':>10s} "
+        f"{'time ms':>9s}",
     ]
     for r in study["rows"]:
         if r["note"]:
             lines.append(f"{r['approximant']:<20s} {r['value']:9.3g} {'-':>8s} {'-':>9s} "
-                         f"{'failed':>10s}   {r['note']}")
+                         f"{'failed':>10s} {'-':>10s}   {r['note']}")
             continue
         mark = ("   * at the reference's floor" if r.get("floor")
                 else "   fitted" if r.get("fitted")
                 else f"   not fitted (error >= {orderfit.ERR_CEIL:g})" if r["error"] >= orderfit.ERR_CEIL
                 else "   not fitted (outside the asymptotic range)")
+        est = "—" if r["estimate"] is None else f"{r['estimate']:.2e}"
         lines.append(f"{r['approximant']:<20s} {r['value']:9.3g} {r['windows']:8d} {r['h']:9.3g} "
-                     f"{r['error']:10.2e} {r['time_s'] * 1e3:9.2f}{mark}")
+                     f"{r['error']:10.2e} {est:>10s} {r['time_s'] * 1e3:9.2f}{mark}")
     lines.append("")
     lines.append("fitted order p of error ~ C h^p (h = mean window; least squares ± its standard error)")
     lines.append(
@@ -372,9 +425,9 @@ def format_table(study):
 
 
 def write_csv(study, path):
-    """Write the study's rows as CSV (approximant, knob value, windows, h, error, time, whether
-    at the reference's floor and in the fit, the fitted order and its standard error, the
-    reference's error).
+    """Write the study's rows as CSV (approximant, knob value, windows, h, error, the run's
+    error estimate (empty without one), time, whether at the reference's floor and in the
+    fit, the fitted order and its standard error, the reference's error).
 
     Parameters
     ----------
@@ -386,11 +439,12 @@ def write_csv(study, path):
 
     with open(path, "w", newline="") as f:
         w = csv.writer(f)
-        w.writerow(["approximant", study["knob"], "windows", "mean_h", "error", "time_s", "at_floor",
-                    "in_fit", "fitted_order", "order_stderr", "reference_error", "note"])
+        w.writerow(["approximant", study["knob"], "windows", "mean_h", "error", "error_estimate", "time_s",
+                    "at_floor", "in_fit", "fitted_order", "order_stderr", "reference_error", "note"])
         for r in study["rows"]:
             fit = study["fits"][r["approximant"]]
-            w.writerow([r["approximant"], repr(r["value"]), r["windows"], repr(r["h"]), repr(r["error"]),
+            est = "" if r["estimate"] is None else repr(r["estimate"])
+            w.writerow([r["approximant"], repr(r["value"]), r["windows"], repr(r["h"]), repr(r["error"]), est,
                         repr(r["time_s"]), int(r.get("floor", False)), int(r.get("fitted", False)),
                         repr(fit.order), repr(fit.stderr), repr(study["ref_error"]), r["note"]])
 

@@ -481,7 +481,7 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
         Add ``error_estimate`` (the shape of ``y``): an estimate of y_computed − y_true
         at each output, the windows' signed local errors transported by the tangent map
         (:mod:`mbm.tangent`), and warn (:class:`mbm.AccuracyWarning`) where it exceeds
-        10 times the tolerance atol + rtol·|y|.  The run takes the same windows and
+        10 times the tolerance ``atol + rtol·|y|``.  The run takes the same windows and
         gives the same ``y`` bit for bit as without it.
     sensitivities : sequence of str, optional
         Any of ``"theta0"``, ``"v0"``, ``"beta"``, ``"gamma"``, ``"omega"``,

@@ -131,14 +131,14 @@ def test_study_prints_table_with_fitted_orders(tmp_path, capsys):
     assert main(["study", "--scene", "ex1", "--approximants", "split4,taylor8",
                  "--taus", "0.5,0.25,0.125", "--csv", str(out_csv), "--plot", str(png)]) == 0
     text = capsys.readouterr().out
-    assert "windows" in text and "error" in text
+    assert "windows" in text and "error" in text and "estimate" in text
     orders = {line.split()[1]: float(line.split()[2]) for line in text.splitlines()
               if line.strip().startswith("order ")}
     assert orders["split4"] == pytest.approx(4.0, abs=0.3)
     assert orders["taylor8"] > 6.0
     with open(out_csv, newline="") as f:
         rows = list(csv.DictReader(f))
-    assert len(rows) == 6 and {"approximant", "tau", "error", "fitted_order"} <= set(rows[0])
+    assert len(rows) == 6 and {"approximant", "tau", "error", "error_estimate", "fitted_order"} <= set(rows[0])
     assert png.exists()
 
 

@@ -157,3 +157,30 @@ def test_heyoka_reference_follows_the_drive():
     ld = cli_study.heyoka_ld_states(model, [0.1, 0.0], t)
     cvode = mbm.reference(model, (0.0, 30.0), [0.1, 0.0], t_eval=t, rtol=1e-12, atol=1e-12).y
     assert ld.shape == (31, 2) and np.max(np.abs(ld.astype(float).T - cvode)) < 1e-9
+
+
+def test_study_prints_the_runs_error_estimate(tmp_path):
+    # Beside the measured error, each run through mbm.solve states its own estimate
+    # (max |error_estimate of θ|); a run through solve_ivp (salas-torque-cn: no compiled
+    # window) has none, "—" in the table and an empty CSV cell.
+    study = cli_study.run_study(cli_study.SCENES["ex1"], ["taylor8", "split4"], rtols=(1e-6, 1e-8),
+                                show_progress=False)
+    table = cli_study.format_table(study)
+    header = next(line for line in table.splitlines() if line.startswith("approximant"))
+    assert header.split()[:7] == ["approximant", "rtol", "windows", "mean", "h", "error", "estimate"]
+    for r in study["rows"]:
+        assert not r["note"] and r["error"] > 10 * study["ref_error"]
+        # on ex1 the estimate is the measured error to a few per cent; a factor 10 asked
+        assert r["error"] / 10 <= r["estimate"] <= 10 * r["error"], r
+        assert f"{r['error']:10.2e} {r['estimate']:10.2e}" in table
+    fixed = cli_study.run_study(cli_study.SCENES["ex1"], ["split4", "salas-torque-cn"], taus=(0.5, 0.25),
+                                show_progress=False)
+    est = {r["approximant"]: r["estimate"] for r in fixed["rows"]}
+    assert est["salas-torque-cn"] is None and est["split4"] > 0.0
+    assert cli_study.format_table(fixed).count("          — ") == 2
+    cli_study.write_csv(fixed, tmp_path / "s.csv")
+    import csv
+
+    with open(tmp_path / "s.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    assert [r["error_estimate"] == "" for r in rows] == [False, False, True, True]

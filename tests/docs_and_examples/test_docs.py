@@ -24,7 +24,7 @@ PARAMETER_MISMATCH = {"PR01", "PR02", "PR03"}
 GALLERY_FIGURES = {
     "fig_salas2021": 1, "fig_salas2022": 4, "fig_belendez2007": 6, "josephson_iv": 1,
     "shapiro_steps": 1, "stability_map": 1, "step_size_study": 1, "convergence_orders": 1,
-    "thermal_switching": 1, "fit_iv_curve": 1,
+    "thermal_switching": 1, "fit_iv_curve": 1, "fit_trajectory": 1,
 }
 
 

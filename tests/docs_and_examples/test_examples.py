@@ -215,3 +215,32 @@ def test_fit_iv_curve(tmp_path):
     for value, err, truth in ((fit.beta, fit.beta_err, ex.TRUE.beta), (fit.beta_c, fit.beta_c_err, ex.TRUE.beta_c),
                               (fit.I_c, fit.I_c_err, ex.TRUE.I_c), (fit.R, fit.R_err, ex.TRUE.R)):
         assert 0.0 < err < 0.25 * truth and abs(value - truth) <= 3 * err, (value, err, truth)
+
+
+def test_fit_trajectory(tmp_path):
+    ex = _load("fit_trajectory")
+    fits, png = ex.main(tmp_path, repeats=1)
+    assert png.exists() and png.stat().st_size > 10_000
+    sens, fd = fits["sensitivities"], fits["2-point"]
+    # both fits recover the truth within 3σ, with sensible errors, at one minimum
+    for f in (sens, fd):
+        assert f["result"].success
+        assert np.all(f["err"] > 0.0) and np.all(f["err"] < 0.05 * ex.TRUE), f["err"]
+        assert np.all(np.abs(f["value"] - ex.TRUE) <= 3 * f["err"]), (f["value"], f["err"])
+        assert f["sigma"] == pytest.approx(ex.NOISE, rel=0.3)
+    assert np.allclose(sens["value"], fd["value"], rtol=0, atol=1e-3 * sens["err"].min())
+    # the sensitivity Jacobian's fit: no finite differences, fewer runs of the model
+    assert sens["n_jacobian"] >= 1 and fd["n_jacobian"] == 0
+    assert sens["n_residual"] + sens["n_jacobian"] < fd["n_residual"]
+    # its Jacobian is the derivative of the residuals: against central differences of
+    # tighter runs at the solution (the example's runs are at 1e-10)
+    p, h = sens["value"], 1e-5
+    jac = sens["result"].jac
+    for k in range(3):
+        dp = np.zeros(3)
+        dp[k] = h
+        up = mbm.solve(mbm.Pendulum(*(p + dp)[:2]), (0.0, 40.0), [(p + dp)[2], 0.0], t_eval=ex.T,
+                       rtol=1e-13, atol=1e-13).y[0]
+        dn = mbm.solve(mbm.Pendulum(*(p - dp)[:2]), (0.0, 40.0), [(p - dp)[2], 0.0], t_eval=ex.T,
+                       rtol=1e-13, atol=1e-13).y[0]
+        assert np.max(np.abs((up - dn) / (2 * h) - jac[:, k])) < 1e-6 * np.max(np.abs(jac[:, k]))

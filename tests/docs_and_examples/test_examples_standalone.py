@@ -28,7 +28,7 @@ REPOSITORY_SCRIPTS = {"convergence_study"}
 # Quick examples (a few seconds each with warm numba caches) run as downloaded, with the
 # figures they write to ./out by default.
 RUN_AS_DOWNLOADED = {"josephson_iv": ["josephson_iv.png"], "convergence_orders": ["convergence_orders.png"],
-                     "fit_iv_curve": ["fit_iv_curve.png"]}
+                     "fit_iv_curve": ["fit_iv_curve.png"], "fit_trajectory": ["fit_trajectory.png"]}
 
 
 def _gallery():
