@@ -60,8 +60,9 @@ Track = collections.namedtuple("Track", ("t", "y", "coef", "t_out", "y_out"))
 Control = collections.namedtuple("Control", ("tol", "t_measured", "t_taylor", "n_order", "kt", "period"))
 
 #: One window as the pass follows it.
-#: ``lock``: (θ*, ω_l²) of a locked window (its rest taken by the linear flow once settled:
-#: :mod:`mbm.tangent.regimes`), else (nan, nan).
+#: ``lock``: (θ*, ω_l², sharp) of a locked window (its rest taken by the linear flow once
+#: settled: :mod:`mbm.tangent.regimes`; sharp ≠ 0: settled for the sensitivities' accuracy
+#: too), else (nan, nan, 0).
 Span = collections.namedtuple("Span", ("t0", "t1", "direction", "measured", "kt", "tol", "lock"))
 
 #: The transported error ``e`` (2,) and sensitivities ``S`` (2, n_sens), and their values
@@ -250,7 +251,7 @@ def transport(sc, codes, track, ctl, report, ws):
     return n_sub
 
 
-_NO_LOCK = (math.nan, math.nan)
+_NO_LOCK = (math.nan, math.nan, 0.0)
 _LOCKED_TAG = 101.0  # mbm.regimes.locked.LOCKED_TAG
 _CYCLE_TAG = 102.0  # mbm.regimes.cycle.CYCLE_TAG
 _STROBE_TAG = 103.0  # mbm.regimes.strobe.STROBE_TAG
@@ -269,9 +270,11 @@ def _regime_window(sc, codes, ws, n, ctl, direction, io, j, store):
     ends = (wy[n, 0], wy[n, 1], wy[n + 1, 0], wy[n + 1, 1])
     tag = coefs[n, 0] if n < coefs.shape[0] else 0.0
     lock = _NO_LOCK
-    if tag == _LOCKED_TAG:
-        lock = (coefs[n, 1] - coefs[n, 2], coefs[n, 6])  # θ* = θ₀ − x₀, ω_l²
-    span = Span(t0, t1, direction, measured, ctl.kt, ctl.tol, lock)
+    if tag == _LOCKED_TAG:  # θ* = θ₀ − x₀, ω_l², and whether the columns must be sharp
+        lock = (coefs[n, 1] - coefs[n, 2], coefs[n, 6], 1.0 if ctl.kt == ctl.n_order else 0.0)
+    # An exact flow's window (not measured): the reference at round-off, as the run is
+    # exact and sensitivities near a separatrix amplify the reference's error.
+    span = Span(t0, t1, direction, measured, ctl.kt, ctl.tol if measured else (0.0, 0.0), lock)
     periodic = ((tag == _CYCLE_TAG or tag == _STROBE_TAG) and ctl.period == ctl.period and direction > 0.0
                 and not (tag == _STROBE_TAG and _has(codes, _COL_FREQ)))
     if periodic:
@@ -295,13 +298,14 @@ def _has(codes, code):
 
 @njit(cache=True)
 def _settled(sc, lock, x0, x1, rtol, atol):
-    # Whether a locked window's state is so near θ* that the nonlinearity (ω²x²/2 of the
-    # deviation x) is below the reference's tolerance.
+    # Whether a locked window's state is so near θ* that the nonlinearity is below the
+    # reference's tolerance: in the flow (ω²x²/2 of the deviation x), and with
+    # sensitivities (lock[2]) in the tangent map too (ω²x of cos θ's variation).
     if lock[0] != lock[0]:
         return False
     x = _wrapped(x0 - lock[0])
     dev = abs(x) + abs(x1) / math.sqrt(abs(lock[1]))
-    return sc[2] * sc[2] * dev * dev <= reference_eps(x0, x1, rtol, atol)
+    return sc[2] * sc[2] * dev * (1.0 if lock[2] != 0.0 else dev) <= reference_eps(x0, x1, rtol, atol)
 
 
 @njit(**INLINE)
@@ -327,7 +331,7 @@ def _linear_rest(sc, codes, at, span, io, j):
     # θ*; returns the reference state at the window's end and the next output index.
     track, report, tr = io
     ts, x0, x1 = at
-    theta_star, wl2 = span.lock
+    theta_star, wl2 = span.lock[0], span.lock[1]
     dx = _wrapped(x0 - theta_star)
     te, yo = track.t_out, track.y_out
     while j < te.size and span.direction * (te[j] - span.t1) <= 0.0:
