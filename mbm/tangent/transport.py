@@ -125,7 +125,7 @@ def _advance(tr):
         tr.S[0, i], tr.S[1, i] = tr.S2[0, i], tr.S2[1, i]
 
 
-@njit(cache=True)
+@njit(**INLINE)
 def _taylor_window(sc, codes, ws, coef, span, io, j):
     # Window [t0, t1] of the run's own Taylor coefficients ``coef`` (degree n = coef[1]):
     # Φ and the columns to degree span.kt from them, the local error from their tail.
