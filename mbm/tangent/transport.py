@@ -252,6 +252,7 @@ def transport(sc, codes, track, ctl, report, ws):
 
 
 _NO_LOCK = (math.nan, math.nan, 0.0)
+_ZERO2 = np.zeros(2)
 _LOCKED_TAG = 101.0  # mbm.regimes.locked.LOCKED_TAG
 _CYCLE_TAG = 102.0  # mbm.regimes.cycle.CYCLE_TAG
 _STROBE_TAG = 103.0  # mbm.regimes.strobe.STROBE_TAG
@@ -351,32 +352,20 @@ def _linear_rest(sc, codes, at, span, io, j):
 
 
 @njit(**INLINE)
-def _floquet_step(M, PT, dT, rows, tr):
-    # One stored period on: e ← M e + d_T, S ← M S + P_T (the parameter columns).
-    e0 = M[0, 0] * tr.e[0] + M[0, 1] * tr.e[1] + dT[0]
-    e1 = M[1, 0] * tr.e[0] + M[1, 1] * tr.e[1] + dT[1]
-    tr.e[0], tr.e[1] = e0, e1
+def _apply(phi, pc, d, rows, src, dst):
+    # dst = Φ·src + (d, P): e ← Φ e + d, S ← Φ S + P (the parameter columns of pc); src and
+    # dst are (e, S) pairs and may be the same arrays.
+    e, S = src
+    e0 = phi[0, 0] * e[0] + phi[0, 1] * e[1] + d[0]
+    e1 = phi[1, 0] * e[0] + phi[1, 1] * e[1] + d[1]
+    dst[0][0], dst[0][1] = e0, e1
     for i in range(rows.size):
-        x0 = M[0, 0] * tr.S[0, i] + M[0, 1] * tr.S[1, i]
-        x1 = M[1, 0] * tr.S[0, i] + M[1, 1] * tr.S[1, i]
-        if rows[i] >= 2:
-            x0 += PT[0, rows[i]]
-            x1 += PT[1, rows[i]]
-        tr.S[0, i], tr.S[1, i] = x0, x1
-
-
-@njit(**INLINE)
-def _floquet_at(phi, pc, rows, tr):
-    # tr.e2, tr.S2 at a phase of the current period: Φ(s)·(e, S) + P(s).
-    tr.e2[0] = phi[0, 0] * tr.e[0] + phi[0, 1] * tr.e[1]
-    tr.e2[1] = phi[1, 0] * tr.e[0] + phi[1, 1] * tr.e[1]
-    for i in range(rows.size):
-        x0 = phi[0, 0] * tr.S[0, i] + phi[0, 1] * tr.S[1, i]
-        x1 = phi[1, 0] * tr.S[0, i] + phi[1, 1] * tr.S[1, i]
+        x0 = phi[0, 0] * S[0, i] + phi[0, 1] * S[1, i]
+        x1 = phi[1, 0] * S[0, i] + phi[1, 1] * S[1, i]
         if rows[i] >= 2:
             x0 += pc[0, rows[i]]
             x1 += pc[1, rows[i]]
-        tr.S2[0, i], tr.S2[1, i] = x0, x1
+        dst[1][0, i], dst[1][1, i] = x0, x1
 
 
 @njit(cache=True)
@@ -414,10 +403,10 @@ def _periodic_window(sc, codes, ws, ends, span, io, j, stored):
         t = t1 if last else te[j]
         kk = max(0, int(math.floor((t - t_a) / T)))
         while k < kk:
-            _floquet_step(M, PT, dT, rows, tr)
+            _apply(M, PT, dT, rows, (tr.e, tr.S), (tr.e, tr.S))  # one stored period on
             k += 1
         phi, pc, th, v = period_at(store, n_sub, min(max(t - t_a - k * T, 0.0), T), codes)
-        _floquet_at(phi, pc, rows, tr)
+        _apply(phi, pc, _ZERO2, rows, (tr.e, tr.S), (tr.e2, tr.S2))  # at the phase
         y0, y1 = (ends[2], ends[3]) if last else (yo[0, j], yo[1, j])
         d0, d1 = (_wrapped(y0 - th), y1 - v) if span.measured else (0.0, 0.0)
         if last:
