@@ -79,7 +79,6 @@ __all__ = [
     "period",
     "reference",
     "retrapping_current",
-    "SENSITIVITY_NAMES",
     "section_event",
     "shapiro_steps",
     "solve",
