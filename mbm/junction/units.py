@@ -52,6 +52,18 @@ def result_scales(junction, beta, omega):
     junction's model (ω = 1) with β/ω, γ/ω², θ'/ω (and A/ω², Ω/ω): I = γ I_c/ω² and
     V = (Φ₀ω_p/2π) θ'/ω.  The results' ``in_units`` methods use these.
 
+    Parameters
+    ----------
+    junction : Junction
+        The junction the result was computed on.
+    beta, omega : float
+        The result's β and ω.
+
+    Returns
+    -------
+    tuple of float
+        ``(I_c/ω², (Φ₀ω_p/2π)/ω)``: amperes per unit of γ, volts per unit of θ'.
+
     Raises
     ------
     TypeError
@@ -94,6 +106,10 @@ class Junction:
     -----
     Reduced time t' = ω_p t, β = 1/√β_c, γ = I/I_c, ω = 1, V = (Φ₀ω_p/2π) θ'
     (module docstring :mod:`mbm.junction.units`).
+
+    See Also
+    --------
+    mbm.IVCurve.in_units, mbm.ShapiroSteps.in_units : a whole result in amperes and volts.
 
     Examples
     --------
