@@ -40,10 +40,10 @@ from .frontends.solve import Integrator, solve, solve_njit
 from .frontends.batch import solve_batch
 from .events.compiled import Event, angle_event, section_event, velocity_event
 from .events.njit import event_table, solve_njit_events, solve_njit_function_events
-from .junction.iv import IVCurve, iv_curve
+from .junction.iv import IVCurve, IVCurveSI, iv_curve
 from .model import Pendulum
 from .frontends.probe import identify_model
-from .junction.shapiro import ShapiroStep, ShapiroSteps, shapiro_steps
+from .junction.shapiro import ShapiroStep, ShapiroStepSI, ShapiroSteps, ShapiroStepsSI, shapiro_steps
 from .frontends.reference import reference
 
 __version__ = "0.1.0"
@@ -58,12 +58,15 @@ __all__ = [
     "EscapeTimes",
     "Event",
     "IVCurve",
+    "IVCurveSI",
     "IVFit",
     "Integrator",
     "Junction",
     "Pendulum",
     "ShapiroStep",
     "ShapiroSteps",
+    "ShapiroStepsSI",
+    "ShapiroStepSI",
     "SwitchingHistogram",
     "angle_event",
     "approximant_names",

@@ -91,7 +91,7 @@ from .progress import progress as _progress
 from ..model import Pendulum
 from ..regimes import REGIME_NAMES, REGIME_PHASE_LOCKED, STROBE_MAX_PERIODS
 
-__all__ = ["iv_curve", "IVCurve", "mean_velocity", "driven_mean_velocity", "integrate_mbm", "LOCKED",
+__all__ = ["iv_curve", "IVCurve", "IVCurveSI", "mean_velocity", "driven_mean_velocity", "integrate_mbm", "LOCKED",
            "RUNNING"]
 
 LOCKED = "locked"
@@ -207,12 +207,6 @@ class IVCurve:
     velocity_tol : float
         The agreement of two successive blocks asked of a driven point (absolute, in
         units of ω).
-    dvoltage_dgamma : ndarray or None
-        The differential resistance d⟨θ'⟩/dγ at each point in reduced units (module
-        docstring; :meth:`mbm.Junction.differential_resistance` gives ohms): from the
-        period's sensitivity on a running cycle, 0 at a locked point and on a Shapiro
-        step (phase-locked), NaN at a driven point off the steps.  None unless
-        :func:`iv_curve` was asked for it (``differential=True``).
     switching_settled, retrapping_settled : bool
         Whether every probe of the bisection behind ``switching_bracket`` (resp.
         ``retrapping_bracket``) kept one voltage state over the blocks it was measured
@@ -222,6 +216,12 @@ class IVCurve:
         block, and the bracket may then be off by more than ``current_tol``.  (A probe
         whose ⟨θ'⟩ did not settle to ``velocity_tol`` but slipped in every block, or in
         none, is in that state: the bisection needs the state, not the voltage.)
+    dvoltage_dgamma : ndarray or None
+        The differential resistance d⟨θ'⟩/dγ at each point in reduced units (module
+        docstring; :meth:`mbm.Junction.differential_resistance` gives ohms): from the
+        period's sensitivity on a running cycle, 0 at a locked point and on a Shapiro
+        step (phase-locked), NaN at a driven point off the steps.  None unless
+        :func:`iv_curve` was asked for it (``differential=True``).
     """
 
     gamma: np.ndarray
@@ -244,6 +244,49 @@ class IVCurve:
     switching_settled: bool = True
     retrapping_settled: bool = True
     dvoltage_dgamma: np.ndarray = None
+
+    def in_units(self, junction):
+        """The curve in amperes, volts and ohms, for the junction it models.
+
+        Parameters
+        ----------
+        junction : mbm.Junction
+            The junction: its β must be the curve's ``beta`` (``beta / omega`` where
+            ``omega`` ≠ 1: :func:`mbm.junction.units.result_scales`).
+
+        Returns
+        -------
+        IVCurveSI
+
+        Raises
+        ------
+        TypeError
+            If ``junction`` is not an :class:`mbm.Junction`.
+        ValueError
+            If the curve was computed at another β than the junction's.
+
+        Examples
+        --------
+        >>> import mbm
+        >>> j = mbm.Junction(I_c=10e-6, R=10.0, C=1e-12)
+        >>> si = mbm.iv_curve(j.beta, j.gamma([14e-6]), theta_dot0=3.0).in_units(j)
+        >>> f"{si.current[0] * 1e6:.1f} µA, {si.voltage[0] * 1e6:.0f} µV"
+        '14.0 µA, 138 µV'
+        """
+        from .units import result_scales
+
+        amps, volts = result_scales(junction, self.beta, self.omega)
+        slope = self.dvoltage_dgamma
+        return IVCurveSI(
+            current=self.gamma * amps, voltage=self.mean_velocity * volts,
+            switching_current=float(self.switching_current) * amps,
+            retrapping_current=float(self.retrapping_current) * amps,
+            switching_bracket=tuple(float(g) * amps for g in self.switching_bracket),
+            retrapping_bracket=tuple(float(g) * amps for g in self.retrapping_bracket),
+            differential_resistance=None if slope is None else slope * (volts / amps),
+            drive_current=float(self.drive_amplitude) * amps,
+            drive_frequency_hz=junction.frequency(self.drive_frequency / self.omega),
+            junction=junction)
 
     def branches(self):
         """Index arrays of the up (γ increasing) and down (γ decreasing) parts of the sweep."""
@@ -308,6 +351,40 @@ class IVCurve:
         ax.set_title(title)
         ax.legend(fontsize=8, loc="lower right")
         return ax
+
+
+@dataclasses.dataclass(frozen=True)
+class IVCurveSI:
+    """An I–V curve in amperes, volts and ohms: what :meth:`IVCurve.in_units` returns.
+
+    Parameters
+    ----------
+    current : ndarray
+        The bias current I = γ I_c at each point (A), in the order visited.
+    voltage : ndarray
+        The dc voltage V = (Φ₀ω_p/2π)⟨θ'⟩ at each point (V).
+    switching_current, retrapping_current : float
+        I_s and I_r (A; NaN where the curve has none).
+    switching_bracket, retrapping_bracket : tuple of float
+        Their bisection brackets ``(lo, hi)`` (A).
+    differential_resistance : ndarray or None
+        dV/dI at each point (Ω), None unless the curve has ``dvoltage_dgamma``.
+    drive_current, drive_frequency_hz : float
+        The AC drive's amplitude I_ac (A) and frequency f (Hz); 0 without a drive.
+    junction : mbm.Junction
+        The junction converted with.
+    """
+
+    current: np.ndarray
+    voltage: np.ndarray
+    switching_current: float
+    retrapping_current: float
+    switching_bracket: tuple
+    retrapping_bracket: tuple
+    differential_resistance: np.ndarray
+    drive_current: float
+    drive_frequency_hz: float
+    junction: object
 
 
 def _settle_time(beta, gamma, omega):

@@ -47,7 +47,7 @@ import numpy as np
 from ..validate import (check_integer, check_positive, check_real, check_real_array, check_rule, check_rule_array,
                         keywords_named)
 
-__all__ = ["shapiro_steps", "ShapiroSteps", "ShapiroStep"]
+__all__ = ["shapiro_steps", "ShapiroSteps", "ShapiroStep", "ShapiroStepsSI", "ShapiroStepSI"]
 
 # Drive periods a probe runs from a state on the step before it is said to stay on it.
 # At β = 1, A = 0.5, Ω = 0.6 (current_tol 1e-6) the edges of the steps n = 0, 1, 2 were
@@ -159,10 +159,48 @@ class ShapiroSteps:
         -------
         ShapiroStep or None
         """
-        for s in self.steps:
-            if (s.p, s.q) == (p, q):
-                return s
-        return None
+        return _first_step(self.steps, p, q)
+
+    def in_units(self, junction):
+        """The steps in amperes and volts, for the junction they were computed on.
+
+        Each step's voltage is (p/q) h f / 2e, f the drive frequency in hertz
+        (:meth:`mbm.Junction.shapiro_voltage`).
+
+        Parameters
+        ----------
+        junction : mbm.Junction
+            The junction: its β must be the steps' ``beta`` (``beta / omega`` where
+            ``omega`` ≠ 1: :func:`mbm.junction.units.result_scales`).
+
+        Returns
+        -------
+        ShapiroStepsSI
+
+        Raises
+        ------
+        TypeError
+            If ``junction`` is not an :class:`mbm.Junction`.
+        ValueError
+            If the steps were computed at another β than the junction's.
+        """
+        from .units import result_scales
+
+        amps, volts = result_scales(junction, self.beta, self.omega)
+
+        def current(pair):
+            return tuple(float(g) * amps for g in pair)
+
+        steps = tuple(ShapiroStepSI(p=s.p, q=s.q, voltage=float(s.voltage) * volts, lower=float(s.lower) * amps,
+                                    upper=float(s.upper) * amps, lower_bracket=current(s.lower_bracket),
+                                    upper_bracket=current(s.upper_bracket), width=float(s.width) * amps,
+                                    sweep=s.sweep)
+                      for s in self.steps)
+        down = self.mean_velocity_down
+        return ShapiroStepsSI(steps=steps, current=self.gamma * amps, voltage=self.mean_velocity * volts,
+                              voltage_down=None if down is None else down * volts,
+                              drive_current=float(self.amplitude) * amps,
+                              drive_frequency_hz=junction.frequency(self.frequency / self.omega), junction=junction)
 
     def table(self):
         """The steps as a text table: order, voltage, edges with their brackets, width.
@@ -227,6 +265,85 @@ class ShapiroSteps:
             for s in self.steps:
                 values = (s.voltage, s.lower, s.upper, *s.lower_bracket, *s.upper_bracket, s.width)
                 f.write(f"{s.p},{s.q}," + ",".join(repr(float(v)) for v in values) + "\n")
+
+
+@dataclasses.dataclass(frozen=True)
+class ShapiroStepSI:
+    """One Shapiro step in amperes and volts (:meth:`ShapiroSteps.in_units`).
+
+    Parameters
+    ----------
+    p, q : int
+        The step's order p/q, as :class:`ShapiroStep`.
+    voltage : float
+        The step's voltage (p/q) h f / 2e (V), f the drive frequency.
+    lower, upper : float
+        The step's edges in bias current (A; NaN as :class:`ShapiroStep`).
+    lower_bracket, upper_bracket : tuple of float
+        The edges' bisection brackets (A).
+    width : float
+        ``upper − lower`` (A).
+    sweep : {"up", "down", "both"}
+        The bias sweep the step was found on.
+    """
+
+    p: int
+    q: int
+    voltage: float
+    lower: float
+    upper: float
+    lower_bracket: tuple
+    upper_bracket: tuple
+    width: float
+    sweep: str
+
+
+@dataclasses.dataclass(frozen=True)
+class ShapiroStepsSI:
+    """Shapiro steps in amperes and volts: what :meth:`ShapiroSteps.in_units` returns.
+
+    Parameters
+    ----------
+    steps : tuple of ShapiroStepSI
+        The steps, in the order of :attr:`ShapiroSteps.steps`.
+    current : ndarray
+        The grid's bias currents (A).
+    voltage : ndarray
+        The dc voltage on the grid on the way up (V; NaN where swept down only).
+    voltage_down : ndarray or None
+        The dc voltage on the grid on the way down (V), None where swept up only.
+    drive_current, drive_frequency_hz : float
+        The drive's amplitude I_ac (A) and frequency f (Hz).
+    junction : mbm.Junction
+        The junction converted with.
+    """
+
+    steps: tuple
+    current: np.ndarray
+    voltage: np.ndarray
+    voltage_down: np.ndarray
+    drive_current: float
+    drive_frequency_hz: float
+    junction: object
+
+    def step(self, p, q=1):
+        """The step p/q (the first one found, by lower edge), or None, as :meth:`ShapiroSteps.step`.
+
+        Parameters
+        ----------
+        p, q : int
+            The step's order p/q (q = 1: the integer step n = p).
+
+        Returns
+        -------
+        ShapiroStepSI or None
+        """
+        return _first_step(self.steps, p, q)
+
+
+def _first_step(steps, p, q):
+    # The first of ``steps`` of order p/q, or None.
+    return next((s for s in steps if (s.p, s.q) == (p, q)), None)
 
 
 def _check_orders(orders):

@@ -25,6 +25,9 @@ __all__ = ["Junction", "FLUX_QUANTUM"]
 
 # Φ₀ = h/2e in webers (CODATA, through scipy.constants).
 FLUX_QUANTUM = constants.physical_constants["mag. flux quantum"][0]
+# A reduced result converts with a junction whose β agrees with the result's β/ω to
+# this (relative): the same model up to round-off in how β was computed.
+BETA_RTOL = 1e-9
 
 
 def _positive(name, value, unit):
@@ -40,6 +43,40 @@ def _array(name, value):
     # a real number or an array of them, as a float (0-d) or a float ndarray
     arr = check_real_array(name, value)
     return float(arr) if arr.ndim == 0 else arr
+
+
+def result_scales(junction, beta, omega):
+    """Amperes per unit of γ and volts per unit of θ' for a reduced result at (β, ω).
+
+    The result's equation θ'' + βθ' + ω² sin θ = γ (+ A sin Ωt) in the time ωt is the
+    junction's model (ω = 1) with β/ω, γ/ω², θ'/ω (and A/ω², Ω/ω): I = γ I_c/ω² and
+    V = (Φ₀ω_p/2π) θ'/ω.  The results' ``in_units`` methods use these.
+
+    Parameters
+    ----------
+    junction : Junction
+        The junction the result was computed on.
+    beta, omega : float
+        The result's β and ω.
+
+    Returns
+    -------
+    tuple of float
+        ``(I_c/ω², (Φ₀ω_p/2π)/ω)``: amperes per unit of γ, volts per unit of θ'.
+
+    Raises
+    ------
+    TypeError
+        If ``junction`` is not an :class:`mbm.Junction`.
+    ValueError
+        If β/ω is not the junction's β (to :data:`BETA_RTOL`): another junction's result.
+    """
+    if not isinstance(junction, Junction):
+        raise TypeError(f"junction must be an mbm.Junction, got {type(junction).__name__}")
+    if not math.isclose(beta / omega, junction.beta, rel_tol=BETA_RTOL):
+        raise ValueError(f"junction: its beta = {junction.beta!r} is not the result's "
+                         f"beta/omega = {float(beta / omega)!r} (compute the result at junction.beta)")
+    return junction.I_c / omega**2, junction.voltage_scale / omega
 
 
 @dataclasses.dataclass(frozen=True)
@@ -69,6 +106,10 @@ class Junction:
     -----
     Reduced time t' = ω_p t, β = 1/√β_c, γ = I/I_c, ω = 1, V = (Φ₀ω_p/2π) θ'
     (module docstring :mod:`mbm.junction.units`).
+
+    See Also
+    --------
+    mbm.IVCurve.in_units, mbm.ShapiroSteps.in_units : a whole result in amperes and volts.
 
     Examples
     --------
