@@ -207,12 +207,6 @@ class IVCurve:
     velocity_tol : float
         The agreement of two successive blocks asked of a driven point (absolute, in
         units of ω).
-    dvoltage_dgamma : ndarray or None
-        The differential resistance d⟨θ'⟩/dγ at each point in reduced units (module
-        docstring; :meth:`mbm.Junction.differential_resistance` gives ohms): from the
-        period's sensitivity on a running cycle, 0 at a locked point and on a Shapiro
-        step (phase-locked), NaN at a driven point off the steps.  None unless
-        :func:`iv_curve` was asked for it (``differential=True``).
     switching_settled, retrapping_settled : bool
         Whether every probe of the bisection behind ``switching_bracket`` (resp.
         ``retrapping_bracket``) kept one voltage state over the blocks it was measured
@@ -222,6 +216,12 @@ class IVCurve:
         block, and the bracket may then be off by more than ``current_tol``.  (A probe
         whose ⟨θ'⟩ did not settle to ``velocity_tol`` but slipped in every block, or in
         none, is in that state: the bisection needs the state, not the voltage.)
+    dvoltage_dgamma : ndarray or None
+        The differential resistance d⟨θ'⟩/dγ at each point in reduced units (module
+        docstring; :meth:`mbm.Junction.differential_resistance` gives ohms): from the
+        period's sensitivity on a running cycle, 0 at a locked point and on a Shapiro
+        step (phase-locked), NaN at a driven point off the steps.  None unless
+        :func:`iv_curve` was asked for it (``differential=True``).
     """
 
     gamma: np.ndarray
