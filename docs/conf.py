@@ -71,6 +71,9 @@ html_title = "mbm"
 html_static_path = ["_static"]
 html_theme_options = {
     "navbar_align": "left",
+    # the root toctree's seven pages all in the top bar (the gallery third), none
+    # hidden under "More"
+    "header_links_before_dropdown": 7,
     "show_toc_level": 2,
     "navigation_with_keys": False,
     "secondary_sidebar_items": ["page-toc"],
@@ -88,5 +91,23 @@ def _gallery_out(app):
     os.environ["MBM_EXAMPLES_OUT"] = str(out)
 
 
+# Module-level constants of the API page: autodoc would show the docstring of their
+# type (a tuple's "Built-in immutable sequence ...") in place of one of their own.
+_DATA_DOCS = {
+    "mbm.SENSITIVITY_NAMES": [
+        "The parameter names ``sensitivities=`` accepts on :func:`mbm.solve`,",
+        ":meth:`mbm.Integrator.solve` and :func:`mbm.solve_batch`: θ₀, θ'₀, β, γ, ω",
+        "and the AC drive's A, Ω, φ.  The result's ``sensitivities`` has one row per",
+        "name asked, in the order asked (its ``sensitivity_names``).",
+    ],
+}
+
+
+def _data_doc(app, what, name, obj, options, lines):
+    if what == "data" and name in _DATA_DOCS:
+        lines[:] = list(_DATA_DOCS[name])
+
+
 def setup(app):
     app.connect("builder-inited", _gallery_out, priority=100)  # before sphinx-gallery (500)
+    app.connect("autodoc-process-docstring", _data_doc)

@@ -82,6 +82,7 @@ __all__ = [
     "period",
     "reference",
     "retrapping_current",
+    "SENSITIVITY_NAMES",
     "section_event",
     "shapiro_steps",
     "solve",

@@ -50,7 +50,7 @@ class Pendulum:
     A driven scene (A ≠ 0) is not autonomous: the time t of the state matters (the
     drive's phase at t is Ωt + φ), only the Taylor family integrates it (``"taylor"``,
     ``"auto"``; the papers' formulas and the exact flow solve the autonomous equation
-    and refuse it), and the long-horizon regimes of :mod:`mbm.regimes` are off.
+    and refuse it), and the long-horizon regimes (:doc:`/guide/regimes`) are off.
     With A = 0 the drive's frequency and phase change nothing: every path computes
     exactly what it computes for ``Pendulum(beta, gamma, omega)``.
 

@@ -120,8 +120,10 @@ class Approximant:
         True for an exact flow (no truncation error: one window as long as
         ``max_step`` allows).
     compiled_kind : str or None
-        Name of the kind the compiled window loop dispatches to (:data:`COMPILED_KINDS`
-        in :mod:`mbm.core.loop`); None: windows are driven from Python, one per step.
+        Name of the compiled kernel family that runs it (what lets :func:`mbm.solve`,
+        :class:`mbm.Integrator` and :func:`mbm.solve_batch` use it); None: no compiled
+        kernel, the approximant runs only under ``solve_ivp(method=mbm.MBM)``, its steps
+        (windows) driven from Python.
     kind_arg : int
         The kind's integer argument (the Taylor degree, the splitting method id).
     drive_capable : bool

@@ -118,7 +118,7 @@ def solve_njit_events(beta, gamma, omega, t0, theta0, v0, t_bound, t_eval, out, 
     rtol=rtol, atol=atol, t_eval=t_eval, events=..., max_events=max_events)``, bit for
     bit (the Taylor series, also at β = γ = 0), but that a scene trapped out of its
     events' reach with its outputs written ends there, as in :func:`mbm.solve_batch`
-    (fewer ``n_windows``; docs/guide/events.md).  Arguments are not validated (as a
+    (fewer ``n_windows``; :doc:`/guide/events`).  Arguments are not validated (as a
     compiled kernel's), but for ``max_events``.
 
     Parameters
@@ -135,7 +135,7 @@ def solve_njit_events(beta, gamma, omega, t0, theta0, v0, t_bound, t_eval, out, 
     rtol, atol : float
         Tolerances.
     max_windows : int
-        Windows the run may take.
+        Steps (windows) the run may take (past it, ``status`` 4).
     events : ndarray, shape (n_events, 5)
         The events, from :func:`event_table` (made in Python, passed in).
     max_events : int
@@ -146,9 +146,10 @@ def solve_njit_events(beta, gamma, omega, t0, theta0, v0, t_bound, t_eval, out, 
     Returns
     -------
     status : int
-        0 on success, 6 at a terminal event, else a :mod:`mbm.status` status.
+        0 on success, 6 at a terminal event, else the code of what stopped the run
+        (:doc:`/guide/statuses`).
     n_windows : int
-        Windows taken.
+        Steps (windows) taken.
     t_events : ndarray, shape (n_events, max_events)
         Each event's times, NaN past its stored count.
     y_events : ndarray, shape (n_events, max_events, 2)
@@ -226,7 +227,7 @@ def solve_njit_function_events(beta, gamma, omega, t0, theta0, v0, t_bound, t_ev
 
     The run and its events are those of ``mbm.solve(..., events=g, max_events=max_events)``
     with ``g.direction = direction`` and ``g.terminal = terminal``, bit for bit (the
-    Taylor series, no regime: :mod:`mbm.events.functions`).  Arguments are not validated,
+    Taylor series; the run never switches to a settled regime: :doc:`/guide/events`).  Arguments are not validated,
     but for ``max_events``.  Compiled for each ``g`` in each new process and not cached
     (numba cannot cache a kernel that takes a function, nor a caller of it): about
     3.5 s per function on 2 cores (``python -m benchmarks.compile_profile``), as the
@@ -246,7 +247,7 @@ def solve_njit_function_events(beta, gamma, omega, t0, theta0, v0, t_bound, t_ev
     rtol, atol : float
         Tolerances.
     max_windows : int
-        Windows the run may take.
+        Steps (windows) the run may take (past it, ``status`` 4).
     g : numba.njit function
         The event function g(t, θ, θ') -> float.
     direction : float
@@ -261,10 +262,10 @@ def solve_njit_function_events(beta, gamma, omega, t0, theta0, v0, t_bound, t_ev
     Returns
     -------
     status : int
-        0 on success, 6 at a terminal event, 3 where g was not finite, else a
-        :mod:`mbm.status` status.
+        0 on success, 6 at a terminal event, 3 where g was not finite, else the code
+        of what stopped the run (:doc:`/guide/statuses`).
     n_windows : int
-        Windows taken.
+        Steps (windows) taken.
     t_events : ndarray, shape (max_events,)
         The events' times, NaN past the stored count.
     y_events : ndarray, shape (max_events, 2)

@@ -332,14 +332,15 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
     events : Event, numba.njit function, or sequence of them, optional
         Built-in events (:func:`mbm.angle_event`, :func:`mbm.velocity_event`,
         :func:`mbm.section_event`) watched in every scene as :func:`mbm.solve` does (bit
-        for bit; in the lockstep lanes or the compiled loop); a terminal event stops its
-        scene only.  Every scene must run Taylor windows, and be driven for a section
-        event.  With a g(t, θ, θ') (:mod:`mbm.events.functions`) the scenes run in turn.
+        for bit, however the scenes are grouped); a terminal event stops its scene
+        only.  Every scene must use a Taylor approximant, and be driven for a section
+        event.  With a ``numba.njit`` g(t, θ, θ') (:doc:`/guide/events`) the scenes run
+        in turn.
     max_events : int, optional
         Events of each kind stored per scene, K (default: the most any scene has).
     temperature, seed, dt : array_like, int, float, optional
-        T > 0 (or one per scene): Langevin paths, scene i on the stream (seed, i), by
-        :func:`mbm.noise.paths.solve_langevin_batch`.  None or 0: as above.
+        T > 0 (or one per scene): Langevin paths, scene i on the random stream
+        (seed, i) (:doc:`/guide/noise`).  None or 0: as above.
     error_estimate, sensitivities : bool, sequence of str, optional
         As in :func:`mbm.solve`: ``error_estimate`` (N, 2, m) and ``sensitivities``
         (N, len(names), 2, m), each scene's equal bit for bit to :func:`mbm.solve`'s (the
@@ -351,8 +352,9 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
     Returns
     -------
     SolveResult
-        ``t`` (m,), ``y`` (N, 2, m), ``status`` (N,) per scene (0 ok), ``success``
-        (N,) bool, ``n_windows`` (N,), ``approximant`` (N,) names, ``regime``,
+        ``t`` (m,), ``y`` (N, 2, m), ``status`` (N,) per scene (0 ok, else the code of
+        what stopped it, :doc:`/guide/statuses`), ``success`` (N,) bool, ``n_windows``
+        (N,) steps taken, ``approximant`` (N,) names, ``regime``,
         ``t_regime``, ``period``, ``mean_velocity`` (N,) as in :func:`mbm.solve`, ``winding``
         (N, m) int64 with ``wrap=True`` (else None).  Each scene's answer equals
         :func:`mbm.solve` for that scene (a trapped scene's end apart).  A scene failing at
@@ -360,21 +362,25 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
         With ``events``: ``t_events`` (N, n_events, K) and ``y_events``
         (N, n_events, K, 2), NaN past each scene's stored count, ``winding_events``
         (N, n_events, K) int64 (0 past it) and ``n_events`` (N, n_events), every
-        occurrence counted; a scene stopped by a terminal event has status 6 (its
-        outputs after the event NaN), one whose window held more crossings than the
-        watch takes status 7; one trapped out of its events' reach ends early, locked (events guide).
+        occurrence counted; a scene stopped by a terminal event has status 6
+        (``EVENT``; its outputs after the event NaN), one with a step holding more
+        crossings of one event level than the event search takes has status 7
+        (``CROWDED``: pass a smaller ``max_step``); a damped scene trapped in a well from
+        which none of its events can be reached ends early, after its last output, with
+        ``regime`` ``"locked"`` (:doc:`/guide/events`).
 
     Raises
     ------
     ValueError
         Invalid arguments (named; for parameter arrays the first bad scene),
-        ``max_events`` < 1 or without ``events``, events on a scene without Taylor
-        windows, an approximant outside some scene's domain, a scene past 100 ``max_windows``.
+        ``max_events`` < 1 or without ``events``, events on a scene without a Taylor
+        approximant, an approximant outside some scene's domain, a scene certain to
+        take 100 times ``max_windows`` steps.
     TypeError
         Not real numbers (a str, bool, complex), an event neither mbm's nor ``numba.njit``,
         a non-int ``max_events``.
     KeyboardInterrupt
-        Honoured while the batch runs (every scene stops at its next window).
+        Honoured while the batch runs (every scene stops at its next step).
     """
     driven_call = not (_is_zero(drive_amplitude) and _is_zero(drive_frequency) and _is_zero(drive_phase))
     beta, gamma, omega, amp, freq, phase = _scene_arrays(

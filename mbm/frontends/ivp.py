@@ -194,46 +194,47 @@ class _MBMBase(OdeSolver):
 class MBM(_MBMBase):
     """Moving boundary method for θ'' + βθ' + ω² sin θ = γ, a drop-in `solve_ivp` method.
 
-    The solution is advanced over windows; at each window start an analytic
-    approximant is anchored at the current state (θ, θ'), and the state at the window
-    end is the formula's value there (the second paper's (3.29)–(3.31)).  The dense
-    output on a window is that analytic formula.  Windows are chosen from rtol/atol
-    by the approximant's error estimate, fixed at ``tau``, or (an exact flow) as long
-    as ``max_step`` allows.
+    The solution is advanced in steps that the method calls *windows*: at each
+    window's start an analytic approximant is anchored at the current state (θ, θ'),
+    and the state at the window's end is the formula's value there (the second
+    paper's (3.29)–(3.31)).  The dense output on a window is that analytic formula.
+    The step (window) lengths are adaptive, chosen from rtol/atol by the
+    approximant's error estimate, or fixed at ``tau``, or (an exact flow) as long as
+    ``max_step`` allows.
 
     Parameters
     ----------
     fun : callable
         Right-hand side ``fun(t, y)``: an :class:`mbm.Pendulum`, or any callable of
         the family, whose β, γ, ω and AC drive A sin(Ωt + φ) are identified by
-        probing (see :func:`mbm.frontends.probe.identify_model`).  A callable outside
+        probing (see :func:`mbm.identify_model`).  A callable outside
         the family raises ``ValueError``.
     t0 : float
         Initial time.
     y0 : array_like, shape (2,)
         Initial state [θ₀, θ̇₀].
     t_bound : float
-        Boundary time; the last window is cut to land on it exactly.
+        Boundary time; the last step is cut to land on it exactly.
     tau : float, optional
-        Fixed window length τ > 0 (capped by ``max_step``).  Default: windows from
-        rtol/atol when the approximant has an error estimate; one window as long as
-        ``max_step`` allows for an exact flow; otherwise ``first_step`` if given, else
-        ``0.1 · 2π/ω`` (with a warning if rtol/atol were given: they cannot change
-        such windows).
+        Fixed step (window) length τ > 0 (capped by ``max_step``).  Default: adaptive
+        steps from rtol/atol when the approximant has an error estimate; one step as
+        long as ``max_step`` allows for an exact flow; otherwise ``first_step`` if
+        given, else ``0.1 · 2π/ω`` (with a warning if rtol/atol were given: they cannot
+        change such fixed steps).
     approximant : str or Approximant, optional
-        ``"auto"`` (default: the exact flow when β = γ = 0 without a drive, else the Taylor series,
-        see :mod:`mbm.choice`) or a registered name (:func:`mbm.approximant_names`).
+        ``"auto"`` (default: the exact flow when β = γ = 0 without a drive, else the Taylor series)
+        or a registered name (:func:`mbm.approximant_names`).
     model : Pendulum, optional
-        The model; ``fun`` is checked against it (``ValueError`` naming the
-        parameters that differ, :func:`mbm.frontends.probe.check_model`).
+        The model; ``fun`` is checked against it (a ``ValueError`` names the
+        parameters that differ).
     anchors : {"windows", "events"}, optional
         ``"windows"`` (default): this class.  ``"events"``: anchor at event points
         (3.32), an :class:`MBMEventPoints` is built instead, with the options it takes
         (``events_from="cvode"`` or ``"approximant"``: where the event points come
         from).
     windows_per_step : int, None or "auto", optional
-        Windows per solve_ivp step.  ``"auto"`` (default): up to
-        :data:`WINDOWS_PER_STEP` (256) when solve_ivp passes ``t_eval`` and no
+        MBM's own steps (windows) per solve_ivp step.  ``"auto"`` (default): up to
+        256 when solve_ivp passes ``t_eval`` and no
         ``events`` (less Python per window, and a step's window store stays
         bounded); one when it passes ``events`` or no ``t_eval`` (solve_ivp then
         reports every window end, as it reports every step of its own methods), or
@@ -247,19 +248,19 @@ class MBM(_MBMBase):
         that an event function of the motion changes sign at most once per step (an
         exact flow's single window is cut into such steps).
     max_step : float, optional
-        Largest window allowed (default inf).
+        Largest step (window) allowed (default inf).
     first_step : float, optional
-        First adaptive window (default: searched from the estimate), or τ for an
+        First adaptive step (default: searched from the estimate), or τ for an
         approximant without an estimate when ``tau`` is not given.
     rtol, atol : float, optional
-        Tolerances (default 1e-3, 1e-6, scipy's): local error per window against
-        ``atol + rtol·|y|``; rtol below 100 machine epsilons is raised to it with a
-        warning, as scipy does.
+        Tolerances (default 1e-3, 1e-6, scipy's): local error per step (window)
+        against ``atol + rtol·|y|``; rtol below 100 machine epsilons is raised to it
+        with a warning, as scipy does.
     max_windows : int, optional
-        Windows the whole run may take (default 10⁷); past it the solver fails with
-        a message.  A run that would certainly take more than 100 times as many is
-        refused at construction with a ValueError naming the cause
-        (:func:`mbm.validate.check_window_budget`).
+        Steps (windows) the whole run may take (default 10⁷); past it the solver
+        fails with a message.  A run that would certainly take more than 100 times as
+        many (a torque abs(γ) far above ω², a tiny ``tau``) is refused at
+        construction with a ``ValueError`` naming the parameter causing it.
     vectorized : bool, optional
         Accepted for the interface; MBM does not call ``fun`` after probing.
     **extraneous
@@ -267,21 +268,31 @@ class MBM(_MBMBase):
 
     Attributes
     ----------
-    model, approximant, approximant_choice, max_step, rtol, atol, nfev, njev, nlu
-        See :class:`_MBMBase`.
+    model : Pendulum
+        The identified or given model.
+    approximant : Approximant
+        The approximant in use.
+    approximant_choice : (str, str)
+        Its name and why ("auto" records the reason for its choice).
+    max_step, rtol, atol : float
+        As given (rtol raised to 100 eps with a warning, as scipy does).
+    nfev : int
+        Calls of ``fun`` (probing only).
+    njev, nlu : int
+        Always 0.
     adaptive : bool
-        Whether windows come from rtol/atol.
+        Whether the step lengths come from rtol/atol.
     tau : float or None
-        The fixed window length in use (None when adaptive).
+        The fixed step (window) length in use (None when adaptive).
     windows_per_step : int or None
         The windows per step in use (``"auto"`` resolved).
     for_events : bool
         Whether solve_ivp passed ``events`` (windows kept short, see above).
     n_windows : int
-        Windows taken so far.
+        Steps (windows) taken so far.
     regime : str or None
         The long-horizon regime the run switched to (``"locked"``, ``"running"``,
-        ``"libration"`` or, driven, ``"phase-locked"``, see :mod:`mbm.regimes`; the
+        ``"libration"`` or, driven, ``"phase-locked"``, see :doc:`/guide/regimes`; the
         dense output beyond it is the closed form or the stored period, shifted), or None.
     t_regime : float
         When it switched (nan before).
@@ -588,9 +599,8 @@ MBM.__signature__ = _init_signature(MBM)
 class MBMEventPoints(_MBMBase):
     """The event-point moving boundary method (3.32), a `solve_ivp` method.
 
-    Windows end where θ = d (the approximant's zero-crossing surface,
-    :func:`mbm.events.points.event_function_d`) or θ' = 0, as the approximant's ``anchors``
-    allow.  ``events_from="cvode"`` (hybrid): the event points and the anchor states
+    Steps (windows) end where θ = d (the approximant's zero-crossing surface, the
+    papers' event points) or θ' = 0, as the approximant's ``anchors`` allow.  ``events_from="cvode"`` (hybrid): the event points and the anchor states
     there come from CVODE, so each window anchors at the numerical solution's state
     φ(τ_n) (the dense output jumps there by the previous window's error);
     ``"approximant"``: each window's formula finds its own next event and the next

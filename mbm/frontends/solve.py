@@ -177,29 +177,30 @@ class Integrator:
     """A prepared moving-boundary solver for one model: validated once, solved many times.
 
     Everything that does not depend on the span or the initial state (the model, the
-    tolerances, the approximant, the controller) is checked and resolved here, so
-    :meth:`solve` costs a few microseconds before its first window.  :func:`solve`
+    tolerances, the approximant, the step-size control) is checked and resolved here,
+    so :meth:`solve` costs a few microseconds before its first step.  :func:`solve`
     is the one-shot form (``Integrator(model, ...).solve(t_span, y0, t_eval)``).
 
     Parameters
     ----------
     model : Pendulum
     rtol, atol : float, optional
-        Tolerances, with scipy's meaning (local error per window against
-        ``atol + rtol·|y|``); rtol below 100 machine epsilons is raised to that
-        floor with a warning, as scipy does.
+        Tolerances, with scipy's meaning (local error per adaptive step, or window,
+        against ``atol + rtol·|y|``); rtol below 100 machine epsilons is raised to
+        that floor with a warning, as scipy does.
     approximant : str or Approximant, optional
         ``"auto"`` (default: the exact flow when β = γ = 0 without a drive, else the Taylor series) or
         one with a compiled kernel (``taylor*``, ``split*``, ``sbab*``, ``belendez``,
         ``salas-torque``).
     tau : float, optional
-        Fixed window length; default: windows from rtol/atol (one window for an
-        exact flow).
+        Fixed step (window) length; default: adaptive steps from rtol/atol (one step
+        for an exact flow).
     max_step : float, optional
-        Longest window.
+        Longest step (window).
     max_windows : int, optional
-        Windows one run may take (default 10⁷, seconds of compute); past it the run
-        stops with status 4 and the outputs it reached.
+        Steps (windows) one run may take (default 10⁷, seconds of compute); past it
+        the run stops with the outputs it reached and ``status`` 4 (``MAX_WINDOWS``,
+        :doc:`/guide/statuses`).
 
     Attributes
     ----------
@@ -281,12 +282,12 @@ class Integrator:
         y0 : array_like, shape (2,)
             [θ₀, θ̇₀].
         t_eval : array_like, optional
-            Output times, sorted in the direction of integration; default: the
-            window ends.
+            Output times, sorted in the direction of integration; default: the end
+            of every step.
         wrap : bool, optional
             θ wrapped to (−π, π], with its winding count (see :func:`solve`).
         events : Event, numba.njit function, or sequence of them, optional
-            Built-in events, or event functions g(t, θ, θ'), located on the windows
+            Built-in events, or event functions g(t, θ, θ'), located inside each step
             (see :func:`solve`); needs a Taylor approximant.
         max_events : int, optional
             Occurrences of each event stored (see :func:`solve`); default all.
@@ -435,48 +436,52 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
     y0 : array_like, shape (2,)
         [θ₀, θ̇₀].
     tau : float, optional
-        Fixed window length; default: windows from rtol/atol (or one window for an
-        exact flow).
+        Fixed step (window) length; default: adaptive steps from rtol/atol (or one
+        step for an exact flow).
     rtol, atol : float, optional
-        Tolerances, with scipy's meaning (local error per window against
-        ``atol + rtol·|y|``); rtol below 100 machine epsilons is raised to that
-        floor with a warning, as scipy does.
+        Tolerances, with scipy's meaning (local error per adaptive step, or window,
+        against ``atol + rtol·|y|``); rtol below 100 machine epsilons is raised to
+        that floor with a warning, as scipy does.
     approximant : str, optional
         ``"auto"`` (default) or a name with a compiled kernel (``taylor*``,
         ``split*``, ``sbab*``, ``belendez``, ``salas-torque``).
     t_eval : array_like, optional
-        Output times, sorted in the direction of integration; default: the window ends.
+        Output times, sorted in the direction of integration; default: the end of
+        every step.
     max_step : float, optional
-        Longest window.
+        Longest step (window).
     max_windows : int, optional
-        Windows the run may take (default 10⁷, seconds of compute); past it the run
-        stops with status 4 and the outputs it reached.  A run certain to take 100 times
-        as many (a runaway torque abs(γ) ≫ ω², a tiny ``tau``) is refused before it runs.
+        Steps (windows) the run may take (default 10⁷, seconds of compute); past it
+        the run stops with the outputs it reached and ``status`` 4 (``MAX_WINDOWS``,
+        :doc:`/guide/statuses`).  A run certain to take 100 times as many (a runaway
+        torque abs(γ) ≫ ω², a tiny ``tau``) is refused before it runs.
     wrap : bool, optional
         Report θ wrapped to (−π, π] (``y[0]``) with its winding count ``winding``
         (θ = 2π·winding + y[0]; needs ``t_eval``), at full precision however far the
         run has wound (the Taylor and splitting runs hold θ so inside).
     events : Event, numba.njit function, or sequence of them, optional
         Built-in events (:func:`mbm.angle_event`, :func:`mbm.velocity_event`,
-        :func:`mbm.section_event`) located inside the compiled run on each window's
-        own formula (:mod:`mbm.events.compiled`): every crossing of a Taylor window isolated
-        from its polynomial and refined to round-off, with scipy's ``direction`` and
-        ``terminal`` (the run stops at the event, which is then its last output and
-        state; ``status`` 6); an event exactly at t0 is not reported.  On a running
-        cycle or a libration the stored period's events are shifted per turn; the
-        locked regime is taken only where no event's level is within reach of its
-        closed form (else the scene is run without it), the phase-locked regime not at
-        all.  "auto" is the Taylor series (also at β = γ = 0); another is a ValueError.
-        The first call compiles the watch once (a few seconds, cached).  A
-        ``numba.njit`` g(t, θ, θ') is an event where it changes sign (scipy's
-        ``terminal``, ``direction``; no regime then; :mod:`mbm.events.functions`).
+        :func:`mbm.section_event`) located inside the compiled run on each step's own
+        formula (:doc:`/guide/events`): every crossing within a step is isolated from
+        the step's Taylor polynomial and refined to round-off, with scipy's
+        ``direction`` and ``terminal`` (a terminal event stops the run: the event is
+        then its last output and state, and ``status`` is 6, ``EVENT``); an event
+        exactly at t0 is not reported.  Events are still found after the motion settles
+        (:doc:`/guide/regimes`): on a running cycle or a libration the period's events
+        repeat turn by turn; the run switches to a resting (locked) state's closed form
+        only where no event's level can still be reached, and never to a phase-locked
+        orbit.  "auto" is the Taylor series (also at β = γ = 0); another approximant is
+        a ValueError.  The first call compiles the event search once (a few seconds,
+        cached).  A ``numba.njit`` g(t, θ, θ') is an event where it changes sign
+        (scipy's ``terminal``, ``direction``; the run then never switches to a
+        settled regime).
     max_events : int, optional
         Occurrences of each event stored (the first ``max_events``); all are counted
         in ``n_events``.  Default None: all.  Past it a running cycle's or a libration's
         turns are counted whole, so counting slips over 10⁶ time units costs what 10³ do.
     temperature, seed, dt : float, int, float, optional
         T > 0: a Langevin path (noise 2βT) at the fixed step ``dt`` from ``seed``
-        (:func:`mbm.noise.paths.solve_langevin`); None or 0: the run above.
+        (:doc:`/guide/noise`); None or 0: the run above.
     error_estimate : bool, optional
         Add ``error_estimate`` (the shape of ``y``): an estimate of y_computed − y_true
         at each output, the windows' signed local errors transported by the tangent map
@@ -492,17 +497,18 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
     Returns
     -------
     SolveResult
-        ``t``, ``y`` (shape (2, n)), ``success``, ``status`` (0 ok, else a
-        :mod:`mbm.status` status), ``message``, ``n_windows``, ``approximant`` and
+        ``t``, ``y`` (shape (2, n)), ``success``, ``status`` (0 ok, else the code of
+        what stopped the run, :doc:`/guide/statuses`), ``message`` (the same in words),
+        ``n_windows`` (steps taken), ``approximant`` and
         ``reason`` (what "auto" chose and why), ``regime`` (``"locked"`` when the run
         switched to the closed form of its equilibrium, ``"running"`` to its limit
         cycle, ``"libration"`` to the stored period of a conservative (β = 0) motion
         trapped in a well, ``"phase-locked"`` (driven) to a periodic orbit of the
-        stroboscopic map locked to the drive, a Shapiro step, :mod:`mbm.regimes`; else
+        stroboscopic map locked to the drive, a Shapiro step, :doc:`/guide/regimes`; else
         None), ``t_regime`` (when; nan if never), ``period`` and ``mean_velocity`` (the
         cycle's T_c and ±2π/T_c; a libration's period and 0; phase-locked, the orbit's
         period q·2π/Ω and (p/q)Ω, p the turns per q drive periods (q = 1 on an integer
-        Shapiro step, up to STROBE_MAX_PERIODS on a fractional one); 0 locked; nan
+        Shapiro step, up to 4 on a fractional one); 0 locked; nan
         otherwise),
         ``winding`` (int64, shape (n,), with ``wrap=True``; else None).
         With ``events``: ``t_events`` and ``y_events`` (a list with one array per
@@ -516,7 +522,8 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
     ------
     ValueError, TypeError
         Invalid arguments, named (TypeError: not a real number); an approximant without
-        a compiled kernel; a run past 100 ``max_windows`` (naming the parameter causing it).
+        a compiled kernel; a run certain to take 100 times ``max_windows`` steps (naming
+        the parameter causing it).
     """
     if not isinstance(model, Pendulum):
         raise TypeError(f"model must be an mbm.Pendulum, got {type(model).__name__}")
@@ -598,8 +605,8 @@ def solve_njit(beta, gamma, omega, t0, theta0, v0, t_bound, t_eval, out, rtol, a
                drive_amplitude=0.0, drive_frequency=0.0, drive_phase=0.0):
     """A whole run with approximant "auto", callable from your own ``numba.njit`` code.
 
-    The exact flow when β = γ = 0 without a drive (one window), else the default Taylor
-    series with windows from rtol/atol: the windows and outputs of
+    The exact flow when β = γ = 0 without a drive (one step), else the default Taylor
+    series with adaptive steps from rtol/atol: the steps and outputs of
     ``mbm.solve(Pendulum(beta, gamma, omega, drive_amplitude, drive_frequency,
     drive_phase), (t0, t_bound), [theta0, v0], rtol=rtol, atol=atol, t_eval=t_eval)``,
     bit for bit.  Arguments are not validated (as a compiled kernel's): β ≥ 0, ω > 0,
@@ -618,7 +625,7 @@ def solve_njit(beta, gamma, omega, t0, theta0, v0, t_bound, t_eval, out, rtol, a
     rtol, atol : float
         Tolerances.
     max_windows : int
-        Windows the run may take.
+        Steps (windows) the run may take (past it, ``status`` 4).
     drive_amplitude, drive_frequency, drive_phase : float, optional
         The AC drive's A, Ω, φ (default 0: none).  Pass all three or none: numba
         compiles one signature per number of arguments given.
@@ -626,9 +633,9 @@ def solve_njit(beta, gamma, omega, t0, theta0, v0, t_bound, t_eval, out, rtol, a
     Returns
     -------
     status : int
-        0 on success, else a :mod:`mbm.status` status.
+        0 on success, else the code of what stopped the run (:doc:`/guide/statuses`).
     n_windows : int
-        Windows taken.
+        Steps (windows) taken.
 
     Examples
     --------

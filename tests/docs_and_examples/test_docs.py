@@ -94,6 +94,12 @@ def test_site_builds_without_the_gallery(tmp_path):
         assert (html / f"{page}.html").is_file(), page
     # the benchmarks page shows the generated work-precision plots
     assert "benchmark_P2.png" in (html / "benchmarks.html").read_text(encoding="utf-8")
+    # the front page has its figure; the gallery is in the top bar, not under "More"
+    index = (html / "index.html").read_text(encoding="utf-8")
+    assert "benchmark_P2.png" in index
+    navbar = re.search(r'<ul class="bd-navbar-elements navbar-nav">(.*?)</nav>', index, flags=re.S).group(1)
+    shown = navbar.split('<li class="nav-item dropdown')[0]  # the "More" dropdown, if any
+    assert 'href="auto_examples/index.html"' in shown
 
 
 @pytest.mark.slow
@@ -108,6 +114,22 @@ def test_site_builds_with_the_gallery_executed(tmp_path):
         page = (html / "auto_examples" / f"{example}.html").read_text(encoding="utf-8")
         figures = set(re.findall(rf"sphx_glr_{example}_\d+\.png", page))
         assert len(figures) == n, (example, sorted(figures))
+
+
+def test_front_page_example_runs():
+    """The front page's ten lines run and print what their comments say."""
+    import contextlib
+    import io
+
+    text = (DOCS / "index.md").read_text(encoding="utf-8")
+    block = re.search(r"```python\n(.*?)```", text, flags=re.S).group(1)
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        exec(compile(block, "index.md", "exec"), {})
+    lines = out.getvalue().splitlines()
+    assert abs(float(lines[0]) - 0.30141) < 1e-5  # θ(80)
+    assert float(lines[1]) < 1e-9  # "its error bar: below 1e-9"
+    assert len(lines[2].strip("[]").split()) == 2  # ∂θ(80)/∂β, ∂θ(80)/∂γ
 
 
 def test_getting_started_example_runs():
