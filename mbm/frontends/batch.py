@@ -330,24 +330,18 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
     wrap : bool, optional
         As in :func:`mbm.solve`.
     events : Event, numba.njit function, or sequence of them, optional
-        Built-in events (:func:`mbm.angle_event`, :func:`mbm.velocity_event`,
-        :func:`mbm.section_event`) watched in every scene as :func:`mbm.solve` does (bit
-        for bit, however the scenes are grouped); a terminal event stops its scene
-        only.  Every scene must use a Taylor approximant, and be driven for a section
-        event.  With a ``numba.njit`` g(t, θ, θ') (:doc:`/guide/events`) the scenes run
-        in turn.
+        As in :func:`mbm.solve`, in every scene (bit for bit, however grouped); a
+        terminal event stops its scene only.  Every scene must use a Taylor approximant,
+        and be driven for a section event (:doc:`/guide/events`).
     max_events : int, optional
         Events of each kind stored per scene, K (default: the most any scene has).
     temperature, seed, dt : array_like, int, float, optional
         T > 0 (or one per scene): Langevin paths, scene i on the random stream
         (seed, i) (:doc:`/guide/noise`).  None or 0: as above.
     error_estimate, sensitivities : bool, sequence of str, optional
-        As in :func:`mbm.solve`: ``error_estimate`` (N, 2, m) and ``sensitivities``
-        (N, len(names), 2, m), each scene's equal bit for bit to :func:`mbm.solve`'s (the
-        tangent pass runs after the batch, scene by scene: it costs about one more run
-        of each scene besides the pass); one :class:`mbm.AccuracyWarning` names how many
-        scenes' estimates exceed 10 times the tolerance.  Not with ``events`` or a
-        temperature.
+        As in :func:`mbm.solve`, per scene: ``error_estimate`` (N, 2, m), ``sensitivities``
+        (N, len(names), 2, m), bit for bit :func:`mbm.solve`'s (each scene runs again with
+        the pass); one :class:`mbm.AccuracyWarning` counts the scenes past 10× the tolerance.
 
     Returns
     -------
@@ -359,15 +353,12 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
         (N, m) int64 with ``wrap=True`` (else None).  Each scene's answer equals
         :func:`mbm.solve` for that scene (a trapped scene's end apart).  A scene failing at
         run time (status ≠ 0) keeps its outputs so far, NaN after; the others are unaffected.
-        With ``events``: ``t_events`` (N, n_events, K) and ``y_events``
-        (N, n_events, K, 2), NaN past each scene's stored count, ``winding_events``
-        (N, n_events, K) int64 (0 past it) and ``n_events`` (N, n_events), every
-        occurrence counted; a scene stopped by a terminal event has status 6
-        (``EVENT``; its outputs after the event NaN), one with a step holding more
-        crossings of one event level than the event search takes has status 7
-        (``CROWDED``: pass a smaller ``max_step``); a damped scene trapped in a well from
-        which none of its events can be reached ends early, after its last output, with
-        ``regime`` ``"locked"`` (:doc:`/guide/events`).
+        With ``events``: ``t_events`` (N, n_events, K), ``y_events`` (N, n_events, K, 2)
+        (NaN past each scene's stored count), ``winding_events`` (N, n_events, K) int64
+        (0 past it) and ``n_events`` (N, n_events), every occurrence counted; status 6
+        (``EVENT``) ends a scene at a terminal event (NaN after it), status 7
+        (``CROWDED``) asks for a smaller ``max_step``; a damped scene trapped out of its
+        events' reach ends early, ``"locked"`` (:doc:`/guide/events`).
 
     Raises
     ------
@@ -388,16 +379,26 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
     y0 = _scene_states(y0, beta.size)
     tangent = _tangent_request(error_estimate, sensitivities, events)
     if temperature is not None and np.any(check_real_array("temperature", temperature) != 0.0):
-        if tangent is not None:
-            raise ValueError("error_estimate and sensitivities are not supported with a temperature > 0")
         return _langevin_batch((beta, gamma, omega, amp, freq, phase), y0, (t_span, t_eval), (temperature, seed, dt),
-                               {"tau": tau, "wrap": wrap, "events": events})
-    t0, t1, te, rtol, atol, max_step, max_windows = _run_options(t_span, t_eval, rtol, atol, max_step,
-                                                                 max_windows, wrap)
+                               {"tau": tau, "wrap": wrap, "events": events, "error_estimate": error_estimate,
+                                "sensitivities": sensitivities})
+    opts = _run_options(t_span, t_eval, rtol, atol, max_step, max_windows, wrap)
     if events is not None and isinstance(approximant, str) and approximant == "auto":
         approximant = auto_name(False)  # events are located on Taylor windows (mbm.solve)
     tau_checked = None if tau is None else check_positive("tau", tau)
-    _check_budgets(beta, gamma, omega, amp, y0, t0, t1, tau_checked, max_step=max_step, max_windows=max_windows)
+    _check_budgets(beta, gamma, omega, amp, y0, opts.t0, opts.t1, tau_checked, max_step=opts.max_step,
+                   max_windows=opts.max_windows)
+    return _run_scenes((beta, gamma, omega, amp, freq, phase), y0, opts, approximant=approximant, tau=tau,
+                       events=(events, max_events), wrap=wrap, tangent=tangent, driven_call=driven_call)
+
+
+def _run_scenes(params, y0, opts, *, approximant, tau, events, wrap, tangent, driven_call):
+    # solve_batch's run of its checked scenes (``params`` the six arrays, ``opts`` the
+    # _RunOptions, ``events`` = (events, max_events)): plan, run in lanes, result.
+    beta, gamma, omega, amp, freq, phase = params
+    t0, t1, te, rtol, atol, max_step, max_windows = opts
+    events, max_events = events
+    tau_checked = None if tau is None else float(tau)
     drive, plan, h, names = _plan_scenes(approximant, beta, gamma, omega, amp, freq, phase, driven_call=driven_call,
                                          tau=tau, max_step=max_step, t0=t0, t1=t1)
     ev, cap, items = compiled_events.batch_table(events, max_events, plan[0], drive[0], drive[1], names)
@@ -418,10 +419,10 @@ def solve_batch(beta, gamma, omega, y0, t_span, t_eval, *, rtol=1e-6, atol=1e-9,
     if ev is None:
         _run_batch_interruptibly(p, te, out, order)
         res = _batch_result(p, te, out, wrap, names)
-        if tangent is not None:
-            scenes = (np.stack([beta, gamma, omega, amp, freq, phase], axis=1), y0)
-            _batch_tangent(res, scenes, tangent, dict(rtol=rtol, atol=atol, tau=tau_checked, max_step=max_step,
-                                                      max_windows=max_windows), (float(t0), float(t1), wrap))
+        if tangent is not None:  # each scene again by its Integrator, with the pass
+            _batch_tangent(res, (np.stack([beta, gamma, omega, amp, freq, phase], axis=1), y0), tangent,
+                           dict(rtol=rtol, atol=atol, tau=tau_checked, max_step=max_step, max_windows=max_windows),
+                           (float(t0), float(t1), wrap))
         return res
     found = _run_events(p, te, out, order, ev, cap, items, drive, fresh=fresh)
     res = _batch_result(p, te, out, wrap, names)

@@ -436,58 +436,43 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
     y0 : array_like, shape (2,)
         [θ₀, θ̇₀].
     tau : float, optional
-        Fixed step (window) length; default: adaptive steps from rtol/atol (or one
-        step for an exact flow).
+        Fixed step (window) length; default: adaptive steps from rtol/atol.
     rtol, atol : float, optional
         Tolerances, with scipy's meaning (local error per adaptive step, or window,
         against ``atol + rtol·|y|``); rtol below 100 machine epsilons is raised to
         that floor with a warning, as scipy does.
     approximant : str, optional
-        ``"auto"`` (default) or a name with a compiled kernel (``taylor*``,
-        ``split*``, ``sbab*``, ``belendez``, ``salas-torque``).
+        ``"auto"`` (default) or a compiled one (``taylor*``, ``split*``, ``sbab*``, ``belendez``, ``salas-torque``).
     t_eval : array_like, optional
-        Output times, sorted in the direction of integration; default: the end of
-        every step.
+        Output times, sorted in the direction of integration; default: every step's end.
     max_step : float, optional
         Longest step (window).
     max_windows : int, optional
-        Steps (windows) the run may take (default 10⁷, seconds of compute); past it
-        the run stops with the outputs it reached and ``status`` 4 (``MAX_WINDOWS``,
-        :doc:`/guide/statuses`).  A run certain to take 100 times as many (a runaway
-        torque abs(γ) ≫ ω², a tiny ``tau``) is refused before it runs.
+        Steps (windows) the run may take (default 10⁷, seconds of compute); past it the
+        run stops with its outputs so far and ``status`` 4 (:doc:`/guide/statuses`).  A
+        run certain to take 100 times as many (abs(γ) ≫ ω², a tiny ``tau``) is refused.
     wrap : bool, optional
         Report θ wrapped to (−π, π] (``y[0]``) with its winding count ``winding``
-        (θ = 2π·winding + y[0]; needs ``t_eval``), at full precision however far the
-        run has wound (the Taylor and splitting runs hold θ so inside).
+        (θ = 2π·winding + y[0]; needs ``t_eval``), at full precision however far wound.
     events : Event, numba.njit function, or sequence of them, optional
         Built-in events (:func:`mbm.angle_event`, :func:`mbm.velocity_event`,
-        :func:`mbm.section_event`) located inside the compiled run on each step's own
-        formula (:doc:`/guide/events`): every crossing within a step is isolated from
-        the step's Taylor polynomial and refined to round-off, with scipy's
-        ``direction`` and ``terminal`` (a terminal event stops the run: the event is
-        then its last output and state, and ``status`` is 6, ``EVENT``); an event
-        exactly at t0 is not reported.  Events are still found after the motion settles
-        (:doc:`/guide/regimes`): on a running cycle or a libration the period's events
-        repeat turn by turn; the run switches to a resting (locked) state's closed form
-        only where no event's level can still be reached, and never to a phase-locked
-        orbit.  "auto" is the Taylor series (also at β = γ = 0); another approximant is
-        a ValueError.  The first call compiles the event search once (a few seconds,
-        cached).  A ``numba.njit`` g(t, θ, θ') is an event where it changes sign
-        (scipy's ``terminal``, ``direction``; the run then never switches to a
-        settled regime).
+        :func:`mbm.section_event`) or a ``numba.njit`` g(t, θ, θ') (an event where it
+        changes sign), located inside the compiled run to round-off, with scipy's
+        ``direction`` and ``terminal`` (a terminal event ends the run there: ``status``
+        6, ``EVENT``); an event exactly at t0 is not reported.  They need the Taylor
+        series ("auto" takes it; another approximant is a ValueError).  How they meet
+        the settled motions, and their first call's compile: :doc:`/guide/events`.
     max_events : int, optional
-        Occurrences of each event stored (the first ``max_events``); all are counted
-        in ``n_events``.  Default None: all.  Past it a running cycle's or a libration's
-        turns are counted whole, so counting slips over 10⁶ time units costs what 10³ do.
+        Occurrences of each event stored (the first ``max_events``; all are counted in
+        ``n_events``); default None: all.  Past it a settled cycle's turns are counted
+        whole, so counting slips over 10⁶ time units costs what 10³ do.
     temperature, seed, dt : float, int, float, optional
         T > 0: a Langevin path (noise 2βT) at the fixed step ``dt`` from ``seed``
         (:doc:`/guide/noise`); None or 0: the run above.
     error_estimate : bool, optional
-        Add ``error_estimate`` (the shape of ``y``): an estimate of y_computed − y_true
-        at each output, the windows' signed local errors transported by the tangent map
-        (:mod:`mbm.tangent`), and warn (:class:`mbm.AccuracyWarning`) where it exceeds
-        10 times the tolerance ``atol + rtol·|y|``.  The run takes the same windows and
-        gives the same ``y`` bit for bit as without it.
+        Add ``error_estimate`` (the shape of ``y``), an estimate of y_computed − y_true at
+        each output (:doc:`/theory/error_estimate`), and warn (:class:`mbm.AccuracyWarning`)
+        past 10 times ``atol + rtol·|y|``.  The same steps and ``y``, bit for bit.
     sensitivities : sequence of str, optional
         Any of ``"theta0"``, ``"v0"``, ``"beta"``, ``"gamma"``, ``"omega"``,
         ``"drive_amplitude"``, ``"drive_frequency"``, ``"drive_phase"``: add
@@ -500,16 +485,13 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
         ``t``, ``y`` (shape (2, n)), ``success``, ``status`` (0 ok, else the code of
         what stopped the run, :doc:`/guide/statuses`), ``message`` (the same in words),
         ``n_windows`` (steps taken), ``approximant`` and
-        ``reason`` (what "auto" chose and why), ``regime`` (``"locked"`` when the run
-        switched to the closed form of its equilibrium, ``"running"`` to its limit
-        cycle, ``"libration"`` to the stored period of a conservative (β = 0) motion
-        trapped in a well, ``"phase-locked"`` (driven) to a periodic orbit of the
-        stroboscopic map locked to the drive, a Shapiro step, :doc:`/guide/regimes`; else
-        None), ``t_regime`` (when; nan if never), ``period`` and ``mean_velocity`` (the
-        cycle's T_c and ±2π/T_c; a libration's period and 0; phase-locked, the orbit's
-        period q·2π/Ω and (p/q)Ω, p the turns per q drive periods (q = 1 on an integer
-        Shapiro step, up to 4 on a fractional one); 0 locked; nan
-        otherwise),
+        ``reason`` (what "auto" chose and why), ``regime`` (``"locked"``,
+        ``"running"``, ``"libration"`` or ``"phase-locked"`` (a Shapiro step) when the
+        run switched to a settled motion's closed form or stored period,
+        :doc:`/guide/regimes`; else None), ``t_regime`` (when; nan if never),
+        ``period`` and ``mean_velocity`` (T_c and ±2π/T_c running; a libration's period
+        and 0; phase-locked q·2π/Ω and (p/q)Ω, p turns per q ≤ 4 drive periods; nan and
+        0 locked; nan otherwise),
         ``winding`` (int64, shape (n,), with ``wrap=True``; else None).
         With ``events``: ``t_events`` and ``y_events`` (a list with one array per
         event, of shapes (k,) and (k, 2), as scipy's) and ``winding_events`` (int64
@@ -529,10 +511,8 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
         raise TypeError(f"model must be an mbm.Pendulum, got {type(model).__name__}")
     (t0, t1), (theta0, v0) = check_span(t_span), _state(y0)
     if temperature is not None and check_rule("temperature", temperature, (">=0", ">= 0")) > 0.0:
-        if error_estimate is not False or sensitivities is not None:
-            raise ValueError("error_estimate and sensitivities are not supported with a temperature > 0")
         return _langevin(model, (t0, t1, theta0, v0), (temperature, seed, dt), t_eval, tau=tau, wrap=wrap,
-                         events=events)
+                         events=events, error_estimate=error_estimate, sensitivities=sensitivities)
     ig = _solver_for(model, rtol, atol, approximant, tau, max_step, max_windows, events is not None)
     _check_budget(ig, t0, t1, v0)
     tangent = _tangent_request(error_estimate, sensitivities, events)
@@ -553,11 +533,12 @@ def _tangent_request(error_estimate, sensitivities, events):
     return req
 
 
-def _langevin(model, start, noise, t_eval, *, tau, wrap, events):
+def _langevin(model, start, noise, t_eval, *, tau, wrap, events, error_estimate=False, sensitivities=None):
     # mbm.solve with a temperature > 0 (noise: temperature, seed, dt): mbm.noise.paths,
     # loaded on first use.
     temperature, seed, dt = noise
-    for name, value in (("tau", tau), ("wrap", wrap), ("events", events)):
+    for name, value in (("tau", tau), ("wrap", wrap), ("events", events), ("error_estimate", error_estimate),
+                        ("sensitivities", sensitivities)):
         if value is not None and value is not False:
             raise ValueError(f"{name} is not supported with a temperature > 0 (a Langevin path)")
     from ..noise.paths import solve_langevin

@@ -35,7 +35,7 @@ from numba import njit
 
 from ..approximants.taylor_series import HEADER
 from ..compile.jit import INLINE
-from .reference import REF_DEGREE, reference_eps, reference_step
+from .reference import reference_eps, reference_step
 from .regimes import expm2, linear_columns, linear_forcing, period_at, period_map, period_store
 from .series import COL_THETA0, COL_V0, columns, sincos_of, tangent_series, value_rate
 
@@ -219,7 +219,7 @@ def transport(sc, codes, track, ctl, report, ws):
     int
         Reference sub-windows taken, or −1 where a reference step failed (a non-finite state).
     """
-    wt, wy, coefs = track.t, track.y, track.coef
+    wt, coefs = track.t, track.coef
     rows = report.rows
     ns = rows.size
     tr = Transported(np.zeros(2), np.zeros((2, ns)), np.empty(2), np.empty((2, ns)))
@@ -265,7 +265,7 @@ def _regime_window(sc, codes, ws, n, ctl, direction, io, j, store):
     # until settled, then the linear flow), a stored period's (Floquet over the stored
     # period), or any other (the reference).  Returns (next output, sub-windows; −1: failed).
     track = io[0]
-    wt, wy, coefs = track.t, track.y, track.coef
+    wt, coefs = track.t, track.coef
     t0, t1 = wt[n], wt[n + 1]
     measured = direction * (ctl.t_measured - t0) > 0.0
     ends = (wy[n, 0], wy[n, 1], wy[n + 1, 0], wy[n + 1, 1])

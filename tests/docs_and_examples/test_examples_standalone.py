@@ -9,6 +9,7 @@ empty folder and run there as a reader would run them.
 
 import ast
 import importlib.util
+import sysconfig
 import os
 import re
 import shutil
@@ -59,6 +60,10 @@ def _installed(name):
     if name == "mbm" or spec.origin in (None, "built-in", "frozen"):
         return spec.origin or name
     origin = Path(spec.origin).resolve()
+    # An installed package may sit inside the checkout too (CI's and a developer's .venv).
+    installed = {Path(sysconfig.get_paths()[k]).resolve() for k in ("purelib", "platlib")}
+    if any(p in origin.parents for p in installed):
+        return str(origin)
     return None if ROOT in origin.parents else str(origin)
 
 
