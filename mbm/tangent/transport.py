@@ -265,7 +265,7 @@ def _regime_window(sc, codes, ws, n, ctl, direction, io, j, store):
     # until settled, then the linear flow), a stored period's (Floquet over the stored
     # period), or any other (the reference).  Returns (next output, sub-windows; −1: failed).
     track = io[0]
-    wt, coefs = track.t, track.coef
+    wt, wy, coefs = track.t, track.y, track.coef
     t0, t1 = wt[n], wt[n + 1]
     measured = direction * (ctl.t_measured - t0) > 0.0
     ends = (wy[n, 0], wy[n, 1], wy[n + 1, 0], wy[n + 1, 1])
