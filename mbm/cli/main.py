@@ -368,9 +368,10 @@ BENCH_MOVED = (
 
 
 def iv_command(beta, gamma_max, points, *, omega=1.0, current_tol=1e-4, csv=None, plot=None, out=None,
-               drive_amplitude=0.0, drive_frequency=0.0, drive_phase=0.0):
+               drive_amplitude=0.0, drive_frequency=0.0, drive_phase=0.0, differential=False):
     """``mbm iv``: an up-and-down I–V sweep 0 → gamma_max → 0; print the currents, write CSV/PNG
-    (with an AC drive A sin(Ωt + φ) on every bias point where ``drive_amplitude`` ≠ 0).
+    (with an AC drive A sin(Ωt + φ) on every bias point where ``drive_amplitude`` ≠ 0; with
+    ``differential``, d⟨θ'⟩/dγ at every point too, printed at the top of the sweep).
 
     Returns
     -------
@@ -383,8 +384,11 @@ def iv_command(beta, gamma_max, points, *, omega=1.0, current_tol=1e-4, csv=None
     up = np.linspace(0.0, gamma_max, points)
     curve = mbm.iv_curve(beta, np.r_[up, up[::-1]], omega=omega, current_tol=current_tol,
                          drive_amplitude=drive_amplitude, drive_frequency=drive_frequency,
-                         drive_phase=drive_phase, progress=True)
+                         drive_phase=drive_phase, progress=True, differential=differential)
     print(f"beta = {beta:g}, omega = {omega:g}, {2 * points} bias points", file=out)
+    if differential:
+        print(f"differential resistance d<theta'>/dgamma at gamma = {gamma_max:g}: "
+              f"{float(curve.dvoltage_dgamma[points - 1]):.6g} (every point's in the CSV)", file=out)
     if drive_amplitude != 0.0:
         print(f"AC drive A = {drive_amplitude:g}, Omega = {drive_frequency:g}, phi = {drive_phase:g}", file=out)
     for name, value, (lo, hi), settled in (
@@ -521,6 +525,9 @@ def _build_parser():
     r.add_argument("--steps", action="store_true",
                    help="with a drive: the Shapiro steps over [0, gamma-max] instead of the sweep, each edge "
                         "bisected to --current-tol on a grid of --points (mbm.shapiro_steps); prints the table")
+    r.add_argument("--differential", action="store_true",
+                   help="also d<theta'>/dgamma at every point (the differential resistance, in units of R; "
+                        "a CSV column)")
     r.add_argument("--csv", default=None, help="write gamma, mean velocity, regime, period, converged "
                                                "(--steps: one row per step)")
     r.add_argument("--plot", default=None, metavar="PNG", help="save the I-V plot")
@@ -582,11 +589,14 @@ def main(argv=None):
             _require_matplotlib(parser, "--plot")
         if args.steps and args.drive_amplitude == 0.0:
             parser.error("--steps needs a drive: --drive-amplitude A != 0 and --drive-frequency Omega > 0")
+        if args.steps and args.differential:
+            parser.error("--differential is for the I-V sweep, not --steps")
+        extra = {"differential": True} if args.differential else {}
         try:
             (steps_command if args.steps else iv_command)(
                 args.beta, args.gamma_max, args.points, omega=args.omega, current_tol=args.current_tol,
                 csv=args.csv, plot=args.plot, drive_amplitude=args.drive_amplitude,
-                drive_frequency=args.drive_frequency, drive_phase=args.drive_phase)
+                drive_frequency=args.drive_frequency, drive_phase=args.drive_phase, **extra)
         except ValueError as exc:
             parser.error(str(exc))
     elif args.command == "bench":  # reached only via an unusual argv order

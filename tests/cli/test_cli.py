@@ -208,6 +208,21 @@ def test_iv_command(tmp_path, capsys):
     assert png.exists() and csv.read_text().splitlines()[1] == "gamma,mean_velocity,regime,period,converged"
 
 
+def test_iv_command_differential(tmp_path, capsys):
+    from mbm.cli.main import main
+
+    csv = tmp_path / "iv.csv"
+    assert main(["iv", "--beta", "2", "--points", "6", "--differential", "--csv", str(csv)]) == 0
+    out = capsys.readouterr().out
+    rows = csv.read_text().splitlines()
+    assert rows[1] == "gamma,mean_velocity,regime,period,converged,dvoltage_dgamma"
+    top = rows[2 + 5].split(",")  # gamma = 1.5, the top of the sweep
+    assert float(top[0]) == 1.5 and f"dgamma at gamma = 1.5: {float(top[-1]):.6g}" in out
+    with pytest.raises(SystemExit):
+        main(["iv", "--beta", "2", "--drive-amplitude", "1", "--drive-frequency", "1", "--steps", "--differential"])
+    assert "--differential is for the I-V sweep" in capsys.readouterr().err
+
+
 def test_iv_command_with_a_drive(tmp_path, capsys):
     from mbm.cli.main import main
 
