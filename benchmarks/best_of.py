@@ -17,6 +17,19 @@ import numpy as np
 WARMUP = 50
 
 
+def best_us(run, batches, calls, warmup=1):
+    """Best µs per call of ``run()`` over ``batches`` batches of ``calls`` calls, after ``warmup``."""
+    for _ in range(warmup):
+        run()
+    best = np.inf
+    for _ in range(batches):
+        t0 = time.perf_counter()
+        for _ in range(calls):
+            run()
+        best = min(best, (time.perf_counter() - t0) / calls)
+    return best * 1e6
+
+
 def best_of(scene="P4", rtol=1e-6, batches=7, calls=200):
     """(best µs per call, windows) of ``mbm.solve`` on ``scene`` at rtol = atol = ``rtol``."""
     import mbm
@@ -29,15 +42,7 @@ def best_of(scene="P4", rtol=1e-6, batches=7, calls=200):
     def run():
         return mbm.solve(s.model, s.t_span, s.y0, rtol=rtol, atol=rtol, t_eval=te)
 
-    for _ in range(WARMUP):
-        run()
-    best = np.inf
-    for _ in range(batches):
-        t0 = time.perf_counter()
-        for _ in range(calls):
-            run()
-        best = min(best, (time.perf_counter() - t0) / calls)
-    return best * 1e6, int(run().n_windows)
+    return best_us(run, batches, calls, warmup=WARMUP), int(run().n_windows)
 
 
 def main(argv=None):

@@ -15,12 +15,12 @@ heyoka at tol 1e-15 beside the times.
 
 import argparse
 import platform
-import time
 
 import numpy as np
 
 import mbm
 
+from .best_of import best_us
 from .scenes import SCENES
 
 #: Tolerances of the effectivity suite (rtol = atol).
@@ -98,15 +98,6 @@ def effectivity(per_regime, seed):
     return rows
 
 
-def _best(f, calls, batches=5):
-    f()
-    best = np.inf
-    for _ in range(batches):
-        t0 = time.perf_counter()
-        for _ in range(calls):
-            f()
-        best = min(best, (time.perf_counter() - t0) / calls)
-    return best * 1e6
 
 
 def cost(calls, rtol=1e-6):
@@ -121,9 +112,9 @@ def cost(calls, rtol=1e-6):
         te = np.linspace(*s.t_span, N_OUT)
         pars = list(s.model.params) + [0.0, 0.0, 0.0]
         ig = mbm.Integrator(s.model, rtol=rtol, atol=rtol)
-        plain = _best(lambda: ig.solve(s.t_span, s.y0, t_eval=te), calls)
-        est = _best(lambda: ig.solve(s.t_span, s.y0, t_eval=te, error_estimate=True), calls)
-        sens = _best(lambda: ig.solve(s.t_span, s.y0, t_eval=te, sensitivities=UNDRIVEN), calls)
+        plain = best_us(lambda: ig.solve(s.t_span, s.y0, t_eval=te), 5, calls)
+        est = best_us(lambda: ig.solve(s.t_span, s.y0, t_eval=te, error_estimate=True), 5, calls)
+        sens = best_us(lambda: ig.solve(s.t_span, s.y0, t_eval=te, sensitivities=UNDRIVEN), 5, calls)
         ta = hy.taylor_adaptive(vsys, list(s.y0), pars=pars, tol=rtol, compact_mode=True)
         tight = hy.taylor_adaptive(vsys, list(s.y0), pars=pars, tol=1e-15, compact_mode=True)
         ref = tight.propagate_grid(te)[-1]
@@ -135,7 +126,7 @@ def cost(calls, rtol=1e-6):
             ta.state[2] = ta.state[11] = 1.0  # the identity: dx/dx0, dv/dv0
             return ta.propagate_grid(te)[-1]
 
-        hy_us = _best(heyoka_run, calls)
+        hy_us = best_us(heyoka_run, 5, calls)
         cols = list(range(2, 7)) + list(range(10, 15))  # ∂(θ, θ')/∂(θ₀, θ̇₀, β, γ, ω)
         scale = np.abs(ref[:, cols]).max()
         hy_err = np.abs(heyoka_run()[:, cols] - ref[:, cols]).max() / scale

@@ -39,6 +39,8 @@ from .reference import reference_eps, reference_step
 from .regimes import expm2, linear_columns, linear_forcing, period_at, period_map, period_store
 from .series import COL_THETA0, COL_V0, columns, sincos_of, tangent_series, value_rate
 
+#: Windows per compiled call of the pass: Ctrl-C is honoured between calls (a few ms each).
+CHUNK_WINDOWS = 4096
 #: Degree of the tangent map on the run's own Taylor windows when only the error is
 #: estimated: at the run's window (h/ρ ≈ rtol^(1/24) ≤ 0.75 at rtol ≤ 1e-3) its
 #: truncation is below 3 % of Φ, plenty for an error bar; sensitivities take the run's degree.
@@ -198,8 +200,30 @@ def _reference_window(sc, codes, ws, start, span, io, j):
 
 
 @njit(cache=True)
-def transport(sc, codes, track, ctl, report, ws):
-    """Error transport and sensitivities along a run (module docstring).
+def start(track, report, n_codes, nt, period):
+    """The pass's carry at the run's start: (Transported, the stored period's arrays, cursor),
+    cursor = [next window, next output, reference sub-windows so far]; the outputs at t0
+    written (zero error, the initial sensitivities)."""
+    rows = report.rows
+    ns = rows.size
+    tr = Transported(np.zeros(2), np.zeros((2, ns)), np.zeros(2), np.empty((2, ns)))
+    for i in range(ns):
+        tr.S[0, i] = 1.0 if rows[i] == COL_THETA0 else 0.0
+        tr.S[1, i] = 1.0 if rows[i] == COL_V0 else 0.0
+        tr.S2[0, i] = tr.S[0, i]
+        tr.S2[1, i] = tr.S[1, i]
+    j = 0
+    while j < track.t_out.size and track.t_out[j] == track.t[0]:
+        _report(report, j, tr, 0.0, 0.0)
+        j += 1
+    store = period_store(n_codes, nt) if period == period else period_store(0, 0)
+    return tr, store, np.array([0, j, 0], np.int64)
+
+
+@njit(cache=True)
+def transport(sc, codes, track, ctl, report, ws, carry):
+    """Error transport and sensitivities along a run (module docstring), CHUNK_WINDOWS
+    windows from where ``carry`` (:func:`start`) stands.
 
     Parameters
     ----------
@@ -213,31 +237,22 @@ def transport(sc, codes, track, ctl, report, ws):
         Filled for the outputs reached.
     ws : tuple
         :func:`mbm.tangent.series.workspace` of degree REF_DEGREE and len(codes) columns.
+    carry : tuple
+        From :func:`start`, advanced in place.
 
     Returns
     -------
     int
-        Reference sub-windows taken, or −1 where a reference step failed (a non-finite state).
+        1 while windows are left (call again: Ctrl-C gets in between), 0 when done, −1
+        where a reference step failed (a non-finite state).
     """
     wt, coefs = track.t, track.coef
-    rows = report.rows
-    ns = rows.size
-    tr = Transported(np.zeros(2), np.zeros((2, ns)), np.empty(2), np.empty((2, ns)))
-    for i in range(ns):
-        tr.S[0, i] = 1.0 if rows[i] == COL_THETA0 else 0.0
-        tr.S[1, i] = 1.0 if rows[i] == COL_V0 else 0.0
-        tr.S2[0, i] = tr.S[0, i]
-        tr.S2[1, i] = tr.S[1, i]
-    tr.e2[:] = 0.0
+    tr, store, cursor = carry
     direction = 1.0 if wt[wt.size - 1] >= wt[0] else -1.0
-    j = 0
-    while j < track.t_out.size and track.t_out[j] == wt[0]:
-        _report(report, j, tr, 0.0, 0.0)
-        j += 1
     io = (track, report, tr)
-    store = period_store(codes.size, ws[0].size - 1) if ctl.period == ctl.period else period_store(0, 0)
-    n_sub = 0
-    for n in range(wt.size - 1):
+    j = cursor[1]
+    end = min(wt.size - 1, cursor[0] + CHUNK_WINDOWS)
+    for n in range(cursor[0], end):
         t0, t1 = wt[n], wt[n + 1]
         own = (n < coefs.shape[0] and direction * (ctl.t_taylor - t0) > 0.0 and coefs[n, 0] == 0.0
                and coefs[n, 1] == ctl.n_order)
@@ -247,8 +262,9 @@ def transport(sc, codes, track, ctl, report, ws):
             j, taken = _regime_window(sc, codes, ws, n, ctl, direction, io, j, store)
             if taken < 0:
                 return -1
-            n_sub += taken
-    return n_sub
+            cursor[2] += taken
+    cursor[0], cursor[1] = end, j
+    return 1 if end < wt.size - 1 else 0
 
 
 _NO_LOCK = (math.nan, math.nan, 0.0)

@@ -9,7 +9,9 @@ import pytest
 
 import mbm
 
-hy = pytest.importorskip("heyoka")
+# heyoka (the test extra: pip install -e ".[test]") is the long-double reference and the
+# var_ode_sys peer these tests compare with; without it there is nothing to compare to.
+hy = pytest.importorskip("heyoka", reason="heyoka, the long-double reference, is not installed (pip install heyoka)")
 
 ALL = mbm.SENSITIVITY_NAMES
 DRIVEN = mbm.Pendulum(0.3, 0.4, drive_amplitude=0.6, drive_frequency=0.8, drive_phase=0.3)
@@ -230,3 +232,19 @@ def test_drive_sensitivities_of_an_undriven_scene():
                 for s in (1.0, -1.0))
     fd = (up - down) / (2 * h)
     assert np.abs(fd).max() > 0.1 and np.abs(r.sensitivities[0] - fd).max() < 1e-6
+
+
+def test_a_run_of_many_chunks():
+    # More windows than one compiled call of the pass takes (CHUNK_WINDOWS: Ctrl-C gets in
+    # between calls): the chunks join seamlessly, against heyoka's variational equations.
+    from mbm.tangent.transport import CHUNK_WINDOWS
+
+    model = mbm.Pendulum(0.02, 0.0, drive_amplitude=0.2, drive_frequency=0.9)
+    te = np.linspace(0.0, 3000.0, 31)
+    r = mbm.solve(model, (0.0, 3000.0), [0.1, 0.0], t_eval=te, rtol=1e-10, atol=1e-10,
+                  sensitivities=("theta0", "gamma"))
+    assert r.n_windows > CHUNK_WINDOWS
+    vs = hy.var_ode_sys(_system(), hy.var_args.vars | hy.var_args.params, order=1)
+    ref = hy.taylor_adaptive(vs, [0.1, 0.0], pars=_pars(model), tol=1e-15, compact_mode=True).propagate_grid(te)[-1]
+    mine = np.stack([r.sensitivities[0, 0], r.sensitivities[1, 0]], axis=1)  # ∂θ/∂θ₀, ∂θ/∂γ
+    assert np.abs(mine - ref[:, [2, 5]]).max() < 1e-5 * np.abs(ref[:, [2, 5]]).max()
