@@ -86,7 +86,7 @@ import numpy as np
 
 from ..validate import (check_drive, check_positive, check_real, check_real_array, check_rule, check_rule_array,
                         check_state, keywords_named)
-from .progress import progress as _progress
+from .progress import progress_bar
 from ..model import Pendulum
 from ..regimes import REGIME_NAMES, REGIME_PHASE_LOCKED, STROBE_MAX_PERIODS
 from .iv_result import DRIVE_VELOCITY_TOL, IVCurve, IVCurveSI
@@ -517,7 +517,8 @@ def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0
         With a drive: two successive blocks of a point agreeing to this (absolute, in
         units of ω) have settled (default :data:`DRIVE_VELOCITY_TOL`).
     progress : bool, optional
-        A progress bar over the bias points on stderr, when it is a terminal (default False).
+        A progress bar over the bias points (default False): a widget in a notebook,
+        else a line on stderr (``tqdm.auto``), terminal or not.
     differential : bool, optional
         Also compute d⟨θ'⟩/dγ at each point (``IVCurve.dvoltage_dgamma``, module
         docstring): one more :func:`mbm.solve` of one period per running point.
@@ -563,7 +564,8 @@ def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0
             raise TypeError(f"{name} must be True or False, got {flag!r}")
     y = check_state("(theta0, theta_dot0)", [check_real("theta0", theta0), check_real("theta_dot0", theta_dot0)])
     regimes, velocities, periods, states, starts, converged = [], [], [], [], [], []
-    for gi in (_progress(g, label="I-V points") if progress else g):
+    bar = progress_bar(g.size, "I-V points", unit="point") if progress else None
+    for gi in g:
         starts.append(y.copy())
         regime, v, period, y, ok, _ = _measure(Pendulum(beta, gi, omega, *drive), y, integrate, velocity_tol)
         regimes.append(regime)
@@ -571,6 +573,10 @@ def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0
         periods.append(period)
         states.append(y.copy())
         converged.append(ok)
+        if bar is not None:
+            bar.update()
+    if bar is not None:
+        bar.close()
     converged = np.array(converged, dtype=bool)
     _warn_unsettled(g, converged, velocity_tol)
     switching, retrapping, unsettled = _currents(beta, omega, g, regimes, velocities, states,

@@ -1,14 +1,18 @@
-"""The progress bar of long command-line runs (studies, sweeps, benchmarks), on tqdm.
+"""Progress bars, on tqdm.
 
-Draws one tqdm line on stderr, and nothing at all when stderr is not a terminal
-(pipes, log files, pytest's capture), so that captured output stays clean.
+:class:`Progress` and :func:`progress`, for the command line (studies, benchmarks), draw
+one tqdm line on stderr, and nothing at all when stderr is not a terminal (pipes, log
+files, pytest's capture), so that captured output stays clean.  :func:`progress_bar`,
+for the library's ``progress=True``, is drawn wherever it is asked for: a widget in a
+notebook (``tqdm.auto``), a line on stderr in a terminal or a log.
 """
 
 import sys
 
 from tqdm import tqdm
+from tqdm.auto import tqdm as tqdm_auto
 
-__all__ = ["Progress", "progress"]
+__all__ = ["Progress", "progress", "progress_bar"]
 
 # Width of the bar in characters: fits an 80-column terminal with label and counts.
 BAR_WIDTH = 28
@@ -130,3 +134,27 @@ def progress(iterable, label="", total=None, stream=None, enabled=None):
         for item in iterable:
             yield item
             bar.update()
+
+
+def progress_bar(total, label, unit="it"):
+    """The bar of a library call's ``progress=True``: ``tqdm.auto`` over ``total`` steps.
+
+    A notebook widget under Jupyter, else a line on stderr, terminal or not (a log
+    keeps it), redrawn at most every :data:`MIN_REDRAW_S`.
+
+    Parameters
+    ----------
+    total : int
+        Number of steps.
+    label : str
+        Text in front of the bar.
+    unit : str, optional
+        The name of a step (default ``"it"``).
+
+    Returns
+    -------
+    tqdm.auto.tqdm
+        Call ``.update(n)`` and ``.close()`` (or use it as a context manager).
+    """
+    return tqdm_auto(total=int(total), desc=str(label), unit=unit, file=sys.stderr,
+                     mininterval=MIN_REDRAW_S)

@@ -44,6 +44,7 @@ output times t_m = t0 + (t1 − t0)/2 and t1:
 """
 
 import math
+import sys
 import threading
 
 import numpy as np
@@ -65,6 +66,7 @@ from ..validate import (
 from ..approximants import Approximant, get_approximant
 from ..frontends.batch import solve_batch
 from ..model import Pendulum
+from .progress import progress_bar
 
 try:
     import xarray as xr
@@ -82,6 +84,7 @@ __all__ = [
     "REGIME_TURNS",
     "STATUS_FLAGS",
     "status_message",
+    "PROTOCOLS",
 ]
 
 #: The sweep's parameters, in the order their dimensions take.
@@ -104,6 +107,12 @@ REDUCTIONS = {
 # bounded by the batch.  4096 scenes of t ≤ 1000 are ~0.1–0.5 s on 2 cores (so the bar
 # moves), while a call's fixed cost (~0.2 ms) stays below 0.1 % of it.
 LOCAL_BATCH = 4096
+# With progress=True the batches shrink so that the bar moves at least every 1/PROGRESS_STEPS
+# of the grid (2 %)...
+PROGRESS_STEPS = 50
+# ...but not below PROGRESS_MIN_BATCH scenes, where a call's fixed cost (~0.2 ms) would
+# start to show beside its scenes (~1 ms each at t ≤ 1000).
+PROGRESS_MIN_BATCH = 16
 
 # Turns of θ over the second half of the span that make a scene "running": a scene
 # locked in one well of the tilted washboard stays between two neighbouring maxima of
@@ -323,18 +332,12 @@ def _solve_block(*arrays, names, fixed, t_span, times, variables, options):
 # ------------------------------------------------------------------------------ progress
 
 
-def _progress_bar(total):
-    """A tqdm bar over ``total`` scenes, or mbm's own stderr line without tqdm.
-
-    Drawn even when stderr is not a terminal: ``progress=True`` asked for it.
-    """
-    try:
-        from tqdm.auto import tqdm
-    except ImportError:
-        from .progress import Progress
-
-        return Progress(total, "sweep (scenes)", enabled=True)
-    return tqdm(total=total, unit="scene", desc="sweep")
+def _batch_size(n, progress):
+    """Scenes per solve_batch call of the local path: :data:`LOCAL_BATCH`, or with a bar
+    small enough that it moves every 1/:data:`PROGRESS_STEPS` of the grid."""
+    if not progress:
+        return LOCAL_BATCH
+    return min(LOCAL_BATCH, max(PROGRESS_MIN_BATCH, -(-n // PROGRESS_STEPS)))
 
 
 # ------------------------------------------------------------------------------- paths
@@ -347,10 +350,11 @@ def _local(values, dims, kw, progress):
     m = kw["times"].size
     variables = kw["variables"]
     flat = {v: np.empty((n, m) if v in ("theta", "theta_dot") else (n,), dtype=_dtype(v)) for v in variables}
-    bar = _progress_bar(n) if progress else None
+    bar = progress_bar(n, "sweep", unit="scene") if progress else None
+    batch = _batch_size(n, progress)
     try:
-        for start in range(0, n, LOCAL_BATCH):
-            stop = min(start + LOCAL_BATCH, n)
+        for start in range(0, n, batch):
+            stop = min(start + batch, n)
             idx = np.unravel_index(np.arange(start, stop), shape) if dims else ()
             cols = [values[d][i] for d, i in zip(dims, idx)]
             block = _solve_block(*cols, **kw)
@@ -407,7 +411,7 @@ def _show_dask_progress(ds):
         return ds
     from dask.diagnostics import ProgressBar
 
-    with ProgressBar():
+    with ProgressBar(out=sys.stderr):
         return ds.persist()
 
 
@@ -507,6 +511,42 @@ def _check_options(rtol, atol, approximant, tau, max_windows, progress):
     return dict(rtol=rtol, atol=atol, approximant=approximant, tau=tau, max_windows=max_windows)
 
 
+PROTOCOLS = ("independent", "adiabatic")
+
+
+def _check_protocol(protocol, values, dims, chunks):
+    """``protocol`` one of :data:`PROTOCOLS`; the adiabatic one needs a bias axis, whole in ``chunks``."""
+    if not isinstance(protocol, str) or protocol not in PROTOCOLS:
+        raise ValueError(f"protocol must be one of {PROTOCOLS}, got {protocol!r}")
+    if protocol != "adiabatic":
+        return
+    if "gamma" not in values:
+        raise ValueError("protocol='adiabatic' needs gamma as a 1-D array: the bias axis it follows")
+    if chunks is not None:
+        if len(dims) == 1:
+            raise ValueError("chunks with protocol='adiabatic' splits the dimensions other than gamma, "
+                             "and this sweep has none")
+        if chunks["gamma"] not in (-1, values["gamma"].size):
+            raise ValueError(f"chunks must keep gamma whole (-1) with protocol='adiabatic' (each bias starts "
+                             f"from the previous one's state), got gamma: {chunks['gamma']}")
+
+
+def _adiabatic(values, dims, kw, chunks, progress):
+    """The adiabatic protocol's paths (:mod:`mbm.junction.adiabatic`)."""
+    from .adiabatic import adiabatic_chunked, adiabatic_local  # it builds on this module
+
+    if chunks is not None:
+        return adiabatic_chunked(values, dims, kw, chunks)
+    n = math.prod(values[d].size for d in dims)
+    others = n // values["gamma"].size
+    bar = progress_bar(n, "sweep", unit="scene") if progress else None
+    try:
+        return adiabatic_local(values, dims, kw, bar, max(1, min(others, _batch_size(n, progress))))
+    finally:
+        if bar is not None:
+            bar.close()
+
+
 def _dataset(data, values, dims, fixed, t_span, t_eval, reduce, options):
     """The sweep's Dataset: the variables over the grid, its coordinates and attributes."""
     coords = {d: (d, values[d]) for d in dims}
@@ -531,7 +571,8 @@ def _dataset(data, values, dims, fixed, t_span, t_eval, reduce, options):
 @keywords_named
 def sweep(*, beta, gamma, omega=1.0, theta0=0.0, theta_dot0=0.0, t_span, t_eval=None, reduce=None,
           rtol=1e-6, atol=1e-9, approximant="auto", tau=None, chunks=None, progress=False,
-          max_windows=DEFAULT_MAX_WINDOWS, drive_amplitude=0.0, drive_frequency=0.0, drive_phase=0.0):
+          max_windows=DEFAULT_MAX_WINDOWS, drive_amplitude=0.0, drive_frequency=0.0, drive_phase=0.0,
+          protocol="independent"):
     """Solve θ'' + βθ' + ω² sin θ = γ (+ A sin(Ωt + φ)) over an outer-product grid of parameters.
 
     Parameters
@@ -561,10 +602,10 @@ def sweep(*, beta, gamma, omega=1.0, theta0=0.0, theta_dot0=0.0, t_span, t_eval=
         :func:`mbm.solve_batch` call, computed by the active Dask scheduler (threads
         here, or a ``dask.distributed`` Client's cluster).
     progress : bool
-        Show progress: without ``chunks``, a tqdm bar (``mbm.junction.progress``'s stderr
-        line when tqdm is not installed) moving once per :data:`LOCAL_BATCH` scenes;
+        Show progress: without ``chunks``, a ``tqdm.auto`` bar (a notebook widget, else a
+        line on stderr) moving at least every 2 % of the scenes (:data:`PROGRESS_STEPS`);
         with ``chunks``, the Dataset is computed now (``persist``: still dask-backed, its chunks held in
-        memory or on the cluster) under ``dask.diagnostics.ProgressBar`` or, with a
+        memory or on the cluster) under ``dask.diagnostics.ProgressBar`` on stderr or, with a
         distributed Client, ``distributed.progress``.
     max_windows : int, optional
         As in :func:`mbm.solve_batch`.
@@ -577,6 +618,14 @@ def sweep(*, beta, gamma, omega=1.0, theta0=0.0, theta_dot0=0.0, t_span, t_eval=
         :mod:`mbm.regimes` S1–S7), where its ``"mean_velocity"`` is (p/q)Ω exactly;
         elsewhere it is the two samples' estimate, not a whole-drive-period average
         (:func:`mbm.iv_curve` measures that).
+    protocol : {"independent", "adiabatic"}, optional
+        ``"independent"`` (default): every scene starts from (θ₀, θ'₀), as after a
+        sudden bias step.  ``"adiabatic"``: ``gamma`` (a 1-D array) is swept in the
+        order given, each bias starting from the state at t1 of the previous bias
+        with the same other parameters (θ modulo 2π), as an I–V measurement does: the
+        map shows hysteresis; give ``gamma`` decreasing for a sweep down
+        (:mod:`mbm.junction.adiabatic`).  ``chunks`` then splits the other dimensions
+        only (``gamma`` whole).
 
     Returns
     -------
@@ -611,7 +660,9 @@ def sweep(*, beta, gamma, omega=1.0, theta0=0.0, theta_dot0=0.0, t_span, t_eval=
     -----
     Each scene is an independent run with the same options, so results do not depend
     on how the grid is split: chunked, unchunked and a single :func:`mbm.solve_batch`
-    over all scenes agree bit for bit.
+    over all scenes agree bit for bit.  An adiabatic sweep's scenes depend on the
+    earlier biases of their chain, and chunked and unchunked adiabatic sweeps agree bit
+    for bit with each other and with the chain of :func:`mbm.solve_batch` calls.
     """
     values, fixed, drive = _grid_parameters((beta, gamma, omega, theta0, theta_dot0),
                                             (drive_amplitude, drive_frequency, drive_phase))
@@ -622,9 +673,16 @@ def sweep(*, beta, gamma, omega=1.0, theta0=0.0, theta_dot0=0.0, t_span, t_eval=
     _check_approximant(approximant, options["tau"], (t0, t1), options["rtol"], options["atol"],
                        options["max_windows"], models, drive)
     chunks = _check_chunks(chunks, dims)
+    _check_protocol(protocol, values, dims, chunks)
 
-    kw = dict(names=dims, fixed=fixed, t_span=(t0, t1), times=_output_times(reduce, (t0, t1), t_eval),
+    kw = dict(fixed=fixed, t_span=(t0, t1), times=_output_times(reduce, (t0, t1), t_eval),
               variables=_variables(reduce), options=options)
-    data = _local(values, dims, kw, progress) if chunks is None else _chunked(values, dims, kw, chunks)
+    if protocol == "adiabatic":
+        data = _adiabatic(values, dims, kw, chunks, progress)
+    elif chunks is None:
+        data = _local(values, dims, dict(kw, names=dims), progress)
+    else:
+        data = _chunked(values, dims, dict(kw, names=dims), chunks)
     ds = _dataset(data, values, dims, fixed, (t0, t1), t_eval, reduce, options)
+    ds.attrs["protocol"] = protocol
     return _show_dask_progress(ds) if chunks is not None and progress else ds

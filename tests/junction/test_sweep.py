@@ -343,7 +343,8 @@ def test_dask_progress_bar_persists(capsys, reference):
     with dask.config.set(scheduler="threads"):
         ds = sweep(**SWEEP, chunks={"beta": 2}, progress=True)
     assert ds.mean_velocity.chunks is not None  # still dask-backed, computed
-    assert "100%" in capsys.readouterr().out
+    out = capsys.readouterr()
+    assert "100%" in out.err and "100%" not in out.out  # on stderr, beside the user's output
     _assert_identical_bits(ds.compute(), reference)
 
 
