@@ -15,6 +15,9 @@ paper's Example 1 (P2: β = 0.1, γ = 0.3, θ₀ = 30°, rtol = atol = 1e-9, 201
 * ``mbm.solve`` alone on a running scene (β = 0.1, γ = 1.2, from rest, 201 outputs on
   [0, 400]): the run switches to its limit cycle's stored period (a second entry);
 * ``mbm.solve_batch`` alone on 64 damped scenes (locked and running ones);
+* the junction toolkit's and the noise's entry points alone (``iv_curve``, ``shapiro_steps``,
+  ``sweep``, ``escape_times``, ``switching_currents``), and ``mbm.solve`` with
+  ``error_estimate=True``;
 * ``python -m mbm demo`` as a whole (wall time of the command);
 * ``solve_ivp`` and ``mbm.solve`` alone again with ``MBM_COMPILE_HELPER=0``.
 
@@ -24,7 +27,9 @@ core beside it; the last two are the call compiling alone on one core.
 
 Run ``python -m benchmarks.first_calls`` (``--repeat N`` for the median of N fresh
 processes per row; ``--out FILE``, default ``docs/first_calls.md``).  The machine and
-versions are stated in the file it writes.
+versions are stated in the file it writes.  The entry points' medians also go to
+``mbm/compile/first_calls.json`` (``--entries-out``), from which the compile notice
+quotes the first call's measured seconds.
 """
 
 import argparse
@@ -70,6 +75,19 @@ def running():
               t_eval=np.linspace(0.0, 400.0, 201))
 def batch():
     mbm.solve_batch(0.1, np.linspace(0.05, 1.5, 64), 1.0, y0, (0.0, 80.0), t, rtol=1e-9, atol=1e-9)
+def iv():
+    mbm.iv_curve(0.5, np.linspace(0.0, 1.4, 8))
+def shapiro():
+    mbm.shapiro_steps(0.5, (0.0, 1.5), amplitude=0.8, frequency=0.5, points=9)
+def sweep():
+    mbm.sweep(beta=np.array([0.2, 1.0]), gamma=np.linspace(0.0, 1.4, 8), t_span=(0.0, 200.0),
+              reduce="mean_velocity")
+def escape():
+    mbm.escape_times(1.0, 0.7, 0.2, 64, seed=1)
+def switching():
+    mbm.switching_currents(0.2, 0.05, 1e-2, 64, seed=1)
+def estimate():
+    mbm.solve(m, (0.0, 80.0), y0, rtol=1e-9, atol=1e-9, t_eval=t, error_estimate=True)
 def timed(fn):
     t0 = time.perf_counter(); fn(); return time.perf_counter() - t0
 """
@@ -86,7 +104,26 @@ ROWS = {
     "mbm.solve, first call on a running scene (γ = 1.2: it reaches its limit cycle)":
         "print(json.dumps(timed(running)))",
     "mbm.solve_batch, first call (64 damped scenes, γ 0.05 to 1.5)": "print(json.dumps(timed(batch)))",
+    "mbm.iv_curve, first call (β = 0.5, 8 bias points)": "print(json.dumps(timed(iv)))",
+    "mbm.shapiro_steps, first call (β = 0.5, A = 0.8, Ω = 0.5, 9 points)": "print(json.dumps(timed(shapiro)))",
+    "mbm.sweep, first call (2 × 8 scenes, mean velocity)": "print(json.dumps(timed(sweep)))",
+    "mbm.escape_times, first call (64 escapes)": "print(json.dumps(timed(escape)))",
+    "mbm.switching_currents, first call (64 ramps)": "print(json.dumps(timed(switching)))",
+    "mbm.solve with error_estimate=True, first call": "print(json.dumps(timed(estimate)))",
 }
+#: row label -> the entry point the compile notice names (mbm.compile.cache._entry_point):
+#: these rows' medians go to mbm/compile/first_calls.json, which the notice quotes.
+ENTRIES = {
+    "solve_ivp(method=mbm.MBM), first call": ("MBM.__init__", "MBM._step_impl"),
+    "mbm.solve, first call": ("solve", "Integrator.__init__", "Integrator.solve"),
+    "mbm.solve_batch, first call (64 damped scenes, γ 0.05 to 1.5)": ("solve_batch",),
+    "mbm.iv_curve, first call (β = 0.5, 8 bias points)": ("iv_curve",),
+    "mbm.shapiro_steps, first call (β = 0.5, A = 0.8, Ω = 0.5, 9 points)": ("shapiro_steps",),
+    "mbm.sweep, first call (2 × 8 scenes, mean velocity)": ("sweep",),
+    "mbm.escape_times, first call (64 escapes)": ("escape_times",),
+    "mbm.switching_currents, first call (64 ramps)": ("switching_currents",),
+}
+ENTRIES_OUT = ROOT / "mbm" / "compile" / "first_calls.json"
 # The same first calls compiling on one core (the last rows of the table).
 NO_HELPER = "os.environ['MBM_COMPILE_HELPER'] = '0'; "
 HELPERLESS_ROWS = {
@@ -162,6 +199,8 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--repeat", type=int, default=1, help="fresh processes per row (median)")
     parser.add_argument("--out", default=str(ROOT / "docs" / "first_calls.md"))
+    parser.add_argument("--entries-out", default=str(ENTRIES_OUT),
+                        help="the entry points' seconds, quoted by the compile notice")
     args = parser.parse_args(argv)
     if args.repeat < 1:
         parser.error(f"--repeat must be >= 1, got {args.repeat}")
@@ -176,6 +215,20 @@ def main(argv=None):
         print(label, rows[-1][1], flush=True)
     Path(args.out).write_text(format_table(rows, args.repeat, machine()))
     print("wrote", args.out)
+    write_entries(rows, args.entries_out)
+
+
+def write_entries(rows, out):
+    """The entry points' medians as the compile notice reads them (mbm.compile.cache.first_call_seconds)."""
+    entries = {}
+    for label, values in rows:
+        got = [v for v in values if v is not None]
+        for entry in ENTRIES.get(label, ()):
+            if got:
+                entries[entry] = round(statistics.median(got), 1)
+    Path(out).write_text(json.dumps({"generated_by": "python -m benchmarks.first_calls", "machine": machine(),
+                                     "entries": entries}, indent=1, ensure_ascii=False) + "\n")
+    print("wrote", out)
 
 
 if __name__ == "__main__":

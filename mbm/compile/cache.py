@@ -20,6 +20,7 @@ without the event API leaves ``import mbm`` as it was.
 """
 
 import hashlib
+import json
 import os
 import sys
 
@@ -36,9 +37,16 @@ SKIP_DIRS = ("__pycache__",)
 KEEP_CACHE_ENV = "MBM_KEEP_CACHE"
 # Environment variable that silences the compile notice when set to 0 / false / no / off.
 NOTICE_ENV = "MBM_COMPILE_NOTICE"
-# What the notice says a first call compiles for: solve's 5-9 s and the junction
-# toolkit's 12-18 s from an empty cache on 2 cores (docs/first_calls.md, issue 53).
+# What the notice says a first call compiles for where its entry point has no measured
+# row in FIRST_CALLS_FILE: the span of those rows (docs/first_calls.md).
 NOTICE_COST = "typically 5-20 s on 2 cores"
+# The measured first call of each entry point (seconds, fresh process, empty cache), written
+# by ``python -m benchmarks.first_calls`` beside this module: the notice quotes its entry's.
+FIRST_CALLS_FILE = "first_calls.json"
+# The entry points as the notice names them, where the function's own name is not what a
+# user typed (solve_ivp builds the MBM solver).
+ENTRY_WORDS = {"MBM.__init__": "solve_ivp(method=mbm.MBM)", "MBM._step_impl": "solve_ivp(method=mbm.MBM)",
+               "Integrator.__init__": "mbm.Integrator", "Integrator.solve": "Integrator.solve"}
 
 # The package root (mbm/), one folder above this module's.
 _PACKAGE_ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -266,17 +274,64 @@ def check_sources(root=_PACKAGE_ROOT):
 
 def _entry_point():
     """The mbm function the caller called (the outermost mbm frame on the stack, the
-    compile machinery's own and mbm.validate's wrappers apart), e.g. ``"iv_curve"``;
-    None where there is none."""
+    compile machinery's own and mbm.validate's wrappers apart), by its qualified name,
+    e.g. ``"iv_curve"`` or ``"MBM.__init__"``; None where there is none."""
     frame, name = sys._getframe(1), None
     while frame is not None:
         module = frame.f_globals.get("__name__", "")
-        code = frame.f_code.co_name
+        code = frame.f_code.co_qualname
         if ((module == "mbm" or module.startswith("mbm.")) and not module.startswith(("mbm.compile", "mbm.validate"))
                 and not code.startswith("<")):
             name = code
         frame = frame.f_back
     return name
+
+
+def first_call_seconds(path=None):
+    """The measured first call of each entry point, {qualified name: seconds}.
+
+    Parameters
+    ----------
+    path : str, optional
+        The JSON file (default :data:`FIRST_CALLS_FILE` beside this module).
+
+    Returns
+    -------
+    dict
+        Empty where the file is missing or unreadable (the notice then says
+        :data:`NOTICE_COST`).
+    """
+    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), FIRST_CALLS_FILE) if path is None else path
+    try:
+        with open(path, encoding="utf-8") as fh:
+            entries = json.load(fh)["entries"]
+        return {str(k): float(v) for k, v in entries.items()}
+    except (OSError, ValueError, KeyError, TypeError, AttributeError):
+        return {}
+
+
+def notice_text(entry, kernel, where, measured=None):
+    """The compile notice's line (see :func:`install_compile_notice`).
+
+    Parameters
+    ----------
+    entry : str or None
+        The entry point called (:func:`_entry_point`), None from outside any.
+    kernel : str
+        The kernel being compiled, named where there is no entry point.
+    where : str or None
+        The cache folder, None where the kernel is not cached.
+    measured : dict, optional
+        {entry: seconds} (default :func:`first_call_seconds`).
+    """
+    measured = first_call_seconds() if measured is None else measured
+    saved = ("once: later calls load them from %s" % where) if where else "not cached: each process compiles"
+    if entry is None:
+        return ("mbm: compiling numba kernels for %s (the first call after installing or upgrading mbm; "
+                "%s, %s)\n" % (kernel, NOTICE_COST, saved))
+    cost = ("about %.0f s on 2 cores, measured" % measured[entry]) if entry in measured else NOTICE_COST
+    return ("mbm: the first call of %s compiles mbm's numba kernels (after installing or upgrading mbm; "
+            "%s; %s)\n" % (ENTRY_WORDS.get(entry, entry), cost, saved))
 
 
 def _install_listener():
@@ -304,13 +359,9 @@ def _install_listener():
             # A flag, not unregister: numba's broadcast iterates the listener list, and
             # removing from it mid-iteration would skip the next listener's event.
             self.done = True
-            saved = ("once: later calls load them from %s" % where) if where else "not cached: each process compiles"
-            entry = _entry_point()
-            what = ("%s is compiling mbm's numba kernels" % entry if entry else
-                    "compiling numba kernels for %s.%s" % (module, getattr(py_func, "__qualname__", "?")))
+            text = notice_text(_entry_point(), "%s.%s" % (module, getattr(py_func, "__qualname__", "?")), where)
             try:
-                sys.stderr.write("mbm: %s (the first call after installing or upgrading mbm; %s, %s)\n"
-                                 % (what, NOTICE_COST, saved))
+                sys.stderr.write(text)
                 sys.stderr.flush()
             except (OSError, ValueError, AttributeError):  # closed or missing stderr
                 pass

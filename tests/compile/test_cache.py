@@ -228,10 +228,33 @@ def test_compile_notice_names_the_users_call(capsys):
     try:
         assert namespace["iv_curve_like"](1.0) == 2.0
         err = capsys.readouterr().err
-        assert "mbm: iv_curve_like is compiling mbm's numba kernels (the first call after installing" in err
+        assert "mbm: the first call of iv_curve_like compiles mbm's numba kernels (after installing" in err
+        assert "typically 5-20 s on 2 cores" in err  # no measured row for it
         assert "not cached: each process compiles" in err
         assert listener.done
     finally:
         from numba.core import event
 
         event.unregister("numba:compile", listener)
+
+
+def test_compile_notice_quotes_the_measured_first_call(tmp_path):
+    """An entry point with a row in first_calls.json: its own measured seconds, in the user's words."""
+    text = _cache.notice_text("iv_curve", "mbm.x.k", "/cache", measured={"iv_curve": 17.6})
+    assert text == ("mbm: the first call of iv_curve compiles mbm's numba kernels (after installing or "
+                    "upgrading mbm; about 18 s on 2 cores, measured; once: later calls load them from /cache)\n")
+    text = _cache.notice_text("MBM.__init__", "mbm.x.k", None, measured={"MBM.__init__": 5.0})
+    assert text.startswith("mbm: the first call of solve_ivp(method=mbm.MBM) compiles") and "about 5 s" in text
+    assert "not cached: each process compiles" in text
+    bad = tmp_path / "first_calls.json"
+    bad.write_text("{not json")
+    assert _cache.first_call_seconds(str(bad)) == {}
+    assert _cache.first_call_seconds(str(tmp_path / "missing.json")) == {}
+
+
+def test_first_calls_file_covers_the_public_entry_points():
+    """The generated table (python -m benchmarks.first_calls) has a row for each entry that compiles."""
+    measured = _cache.first_call_seconds()
+    for entry in ("MBM.__init__", "solve", "solve_batch", "iv_curve", "shapiro_steps", "sweep",
+                  "escape_times", "switching_currents"):
+        assert entry in measured and 0.0 < measured[entry] < 600.0, entry
