@@ -10,7 +10,7 @@ from ..approximants.taylor_series import HEADER, N_EXTRA
 from ..core.window import KIND_TAYLOR
 from .series import workspace
 from .reference import REF_DEGREE
-from .transport import TANGENT_DEGREE, Control, Report, Track, start, transport
+from .transport import TANGENT_DEGREE, start, transport
 
 #: The sensitivities one may ask for, in the order of their series' columns
 #: (:mod:`mbm.tangent.series`): the initial state, then the parameters.
@@ -101,10 +101,11 @@ def attach(r, ig, req, windows):
         # regime's formula takes over.
         t_measured = -np.inf * sign if ig.approximant.exact else np.inf * sign
         t_taylor = r["t_regime"] if r["t_regime"] == r["t_regime"] else np.inf * sign
-        ctl = Control((ig.rtol, ig.atol), t_measured, t_taylor, n_order, kt, r["period"])
-        track, report = Track(win_t, win_y, win_c, t_out, y_out), Report(err, sens, rows)
+        # Plain tuples in Track's, Control's and Report's order (transport's signature).
+        ctl = ((ig.rtol, ig.atol), t_measured, t_taylor, n_order, kt, r["period"])
+        track, report = (win_t, win_y, win_c, t_out, y_out), (err, sens, rows)
         ws = workspace(max(REF_DEGREE, int(n_order) + 2), codes.size)
-        carry = start(track, report, codes.size, ws[0].size - 1, ctl.period)
+        carry = start(track, report, codes.size, ws[0].size - 1, r["period"])
         taken = 1
         while taken == 1:  # chunked: Ctrl-C gets in between
             taken = transport(sc, codes, track, ctl, report, ws, carry)
