@@ -12,7 +12,7 @@ event, :data:`EV_WIDTH` columns, built by :mod:`mbm.events.compiled`) in time or
 * a cycle window (the running cycle or a libration, R3) is the stored period shifted:
   the period's events are located once on its own windows and shifted by T_c per turn
   (the winding count by the turn's sign), so counting over 10⁶ time units costs what a
-  few periods do;
+  few periods do, and storing them writes whole turns in one sweep (:func:`_fill_turns`);
 * a section event Ωt + φ ≡ phase (mod 2π) is at known times; its state is the
   window's value there.
 
@@ -428,6 +428,81 @@ def _turns_to_skip(rows, ev, hits, stored, cap, n_turns):
     return skip
 
 
+#: A cycle window's turns as :func:`_fill_turns` reads them: the stored period, the
+#: window's start time ``t_w``, its phase ``tau0`` there (t_off) and its length ``h``, and
+#: the winding of turn 0 and its sign per turn.
+Turns = collections.namedtuple("Turns", ("period", "t_w", "tau0", "h", "wind", "sign"))
+
+
+@kernel
+def _block_turns(rows, ev, hits, stored, cap, n_turns):
+    """Whole turns (at most ``n_turns``) whose events :func:`_fill_turns` can write in one
+    sweep: in them every event stores all its occurrences or none (``cap``) and no
+    terminal event fires.  Returns (turns, occurrences of each event per turn)."""
+    n_ev = ev.shape[0]
+    per = np.zeros(n_ev, np.int64)
+    for q in range(rows.shape[0]):
+        per[int(rows[q, 4])] += 1
+    b = n_turns
+    for e in range(n_ev):
+        if per[e] == 0:
+            continue
+        if ev[e, 4] > 0.0:
+            # hits + per·b stays below the terminal count: the turn it fires in is walked.
+            b = min(b, max(0, (int(ev[e, 4]) - 1 - hits[e]) // per[e]))
+        if cap[e] >= 0 and stored[e] < cap[e]:
+            b = min(b, (cap[e] - stored[e]) // per[e])
+    return b, per
+
+
+@kernel
+def _fill_turns(rows, ev, tally, turns, first, b, out):
+    """Write the events of turns ``first`` … ``first + b − 1`` of a cycle window at once
+    (:func:`_block_turns` chose b): the stored period's rows shifted by T_c and the
+    winding per turn, the values :func:`_cycle_window`'s walk writes, bit for bit.
+    ``tally`` = (hits, stored, cap, per), advanced; ``out`` = (evf, evi, count), grown
+    once.  Stops early at a turn whose first or last row falls outside the window (its
+    ends, in rounding).  Returns (evf, evi, count, turns written)."""
+    hits, stored, cap, per = tally
+    evf, evi, count = out
+    n_ev, nr = ev.shape[0], rows.shape[0]
+    if nr == 0:
+        return evf, evi, count, b
+    store = np.empty(n_ev, np.bool_)
+    per_turn = 0
+    for e in range(n_ev):
+        store[e] = cap[e] < 0 or stored[e] < cap[e]
+        if store[e]:
+            per_turn += per[e]
+    if count + b * per_turn > evi.size:  # one allocation for the block
+        size = max(count + b * per_turn, 2 * evi.size)
+        evf2, evi2 = np.empty((size, 4)), np.empty(size, np.int64)
+        evf2[:count] = evf[:count]
+        evi2[:count] = evi[:count]
+        evf, evi = evf2, evi2
+    done = 0
+    while done < b:
+        turn = float(first + done)
+        kn = turns.wind + turns.sign * turn
+        base = turn * turns.period - turns.tau0
+        if base + rows[0, 0] <= 0.0 or base + rows[nr - 1, 0] > turns.h:
+            break
+        for q in range(nr):
+            e = int(rows[q, 4])
+            if store[e]:
+                m = rows[q, 3] + kn if int(ev[e, 0]) == EV_ANGLE else rows[q, 3]
+                evf[count, 0], evf[count, 1] = turns.t_w + (base + rows[q, 0]), theta_of(kn, rows[q, 1])
+                evf[count, 2], evf[count, 3] = rows[q, 2], m
+                evi[count] = e
+                count += 1
+        done += 1
+    for e in range(n_ev):
+        hits[e] += per[e] * done
+        if store[e]:
+            stored[e] += per[e] * done
+    return evf, evi, count, done
+
+
 @kernel
 def _cycle_window(c, t_w, h, ev, hits, stored, cap, alpha, beta_v, work, xs, ds, out_s, out_m, out_e, evf, evi,
                   count):
@@ -454,6 +529,12 @@ def _cycle_window(c, t_w, h, ev, hits, stored, cap, alpha, beta_v, work, xs, ds,
             # Turns turn .. n1 - 2 lie inside the window whole (the last two are walked:
             # their ends meet the window's end in rounding).
             turn += float(_turns_to_skip(rows, ev, hits, stored, cap, max(0, int(n1 - 1.0 - turn))))
+            b, per = _block_turns(rows, ev, hits, stored, cap, max(0, int(n1 - 1.0 - turn)))
+            if b > 0:
+                evf, evi, count, done = _fill_turns(rows, ev, (hits, stored, cap, per),
+                                                    Turns(period, t_w, tau0, h, wind, sign), int(turn), b,
+                                                    (evf, evi, count))
+                turn += float(done)
         kn = wind + sign * turn
         if not shiftable:
             rows, ok = _period_events(p_starts, p_coefs, p_n, ev, kn, alpha, beta_v, work, xs, ds, out_s, out_m,

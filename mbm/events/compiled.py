@@ -457,15 +457,16 @@ class _Run:
         res["t_events"], res["y_events"], res["winding_events"] = [], [], []
         res["n_events"] = self.hits.copy()
         for e, item in enumerate(items):
-            sel = np.flatnonzero(evi == e)
+            # One event's rows: a slice where it is the only event (no gather), else its rows.
+            rows = evf if len(items) == 1 else evf[np.flatnonzero(evi == e)]
             if self.cap[e] >= 0:
-                sel = sel[: self.cap[e]]  # a terminal event past the cap is only the stop
-            res["t_events"].append(evf[sel, 0].copy())
-            res["y_events"].append(evf[sel][:, 1:3].copy())
+                rows = rows[: self.cap[e]]  # a terminal event past the cap is only the stop
+            res["t_events"].append(rows[:, 0].copy())
+            res["y_events"].append(rows[:, 1:3].copy())
             if isinstance(item, Event) and item.kind != "velocity":
-                m = evf[sel, 3]
+                m = rows[:, 3]
             else:
-                m = np.floor((evf[sel, 1] + math.pi) / _TWO_PI)  # θ's winding count
+                m = np.floor((rows[:, 1] + math.pi) / _TWO_PI)  # θ's winding count
             res["winding_events"].append(m.astype(np.int64))
         return res
 
