@@ -162,43 +162,42 @@ def moments_kernel(p, seed, n, start, h, plan, burn_steps, steps):
 
 
 @njit(**PARALLEL_OPTIONS)
-def batch_path_kernel(params, seed, starts, h, plans, marks):
-    """:func:`path_kernel` for scenes i = 0 .. N − 1 (params (N, 8), starts (N, 2),
-    plans (N, 2)) on the streams (seed, i): an (N, len(marks), 2) array."""
-    n = params.shape[0]
-    out = np.empty((n, marks.shape[0], 2))
-    for i in prange(n):
-        out[i] = path_kernel(params[i], seed, i, starts[i], h, (plans[i, 0], plans[i, 1]), marks)
-    return out
+def batch_path_kernel(params, seed, states, k0, k1, h, plans, marks, out):
+    """:func:`path_kernel` for scenes i = 0 .. N − 1 (params (N, 8), states (N, 2),
+    plans (N, 2), out (N, len(marks), 2)) on the streams (seed, i)."""
+    for i in prange(params.shape[0]):
+        path_kernel(params[i], seed, i, states[i], k0, k1, h, (plans[i, 0], plans[i, 1]), marks, out[i])
 
 
 @njit(**NJIT_OPTIONS)
-def path_kernel(p, seed, scene, start, h, plan, marks):
-    """One scene's states after marks[j] steps of length h: (len(marks), 2) of [θ, θ'].
+def path_kernel(p, seed, scene, state, k0, k1, h, plan, marks, out):
+    """Advance one scene's ``state`` [θ, θ'] in place from step ``k0`` to step ``k1``.
 
-    ``marks``: sorted step counts ≥ 0 (0 is the start).  Each state is the symmetric
-    scheme's after whole steps, each half O with a deviate of its own (pair k of the
-    stream for step k: these numbers differ from the run kernels', which fuse the
-    half steps).
+    ``out[j]`` receives the state after marks[j] steps (sorted, in [k0, k1]; the
+    start k0 included).  Step k draws pair k of the stream (seed, scene) and runs D
+    from time k h: the state after step k does not depend on where the runs between
+    k0 and k1 were cut.  Each state is the symmetric scheme's after whole steps, each
+    half O with a deviate of its own (these numbers differ from the run kernels',
+    which fuse the half steps).
     """
     m = marks.shape[0]
-    out = np.empty((m, 2))
     c2, s2 = _ou(p, h)[2:]
     b = np.empty(TAYLOR_ORDER + 1)
     sn = np.empty(TAYLOR_ORDER + 1)
     cn = np.empty(TAYLOR_ORDER + 1)
     key = scene_key(seed, scene)
-    theta, v = start[0], start[1]
+    theta, v = state[0], state[1]
     j = 0
-    k = 0
-    while j < m:
-        if marks[j] == k:
+    k = k0
+    while True:
+        while j < m and marks[j] == k:
             out[j, 0], out[j, 1] = theta, v
             j += 1
-            continue
+        if k >= k1:
+            break
         z0, z1 = normal_pair(key, k)
         v = c2 * v + s2 * z0
         theta, v = hamiltonian_flow(theta, v, k * h, h, plan, p, (b, sn, cn))
         v = c2 * v + s2 * z1
         k += 1
-    return out
+    state[0], state[1] = theta, v
