@@ -1,4 +1,4 @@
-"""Thermal noise: Langevin junctions, escape times and switching-current histograms.
+"""Thermal noise: Langevin junctions, escape times, switching- and retrapping-current histograms.
 
 θ'' + βθ' + ω² sin θ = γ(t) + A sin(Ωt + φ) + ξ(t), ⟨ξ(t)ξ(t')⟩ = 2βT δ(t − t'),
 integrated by the symmetric splitting O(h/2) D(h) O(h/2) of an exact Ornstein–Uhlenbeck
@@ -15,6 +15,7 @@ from .api import (
     switching_currents,
     well,
 )
+from .retrap import RetrappingHistogram, retrapping_currents
 
-__all__ = ["EscapeTimes", "SwitchingHistogram", "escape_times", "kramers_rate",
-           "switching_currents", "well"]
+__all__ = ["EscapeTimes", "RetrappingHistogram", "SwitchingHistogram", "escape_times", "kramers_rate",
+           "retrapping_currents", "switching_currents", "well"]

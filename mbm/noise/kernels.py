@@ -20,7 +20,8 @@ from ..compile.jit import INLINE, NJIT_OPTIONS
 from .flow import P_BETA, P_GAMMA0, P_OMEGA2, P_RATE, P_TEMP, TAYLOR_ORDER, hamiltonian_flow
 from .rng import normal_pair, scene_key
 
-__all__ = ["escape_kernel", "switching_kernel", "moments_kernel", "path_kernel", "batch_path_kernel"]
+__all__ = ["escape_kernel", "switching_kernel", "retrapping_kernel", "moments_kernel", "path_kernel",
+           "batch_path_kernel"]
 
 # numba's options of the parallel run kernels: the package's, with prange threads.
 PARALLEL_OPTIONS = dict(NJIT_OPTIONS, parallel=True, nogil=True)
@@ -121,6 +122,45 @@ def switching_kernel(p, stream, n, theta0, h, plan, max_steps, theta_done):
             past = now
             if theta >= theta_done:
                 out[i] = t_cross
+                break
+            z, spare = _next(key, k + 1, spare)
+            v = c * v + s * z
+    return out
+
+
+@njit(**PARALLEL_OPTIONS)
+def retrapping_kernel(p, stream, n, v0, h, plan, max_steps, wait):
+    """Under the bias γ0 + r t (r < 0), the time each scene last passed a new barrier top.
+
+    ``stream`` = (seed, first scene): scene i draws the stream of scene first + i.
+
+    Each scene starts at θ = 0 with θ' = ``v0`` (before the first half O step).  A
+    barrier top passed is a new odd multiple of π reached by θ (past every top
+    π − arcsin(γ/ω²) + 2πk for γ ≥ 0): the time recorded is the end of the step that
+    passed the last one, read once ``wait`` has elapsed without a new one (0 if none
+    was passed).  Returns (n,) times, inf for scenes still slipping at ``max_steps``.
+    """
+    out = np.empty(n)
+    c, s, c2, s2 = _ou(p, h)
+    for i in prange(n):
+        b = np.empty(TAYLOR_ORDER + 1)
+        sn = np.empty(TAYLOR_ORDER + 1)
+        cn = np.empty(TAYLOR_ORDER + 1)
+        key = scene_key(stream[0], stream[1] + i)
+        theta = 0.0
+        z, spare = _next(key, 0, 0.0)
+        v = c2 * v0 + s2 * z
+        top = math.pi
+        t_last = 0.0
+        out[i] = np.inf
+        for k in range(max_steps):
+            t = (k + 1) * h
+            theta, v = hamiltonian_flow(theta, v, k * h, h, plan, p, (b, sn, cn))
+            if theta >= top:
+                t_last = t
+                top = (2.0 * math.floor((theta - math.pi) / (2.0 * math.pi)) + 3.0) * math.pi
+            elif t - t_last >= wait:
+                out[i] = t_last
                 break
             z, spare = _next(key, k + 1, spare)
             v = c * v + s * z
