@@ -38,9 +38,24 @@ SPEED_SIGMAS = 8.0
 class RetrappingHistogram(SwitchingHistogram):
     """Retrapping biases under a falling ramp γ = γ0 − r t (:func:`retrapping_currents`).
 
-    :class:`SwitchingHistogram`'s attributes, with ``currents`` each scene's
-    retrapping bias γ_r (nan for a scene still slipping at γ = 0) and ``ramp_rate``
-    the rate r > 0 of the fall.
+    A frozen dataclass (a :class:`SwitchingHistogram`) built by
+    :func:`retrapping_currents`: each parameter is an attribute.
+
+    Parameters
+    ----------
+    currents : ndarray (n,)
+        Each scene's retrapping bias γ_r (I_r/I_c = γ_r/ω²); nan for a scene still
+        slipping at γ = 0.
+    mean, width : float
+        Mean and standard deviation (ddof = 1) of the finite currents.
+    skewness : float
+        m3 / m2^{3/2} (positive: a tail towards higher currents).
+    kurtosis : float
+        m4 / m2², not the excess.
+    seed : int
+        The run's seed (reproduces it).
+    dt, ramp_rate : float
+        The step and the rate r > 0 of the fall.
     """
 
 
