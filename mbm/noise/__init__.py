@@ -10,6 +10,8 @@ path of mbm is untouched.  docs/guide/noise.md has the theory and the checks.
 from .api import (
     EscapeTimes,
     SwitchingHistogram,
+    barrier_action,
+    bhl_rate,
     escape_times,
     kramers_rate,
     switching_currents,
@@ -17,5 +19,5 @@ from .api import (
 )
 from .retrap import RetrappingHistogram, retrapping_currents
 
-__all__ = ["EscapeTimes", "RetrappingHistogram", "SwitchingHistogram", "escape_times", "kramers_rate",
+__all__ = ["EscapeTimes", "RetrappingHistogram", "SwitchingHistogram", "barrier_action", "bhl_rate", "escape_times", "kramers_rate",
            "retrapping_currents", "switching_currents", "well"]
