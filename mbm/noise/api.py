@@ -15,7 +15,7 @@ import numpy as np
 
 from ..validate import check_integer, check_positive, check_real, check_rule
 from .flow import make_params, substeps
-from .kernels import escape_kernel, switching_kernel
+from .kernels import escape_kernel, switching_kernel, thermal_start_kernel
 from .rng import resolve_seed
 
 __all__ = ["EscapeTimes", "SwitchingHistogram", "barrier_action", "bhl_rate", "escape_times",
@@ -302,11 +302,20 @@ def _steps(t_max, dt, name="t_max"):
     return steps
 
 
+def _thermal_starts(p, stream, m, gamma, omega):
+    # The Boltzmann starts of scenes first .. first + m − 1 in the well of θ0 = arcsin(γ/ω²),
+    # between its two barrier tops −π − θ0 and π − θ0, where U is lowest at θ0.
+    th0 = math.asin(gamma / (omega * omega))
+    u_min = -omega * omega * math.cos(th0) - gamma * th0
+    return thermal_start_kernel(p, stream, m, -math.pi - th0, u_min)
+
+
 def escape_times(beta, gamma, temperature, n, *, omega=1.0, seed=None, dt=DT_DEFAULT,
-                 t_max=None, threads=None):
+                 t_max=None, threads=None, start="bottom"):
     r"""First-slip times of ``n`` thermal junctions out of their starting well.
 
-    Each scene starts at the well bottom θ0 = arcsin(γ/ω²) with θ' = 0 and runs
+    Each scene starts at the well bottom θ0 = arcsin(γ/ω²) with θ' = 0 (or from the
+    Boltzmann law in the well, ``start="thermal"``) and runs
     θ'' + βθ' + ω² sin θ = γ + ξ(t), ⟨ξ(t)ξ(t')⟩ = 2βT δ(t − t'), until θ reaches the
     next well's bottom θ0 ± 2π: one completed phase slip, ΔU + 2πabs(γ) below the barrier
     top on the downhill side, so that a crossing counted is not undone (the time from
@@ -334,6 +343,12 @@ def escape_times(beta, gamma, temperature, n, *, omega=1.0, seed=None, dt=DT_DEF
         Horizon; default 100 Kramers mean times (:data:`KRAMERS_HORIZON`).
     threads : int, optional
         numba threads for this call (default: numba's current count).
+    start : {"bottom", "thermal"}, optional
+        "bottom": θ0, θ' = 0.  "thermal": θ' ~ N(0, T) and θ from e^{−U(θ)/T} between
+        the well's two barrier tops (−π − θ0, π − θ0), drawn by rejection from scene
+        i's own stream at counters from 2^40 on, apart from the steps' (the scene's
+        energy is not capped: a start above the barrier, probability ~e^{−ΔU/T}, escapes
+        at once).
 
     Returns
     -------
@@ -345,6 +360,8 @@ def escape_times(beta, gamma, temperature, n, *, omega=1.0, seed=None, dt=DT_DEF
     temperature = check_positive("temperature", temperature)
     n = _check_count(n)
     dt = _check_dt(dt, omega)
+    if not (isinstance(start, str) and start in ("bottom", "thermal")):
+        raise ValueError(f"start must be 'bottom' or 'thermal', got {start!r}")
     seed = resolve_seed(seed)
     if t_max is None:
         t_max = min(KRAMERS_HORIZON / kramers_rate(beta, gamma, temperature, omega), MAX_STEPS * dt)
@@ -355,8 +372,13 @@ def escape_times(beta, gamma, temperature, n, *, omega=1.0, seed=None, dt=DT_DEF
     bounds = np.array([th0 - 2.0 * math.pi, th0 + 2.0 * math.pi])
     with _threads(threads):
         plan = substeps(dt, omega, abs(gamma), 0.0)
-        times = _chunked(lambda stream, m: escape_kernel(p, stream, m, np.array([th0, 0.0]), dt, plan, steps,
-                                                         bounds), seed, n)
+
+        def run(stream, m):
+            starts = (_thermal_starts(p, stream, m, gamma, omega) if start == "thermal"
+                      else np.tile(np.array([th0, 0.0]), (m, 1)))
+            return escape_kernel(p, stream, m, starts, dt, plan, steps, bounds)
+
+        times = _chunked(run, seed, n)
     done = times[np.isfinite(times)]
     mean = float(done.mean()) if done.size else math.nan
     se = float(done.std(ddof=1) / math.sqrt(done.size)) if done.size > 1 else math.nan

@@ -18,13 +18,16 @@ from numba import njit, prange
 
 from ..compile.jit import INLINE, NJIT_OPTIONS
 from .flow import P_BETA, P_GAMMA0, P_OMEGA2, P_RATE, P_TEMP, TAYLOR_ORDER, hamiltonian_flow
-from .rng import normal_pair, scene_key
+from .rng import normal_pair, scene_key, uniform_pair
 
-__all__ = ["escape_kernel", "switching_kernel", "retrapping_kernel", "moments_kernel", "path_kernel",
+__all__ = ["START_COUNTER", "thermal_start_kernel", "escape_kernel", "switching_kernel", "retrapping_kernel", "moments_kernel", "path_kernel",
            "batch_path_kernel"]
 
 # numba's options of the parallel run kernels: the package's, with prange threads.
 PARALLEL_OPTIONS = dict(NJIT_OPTIONS, parallel=True, nogil=True)
+# The first counter of a scene's thermal start draws: 2^40, past any step's counter (a
+# run has at most 10^9 < 2^30 steps), so the start and the steps never share numbers.
+START_COUNTER = 2**40
 
 
 @njit(**INLINE)
@@ -47,8 +50,36 @@ def _ou(p, h):
 
 
 @njit(**PARALLEL_OPTIONS)
-def escape_kernel(p, stream, n, start, h, plan, max_steps, bounds):
-    """First times θ leaves (bounds[0], bounds[1]), ``n`` scenes from ``start`` at t = 0.
+def thermal_start_kernel(p, stream, n, lo, u_min):
+    """Per scene, a start [θ, θ'] from the Boltzmann law e^{−E/T} with θ in (lo, lo + 2π).
+
+    ``stream`` = (seed, first scene) as :func:`escape_kernel`; the draws use the
+    counters from :data:`START_COUNTER` on.  θ' = sqrt(T) z (z the first deviate of
+    pair START_COUNTER); θ by rejection: uniform on (lo, lo + 2π) (u1 of pair
+    START_COUNTER + j, j = 1, 2, ...), accepted when u2 < e^{−(U(θ) − u_min)/T},
+    U(θ) = −ω² cos θ − γ0 θ (u_min ≤ min U on the interval).  Returns (n, 2).
+    """
+    out = np.empty((n, 2))
+    w2 = p[P_OMEGA2]
+    g = p[P_GAMMA0]
+    temp = p[P_TEMP]
+    for i in prange(n):
+        key = scene_key(stream[0], stream[1] + i)
+        out[i, 1] = math.sqrt(temp) * normal_pair(key, START_COUNTER)[0]
+        j = START_COUNTER + 1
+        while True:
+            u1, u2 = uniform_pair(key, j)
+            theta = lo + 2.0 * math.pi * u1
+            if u2 < math.exp(-(-w2 * math.cos(theta) - g * theta - u_min) / temp):
+                out[i, 0] = theta
+                break
+            j += 1
+    return out
+
+
+@njit(**PARALLEL_OPTIONS)
+def escape_kernel(p, stream, n, starts, h, plan, max_steps, bounds):
+    """First times θ leaves (bounds[0], bounds[1]), scene i from ``starts[i]`` at t = 0.
 
     ``stream`` = (seed, first scene): scene i draws the stream of scene first + i.
 
@@ -66,9 +97,9 @@ def escape_kernel(p, stream, n, start, h, plan, max_steps, bounds):
         sn = np.empty(TAYLOR_ORDER + 1)
         cn = np.empty(TAYLOR_ORDER + 1)
         key = scene_key(stream[0], stream[1] + i)
-        theta = start[0]
+        theta = starts[i, 0]
         z, spare = _next(key, 0, 0.0)
-        v = c2 * start[1] + s2 * z
+        v = c2 * starts[i, 1] + s2 * z
         t_hit = np.inf
         for k in range(max_steps):
             theta, v = hamiltonian_flow(theta, v, k * h, h, plan, p, (b, sn, cn))
