@@ -96,6 +96,7 @@ __all__ = [
     "successive",
     "sweep",
     "switching_currents",
+    "switching_grid",
     "velocity_event",
 ]
 
@@ -122,6 +123,8 @@ _LAZY = {
     "escape_times": ("mbm.noise.api", "escape_times"),
     "kramers_rate": ("mbm.noise.api", "kramers_rate"),
     "bhl_rate": ("mbm.noise.api", "bhl_rate"),
+    # xarray (optional) is imported when switching_grid runs
+    "switching_grid": ("mbm.noise.grids", "switching_grid"),
     "switching_currents": ("mbm.noise.api", "switching_currents"),
     "RetrappingHistogram": ("mbm.noise.retrap", "RetrappingHistogram"),
     "retrapping_currents": ("mbm.noise.retrap", "retrapping_currents"),

@@ -17,7 +17,8 @@ from .api import (
     switching_currents,
     well,
 )
+from .grids import switching_grid
 from .retrap import RetrappingHistogram, retrapping_currents
 
 __all__ = ["EscapeTimes", "RetrappingHistogram", "SwitchingHistogram", "barrier_action", "bhl_rate", "escape_times", "kramers_rate",
-           "retrapping_currents", "switching_currents", "well"]
+           "retrapping_currents", "switching_currents", "switching_grid", "well"]
