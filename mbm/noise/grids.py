@@ -43,11 +43,13 @@ def switching_grid(beta, temperature, ramp_rate, n, *, omega=1.0, seed=None, dt=
         The grid's axes: each a value or a 1-D array of values > 0.
     n : int
         Scenes per grid point, ≥ 1.
-    omega, dt, gamma_start, threads : optional
+    omega : float, optional
         As :func:`mbm.switching_currents`.
     seed : int, optional
         The grid's seed in [0, 2^64 − 1] (None draws one); point (i, j) runs on
         :func:`point_seed` (seed, i, j), stored as the variable ``seed``.
+    dt, gamma_start, threads : optional
+        As :func:`mbm.switching_currents`.
 
     Returns
     -------
