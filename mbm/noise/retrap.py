@@ -25,9 +25,10 @@ __all__ = ["RetrappingHistogram", "retrapping_currents"]
 # current, well on the running side (the exact retrapping current is below 4βω/π and
 # below ω²), without the fast and costly early ramp from ω² at small β.
 RETRAP_START = 2.0
-# A scene is retrapped once no new barrier top has been passed for RETRAP_WAIT / ω: ten
-# small-oscillation periods, past the slowest running cycle near retrapping (its period
-# grows only like ln(1/δE) as its energy δE above the barrier shrinks).
+# A scene is retrapped once no new barrier top has been passed for RETRAP_WAIT times
+# max(1/ω, β/ω²): ten small-oscillation periods (or, overdamped, ten relaxation times
+# β/ω² of the well), past the slowest running cycle near retrapping (its period grows
+# only like ln(1/δE) as its energy δE above the barrier shrinks).
 RETRAP_WAIT = 20.0 * math.pi
 # Thermal velocity spread bounded for the Taylor plan: |θ'| beyond 8 sqrt(T) above the
 # running orbit has probability ~e^-32.
@@ -68,9 +69,15 @@ def retrapping_currents(beta, temperature, ramp_rate, n, *, omega=1.0, seed=None
     γ0 − r t + ξ(t).  Its retrapping bias is γ at the end of the step where θ passed
     its last new barrier top (a new odd multiple of π, past every top
     π − arcsin(γ/ω²) + 2πk for γ ≥ 0), read once θ has passed none for
-    :data:`RETRAP_WAIT` / ω (ten small-oscillation periods): the phase has stopped
-    advancing and oscillates in a well.  A scene still slipping when γ reaches 0
-    (plus that wait) is reported as nan.
+    :data:`RETRAP_WAIT` · max(1/ω, β/ω²) (ten small-oscillation periods, or well
+    relaxation times when overdamped): the phase has stopped advancing and sits in a
+    well.  A scene still slipping when γ reaches 0 (plus that wait) is reported as nan.
+
+    The running state's velocity relaxes at the rate β, so it lags the ramp: the
+    phase retraps near γ_r − r/β (γ_r of :func:`mbm.retrapping_current`); choose
+    r ≪ β γ_r (at r ≳ β γ_r scenes reach γ = 0 still slipping: nan).  Retrapping is
+    sharp in the hysteretic regime β < 1.19 ω; overdamped, the phase crawls through
+    the ghost of the saddle-node near γ = ω² and the wait decides.
 
     Parameters
     ----------
@@ -110,7 +117,7 @@ def retrapping_currents(beta, temperature, ramp_rate, n, *, omega=1.0, seed=None
             raise ValueError(f"gamma_start must be in (0, {GAMMA_END} * omega**2] = (0, {GAMMA_END * w2!r}], "
                              f"got {g0!r}")
     seed = resolve_seed(seed)
-    wait = RETRAP_WAIT / omega
+    wait = RETRAP_WAIT * max(1.0 / omega, beta / w2)
     slowest = g0 / (MAX_STEPS * dt - wait)
     if ramp_rate < slowest:
         raise ValueError(f"ramp_rate must be >= {slowest!r} with dt = {dt!r} (the ramp down to 0 "
