@@ -9,13 +9,17 @@
   escape and per unit of simulated time.
 * The weak order of the splitting fitted over a coupled step sweep (:mod:`mbm.noise.weak`).
 * A switching histogram at β = 0.2, T = 0.02, ramp 1e-3, timed (median of repeats).
+* Weak damping: the escape rate at β = 0.03, γ = 0.5, ΔU/T = 5.5 against the
+  Büttiker–Harris–Landauer rate (:func:`mbm.bhl_rate`) and Kramers'; a retrapping
+  histogram at β = 0.1, T = 1e-3, ramp 1e-4 against :func:`mbm.retrapping_current`.
 
 Usage, from the root of a checkout::
 
     python -m benchmarks.noise [--full] [--out docs/noise_bench.md]
 
 The default is a small size (about a minute on two cores); ``--full`` is the issue's
-size (4,000 escapes each way, 10^4 switching events, 10^5 coupled paths).
+size (4,000 escapes each way, 10^4 switching events, 10^5 coupled paths, 10^4 weak-damping
+escapes, 2,000 retrappings).
 """
 
 import argparse
@@ -31,14 +35,20 @@ import numpy as np
 import mbm
 from mbm.noise import flow, heun, weak
 
-__all__ = ["escape_benchmark", "weak_benchmark", "switching_benchmark", "render", "main"]
+__all__ = ["escape_benchmark", "weak_benchmark", "switching_benchmark", "weak_damping_benchmark", "render",
+           "main"]
 
 BETA, GAMMA, TEMPERATURE = 1.0, 0.7, 0.063
 HEUN_DT = 0.005
 SWITCH = {"beta": 0.2, "temperature": 0.02, "ramp_rate": 1e-3}
+# Weak damping: βS/T = 1.3 (energy diffusion limits the rate) at ΔU/T = 5.5.
+WEAK = {"beta": 0.03, "gamma": 0.5, "barrier_over_t": 5.5}
+RETRAP = {"beta": 0.1, "temperature": 1e-3, "ramp_rate": 1e-4}
 SIZES = {
-    "small": {"escapes": 500, "timing_escapes": 100, "repeats": 3, "switching": 2000, "paths": 20000},
-    "full": {"escapes": 4000, "timing_escapes": 400, "repeats": 3, "switching": 10000, "paths": 100000},
+    "small": {"escapes": 500, "timing_escapes": 100, "repeats": 3, "switching": 2000, "paths": 20000,
+              "weak_escapes": 1000, "retraps": 400},
+    "full": {"escapes": 4000, "timing_escapes": 400, "repeats": 3, "switching": 10000, "paths": 100000,
+             "weak_escapes": 10000, "retraps": 2000},
 }
 
 
@@ -117,8 +127,48 @@ def switching_benchmark(size):
     return {"hist": s, "wall": med, "n": size["switching"], "kramers": kramers_law(**SWITCH)}
 
 
-def render(name, esc, wk, sw):
-    """The Markdown report."""
+def weak_damping_benchmark(size):
+    """Escape at WEAK against BHL and Kramers; retrapping at RETRAP against the deterministic current."""
+    beta, gamma = WEAK["beta"], WEAK["gamma"]
+    temp = mbm.noise.well(gamma)["barrier"] / WEAK["barrier_over_t"]
+    t0 = time.perf_counter()
+    e = mbm.escape_times(beta, gamma, temp, size["weak_escapes"], seed=5)
+    wall = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    r = mbm.retrapping_currents(n=size["retraps"], seed=5, **RETRAP)
+    return {"temperature": temp, "esc": e, "wall": wall, "bhl": mbm.bhl_rate(beta, gamma, temp),
+            "kramers": mbm.kramers_rate(beta, gamma, temp), "retrap": r,
+            "retrap_wall": time.perf_counter() - t0, "g_r": mbm.retrapping_current(RETRAP["beta"])}
+
+
+def _render_weak(wd):
+    e, r = wd["esc"], wd["retrap"]
+    done = int(np.isfinite(e.times).sum())
+    se = 1.0 / math.sqrt(done)  # relative standard error of the censored exponential rate
+    lag = RETRAP["ramp_rate"] / RETRAP["beta"]
+    return [
+        f"## Weak damping, β = {WEAK['beta']}, γ = {WEAK['gamma']}, T = {wd['temperature']:.4f} "
+        f"(ΔU/T = {WEAK['barrier_over_t']})",
+        "",
+        f"{done} escapes in {wd['wall']:.1f} s: rate {e.rate:.4e} (± {100 * se:.1f} %); "
+        f"Büttiker–Harris–Landauer (mbm.bhl_rate) {wd['bhl']:.4e}, ratio **{e.rate / wd['bhl']:.3f}**; "
+        f"Kramers (moderate damping) {wd['kramers']:.4e}, ratio **{e.rate / wd['kramers']:.3f}**.",
+        "",
+        f"## Retrapping histogram, β = {RETRAP['beta']}, T = {RETRAP['temperature']:g}, "
+        f"ramp {RETRAP['ramp_rate']:g} (down)",
+        "",
+        f"{r.currents.size} scenes in {wd['retrap_wall']:.1f} s: mean {r.mean:.5f} ± "
+        f"{r.width / math.sqrt(r.currents.size):.5f}, width {r.width:.5f}, skewness {r.skewness:.2f}, "
+        f"kurtosis {r.kurtosis:.2f}; {int(np.isnan(r.currents).sum())} still slipping at γ = 0.  "
+        f"Deterministic retrapping current (mbm.retrapping_current) {wd['g_r']:.5f}; the running "
+        f"state lags the ramp by r/β = {lag:g}, so noise raised the mean by "
+        f"{r.mean + lag - wd['g_r']:+.5f}.",
+        "",
+    ]
+
+
+def render(name, esc, wk, sw, wd=None):
+    """The Markdown report (``wd``: :func:`weak_damping_benchmark`'s, optional)."""
     ok = abs(esc["diff"]) < esc["allowed"]
     s = sw["hist"]
     lines = [
@@ -176,6 +226,8 @@ def render(name, esc, wk, sw):
         "only at T = 0.001, r = 1e-7).",
         "",
     ]
+    if wd is not None:
+        lines += _render_weak(wd)
     return "\n".join(lines)
 
 
@@ -194,7 +246,10 @@ def main(argv=None):
     print(f"weak order {wk['order']:.2f}", flush=True)
     sw = switching_benchmark(size)
     print(f"switching: {sw['n']} events in {sw['wall']:.1f} s", flush=True)
-    text = render(name, esc, wk, sw)
+    wd = weak_damping_benchmark(size)
+    print(f"weak damping: rate/BHL {wd['esc'].rate / wd['bhl']:.3f}; retrapping mean {wd['retrap'].mean:.5f}",
+          flush=True)
+    text = render(name, esc, wk, sw, wd)
     Path(args.out).write_text(text, encoding="utf-8")
     print(text)
 

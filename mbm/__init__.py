@@ -67,10 +67,12 @@ __all__ = [
     "ShapiroSteps",
     "ShapiroStepsSI",
     "ShapiroStepSI",
+    "RetrappingHistogram",
     "SwitchingHistogram",
     "angle_event",
     "approximant_names",
     "beta_from_retrapping",
+    "bhl_rate",
     "escape_times",
     "event_table",
     "fit_iv",
@@ -82,6 +84,7 @@ __all__ = [
     "period",
     "reference",
     "retrapping_current",
+    "retrapping_currents",
     "SENSITIVITY_NAMES",
     "section_event",
     "shapiro_steps",
@@ -93,6 +96,7 @@ __all__ = [
     "successive",
     "sweep",
     "switching_currents",
+    "switching_grid",
     "velocity_event",
 ]
 
@@ -118,7 +122,12 @@ _LAZY = {
     "SwitchingHistogram": ("mbm.noise.api", "SwitchingHistogram"),
     "escape_times": ("mbm.noise.api", "escape_times"),
     "kramers_rate": ("mbm.noise.api", "kramers_rate"),
+    "bhl_rate": ("mbm.noise.api", "bhl_rate"),
+    # xarray (optional) is imported when switching_grid runs
+    "switching_grid": ("mbm.noise.grids", "switching_grid"),
     "switching_currents": ("mbm.noise.api", "switching_currents"),
+    "RetrappingHistogram": ("mbm.noise.retrap", "RetrappingHistogram"),
+    "retrapping_currents": ("mbm.noise.retrap", "retrapping_currents"),
     # error bars and sensitivities (issue 51)
     "AccuracyWarning": ("mbm.tangent.api", "AccuracyWarning"),
     "SENSITIVITY_NAMES": ("mbm.tangent.api", "SENSITIVITY_NAMES"),

@@ -15,11 +15,11 @@ import numpy as np
 
 from ..validate import check_integer, check_positive, check_real, check_rule
 from .flow import make_params, substeps
-from .kernels import escape_kernel, switching_kernel
+from .kernels import escape_kernel, switching_kernel, thermal_start_kernel
 from .rng import resolve_seed
 
-__all__ = ["EscapeTimes", "SwitchingHistogram", "escape_times", "kramers_rate",
-           "switching_currents", "well"]
+__all__ = ["EscapeTimes", "SwitchingHistogram", "barrier_action", "bhl_rate", "escape_times",
+           "kramers_rate", "switching_currents", "well"]
 
 # Default step (units of 1/ω): agreement with a dt = 0.005 Heun run within 3 standard
 # errors on 4,000 escapes at β = 1, γ = 0.7, T = 0.063 (benchmarks/noise.py).
@@ -71,8 +71,9 @@ def kramers_rate(beta, gamma, temperature, omega=1.0):
     r"""Kramers' escape rate (moderate to high damping) out of the well of :func:`well`.
 
     k = (ω_a / 2π) (sqrt(1 + α²) − α) e^{−ΔU/T}, α = β / (2 ω_b); valid for ΔU ≫ T
-    and β ΔU / T ≫ ω_a (the spatial-diffusion regime; at weaker damping the
-    energy-diffusion rate of Büttiker–Harris–Landauer is lower).  For γ = 0 the two
+    and β S / T ≫ 1 with S the action of the barrier orbit (:func:`barrier_action`;
+    the spatial-diffusion regime).  At weaker damping the energy supply, not the
+    barrier crossing, limits the rate: :func:`bhl_rate`.  For γ = 0 the two
     barriers are both counted (k doubled).
 
     Parameters
@@ -99,6 +100,86 @@ def kramers_rate(beta, gamma, temperature, omega=1.0):
     a = beta / (2.0 * w["omega_barrier"])
     k = w["omega_well"] / (2.0 * math.pi) * (math.sqrt(1.0 + a * a) - a)
     return k * math.exp(-w["barrier"] / temperature) * (2.0 if gamma == 0.0 else 1.0)
+
+
+def barrier_action(gamma, omega=1.0):
+    r"""The action S = ∮ θ' dθ of the orbit at the barrier energy in the well of :func:`well`.
+
+    The orbit at E_b = U(θ_max), U(θ) = −ω² cos θ − γθ, from the far turning point
+    θ_1 (U(θ_1) = E_b) to the barrier top and back: S = 2 ∫ sqrt(2 (E_b − U)) dθ over
+    (θ_1, θ_max).  β S is the energy the damping takes from it in one period.  S = 16ω
+    at γ = 0 (the separatrix); S → 7.2 ΔU/ω_a as abs(γ) → ω² (the cubic well).
+
+    Parameters
+    ----------
+    gamma : float
+        Bias, abs(γ) < ω².
+    omega : float, optional
+        Plasma frequency ω > 0.
+
+    Returns
+    -------
+    float
+        S (in units of the energy over ω).
+    """
+    from scipy.integrate import quad
+    from scipy.optimize import brentq
+
+    omega = check_rule("omega", omega)
+    g = abs(_check_gamma(gamma, omega))
+    w2 = omega * omega
+    if g == 0.0:
+        return 16.0 * omega
+    w = well(g, omega)
+    top = w["theta_max"]
+
+    def gap(th):  # E_b − U(θ), ≥ 0 on the orbit
+        return w2 * (math.cos(th) - math.cos(top)) + g * (th - top)
+
+    # θ_1 in (top − 2π, θ_min): U(top − 2π) = E_b + 2πγ lies above the barrier energy
+    th1 = brentq(gap, top - 2.0 * math.pi, w["theta_min"], xtol=1e-15, rtol=4 * np.finfo(float).eps)
+    val = quad(lambda th: math.sqrt(2.0 * max(gap(th), 0.0)), th1, top, epsabs=0.0, epsrel=1e-12,
+               limit=200)[0]
+    return 2.0 * val
+
+
+def bhl_rate(beta, gamma, temperature, omega=1.0):
+    r"""The escape rate out of the well of :func:`well` from weak to moderate damping (BHL).
+
+    k = (ω_a / 2π) · 4 / (1 + sqrt(1 + 4T/(βS)))² · e^{−ΔU/T}, S the action of the
+    barrier orbit (:func:`barrier_action`): the Büttiker–Harris–Landauer rate (M.
+    Büttiker, E. P. Harris and R. Landauer, Phys. Rev. B 28, 1268 (1983)) in the
+    interpolating form of Martinis, Devoret and Clarke (Phys. Rev. B 35, 4682 (1987),
+    where 1.8 ΔU/Q = ω_a·S/(4Q) for the cubic well).  For βS ≪ T it is the
+    energy-diffusion rate (ω_a/2π)(βS/T) e^{−ΔU/T}, below Kramers'
+    (:func:`kramers_rate`, which holds for βS ≫ T); for βS ≫ T it tends to the
+    transition-state rate (ω_a/2π) e^{−ΔU/T}.  Valid for ΔU ≫ T.  For γ = 0 both
+    barriers are reached on the same orbit: one rate, not doubled.
+
+    Parameters
+    ----------
+    beta : float
+        Damping, > 0.
+    gamma : float
+        Bias, abs(γ) < ω².
+    temperature : float
+        T > 0 (as :func:`escape_times`).
+    omega : float, optional
+        Plasma frequency ω > 0.
+
+    Returns
+    -------
+    float
+        The rate k (escapes per unit time).
+    """
+    beta = check_positive("beta", beta)
+    temperature = check_positive("temperature", temperature)
+    omega = check_rule("omega", omega)
+    gamma = _check_gamma(gamma, omega)
+    w = well(gamma, omega)
+    delta = beta * barrier_action(gamma, omega) / temperature
+    a_t = 4.0 / (1.0 + math.sqrt(1.0 + 4.0 / delta)) ** 2
+    return w["omega_well"] / (2.0 * math.pi) * a_t * math.exp(-w["barrier"] / temperature)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -221,11 +302,20 @@ def _steps(t_max, dt, name="t_max"):
     return steps
 
 
+def _thermal_starts(p, stream, m, gamma, omega):
+    # The Boltzmann starts of scenes first .. first + m − 1 in the well of θ0 = arcsin(γ/ω²),
+    # between its two barrier tops −π − θ0 and π − θ0, where U is lowest at θ0.
+    th0 = math.asin(gamma / (omega * omega))
+    u_min = -omega * omega * math.cos(th0) - gamma * th0
+    return thermal_start_kernel(p, stream, m, -math.pi - th0, u_min)
+
+
 def escape_times(beta, gamma, temperature, n, *, omega=1.0, seed=None, dt=DT_DEFAULT,
-                 t_max=None, threads=None):
+                 t_max=None, threads=None, start="bottom"):
     r"""First-slip times of ``n`` thermal junctions out of their starting well.
 
-    Each scene starts at the well bottom θ0 = arcsin(γ/ω²) with θ' = 0 and runs
+    Each scene starts at the well bottom θ0 = arcsin(γ/ω²) with θ' = 0 (or from the
+    Boltzmann law in the well, ``start="thermal"``) and runs
     θ'' + βθ' + ω² sin θ = γ + ξ(t), ⟨ξ(t)ξ(t')⟩ = 2βT δ(t − t'), until θ reaches the
     next well's bottom θ0 ± 2π: one completed phase slip, ΔU + 2πabs(γ) below the barrier
     top on the downhill side, so that a crossing counted is not undone (the time from
@@ -253,6 +343,12 @@ def escape_times(beta, gamma, temperature, n, *, omega=1.0, seed=None, dt=DT_DEF
         Horizon; default 100 Kramers mean times (:data:`KRAMERS_HORIZON`).
     threads : int, optional
         numba threads for this call (default: numba's current count).
+    start : {"bottom", "thermal"}, optional
+        "bottom": θ0, θ' = 0.  "thermal": θ' ~ N(0, T) and θ from e^{−U(θ)/T} between
+        the well's two barrier tops (−π − θ0, π − θ0), drawn by rejection from scene
+        i's own stream at counters from 2^40 on, apart from the steps' (the scene's
+        energy is not capped: a start above the barrier, probability ~e^{−ΔU/T}, escapes
+        at once).
 
     Returns
     -------
@@ -264,6 +360,8 @@ def escape_times(beta, gamma, temperature, n, *, omega=1.0, seed=None, dt=DT_DEF
     temperature = check_positive("temperature", temperature)
     n = _check_count(n)
     dt = _check_dt(dt, omega)
+    if not (isinstance(start, str) and start in ("bottom", "thermal")):
+        raise ValueError(f"start must be 'bottom' or 'thermal', got {start!r}")
     seed = resolve_seed(seed)
     if t_max is None:
         t_max = min(KRAMERS_HORIZON / kramers_rate(beta, gamma, temperature, omega), MAX_STEPS * dt)
@@ -274,8 +372,13 @@ def escape_times(beta, gamma, temperature, n, *, omega=1.0, seed=None, dt=DT_DEF
     bounds = np.array([th0 - 2.0 * math.pi, th0 + 2.0 * math.pi])
     with _threads(threads):
         plan = substeps(dt, omega, abs(gamma), 0.0)
-        times = _chunked(lambda stream, m: escape_kernel(p, stream, m, np.array([th0, 0.0]), dt, plan, steps,
-                                                         bounds), seed, n)
+
+        def run(stream, m):
+            starts = (_thermal_starts(p, stream, m, gamma, omega) if start == "thermal"
+                      else np.tile(np.array([th0, 0.0]), (m, 1)))
+            return escape_kernel(p, stream, m, starts, dt, plan, steps, bounds)
+
+        times = _chunked(run, seed, n)
     done = times[np.isfinite(times)]
     mean = float(done.mean()) if done.size else math.nan
     se = float(done.std(ddof=1) / math.sqrt(done.size)) if done.size > 1 else math.nan

@@ -18,12 +18,16 @@ from numba import njit, prange
 
 from ..compile.jit import INLINE, NJIT_OPTIONS
 from .flow import P_BETA, P_GAMMA0, P_OMEGA2, P_RATE, P_TEMP, TAYLOR_ORDER, hamiltonian_flow
-from .rng import normal_pair, scene_key
+from .rng import normal_pair, scene_key, uniform_pair
 
-__all__ = ["escape_kernel", "switching_kernel", "moments_kernel", "path_kernel", "batch_path_kernel"]
+__all__ = ["START_COUNTER", "thermal_start_kernel", "escape_kernel", "switching_kernel", "retrapping_kernel", "moments_kernel", "path_kernel",
+           "batch_path_kernel"]
 
 # numba's options of the parallel run kernels: the package's, with prange threads.
 PARALLEL_OPTIONS = dict(NJIT_OPTIONS, parallel=True, nogil=True)
+# The first counter of a scene's thermal start draws: 2^40, past any step's counter (a
+# run has at most 10^9 < 2^30 steps), so the start and the steps never share numbers.
+START_COUNTER = 2**40
 
 
 @njit(**INLINE)
@@ -46,8 +50,36 @@ def _ou(p, h):
 
 
 @njit(**PARALLEL_OPTIONS)
-def escape_kernel(p, stream, n, start, h, plan, max_steps, bounds):
-    """First times θ leaves (bounds[0], bounds[1]), ``n`` scenes from ``start`` at t = 0.
+def thermal_start_kernel(p, stream, n, lo, u_min):
+    """Per scene, a start [θ, θ'] from the Boltzmann law e^{−E/T} with θ in (lo, lo + 2π).
+
+    ``stream`` = (seed, first scene) as :func:`escape_kernel`; the draws use the
+    counters from :data:`START_COUNTER` on.  θ' = sqrt(T) z (z the first deviate of
+    pair START_COUNTER); θ by rejection: uniform on (lo, lo + 2π) (u1 of pair
+    START_COUNTER + j, j = 1, 2, ...), accepted when u2 < e^{−(U(θ) − u_min)/T},
+    U(θ) = −ω² cos θ − γ0 θ (u_min ≤ min U on the interval).  Returns (n, 2).
+    """
+    out = np.empty((n, 2))
+    w2 = p[P_OMEGA2]
+    g = p[P_GAMMA0]
+    temp = p[P_TEMP]
+    for i in prange(n):
+        key = scene_key(stream[0], stream[1] + i)
+        out[i, 1] = math.sqrt(temp) * normal_pair(key, START_COUNTER)[0]
+        j = START_COUNTER + 1
+        while True:
+            u1, u2 = uniform_pair(key, j)
+            theta = lo + 2.0 * math.pi * u1
+            if u2 < math.exp(-(-w2 * math.cos(theta) - g * theta - u_min) / temp):
+                out[i, 0] = theta
+                break
+            j += 1
+    return out
+
+
+@njit(**PARALLEL_OPTIONS)
+def escape_kernel(p, stream, n, starts, h, plan, max_steps, bounds):
+    """First times θ leaves (bounds[0], bounds[1]), scene i from ``starts[i]`` at t = 0.
 
     ``stream`` = (seed, first scene): scene i draws the stream of scene first + i.
 
@@ -65,9 +97,9 @@ def escape_kernel(p, stream, n, start, h, plan, max_steps, bounds):
         sn = np.empty(TAYLOR_ORDER + 1)
         cn = np.empty(TAYLOR_ORDER + 1)
         key = scene_key(stream[0], stream[1] + i)
-        theta = start[0]
+        theta = starts[i, 0]
         z, spare = _next(key, 0, 0.0)
-        v = c2 * start[1] + s2 * z
+        v = c2 * starts[i, 1] + s2 * z
         t_hit = np.inf
         for k in range(max_steps):
             theta, v = hamiltonian_flow(theta, v, k * h, h, plan, p, (b, sn, cn))
@@ -128,6 +160,45 @@ def switching_kernel(p, stream, n, theta0, h, plan, max_steps, theta_done):
 
 
 @njit(**PARALLEL_OPTIONS)
+def retrapping_kernel(p, stream, n, v0, h, plan, max_steps, wait):
+    """Under the bias γ0 + r t (r < 0), the time each scene last passed a new barrier top.
+
+    ``stream`` = (seed, first scene): scene i draws the stream of scene first + i.
+
+    Each scene starts at θ = 0 with θ' = ``v0`` (before the first half O step).  A
+    barrier top passed is a new odd multiple of π reached by θ (past every top
+    π − arcsin(γ/ω²) + 2πk for γ ≥ 0): the time recorded is the end of the step that
+    passed the last one, read once ``wait`` has elapsed without a new one (0 if none
+    was passed).  Returns (n,) times, inf for scenes still slipping at ``max_steps``.
+    """
+    out = np.empty(n)
+    c, s, c2, s2 = _ou(p, h)
+    for i in prange(n):
+        b = np.empty(TAYLOR_ORDER + 1)
+        sn = np.empty(TAYLOR_ORDER + 1)
+        cn = np.empty(TAYLOR_ORDER + 1)
+        key = scene_key(stream[0], stream[1] + i)
+        theta = 0.0
+        z, spare = _next(key, 0, 0.0)
+        v = c2 * v0 + s2 * z
+        top = math.pi
+        t_last = 0.0
+        out[i] = np.inf
+        for k in range(max_steps):
+            t = (k + 1) * h
+            theta, v = hamiltonian_flow(theta, v, k * h, h, plan, p, (b, sn, cn))
+            if theta >= top:
+                t_last = t
+                top = (2.0 * math.floor((theta - math.pi) / (2.0 * math.pi)) + 3.0) * math.pi
+            elif t - t_last >= wait:
+                out[i] = t_last
+                break
+            z, spare = _next(key, k + 1, spare)
+            v = c * v + s * z
+    return out
+
+
+@njit(**PARALLEL_OPTIONS)
 def moments_kernel(p, seed, n, start, h, plan, burn_steps, steps):
     """Per scene, time averages of θ'², cos θ and θ over ``steps`` steps after ``burn_steps``.
 
@@ -162,43 +233,42 @@ def moments_kernel(p, seed, n, start, h, plan, burn_steps, steps):
 
 
 @njit(**PARALLEL_OPTIONS)
-def batch_path_kernel(params, seed, starts, h, plans, marks):
-    """:func:`path_kernel` for scenes i = 0 .. N − 1 (params (N, 8), starts (N, 2),
-    plans (N, 2)) on the streams (seed, i): an (N, len(marks), 2) array."""
-    n = params.shape[0]
-    out = np.empty((n, marks.shape[0], 2))
-    for i in prange(n):
-        out[i] = path_kernel(params[i], seed, i, starts[i], h, (plans[i, 0], plans[i, 1]), marks)
-    return out
+def batch_path_kernel(params, seed, states, k0, k1, h, plans, marks, out):
+    """:func:`path_kernel` for scenes i = 0 .. N − 1 (params (N, 8), states (N, 2),
+    plans (N, 2), out (N, len(marks), 2)) on the streams (seed, i)."""
+    for i in prange(params.shape[0]):
+        path_kernel(params[i], seed, i, states[i], k0, k1, h, (plans[i, 0], plans[i, 1]), marks, out[i])
 
 
 @njit(**NJIT_OPTIONS)
-def path_kernel(p, seed, scene, start, h, plan, marks):
-    """One scene's states after marks[j] steps of length h: (len(marks), 2) of [θ, θ'].
+def path_kernel(p, seed, scene, state, k0, k1, h, plan, marks, out):
+    """Advance one scene's ``state`` [θ, θ'] in place from step ``k0`` to step ``k1``.
 
-    ``marks``: sorted step counts ≥ 0 (0 is the start).  Each state is the symmetric
-    scheme's after whole steps, each half O with a deviate of its own (pair k of the
-    stream for step k: these numbers differ from the run kernels', which fuse the
-    half steps).
+    ``out[j]`` receives the state after marks[j] steps (sorted, in [k0, k1]; the
+    start k0 included).  Step k draws pair k of the stream (seed, scene) and runs D
+    from time k h: the state after step k does not depend on where the runs between
+    k0 and k1 were cut.  Each state is the symmetric scheme's after whole steps, each
+    half O with a deviate of its own (these numbers differ from the run kernels',
+    which fuse the half steps).
     """
     m = marks.shape[0]
-    out = np.empty((m, 2))
     c2, s2 = _ou(p, h)[2:]
     b = np.empty(TAYLOR_ORDER + 1)
     sn = np.empty(TAYLOR_ORDER + 1)
     cn = np.empty(TAYLOR_ORDER + 1)
     key = scene_key(seed, scene)
-    theta, v = start[0], start[1]
+    theta, v = state[0], state[1]
     j = 0
-    k = 0
-    while j < m:
-        if marks[j] == k:
+    k = k0
+    while True:
+        while j < m and marks[j] == k:
             out[j, 0], out[j, 1] = theta, v
             j += 1
-            continue
+        if k >= k1:
+            break
         z0, z1 = normal_pair(key, k)
         v = c2 * v + s2 * z0
         theta, v = hamiltonian_flow(theta, v, k * h, h, plan, p, (b, sn, cn))
         v = c2 * v + s2 * z1
         k += 1
-    return out
+    state[0], state[1] = theta, v

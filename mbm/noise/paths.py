@@ -2,7 +2,9 @@
 
 The scene's θ'' + βθ' + ω² sin θ = γ + A sin(Ωt + φ) with the noise ξ, ⟨ξ(t)ξ(t')⟩ =
 2βT δ(t − t'), integrated at a fixed step by the splitting O(h/2) D(h) O(h/2)
-(:func:`mbm.noise.kernels.path_kernel`); outputs on the step grid.
+(:func:`mbm.noise.kernels.path_kernel`); outputs on the step grid.  A path runs in
+compiled calls of at most :data:`CHUNK_STEPS` scene-steps, the state carried between
+them; step k draws pair k of its stream, so the bits do not depend on the cuts.
 """
 
 import math
@@ -22,6 +24,9 @@ __all__ = ["solve_langevin", "solve_langevin_batch"]
 GRID_SLACK = 1e-6
 # The method's name in the result (``approximant``).
 METHOD = "langevin-odo"
+# Scene-steps per compiled call (a batch of N scenes runs CHUNK_STEPS // N steps a call):
+# a Ctrl-C lands between calls, ~0.05 s apart, and a call's overhead (µs) stays negligible.
+CHUNK_STEPS = 2**16
 
 
 def _check_dt(dt, w_eff):
@@ -49,6 +54,22 @@ def _marks(t_eval, t0, t1, dt):
                    or np.any(np.diff(k) < 0)):
         raise ValueError(f"t_eval must be sorted times t0 + k*dt within t_span (dt = {dt!r}) with a temperature")
     return k.astype(np.int64)
+
+
+def _in_chunks(run, marks, per_call):
+    # run(k0, k1, j0) for consecutive step ranges [k0, k1] of at most per_call steps up
+    # to the last mark; j0 indexes the first mark not yet written (marks at k0 were
+    # written by the call before, which ended there).
+    end = int(marks[-1]) if marks.size else 0
+    k0 = 0
+    j0 = 0
+    while True:
+        k1 = min(k0 + per_call, end)
+        run(k0, k1, j0)
+        if k1 >= end:
+            return
+        j0 = int(np.searchsorted(marks, k1, side="right"))
+        k0 = k1
 
 
 def solve_langevin(model, t0, t1, theta0, v0, *, temperature, seed=None, dt=None, t_eval=None):
@@ -89,7 +110,10 @@ def solve_langevin(model, t0, t1, theta0, v0, *, temperature, seed=None, dt=None
     p = make_params(model.beta, model.omega, model.gamma, 0.0, amp, model.drive_frequency,
                     model.drive_phase + model.drive_frequency * t0, temperature)
     plan = substeps(dt, model.omega, abs(model.gamma) + abs(amp), model.drive_frequency)
-    y = path_kernel(p, np.uint64(seed), 0, np.array([theta0, v0]), dt, plan, marks)
+    state = np.array([theta0, v0], dtype=float)
+    y = np.empty((marks.size, 2))
+    _in_chunks(lambda k0, k1, j0: path_kernel(p, np.uint64(seed), 0, state, k0, k1, dt, plan, marks[j0:], y[j0:]),
+               marks, CHUNK_STEPS)
     return SolveResult(t=t0 + marks * dt, y=np.ascontiguousarray(y.T), success=True, status=0,
                        message="Langevin path completed (fixed step)", n_steps=int(marks[-1]) if marks.size else 0,
                        approximant=METHOD, seed=seed, temperature=temperature, dt=dt,
@@ -135,7 +159,10 @@ def solve_langevin_batch(params, y0, t0, t1, *, temperature, seed=None, dt=None,
                                   phase[i] + freq[i] * t0, temps[i]) for i in range(n)])
     plans = np.array([substeps(dt, omega[i], abs(gamma[i]) + abs(amp[i]), freq[i]) for i in range(n)],
                      dtype=np.int64)
-    y = batch_path_kernel(table, np.uint64(seed), np.ascontiguousarray(y0, dtype=float), dt, plans, marks)
+    states = np.array(y0, dtype=float, order="C")
+    y = np.empty((n, marks.size, 2))
+    _in_chunks(lambda k0, k1, j0: batch_path_kernel(table, np.uint64(seed), states, k0, k1, dt, plans,
+                                                    marks[j0:], y[:, j0:]), marks, max(1, CHUNK_STEPS // n))
     return SolveResult(t=t0 + marks * dt, y=np.ascontiguousarray(y.transpose(0, 2, 1)),
                        status=np.zeros(n, dtype=np.int64), success=np.ones(n, dtype=bool),
                        message="Langevin paths completed (fixed step)",

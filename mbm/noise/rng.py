@@ -17,7 +17,7 @@ from numba import njit
 
 from ..compile.jit import INLINE
 
-__all__ = ["GOLDEN", "mix64", "scene_key", "normal_pair", "resolve_seed"]
+__all__ = ["GOLDEN", "mix64", "scene_key", "normal_pair", "uniform_pair", "resolve_seed"]
 
 # The golden-ratio increment of SplitMix64 (odd, so n · GOLDEN visits all 2^64 values).
 GOLDEN = np.uint64(0x9E3779B97F4A7C15)
@@ -61,6 +61,16 @@ def normal_pair(key, counter):
     r = math.sqrt(-2.0 * math.log(u1))
     a = 2.0 * math.pi * u2
     return r * math.cos(a), r * math.sin(a)
+
+
+@njit(**INLINE)
+def uniform_pair(key, counter):
+    """The ``counter``-th pair of independent uniforms on [0, 1) of a stream: the two
+    SplitMix64 outputs that :func:`normal_pair` turns into normals at that counter."""
+    base = key + np.uint64(2 * counter) * GOLDEN
+    u1 = float(mix64(base + GOLDEN) >> np.uint64(11)) * _TWO_M53
+    u2 = float(mix64(base + GOLDEN + GOLDEN) >> np.uint64(11)) * _TWO_M53
+    return u1, u2
 
 
 def resolve_seed(seed):
