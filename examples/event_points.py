@@ -12,12 +12,21 @@ Compares, over 0 ≤ t ≤ 80 against CVODE at 1e-12 (max abs(θ − θ_ref) on 
 Usage::
 
     python event_points.py
+
+(prints the tables and writes ``out/event_points.png``: the error of each mode against
+its number of windows).
 """
 
 import math
+import os
 import time
+from pathlib import Path
 
-import numpy as np
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
 from scipy.integrate import solve_ivp
 
 import mbm
@@ -72,11 +81,38 @@ def run(name, scene, approximant="salas-torque"):
         print(f"  {label:32s} {n:8d} {err:12.4e} {sec:8.3f}")
     dt = np.abs(ta[: min(len(ta), len(te))] - te[: min(len(ta), len(te))])
     print(f"  formula events vs CVODE events: {len(ta)} vs {len(te)}, first 5 |dt| = {np.round(dt[:5], 4)}")
+    return rows
 
 
-def main():
-    for name, scene in SCENES.items():
-        run(name, scene)
+def out_dir(path=None):
+    """The folder the PNG goes to (created): ``path``, else ``$MBM_EXAMPLES_OUT``, else ``./out``."""
+    d = Path(path or os.environ.get("MBM_EXAMPLES_OUT") or "out")
+    d.mkdir(parents=True, exist_ok=True)
+    return d
+
+
+def plot(results, path):
+    """Max error against windows for each mode and Example (``results``: name → rows of :func:`run`)."""
+    fig, axes = plt.subplots(1, len(results), figsize=(5 * len(results), 4), sharey=True)
+    for ax, (name, rows) in zip(np.atleast_1d(axes), results.items()):
+        fixed = [(n, err) for label, n, err, _ in rows if label.startswith("fixed")]
+        ax.loglog(*zip(*sorted(fixed)), "C0o-", label="fixed τ (3.29)–(3.30)")
+        for (label, n, err, _), style in zip(rows[:3], ("C3s", "C1^", "C2v")):
+            ax.loglog([n], [err], style, ms=8, label=label)
+        ax.set_title(name)
+        ax.set_xlabel("windows")
+    np.atleast_1d(axes)[0].set_ylabel("max |θ − θ_ref|")
+    np.atleast_1d(axes)[0].legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def main(out=None):
+    """Print each Example's table and save ``event_points.png``; returns (rows per Example, path)."""
+    results = {name: run(name, scene) for name, scene in SCENES.items()}
+    return results, plot(results, out_dir(out) / "event_points.png")
 
 
 if __name__ == "__main__":

@@ -14,10 +14,18 @@ Columns: "johannessen" is (3.9) with the first term of ξ read as θ̇₀⁴ (se
 f ≈ f′(0)t ("Our solution"); "full" is (2.2) with the exact f of (2.6);
 "J-trig" is (3.9) with sin_m.  See ``docs/salas2021.md`` for the comparison.
 
-Run:  python table1_salas2021.py
+Run:  python table1_salas2021.py (prints both halves and writes ``out/table1_salas2021.png``:
+the recomputed errors beside the printed ones).
 """
 
-import numpy as np
+import os
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
 
 from mbm.approximants.salas2021 import Johannessen, JohannessenTrig, SalasDamped, SalasDampedLinear
 from mbm.model import Pendulum
@@ -102,11 +110,47 @@ def _print_half(title, params, rows, printed):
         )
 
 
-def main():
+def out_dir(path=None):
+    """The folder the PNG goes to (created): ``path``, else ``$MBM_EXAMPLES_OUT``, else ``./out``."""
+    d = Path(path or os.environ.get("MBM_EXAMPLES_OUT") or "out")
+    d.mkdir(parents=True, exist_ok=True)
+    return d
+
+
+def plot(left, right, path):
+    """Both halves: the recomputed errors (lines) over the printed ones (markers); saves ``path``."""
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4), sharey=True)
+    halves = ((axes[0], TWO_EPS, left, PRINTED_LEFT, f"2ε  (θ̇₀ = {LEFT_THETA_DOT0})"),
+              (axes[1], THETA_DOT0, right, PRINTED_RIGHT, f"θ̇₀  (2ε = {RIGHT_TWO_EPS})"))
+    for ax, x, rows, printed, label in halves:
+        ax.semilogy(x, [r["johannessen"] for r in rows], "C0-", label="Johannessen (3.9), recomputed")
+        ax.semilogy(x, printed["johannessen"], "C0o", mfc="none", label="Johannessen, printed")
+        ax.semilogy(x, [r["linear"] for r in rows], "C1-", label="elementary (Our solution), recomputed")
+        ax.semilogy(x, printed["ours"], "C1s", mfc="none", label="elementary, printed")
+        ax.semilogy(x, [r["full"] for r in rows], "C2--", label="(2.2) with the exact f")
+        ax.set_xlabel(label)
+    axes[0].set_ylabel(f"max |θ − θ_ref|, 0 ≤ t ≤ {T_END:g}")
+    axes[0].legend(fontsize=7)
+    fig.suptitle("Table 1 of Salas (2021), recomputed")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def main(out=None):
+    """Print both halves of Table 1 beside the printed values and save ``table1_salas2021.png``.
+
+    Returns
+    -------
+    ((list, list), Path)
+        The recomputed halves (:func:`table1`) and the PNG written.
+    """
     left, right = table1()
     _print_half(f"2ε sweep, θ̇₀ = {LEFT_THETA_DOT0}, ω = 1, 0 ≤ t ≤ {T_END:g}", TWO_EPS, left, PRINTED_LEFT)
     print()
     _print_half(f"θ̇₀ sweep, 2ε = {RIGHT_TWO_EPS}, ω = 1, 0 ≤ t ≤ {T_END:g}", THETA_DOT0, right, PRINTED_RIGHT)
+    return (left, right), plot(left, right, out_dir(out) / "table1_salas2021.png")
 
 
 if __name__ == "__main__":
