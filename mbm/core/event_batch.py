@@ -19,8 +19,8 @@ import numba
 import numpy as np
 
 from ..compile.jit import kernel
-from .event_watch import (WATCH_CROWDED, WATCH_LOCKED, WATCH_OK, locate, taylor_events, trap_allowed,
-                          trapped_unreachable)
+from .event_watch import (WATCH_CROWDED, WATCH_LOCKED, WATCH_OK, Tally, Watch, locate, taylor_events,
+                          trap_allowed, trapped_unreachable)
 from .chains import _run_sets
 from .window import KIND_TAYLOR
 from ..regimes.common import REGIME_LOCKED, REGIME_NONE
@@ -71,18 +71,28 @@ def stop_row(p, i, out_i, t_eval, evf, k, n_windows, direction):
 
 
 @kernel
-def lane_events(p, ln, i, coef, t_w, t_new, k, direction, t_eval, out, ev, caps, hits_all, stored_all, handed, ws,
-                evf, evi, evs, count):
-    """The events of a lane's window (scene ``i``, coefficients ``coef`` from ``t_w`` to
-    ``t_new``, winding ``k``; :func:`mbm.core.lanes._lanes_for`), appended as
-    :func:`locate` does; a terminal event stops the scene (:func:`stop_at`, the lane
-    freed), a crowded window is STATUS_CROWDED.  Returns the grown buffers and count."""
+def lane_events(p, lane, i, win, run, events, ws, found):
+    """The events of a lane's window, appended as :func:`locate` does; a terminal event
+    stops the scene (:func:`stop_at`, the lane freed), a crowded window is
+    STATUS_CROWDED.
+
+    ``lane`` = (ln, handed): the lane and the scenes handed off; ``i`` the scene;
+    ``win`` = (coef, t_w, t_new, k): the window's coefficients from t_w to t_new, winding
+    k (:func:`mbm.core.lanes._lanes_for`); ``run`` = (direction, t_eval, out);
+    ``events`` = (ev, caps, hits_all, stored_all): the table, the caps and every scene's
+    counts; ``ws`` the :func:`mbm.core.event_watch.workspace`; ``found`` = (evf, evi,
+    evs, count).  Returns the grown buffers and count."""
+    ln, handed = lane
+    coef, t_w, t_new, k = win
+    direction, t_eval, out = run
+    ev, caps, hits_all, stored_all = events
+    evf, evi, evs, count = found
     r = p[i]
-    alpha, beta_v, work, xs, ds, out_s, out_m, out_e = ws
     c0 = count
-    evf, evi, count, verdict, fired = taylor_events(coef, t_w, t_new - t_w, k, ev, hits_all[i], stored_all[i], caps,
-                                                    r.model.drive_freq, r.model.drive_phase, direction, alpha,
-                                                    beta_v, work, xs, ds, out_s, out_m, out_e, evf, evi, count)
+    evf, evi, count, verdict, fired = taylor_events(coef, (t_w, t_new - t_w, k), ev,
+                                                    Tally(hits_all[i], stored_all[i], caps),
+                                                    Watch(r.model.drive_freq, r.model.drive_phase, direction), ws,
+                                                    (evf, evi, count))
     evs = _grow(evs, evi.size)
     evs[c0:count] = i
     if verdict != WATCH_OK or fired:
@@ -106,14 +116,19 @@ def scene_events_for(flags):
     k0, _, _, _, s0, s1, s2, s3, s4, s5 = flags
 
     @numba.njit(cache=True, nogil=True)
-    def run_scene_events(p, i, t_eval, out_i, cancel, ev, caps, hits, stored, win_t, win_y, win_coef, lock, evf,
-                         evi, evs, count):
+    def run_scene_events(p, i, run, ev, tally, store, found):
         """Run scene ``i`` of ``p`` (fresh, or paused by the lanes) in chunks of stored
-        windows (``win_*``, :data:`LAST_CHUNK` long), locating the events ``ev`` of each
-        (at most ``caps`` of each stored, -1: all; its counts so far and on ``hits``,
-        ``stored``; ``lock``: scratch of 4) and appending them to ``evf``, ``evi``, ``evs``
-        from ``count``.  Returns the buffers, the count and whether the scene is to be
-        run again without the locked regime (its events then dropped)."""
+        windows, locating the events ``ev`` of each and appending them to ``found``.
+
+        ``run`` = (t_eval, out_i, cancel); ``tally`` = (hits, stored, caps): its counts
+        so far and on, at most caps of each stored (-1: all); ``store`` = (win_t, win_y,
+        win_coef, lock): the windows' store (:data:`LAST_CHUNK` long) and a scratch of 4;
+        ``found`` = (evf, evi, evs, count).  Returns the buffers, the count and whether
+        the scene is to be run again without the locked regime (its events then dropped)."""
+        t_eval, out_i, cancel = run
+        hits, stored, caps = tally
+        win_t, win_y, win_coef, lock = store
+        evf, evi, evs, count = found
         r = p[i]
         lock[0], lock[1], lock[2], lock[3] = r.model.gamma, r.model.omega, r.control.rtol, r.control.atol
         first = count
@@ -132,9 +147,10 @@ def scene_events_for(flags):
             n = _run_sets(KIND_TAYLOR, k0, 0, 0, 0, s0, s1, s2, s3, s4, s5, p[i:i + 1], t_eval, out_i,
                           win_t[: chunk + 1], win_y[: chunk + 1], win_coef[:chunk], cancel)
             c0 = count
-            evf, evi, count, stop, ok = locate(win_t, np.ascontiguousarray(win_y[: n + 1, 0]), win_coef, n,
-                                               ev, hits, stored, caps, r.model.drive_freq, r.model.drive_phase,
-                                               direction, evf, evi, count, lock)
+            evf, evi, count, stop, ok = locate((win_t, np.ascontiguousarray(win_y[: n + 1, 0]), win_coef, n), ev,
+                                               (hits, stored, caps),
+                                               (r.model.drive_freq, r.model.drive_phase, direction),
+                                               (evf, evi, count), lock)
             evs = _grow(evs, evi.size)
             evs[c0:count] = i
             if ok == WATCH_LOCKED:
@@ -159,12 +175,16 @@ def events_rows_for(flags):
     run_scene_events = scene_events_for(flags)
 
     @numba.njit(cache=True, nogil=True)
-    def run_rows_events(p, ids, t_eval, out, cancel, ev, cap, width, hits_all, stored_all, again):
+    def run_rows_events(p, ids, run, ev, counts, width, again):
         """Run the scenes ``ids`` of ``p`` (fresh, or paused by the lanes) watching the
-        events ``ev`` (at most ``cap`` of each stored per scene, -1: all); scene i's
-        counts so far and on are ``hits_all[i]``, ``stored_all[i]``; ``again[i]`` is
-        set to 1 where the scene is to be run without the locked regime.
-        Returns the stored events: rows (t, θ, θ', m), event index, scene."""
+        events ``ev``.  ``run`` = (t_eval, out, cancel); ``counts`` = (cap, hits_all,
+        stored_all): at most cap of each event stored per scene (-1: all), scene i's
+        counts so far and on ``hits_all[i]``, ``stored_all[i]``; ``width``: the windows'
+        coefficient rows; ``again[i]`` is set to 1 where the scene is to be run without
+        the locked regime.  Returns the stored events: rows (t, θ, θ', m), event index,
+        scene."""
+        t_eval, out, cancel = run
+        cap, hits_all, stored_all = counts
         evf = np.empty((EVENTS_CAPACITY, 4))
         evi = np.empty(EVENTS_CAPACITY, np.int64)
         evs = np.empty(EVENTS_CAPACITY, np.int64)
@@ -175,9 +195,9 @@ def events_rows_for(flags):
         win_coef = np.empty((LAST_CHUNK, width))
         lock = np.empty(4)
         for i in ids:
-            evf, evi, evs, count, locked = run_scene_events(p, i, t_eval, out[i], cancel, ev, caps, hits_all[i],
-                                                            stored_all[i], win_t, win_y, win_coef, lock, evf, evi,
-                                                            evs, count)
+            evf, evi, evs, count, locked = run_scene_events(p, i, (t_eval, out[i], cancel), ev,
+                                                            (hits_all[i], stored_all[i], caps),
+                                                            (win_t, win_y, win_coef, lock), (evf, evi, evs, count))
             if locked:
                 again[i] = 1
         return evf[:count].copy(), evi[:count].copy(), evs[:count].copy()

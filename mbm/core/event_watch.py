@@ -36,7 +36,7 @@ from ..compile.jit import INLINE, kernel
 from ..special.polyroots import crossings
 from .window import KIND_TAYLOR, evaluate, theta_of
 
-__all__ = ["locate", "taylor_events", "window_may_cross", "workspace", "trap_allowed", "trapped_unreachable", "EV_ANGLE", "EV_VELOCITY", "EV_SECTION", "EV_WIDTH", "WATCH_OK", "WATCH_CROWDED",
+__all__ = ["locate", "taylor_events", "Tally", "Watch", "window_may_cross", "workspace", "trap_allowed", "trapped_unreachable", "EV_ANGLE", "EV_VELOCITY", "EV_SECTION", "EV_WIDTH", "WATCH_OK", "WATCH_CROWDED",
            "WATCH_LOCKED"]
 
 # The event table's rows: (type, value, modulo, direction, terminal count).
@@ -66,6 +66,15 @@ WATCH_CROWDED = 0  # a window held more crossings than WINDOW_CROSSINGS (or its 
 WATCH_LOCKED = -1  # a locked window may reach a level: run the scene without the locked regime
 
 
+#: How the windows are swept: the drive's frequency and phase (section events) and the
+#: direction of the integration.
+Watch = collections.namedtuple("Watch", ("drive_freq", "drive_phase", "direction"))
+
+#: Each event's counts over the run: ``hits`` its occurrences, ``stored`` those appended,
+#: ``cap`` at most how many to append (-1: all).
+Tally = collections.namedtuple("Tally", ("hits", "stored", "cap"))
+
+
 @kernel
 def _push(evf, evi, count, t, theta, v, m, e):
     # Appends an event (doubling the buffers when full); returns them and the count.
@@ -92,12 +101,16 @@ def _level(value, modulo, m, k):
 
 
 @kernel
-def _window_roots(coef, h, t_w, k, ev, drive_freq, drive_phase, direction, alpha, beta_v, work, xs, ds,
-                  out_s, out_m, out_e):
-    """The events of the table ``ev`` in one Taylor window (anchor ``coef``, length ``h``
-    from ``t_w``, winding ``k``: θ = 2πk + the polynomial): their times from the anchor (``out_s``), level counts
-    (``out_m``: θ = value + modulo·m for an angle event, the drive turn for a section)
-    and event indices (``out_e``), unsorted; returns how many (-1: too many)."""
+def _window_roots(coef, span, ev, watch, ws):
+    """The events of the table ``ev`` in one Taylor window (anchor ``coef``; ``span`` =
+    (t_w, h, k): length h from t_w, winding k, θ = 2πk + the polynomial): their times
+    from the anchor (``ws.out_s``), level counts (``ws.out_m``: θ = value + modulo·m for
+    an angle event, the drive turn for a section) and event indices (``ws.out_e``),
+    unsorted; returns how many (-1: too many).  ``watch``: a :data:`Watch`, ``ws`` an
+    :data:`EventWorkspace`."""
+    t_w, h, k = span
+    drive_freq, drive_phase, direction = watch
+    alpha, beta_v, work, xs, ds, out_s, out_m, out_e = ws
     nd = int(coef[1])
     a = coef[HEADER:]
     hp = 1.0
@@ -183,16 +196,18 @@ def _sort_window(out_s, out_m, out_e, count, direction):
 
 
 @kernel
-def _period_events(p_starts, p_coefs, p_n, ev, kn, alpha, beta_v, work, xs, ds, out_s, out_m, out_e):
-    """The events of a stored period (its windows ``p_starts``, ``p_coefs``, θ continuous
-    from the anchor) in a turn of winding ``kn``, by phase s in (0, T]: rows ``(s, φ, θ', m,
-    e)`` sorted by s (θ = 2πkn + φ), and False where a window held too many crossings."""
+def _period_events(period, ev, kn, ws):
+    """The events of a stored period (``period`` = (p_starts, p_coefs, p_n): its windows,
+    θ continuous from the anchor) in a turn of winding ``kn``, by phase s in (0, T]: rows
+    ``(s, φ, θ', m, e)`` sorted by s (θ = 2πkn + φ), and False where a window held too
+    many crossings."""
+    p_starts, p_coefs, p_n = period
+    out_s, out_m, out_e = ws.out_s, ws.out_m, ws.out_e
     buf = np.empty((16, 5))
     count = 0
     for q in range(p_n):
         s0 = p_starts[q]
-        nr = _window_roots(p_coefs[q], p_starts[q + 1] - s0, s0, kn, ev, 0.0, 0.0, 1.0, alpha, beta_v, work, xs,
-                           ds, out_s, out_m, out_e)
+        nr = _window_roots(p_coefs[q], (s0, p_starts[q + 1] - s0, kn), ev, Watch(0.0, 0.0, 1.0), ws)
         if nr < 0:
             return buf[:0], False
         _sort_window(out_s, out_m, out_e, nr, 1.0)
@@ -282,12 +297,15 @@ def trapped_unreachable(theta, v, ev, gamma, omega, rtol, atol, d):
 
 
 @numba.njit(cache=True)  # also called from Python
-def locate(starts, start_theta, coefs, n, ev, hits, stored, cap, drive_freq, drive_phase, direction, evf, evi,
-           count, lock):
+def locate(windows, ev, tally, watch, found, lock):
     """The events of ``n`` stored windows in time order, appended to ``evf`` (rows t, θ,
     θ', m) and ``evi`` (the event's row of ``ev``) from ``count`` on (grown as needed).
 
-    ``hits`` counts each event's occurrences over the run (a terminal event's row in
+    ``windows`` = (starts, start_theta, coefs, n): the windows (``win_t``, ``win_y[:, 0]``,
+    ``win_coef`` of :func:`mbm.core.loop.run`); ``tally`` = (hits, stored, cap) and
+    ``watch`` = (drive_freq, drive_phase, direction), the fields of :data:`Tally` and
+    :data:`Watch` (plain tuples: numba's dispatcher types those fast); ``found`` = (evf,
+    evi, count).  ``hits`` counts each event's occurrences over the run (a terminal event's row in
     ``ev[:, 4]`` is the count that stops it, 0 for none); ``stored`` how many of them
     were appended, at most ``cap`` of each (-1: all) besides the terminal one that stops
     the run.  A locked window (the last) holds no event where
@@ -298,7 +316,11 @@ def locate(starts, start_theta, coefs, n, ev, hits, stored, cap, drive_freq, dri
     could not be re-taken, WATCH_LOCKED where a locked window may reach a level (the
     caller runs the scene again without the locked regime).
     """
-    alpha, beta_v, work, xs, ds, out_s, out_m, out_e = workspace(coefs.shape[1])
+    starts, start_theta, coefs, n = windows
+    tally = Tally(tally[0], tally[1], tally[2])
+    watch = Watch(watch[0], watch[1], watch[2])
+    evf, evi, count = found
+    ws = workspace(coefs.shape[1])
     for i in range(n):
         t_w = starts[i]
         h = starts[i + 1] - t_w
@@ -308,16 +330,13 @@ def locate(starts, start_theta, coefs, n, ev, hits, stored, cap, drive_freq, dri
                 return evf, evi, count, -1, WATCH_LOCKED
             continue
         if c[0] == CYCLE_TAG:
-            evf, evi, count, stop, ok = _cycle_window(c, t_w, h, ev, hits, stored, cap, alpha, beta_v, work, xs,
-                                                      ds, out_s, out_m, out_e, evf, evi, count)
+            evf, evi, count, stop, ok = _cycle_window(c, (t_w, h), ev, tally, ws, (evf, evi, count))
             if not ok or stop:
                 return evf, evi, count, i if stop else -1, WATCH_OK if ok else WATCH_CROWDED
             continue
         # The winding count, recovered as the stored evaluator does (its start's θ).
         k = float(round((start_theta[i] - c[HEADER]) / _TWO_PI))
-        evf, evi, count, verdict, fired = taylor_events(c, t_w, h, k, ev, hits, stored, cap, drive_freq, drive_phase,
-                                                        direction, alpha, beta_v, work, xs, ds, out_s, out_m, out_e,
-                                                        evf, evi, count)
+        evf, evi, count, verdict, fired = taylor_events(c, (t_w, h, k), ev, tally, watch, ws, (evf, evi, count))
         if verdict != WATCH_OK or fired:
             return evf, evi, count, i if fired else -1, verdict
     return evf, evi, count, -1, WATCH_OK
@@ -364,18 +383,20 @@ def window_may_cross(c, h, k, ev):
 
 
 @kernel
-def taylor_events(c, t_w, h, k, ev, hits, stored, cap, drive_freq, drive_phase, direction, alpha, beta_v, work, xs,
-                  ds, out_s, out_m, out_e, evf, evi, count):
-    """The events of one Taylor window (coefficients ``c`` from ``t_w``, length ``h``,
-    winding ``k``) in time order, counted in ``hits`` and appended as :func:`locate`
-    does (``alpha`` … ``out_e`` its workspace, :func:`workspace`).  Returns ``(evf, evi,
-    count, verdict, fired)``: ``fired`` whether a terminal event stopped the run (its
-    row the last)."""
-    nr = _window_roots(c, h, t_w, k, ev, drive_freq, drive_phase, direction, alpha, beta_v, work, xs, ds,
-                       out_s, out_m, out_e)
+def taylor_events(c, span, ev, tally, watch, ws, found):
+    """The events of one Taylor window (coefficients ``c``; ``span`` = (t_w, h, k): from
+    t_w, length h, winding k) in time order, counted in the :data:`Tally` and appended to
+    ``found`` = (evf, evi, count) as :func:`locate` does (``watch`` a :data:`Watch`,
+    ``ws`` its :func:`workspace`).  Returns ``(evf, evi, count, verdict, fired)``:
+    ``fired`` whether a terminal event stopped the run (its row the last)."""
+    t_w, k = span[0], span[2]
+    hits, stored, cap = tally
+    evf, evi, count = found
+    out_s, out_m, out_e = ws.out_s, ws.out_m, ws.out_e
+    nr = _window_roots(c, span, ev, watch, ws)
     if nr < 0:
         return evf, evi, count, WATCH_CROWDED, False
-    _sort_window(out_s, out_m, out_e, nr, direction)
+    _sort_window(out_s, out_m, out_e, nr, watch.direction)
     for q in range(nr):
         e = out_e[q]
         hits[e] += 1
@@ -405,10 +426,11 @@ def workspace(nd_max):
 
 
 @kernel
-def _turns_to_skip(rows, ev, hits, stored, cap, n_turns):
+def _turns_to_skip(rows, ev, tally, n_turns):
     """Whole turns of a cycle window that can be counted without being walked: 0 while
     an event still stores its occurrences, else at most ``n_turns``, fewer where a
-    terminal event would fire in them.  Adds their occurrences to ``hits``."""
+    terminal event would fire in them.  Adds their occurrences to the :data:`Tally`'s hits."""
+    hits, stored, cap = tally
     n_ev = ev.shape[0]
     for e in range(n_ev):
         if cap[e] < 0 or stored[e] < cap[e]:
@@ -435,10 +457,11 @@ Turns = collections.namedtuple("Turns", ("period", "t_w", "tau0", "h", "wind", "
 
 
 @kernel
-def _block_turns(rows, ev, hits, stored, cap, n_turns):
+def _block_turns(rows, ev, tally, n_turns):
     """Whole turns (at most ``n_turns``) whose events :func:`_fill_turns` can write in one
-    sweep: in them every event stores all its occurrences or none (``cap``) and no
-    terminal event fires.  Returns (turns, occurrences of each event per turn)."""
+    sweep: in them every event stores all its occurrences or none (the :data:`Tally`'s
+    cap) and no terminal event fires.  Returns (turns, occurrences of each event per turn)."""
+    hits, stored, cap = tally
     n_ev = ev.shape[0]
     per = np.zeros(n_ev, np.int64)
     for q in range(rows.shape[0]):
@@ -456,14 +479,15 @@ def _block_turns(rows, ev, hits, stored, cap, n_turns):
 
 
 @kernel
-def _fill_turns(rows, ev, tally, turns, first, b, out):
+def _fill_turns(rows, ev, tally, per, turns, first, b, out):
     """Write the events of turns ``first`` … ``first + b − 1`` of a cycle window at once
-    (:func:`_block_turns` chose b): the stored period's rows shifted by T_c and the
-    winding per turn, the values :func:`_cycle_window`'s walk writes, bit for bit.
-    ``tally`` = (hits, stored, cap, per), advanced; ``out`` = (evf, evi, count), grown
-    once.  Stops early at a turn whose first or last row falls outside the window (its
-    ends, in rounding).  Returns (evf, evi, count, turns written)."""
-    hits, stored, cap, per = tally
+    (:func:`_block_turns` chose b; ``per``: each event's rows per turn): the stored
+    period's rows shifted by T_c and the winding per turn, the values
+    :func:`_cycle_window`'s walk writes, bit for bit.  The :data:`Tally` advanced;
+    ``out`` = (evf, evi, count), grown once.  Stops early at a turn whose first or last
+    row falls outside the window (its ends, in rounding).  Returns (evf, evi, count,
+    turns written)."""
+    hits, stored, cap = tally
     evf, evi, count = out
     n_ev, nr = ev.shape[0], rows.shape[0]
     if nr == 0:
@@ -504,11 +528,14 @@ def _fill_turns(rows, ev, tally, turns, first, b, out):
 
 
 @kernel
-def _cycle_window(c, t_w, h, ev, hits, stored, cap, alpha, beta_v, work, xs, ds, out_s, out_m, out_e, evf, evi,
-                  count):
-    """The events of a cycle window (from ``t_w``, length ``h``): its stored period's,
-    shifted by T_c and its winding per turn; once no event stores more (``cap``), whole
+def _cycle_window(c, span, ev, tally, ws, found):
+    """The events of a cycle window (``span`` = (t_w, h): from t_w, length h): its stored
+    period's, shifted by T_c and its winding per turn, counted in the :data:`Tally` and
+    appended to ``found`` = (evf, evi, count); once no event stores more (cap), whole
     turns are counted, not walked.  Returns ``(evf, evi, count, stop, ok)``."""
+    t_w, h = span
+    hits, stored, cap = tally
+    evf, evi, count = found
     period, t_off, sign, wind = c[CYC_PERIOD], c[CYC_T_OFF], c[CYC_SIGN], c[CYC_WIND]
     p_starts, p_ends, p_coefs, p_n = _period_store(KIND_TAYLOR, c)
     if p_n < 1:
@@ -518,7 +545,8 @@ def _cycle_window(c, t_w, h, ev, hits, stored, cap, alpha, beta_v, work, xs, ds,
     for e in range(ev.shape[0]):
         if int(ev[e, 0]) == EV_ANGLE and ev[e, 2] != _TWO_PI:
             shiftable = False
-    rows, ok = _period_events(p_starts, p_coefs, p_n, ev, 0.0, alpha, beta_v, work, xs, ds, out_s, out_m, out_e)
+    period_windows = (p_starts, p_coefs, p_n)
+    rows, ok = _period_events(period_windows, ev, 0.0, ws)
     if not ok:
         return evf, evi, count, False, False
     tau0, tau1 = t_off, t_off + h
@@ -528,17 +556,15 @@ def _cycle_window(c, t_w, h, ev, hits, stored, cap, alpha, beta_v, work, xs, ds,
         if shiftable and turn * period > tau0:
             # Turns turn .. n1 - 2 lie inside the window whole (the last two are walked:
             # their ends meet the window's end in rounding).
-            turn += float(_turns_to_skip(rows, ev, hits, stored, cap, max(0, int(n1 - 1.0 - turn))))
-            b, per = _block_turns(rows, ev, hits, stored, cap, max(0, int(n1 - 1.0 - turn)))
+            turn += float(_turns_to_skip(rows, ev, tally, max(0, int(n1 - 1.0 - turn))))
+            b, per = _block_turns(rows, ev, tally, max(0, int(n1 - 1.0 - turn)))
             if b > 0:
-                evf, evi, count, done = _fill_turns(rows, ev, (hits, stored, cap, per),
-                                                    Turns(period, t_w, tau0, h, wind, sign), int(turn), b,
-                                                    (evf, evi, count))
+                evf, evi, count, done = _fill_turns(rows, ev, tally, per, Turns(period, t_w, tau0, h, wind, sign),
+                                                    int(turn), b, (evf, evi, count))
                 turn += float(done)
         kn = wind + sign * turn
         if not shiftable:
-            rows, ok = _period_events(p_starts, p_coefs, p_n, ev, kn, alpha, beta_v, work, xs, ds, out_s, out_m,
-                                      out_e)
+            rows, ok = _period_events(period_windows, ev, kn, ws)
             if not ok:
                 return evf, evi, count, False, False
         base = turn * period - tau0

@@ -326,9 +326,9 @@ def _lanes_for(watch):
                     i, t_w, k, direction = ln.scene, ln.t, ln.wind, ln.direction
                     t_new = _lane_window(p, ln, rows[q], hs[q], hv[0, q], hv[1, q], ho)
                     if watch and t_new == t_new and window_may_cross(rows[q], t_new - t_w, k, ev):
-                        evf, evi, evs, count = lane_events(p, ln, i, rows[q], t_w, t_new, k, direction, t_eval, out,
-                                                           ev, caps, hits_all, stored_all, handed, ws, evf, evi,
-                                                           evs, count)
+                        evf, evi, evs, count = lane_events(p, (ln, handed), i, (rows[q], t_w, t_new, k),
+                                                           (direction, t_eval, out), (ev, caps, hits_all, stored_all),
+                                                           ws, (evf, evi, evs, count))
         return evf[:count].copy(), evi[:count].copy(), evs[:count].copy()
 
     return run_lanes

@@ -362,10 +362,11 @@ class _Run:
         # The built-in events of n windows (locate): (stop window, verdict).
         model = self.ig.model
         lock = np.array([model.gamma, model.omega, self.ig.rtol, self.ig.atol])
+        tally = (self.hits if hits is None else hits, self.stored if stored is None else stored,
+                 self.cap if cap is None else cap)
         self.evf, self.evi, self.count, stop, ok = locate(
-            win_t, start_theta, win_coef, n, self.ev if ev is None else ev, self.hits if hits is None else hits,
-            self.stored if stored is None else stored, self.cap if cap is None else cap, model.drive_frequency,
-            model.drive_phase, self.direction, self.evf, self.evi, self.count, lock)
+            (win_t, start_theta, win_coef, n), self.ev if ev is None else ev, tally,
+            (model.drive_frequency, model.drive_phase, self.direction), (self.evf, self.evi, self.count), lock)
         return stop, ok
 
     def _merge(self, win_t, start_theta, win_coef, n, first, last):
@@ -518,7 +519,7 @@ def run_batch_events(p, te, out, order, ev, cap, cancel, fresh):
 
     def rows(ids):
         entry = event_batch.events_entry(lanes.batch_flags(p[ids] if ids.size < p.size else p))
-        return [lambda g=g: entry(p, g, te, out, cancel, ev, cap, width, hits, stored, again)
+        return [lambda g=g: entry(p, g, (te, out, cancel), ev, (cap, hits, stored), width, again)
                 for g in lanes.groups(ids)]
 
     while ids.size:

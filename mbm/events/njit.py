@@ -20,7 +20,7 @@ from ..core.chains import _run_sets
 from ..core.event_watch import EV_ANGLE, EV_VELOCITY, EV_WIDTH
 from .compiled import as_events
 from ..regimes.common import REGIMES_ALL, REGIMES_OFF, REGIMES_PERIODIC
-from ..status import STATUS_EVENT, STATUS_NONFINITE, STATUS_PAUSED
+from ..status import STATUS_NONFINITE, STATUS_PAUSED
 from .functions import function_crossings
 from ..regimes.cycle import CYCLE_WIDTH
 
@@ -196,8 +196,8 @@ def solve_njit_events(beta, gamma, omega, t0, theta0, v0, t_bound, t_eval, out, 
         evi = np.empty(EVENTS_CAPACITY, np.int64)
         evs = np.empty(EVENTS_CAPACITY, np.int64)
         out[:] = np.nan
-        evf, evi, evs, count, locked = _SCENE(p, 0, t_eval, out, cancel, events, caps, hits, stored, win_t,
-                                              win_y, win_coef, lock, evf, evi, evs, 0)
+        evf, evi, evs, count, locked = _SCENE(p, 0, (t_eval, out, cancel), events, (hits, stored, caps),
+                                              (win_t, win_y, win_coef, lock), (evf, evi, evs, 0))
         if not locked or regimes == REGIMES_PERIODIC:
             break
         regimes = REGIMES_PERIODIC  # a locked window may reach a level: without the locked regime
