@@ -19,8 +19,8 @@ from ..core.window import (
     TWO_PI_A,
     TWO_PI_B,
     anchor_driven,
-    _put,
     evaluate,
+    theta_of,
     window_log_eps,
     wrap,
 )
@@ -266,7 +266,11 @@ def _strobe_range_taylor(c, per, outs, lo, hi):
                     thb[r], vb[r], kb[r] = math.nan, math.nan, 0.0
                 elif starts[i + 1] == sb[r]:
                     thb[r], vb[r] = ends[i + 1, 0], ends[i + 1, 1]
-                _put(out_theta, out_w, wrapped, b0 + r, kb[r], thb[r])
+                # (_put's body: called with its arrays, their reference counts doubled the cost.)
+                if wrapped:
+                    out_w[b0 + r], out_theta[b0 + r] = wrap(kb[r], thb[r])
+                else:
+                    out_theta[b0 + r] = theta_of(kb[r], thb[r])
                 out_v[b0 + r] = vb[r]
             q = q2
 
