@@ -87,6 +87,7 @@ from ..regimes.cycle_windows import (
     _TWO_PI,
     refine_period,
     _period_store,
+    _period_range_taylor,
     _period_value,
     _watch_cycle,
 )
@@ -417,14 +418,16 @@ def _emit_stored(kind, rset, coef, per, ends, j, direction, outs):
     t_new, θ, θ', winding) its span and end state); returns the next output index."""
     t, t_new, th, v, k_new = ends
     t_eval, out_theta, out_v, out_w, wrapped = outs
-    if rset == RS_STROBE and kind == KIND_TAYLOR:
+    if kind == KIND_TAYLOR:
         # The block in one call, its sorted times walking the stored period's windows
         # (an output at t_new is the lookup that gave the end state: the same bits).
         j2 = j
         while j2 < t_eval.size and (direction * (t_eval[j2] - t_new) <= 0.0):
             j2 += 1
-        if j2 > j:
+        if j2 > j and rset == RS_STROBE:
             _strobe_range_taylor(coef, per, outs, j, j2)
+        elif j2 > j:
+            _period_range_taylor(coef, per, outs, j, j2, t)
         return j2
     while j < t_eval.size and (direction * (t_eval[j] - t_new) <= 0.0):
         if t_eval[j] == t_new:

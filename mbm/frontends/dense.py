@@ -28,7 +28,7 @@ from ..approximants.taylor import taylor_eval_range
 from ..approximants.taylor_simd import SIMD_ORDER
 from ..core.window import KIND_EXACT, KIND_SALAS_TORQUE, KIND_SPLIT, KIND_TAYLOR, evaluate, theta_of
 from ..core.loop import RS_CYCLE, RS_PLAIN, RS_STROBE, Outputs
-from ..regimes.cycle_windows import _period_store, _period_value
+from ..regimes.cycle_windows import _period_range_taylor, _period_store, _period_value
 from ..regimes.strobe_windows import _strobe_range_taylor, _strobe_value, _strobe_windows_taylor
 from ..regimes import (
     REGIME_LIBRATION,
@@ -109,6 +109,11 @@ def _cycle_run(kind, simd, c, t0, t, lo, hi, out_theta, out_v):
     # A cycle window: the stored period (re-taken once for these times), shifted (its
     # own winding count).
     p_starts, p_ends, p_coefs, p_n = _period_store(kind, c, simd)
+    if kind == KIND_TAYLOR:
+        # These times in one call, sorted ones walking the period's windows.
+        _period_range_taylor(c, (p_starts, p_ends, p_coefs, p_n), Outputs(t, out_theta, out_v, out_theta, False),
+                             lo, hi, t0)
+        return
     for q in range(lo, hi):
         a, b, kc = _period_value(kind, c, p_starts, p_ends, p_coefs, p_n, t[q] - t0)
         out_theta[q] = theta_of(kc, a)

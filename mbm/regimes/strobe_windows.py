@@ -11,7 +11,7 @@ import math
 import numba
 import numpy as np
 
-from ..approximants.taylor import drive_phase_sincos, taylor_eval_range, taylor_workspace
+from ..approximants.taylor import drive_phase_sincos, taylor_workspace
 from ..core.controller import _adaptive, _first
 from ..core.record import window_control
 from ..core.window import (
@@ -20,7 +20,6 @@ from ..core.window import (
     TWO_PI_B,
     anchor_driven,
     evaluate,
-    theta_of,
     window_log_eps,
     wrap,
 )
@@ -28,6 +27,7 @@ from ..compile.jit import INLINE, kernel
 from .common import REGIME_NONE, REGIME_PHASE_LOCKED, SWITCH_SAFETY
 from .cycle import CYCLE_MAX_WINDOWS
 from .cycle_windows import _TWO_PI
+from .stored_block import STORED_BLOCK, block_scratch, block_window, block_write
 from .strobe import (
     STROBE_CODE,
     STROBE_DISTINCT,
@@ -44,9 +44,6 @@ from ..status import STATUS_OK
 # The stored period's first capacity in windows (doubled as needed): a drive period of
 # the Shapiro steps takes 10 to 40 windows at rtol 1e-6 to 1e-12.
 STROBE_STORE_START = 64
-# Output times evaluated per block of the stored period's range kernel: its scratch rows
-# (a few kB, on the stack's scale), large enough that a window's times go four at once.
-STROBE_BLOCK = 256
 
 # Small per-window pieces are inlined into their callers, where the kind is a constant
 # (numba prunes the other kinds' branches before compiling); large ones are compiled
@@ -185,35 +182,14 @@ def _grown(starts, ends, coefs, n):
 
 
 @numba.njit(**INLINE)
-def _strobe_find(starts, n, s, i):
-    """The first stored window ending at or after ``s`` (the one the re-run returns
-    from), searched up from window ``i`` when it starts before s (sorted times: a walk),
-    else by bisection; ``n`` when none does."""
-    if n < 1 or starts[n] < s:
-        return n
-    if i < n and starts[i] < s:
-        while starts[i + 1] < s:
-            i += 1
-        return i
-    lo, hi = 0, n - 1
-    while lo < hi:
-        mid = (lo + hi) // 2
-        if starts[mid + 1] >= s:
-            hi = mid
-        else:
-            lo = mid + 1
-    return lo
-
-
-@numba.njit(**INLINE)
 def _strobe_at(c, per, p_hi, p_lo, t, i):
     """``(φ, θ', k, i)``: :func:`_strobe_eval_taylor`'s value at ``t`` from the stored
     period ``per`` (:func:`_strobe_windows_taylor`'s starts, ends, coefs, n; ``p_hi``,
     ``p_lo``: qT_d, regimes.strobe_period) and the window it came from (``i`` the
-    window to search from, :func:`_strobe_find`)."""
+    window to search from, :func:`mbm.regimes.stored_block.block_window`)."""
     starts, ends, coefs, n = per
     m, s = strobe_split(t, c[4], p_hi, p_lo)
-    i = _strobe_find(starts, n, s, i)
+    i = block_window(starts, n, s, i)
     if i >= n:
         return math.nan, math.nan, 0.0, 0
     if starts[i + 1] == s:
@@ -234,45 +210,22 @@ def _strobe_lookup_taylor(c, starts, ends, coefs, n, t):
 @kernel
 def _strobe_range_taylor(c, per, outs, lo, hi):
     """:func:`_strobe_at` at the times ``outs[0][lo:hi]`` (``outs``: the loop's Outputs
-    record, t_eval, θ, θ', winding and wrapped rows) from the stored period ``per``, the
-    same bits: sorted times walk its windows (others bisect), and the times of one
-    window are evaluated together (taylor_eval_range, four at once), in blocks of
-    STROBE_BLOCK."""
-    t_eval, out_theta, out_v, out_w, wrapped = outs
-    starts, ends, coefs, n = per
+    record, t_eval, θ, θ', winding and wrapped rows) from the stored period ``per``,
+    the same bits, a block at a time (:mod:`mbm.regimes.stored_block`)."""
+    t_eval = outs[0]
+    starts, ends, _, n = per
     p_hi, p_lo = strobe_period(c[12], c[5])
-    # Per block: s of each time (the period's time), its window and winding count, values.
-    sb, wb, kb = np.empty(STROBE_BLOCK), np.empty(STROBE_BLOCK, np.int64), np.empty(STROBE_BLOCK)
-    thb, vb = np.empty(STROBE_BLOCK), np.empty(STROBE_BLOCK)
+    blk = block_scratch()
+    sb, wb, kb = blk[0], blk[1], blk[2]
     i = 0
-    for b0 in range(lo, hi, STROBE_BLOCK):
-        m = min(STROBE_BLOCK, hi - b0)
+    for b0 in range(lo, hi, STORED_BLOCK):
+        m = min(STORED_BLOCK, hi - b0)
         for q in range(m):
-            np_, s = strobe_split(t_eval[b0 + q], c[4], p_hi, p_lo)
-            i = _strobe_find(starts, n, s, i)
+            periods, s = strobe_split(t_eval[b0 + q], c[4], p_hi, p_lo)
+            i = block_window(starts, n, s, i)
             sb[q], wb[q] = s, i
-            kb[q] = c[3] + ends[min(i, n), 2] + c[6] * np_
-        q = 0
-        while q < m:
-            # A run of times in one window.
-            i = wb[q]
-            q2 = q + 1
-            while q2 < m and wb[q2] == i:
-                q2 += 1
-            if i < n:
-                taylor_eval_range(coefs[i], starts[i], sb, q, q2, thb, vb)
-            for r in range(q, q2):
-                if i >= n:
-                    thb[r], vb[r], kb[r] = math.nan, math.nan, 0.0
-                elif starts[i + 1] == sb[r]:
-                    thb[r], vb[r] = ends[i + 1, 0], ends[i + 1, 1]
-                # (_put's body: called with its arrays, their reference counts doubled the cost.)
-                if wrapped:
-                    out_w[b0 + r], out_theta[b0 + r] = wrap(kb[r], thb[r])
-                else:
-                    out_theta[b0 + r] = theta_of(kb[r], thb[r])
-                out_v[b0 + r] = vb[r]
-            q = q2
+            kb[q] = c[3] + ends[min(i, n), 2] + c[6] * periods
+        block_write(per, blk, m, b0, outs)
 
 
 @numba.njit(**INLINE)

@@ -16,8 +16,8 @@ import mbm
 from mbm import regimes, status
 from mbm.core import controller, loop, record, stored
 from mbm.core.window import KIND_TAYLOR, theta_of, wrap
+from mbm.regimes.stored_block import STORED_BLOCK
 from mbm.regimes.strobe_windows import (
-    STROBE_BLOCK,
     _strobe_eval_taylor,
     _strobe_lookup_taylor,
     _strobe_range_taylor,
@@ -72,7 +72,7 @@ def _times(c, t_a):
     for n in (0, 1, 2, 3, 17, 10**3, 10**5):
         tn, _ = regimes.strobe_time(t_a, float(n), p_hi, p_lo)
         bounds += [np.nextafter(tn, -np.inf), tn, np.nextafter(tn, np.inf)]
-    dense = np.linspace(t_a, t_a + 3 * p_hi, 2 * STROBE_BLOCK + 37)
+    dense = np.linspace(t_a, t_a + 3 * p_hi, 2 * STORED_BLOCK + 37)
     late = np.linspace(1.0e6 - 10.0, 1.0e6, 301)
     t = np.sort(np.concatenate([dense, bounds, late, [t_a, t_a, dense[5], dense[5]]]))
     return t[t >= t_a]
@@ -91,7 +91,7 @@ def test_stored_period_is_the_re_run_bit_for_bit(step_coef):
     assert 4 <= per[3] < 1000 and per[0][per[3]] >= regimes.strobe_period(1.0, 1.0)[0]
     t = _times(c, t_a)
     th, v, w, ph = _reference(c, t)
-    # Sorted (the walk), in blocks of STROBE_BLOCK, θ whole and wrapped.
+    # Sorted (the walk), in blocks of STORED_BLOCK, θ whole and wrapped.
     out = _range(c, per, t, False)
     np.testing.assert_array_equal(out[0], th)
     np.testing.assert_array_equal(out[1], v)
