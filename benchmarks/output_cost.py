@@ -12,7 +12,9 @@ both).  Each time is the best of ``batches`` calls, taken in turns (a slow spell
 the shared machine lands on both alike); the first calls (compile, cache load) are
 not timed.  The script checks that each scene reaches its regime and refuses to
 report otherwise.  Default: T = 2000, 20,001 outputs (under a minute); ``--full``:
-200,001 outputs (issue 52's figures).
+200,001 outputs (issue 52's figures).  Then issue 52's Shapiro-step client
+(:data:`SHAPIRO`): one bias point, 40,001 outputs, by ``mbm.solve`` and by
+``solve_ivp(method=mbm.MBM)``, with its outputs and without.
 """
 
 import argparse
@@ -48,6 +50,11 @@ N_DEFAULT = 20_001
 N_FULL = 200_001
 BATCHES = 7
 BLOCK_NAME = "output-cost"
+# Issue 52's Shapiro-step client: one bias point on the n = 1 step (β, γ, ω, A, Ω, φ),
+# 40,000 outputs over T = 4000, at the client tolerances (rtol, atol).
+SHAPIRO = ((0.2, 0.3, 1.0, 2.0, 1.0, 0.0), (0.1, 0.0), 4000.0, 40_001)
+SHAPIRO_TOLS = ((1e-3, 1e-6), (1e-6, 1e-9))
+SHAPIRO_BLOCK = "output-cost-shapiro"
 
 
 def _solve(model, y0, t_eval):
@@ -79,7 +86,35 @@ def output_costs(n=N_DEFAULT, batches=BATCHES):
     return rows
 
 
-def format_output_costs(rows, n, batches):
+def shapiro_costs(batches=BATCHES):
+    """Issue 52's bias point (:data:`SHAPIRO`) by ``mbm.solve`` and ``solve_ivp(method=mbm.MBM)``:
+    one dict per (front end, tolerance) with ``outputs`` and ``ends`` (best seconds per
+    call with the outputs and with the span's ends alone) and the ``regime``."""
+    from scipy.integrate import solve_ivp
+
+    params, y0, span, n = SHAPIRO
+    model = mbm.Pendulum(*params)
+    dense, ends = np.linspace(0.0, span, n), np.array([0.0, span])
+    rows = []
+    for rtol, atol in SHAPIRO_TOLS:
+        calls = {"mbm.solve": lambda te: mbm.solve(model, (0.0, span), y0, rtol=rtol, atol=atol, t_eval=te),
+                 "solve_ivp": lambda te: solve_ivp(model, (0.0, span), y0, method=mbm.MBM, rtol=rtol, atol=atol,
+                                                   t_eval=te)}
+        for name, call in calls.items():
+            regime = mbm.solve(model, (0.0, span), y0, rtol=rtol, atol=atol).regime
+            call(dense)
+            best = {"ends": np.inf, "outputs": np.inf}
+            with harness.gc_paused():
+                for _ in range(batches):
+                    for key, te in (("ends", ends), ("outputs", dense)):
+                        t0 = time.perf_counter()
+                        call(te)
+                        best[key] = min(best[key], time.perf_counter() - t0)
+            rows.append(dict(front=name, rtol=rtol, atol=atol, regime=str(regime), **best))
+    return rows
+
+
+def format_output_costs(rows, n, batches, shapiro=()):
     """The Markdown page of :func:`output_costs`' rows (the table a named block)."""
     base = rows[0]["per_output"]
     table = ["| regime | scene (β, γ, ω, A, Ω, φ), y0 | t_regime | windows | run, 2 outputs (ms) "
@@ -94,8 +129,17 @@ def format_output_costs(rows, n, batches):
              f"that module's docstring.  T = {SPAN:g}, rtol = atol = {TOL:g}, {n:,} outputs, best of {batches} calls.",
              "The target (issue 52): at most 2× the integrating path's cost per output in the locked, running,",
              "libration and phase-locked regimes, 4× in the exact flow.", "",
-             *block(BLOCK_NAME, table), "",
-             "Machine: " + ", ".join(f"{k} {v}" for k, v in machine.items()) + "."]
+             *block(BLOCK_NAME, table), ""]
+    if shapiro:
+        params, y0, span, n_s = SHAPIRO
+        sh = ["| front end | rtol, atol | regime | run, 2 outputs (ms) | run, {:,} outputs (ms) |".format(n_s),
+              "|---|---|---|---:|---:|"]
+        for r in shapiro:
+            sh.append(f"| {r['front']} | {r['rtol']:g}, {r['atol']:g} | {r['regime']} | {r['ends'] * 1e3:.3f} | "
+                      f"{r['outputs'] * 1e3:.3f} |")
+        lines += [f"Issue 52's Shapiro bias point: {params}, y0 = {y0}, T = {span:g}, {n_s:,} outputs.", "",
+                  *block(SHAPIRO_BLOCK, sh), ""]
+    lines += ["Machine: " + ", ".join(f"{k} {v}" for k, v in machine.items()) + "."]
     return "\n".join(lines) + "\n"
 
 
@@ -110,7 +154,7 @@ def main(argv=None):
     if args.batches < 1:
         parser.error("--batches must be >= 1")
     n = N_FULL if args.full else N_DEFAULT
-    page = format_output_costs(output_costs(n, args.batches), n, args.batches)
+    page = format_output_costs(output_costs(n, args.batches), n, args.batches, shapiro_costs(args.batches))
     if args.out:
         Path(args.out).write_text(page, encoding="utf-8")
         print(f"wrote {args.out}", file=sys.stderr)
