@@ -3,8 +3,10 @@
 After each window of a driven run the loop takes the stroboscopic samples at
 t_s + nT_d (:func:`_strobe_samples_taylor`, S1–S7 of :mod:`mbm.regimes.strobe`); once their
 deviations have converged for good, the windows are the stored drive period (q drive
-periods, S7) from the anchor sample, re-run from it at each evaluation
-(:func:`_strobe_eval_taylor`, S6).
+periods, S7) from the anchor sample (S6): its windows taken once
+(:func:`_strobe_windows_taylor`) and looked up, a block of outputs in one call
+(:func:`_strobe_range_taylor`); :func:`_strobe_eval_taylor`, the re-run to one time, is
+their reference.
 """
 
 import math
