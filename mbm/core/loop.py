@@ -87,6 +87,7 @@ from ..regimes.cycle_windows import (
     _TWO_PI,
     refine_period,
     _period_store,
+    _period_range_taylor,
     _period_value,
     _watch_cycle,
 )
@@ -102,7 +103,7 @@ from ..regimes.locked import (
     locked_quick_reject,
 )
 from ..regimes.strobe import STROBE_WIDTH, strobe_coef
-from ..regimes.strobe_windows import _strobe_setup, _strobe_value, _watch_strobe
+from ..regimes.strobe_windows import _strobe_range_taylor, _strobe_setup, _strobe_store, _strobe_stored, _watch_strobe
 from ..status import (
     STATUS_ANCHOR,
     STATUS_INTERRUPTED,
@@ -121,7 +122,7 @@ def _stored_value(kind, rset, coef, per, t, tj):
     coefficients and count)."""
     if rset == RS_CYCLE:
         return _period_value(kind, coef, per[0], per[1], per[2], per[3], tj - t)
-    return _strobe_value(kind, coef, tj)
+    return _strobe_stored(kind, coef, per[0], per[1], per[2], per[3], tj)
 
 
 @kernel
@@ -325,7 +326,9 @@ def _source_strobe(kind, r, t, direction, max_step, h_abs, per):
     t_new = _window_end(t, direction, r.state.t_bound, max_step)
     coef = strobe_coef(s.str_phi, s.str_v, s.str_k, s.str_ta, s.str_q, s.str_p, s.str_psi, m.beta, m.gamma,
                        m.omega, m.drive_amp, m.drive_freq, c.rtol, c.atol, c.karg, c.error_order)
-    th, v, k_new = _strobe_value(kind, coef, t_new)
+    if per[3] == -2:
+        per = _strobe_store(kind, coef)
+    th, v, k_new = _strobe_stored(kind, coef, per[0], per[1], per[2], per[3], t_new)
     st = STATUS_OK if math.isfinite(th) and math.isfinite(v) else STATUS_NONFINITE
     return Window(st, coef, t_new, th, v, k_new, h_abs, h_abs, False, per)
 
@@ -415,6 +418,17 @@ def _emit_stored(kind, rset, coef, per, ends, j, direction, outs):
     t_new, θ, θ', winding) its span and end state); returns the next output index."""
     t, t_new, th, v, k_new = ends
     t_eval, out_theta, out_v, out_w, wrapped = outs
+    if kind == KIND_TAYLOR:
+        # The block in one call, its sorted times walking the stored period's windows
+        # (an output at t_new is the lookup that gave the end state: the same bits).
+        j2 = j
+        while j2 < t_eval.size and (direction * (t_eval[j2] - t_new) <= 0.0):
+            j2 += 1
+        if j2 > j and rset == RS_STROBE:
+            _strobe_range_taylor(coef, per, outs, j, j2)
+        elif j2 > j:
+            _period_range_taylor(coef, per, outs, j, j2, t)
+        return j2
     while j < t_eval.size and (direction * (t_eval[j] - t_new) <= 0.0):
         if t_eval[j] == t_new:
             _put(out_theta, out_w, wrapped, j, k_new, th)

@@ -21,11 +21,20 @@ from ..regimes.cycle import CYCLE_TAG, CYCLE_WIDTH
 from ..regimes.cycle_windows import _TWO_PI, _period_store, _period_value
 from ..regimes.locked import LOCKED_TAG, LOCKED_WIDTH, locked_eval
 from ..regimes.strobe import STROBE_TAG, STROBE_WIDTH
-from ..regimes.strobe_windows import _strobe_value
+from ..regimes.strobe_windows import _strobe_store, _strobe_stored
 
 # Small per-window pieces are inlined into their callers, where the kind is a constant
 # (numba prunes the other kinds' branches before compiling); large ones are compiled
 # once per kind and called.
+
+
+@numba.njit(**INLINE)
+def _same_row(coefs, i, r, width):
+    """Whether rows ``i`` and ``r`` of ``coefs`` agree in their first ``width`` entries."""
+    for w in range(width):
+        if coefs[i, w] != coefs[r, w]:
+            return False
+    return True
 
 
 @numba.njit(**INLINE)
@@ -44,6 +53,11 @@ def _evaluate_windows(kind, starts, start_theta, coefs, n, direction, t, out_the
     per_starts = np.empty(0)
     per_ends = np.empty((0, 2))
     per_coefs = np.empty((0, 0))
+    # The stored drive period of the phase-locked windows met (S6): built once per anchor.
+    str_n, str_row = -2, 0
+    str_starts = np.empty(0)
+    str_ends = np.empty((0, 3))
+    str_coefs = np.empty((0, 0))
     for j in range(t.size):
         tj = t[j]
         # The last window whose start is not after tj (bisection: windows_per_step=None
@@ -60,7 +74,10 @@ def _evaluate_windows(kind, starts, start_theta, coefs, n, direction, t, out_the
         if coefs.shape[1] >= STROBE_WIDTH and coefs[i, 0] == STROBE_TAG:
             # A phase-locked window: the stored drive period from its anchor, at the
             # absolute time (S6; at most a period of windows).
-            a, b, kc = _strobe_value(kind, coefs[i], tj)
+            if str_n == -2 or not _same_row(coefs, i, str_row, STROBE_WIDTH):
+                str_starts, str_ends, str_coefs, str_n = _strobe_store(kind, coefs[i])
+                str_row = i
+            a, b, kc = _strobe_stored(kind, coefs[i], str_starts, str_ends, str_coefs, str_n, tj)
             out_theta[j] = theta_of(kc, a)
             out_v[j] = b
             continue

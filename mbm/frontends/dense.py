@@ -27,9 +27,9 @@ from ..core import stored, window
 from ..approximants.taylor import taylor_eval_range
 from ..approximants.taylor_simd import SIMD_ORDER
 from ..core.window import KIND_EXACT, KIND_SALAS_TORQUE, KIND_SPLIT, KIND_TAYLOR, evaluate, theta_of
-from ..core.loop import RS_CYCLE, RS_PLAIN, RS_STROBE
-from ..regimes.cycle_windows import _period_store, _period_value
-from ..regimes.strobe_windows import _strobe_value
+from ..core.loop import RS_CYCLE, RS_PLAIN, RS_STROBE, Outputs
+from ..regimes.cycle_windows import _period_range_taylor, _period_store, _period_value
+from ..regimes.strobe_windows import _strobe_range_taylor, _strobe_value, _strobe_windows_taylor
 from ..regimes import (
     REGIME_LIBRATION,
     REGIME_PHASE_LOCKED,
@@ -93,6 +93,11 @@ def _winding(kind, c, start_theta_i):
 def _strobe_run(kind, c, t, lo, hi, out_theta, out_v):
     # A phase-locked window: the stored period (q drive periods) from its anchor, at the
     # absolute time (mbm.regimes S6, S7).
+    if kind == KIND_TAYLOR and hi - lo > 1:
+        # The period's windows taken once for these times, walked (sorted) in one call.
+        per = _strobe_windows_taylor(c)
+        _strobe_range_taylor(c, per, Outputs(t, out_theta, out_v, out_theta, False), lo, hi)
+        return
     for q in range(lo, hi):
         a, b, kc = _strobe_value(kind, c, t[q])
         out_theta[q] = theta_of(kc, a)
@@ -104,6 +109,11 @@ def _cycle_run(kind, simd, c, t0, t, lo, hi, out_theta, out_v):
     # A cycle window: the stored period (re-taken once for these times), shifted (its
     # own winding count).
     p_starts, p_ends, p_coefs, p_n = _period_store(kind, c, simd)
+    if kind == KIND_TAYLOR:
+        # These times in one call, sorted ones walking the period's windows.
+        _period_range_taylor(c, (p_starts, p_ends, p_coefs, p_n), Outputs(t, out_theta, out_v, out_theta, False),
+                             lo, hi, t0)
+        return
     for q in range(lo, hi):
         a, b, kc = _period_value(kind, c, p_starts, p_ends, p_coefs, p_n, t[q] - t0)
         out_theta[q] = theta_of(kc, a)

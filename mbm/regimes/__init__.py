@@ -40,7 +40,7 @@ evaluation
     A locked window is its closed form, :func:`locked_eval`.  A cycle, libration or
     phase-locked window is its stored period re-taken from the anchor by the same
     approximant and controller (``_period_windows_for`` of
-    :mod:`mbm.regimes.cycle_windows`, ``_strobe_eval_taylor`` of :mod:`mbm.regimes.strobe_windows`;
+    :mod:`mbm.regimes.cycle_windows`, ``_strobe_windows_taylor`` of :mod:`mbm.regimes.strobe_windows`;
     R3, C3, S6), so every path and the dense output (mbm.frontends.dense) give the same bits.
     A result's ``period`` and ``mean_velocity`` are :func:`cycle_summary` and
     :func:`strobe_summary`.

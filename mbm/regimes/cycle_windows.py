@@ -37,6 +37,7 @@ from ..core.kind_ops import (
 )
 from ..compile.jit import INLINE, kernel
 from .common import REGIME_RUNNING
+from .stored_block import STORED_BLOCK, block_scratch, block_window, block_write
 from .cycle import (
     CROSSING_ITERATIONS,
     cycle_coef,
@@ -248,6 +249,27 @@ def _period_lookup(kind, c, starts, ends, coefs, n, t):
     else:
         th, v = evaluate(kind, coefs[lo], s - starts[lo])
     return th, v, c[13] + c[10] * k_n
+
+
+@kernel
+def _period_range_taylor(c, per, outs, lo, hi, t0):
+    """:func:`_period_lookup` (kind "taylor") at the times ``outs[0][lo:hi]`` from the
+    cycle window ``c`` that started at ``t0`` (``outs``: the loop's Outputs record,
+    t_eval, θ, θ', winding and wrapped rows; ``per``: its stored period), the same bits,
+    a block at a time (:mod:`mbm.regimes.stored_block`)."""
+    t_eval = outs[0]
+    starts, _, _, n = per
+    blk = block_scratch()
+    sb, wb, kb = blk[0], blk[1], blk[2]
+    i = 0
+    for b0 in range(lo, hi, STORED_BLOCK):
+        m = min(STORED_BLOCK, hi - b0)
+        for q in range(m):
+            periods, s = _cycle_phase(c, t_eval[b0 + q] - t0)
+            i = block_window(starts, n, s, i)
+            sb[q], wb[q] = s, i
+            kb[q] = c[13] + c[10] * periods
+        block_write(per, blk, m, b0, outs)
 
 
 # The stored period re-runs a period of windows (a whole controller and step): compiled

@@ -7,7 +7,8 @@ The loop (the entry of :func:`mbm.core.loop._runner`) samples the run at the str
 (:func:`strobe_period`, :func:`strobe_time`, S1) and tests the switch on the deviations
 (:func:`strobe_switch`, S3–S5, S7); after the switch the rest is one stored period
 re-taken from the anchor sample (S6): the window :func:`strobe_coef`, evaluated by
-:mod:`mbm.regimes.strobe_windows` (``_strobe_eval_taylor``; :func:`strobe_split`, :func:`strobe_phase`).
+:mod:`mbm.regimes.strobe_windows` (``_strobe_windows_taylor``, ``_strobe_range_taylor``;
+:func:`strobe_split`, :func:`strobe_phase`).
 
 The derivation, items S1–S7 (the comments below cite them), is in the
 documentation's theory page, ``docs/theory/regimes.md``.
@@ -55,8 +56,8 @@ STROBE_CLEAN_RESIDUAL = 1e-3
 # (S4): the traces of three successive fits must agree to this (absolute; clean fits
 # agree to 1e-4 on that step, fits of round-off noise scatter by 0.1 to 1).
 STROBE_TRACE_AGREE = 0.01
-# (S7): the longest orbit looked for, in drive periods (q ≤ this): each output after a
-# switch re-takes up to q periods of windows and the test needs 4q + 1 samples, and
+# (S7): the longest orbit looked for, in drive periods (q ≤ this): the stored period
+# after a switch holds q periods of windows and the test needs 4q + 1 samples, and
 # 4 covers the widest fractional steps (p/2, p/3, p/4) and two period doublings.
 STROBE_MAX_PERIODS = 4
 # (S7): the samples kept for the maps P^q (the four q-deviations span 4q + 1 samples).

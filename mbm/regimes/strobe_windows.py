@@ -3,8 +3,10 @@
 After each window of a driven run the loop takes the stroboscopic samples at
 t_s + nT_d (:func:`_strobe_samples_taylor`, S1–S7 of :mod:`mbm.regimes.strobe`); once their
 deviations have converged for good, the windows are the stored drive period (q drive
-periods, S7) from the anchor sample, re-run from it at each evaluation
-(:func:`_strobe_eval_taylor`, S6).
+periods, S7) from the anchor sample (S6): its windows taken once
+(:func:`_strobe_windows_taylor`) and looked up, a block of outputs in one call
+(:func:`_strobe_range_taylor`); :func:`_strobe_eval_taylor`, the re-run to one time, is
+their reference.
 """
 
 import math
@@ -27,6 +29,7 @@ from ..compile.jit import INLINE, kernel
 from .common import REGIME_NONE, REGIME_PHASE_LOCKED, SWITCH_SAFETY
 from .cycle import CYCLE_MAX_WINDOWS
 from .cycle_windows import _TWO_PI
+from .stored_block import STORED_BLOCK, block_scratch, block_window, block_write
 from .strobe import (
     STROBE_CODE,
     STROBE_DISTINCT,
@@ -39,6 +42,11 @@ from .strobe import (
     strobe_time,
 )
 from ..status import STATUS_OK
+
+# The stored period's first capacity in windows (doubled as needed): a drive period of
+# the n = 1 step of β = 0.2, A = 2, Ω = 1 took 9, 12 and 15 windows at rtol 1e-3, 1e-6
+# and 1e-9 (measured), q periods of S7 up to four times that.
+STROBE_STORE_START = 64
 
 # Small per-window pieces are inlined into their callers, where the kind is a constant
 # (numba prunes the other kinds' branches before compiling); large ones are compiled
@@ -93,6 +101,149 @@ def _strobe_value(kind, c, t):
     """:func:`_strobe_eval_taylor` of kind ``kind`` through its compiled entry (Taylor only)."""
     if kind == KIND_TAYLOR:
         return _strobe_eval_taylor(c, t)
+    return math.nan, math.nan, 0.0
+
+
+@kernel
+def _strobe_windows_taylor(c):
+    """The windows of a phase-locked window's stored period (coefficients:
+    regimes.strobe_coef), taken once from its anchor as :func:`_strobe_eval_taylor`
+    re-takes them (S6): the same anchors, controller and span [0, qT_d], so a value
+    looked up in them (:func:`_strobe_lookup_taylor`) is that function's to the bit.
+
+    Returns
+    -------
+    starts : ndarray, shape (n + 1,)
+        Window starts from the anchor's time.
+    ends : ndarray, shape (n + 1, 3)
+        Row i + 1: the state (φ, θ') at the end of window i, as its step left it;
+        column 2 of row i: the re-run's turns at window i's start (its φ wrapped).
+    coefs : ndarray, shape (n, width)
+        The windows' coefficient vectors.
+    n : int
+        Windows stored: the re-run's, up to the one that reaches qT_d or the one
+        before a failure (then starts[n] < qT_d and later times are NaN).
+    """
+    phi_a, v_a, q, psi = c[1], c[2], c[5], c[7]
+    beta, gamma, omega, amp, freq, rtol, atol = c[8], c[9], c[10], c[11], c[12], c[13], c[14]
+    code = int(c[15])
+    karg = code % STROBE_CODE
+    error_order = code // STROBE_CODE
+    log_eps = window_log_eps(rtol)
+    p_hi, _ = strobe_period(freq, q)
+    cap = STROBE_STORE_START
+    starts = np.empty(cap + 1)
+    ends = np.empty((cap + 1, 3))
+    coefs = np.empty((0, 0))
+    tt, kk, a0, a1, h = 0.0, 0.0, phi_a, v_a, -1.0
+    starts[0], ends[0, 0], ends[0, 1], ends[0, 2] = 0.0, phi_a, v_a, 0.0
+    ws_coef, ws_scratch = taylor_workspace(karg)
+    for n in range(CYCLE_MAX_WINDOWS):
+        if not (-math.pi <= a0 <= math.pi):
+            kk, a0 = wrap(kk, a0)
+        off = (c[3] + kk) * _TWO_PI
+        coef = anchor_driven(KIND_TAYLOR, karg, beta, gamma, omega, amp, freq, psi, tt, a0, a1, ws_coef, ws_scratch)
+        if coef[0] != 0.0:
+            return starts, ends, coefs, n
+        ctl = window_control(1.0, p_hi, math.inf, rtol, atol, error_order, log_eps)
+        if h <= 0.0:
+            h = _first(KIND_TAYLOR, coef, tt, a0, a1, off, omega, ctl)
+        st, t_new, th, v, h_next = _adaptive(KIND_TAYLOR, coef, tt, a0, a1, off, h, ctl)
+        if st != STATUS_OK:
+            return starts, ends, coefs, n
+        if n == 0:
+            coefs = np.empty((cap, coef.size))
+        if n == cap:
+            starts, ends, coefs = _grown(starts, ends, coefs, n)
+            cap = 2 * cap
+        # Element loops: a slice assignment compiles numpy's broadcast-error machinery.
+        for w in range(coef.size):
+            coefs[n, w] = coef[w]
+        ends[n, 2] = kk
+        starts[n + 1], ends[n + 1, 0], ends[n + 1, 1], ends[n + 1, 2] = t_new, th, v, kk
+        if t_new >= p_hi:
+            return starts, ends, coefs, n + 1
+        tt, a0, a1, h = t_new, th, v, h_next
+    return starts, ends, coefs, CYCLE_MAX_WINDOWS
+
+
+@kernel
+def _grown(starts, ends, coefs, n):
+    """The store's arrays at twice their capacity, the first ``n`` windows kept."""
+    cap = 2 * n
+    starts2 = np.empty(cap + 1)
+    ends2 = np.empty((cap + 1, 3))
+    coefs2 = np.empty((cap, coefs.shape[1]))
+    for i in range(n + 1):
+        starts2[i] = starts[i]
+        for w in range(3):
+            ends2[i, w] = ends[i, w]
+    for i in range(n):
+        for w in range(coefs.shape[1]):
+            coefs2[i, w] = coefs[i, w]
+    return starts2, ends2, coefs2
+
+
+@numba.njit(**INLINE)
+def _strobe_at(c, per, p_hi, p_lo, t, i):
+    """``(φ, θ', k, i)``: :func:`_strobe_eval_taylor`'s value at ``t`` from the stored
+    period ``per`` (:func:`_strobe_windows_taylor`'s starts, ends, coefs, n; ``p_hi``,
+    ``p_lo``: qT_d, regimes.strobe_period) and the window it came from (``i`` the
+    window to search from, :func:`mbm.regimes.stored_block.block_window`)."""
+    starts, ends, coefs, n = per
+    m, s = strobe_split(t, c[4], p_hi, p_lo)
+    i = block_window(starts, n, s, i)
+    if i >= n:
+        return math.nan, math.nan, 0.0, 0
+    if starts[i + 1] == s:
+        th, v = ends[i + 1, 0], ends[i + 1, 1]
+    else:
+        th, v = evaluate(KIND_TAYLOR, coefs[i], s - starts[i])
+    return th, v, c[3] + ends[i, 2] + c[6] * m, i
+
+
+@kernel
+def _strobe_lookup_taylor(c, starts, ends, coefs, n, t):
+    """:func:`_strobe_at` of one time (the walk's start unknown: bisection)."""
+    p_hi, p_lo = strobe_period(c[12], c[5])
+    th, v, k, _ = _strobe_at(c, (starts, ends, coefs, n), p_hi, p_lo, t, 0)
+    return th, v, k
+
+
+@kernel
+def _strobe_range_taylor(c, per, outs, lo, hi):
+    """:func:`_strobe_at` at the times ``outs[0][lo:hi]`` (``outs``: the loop's Outputs
+    record, t_eval, θ, θ', winding and wrapped rows) from the stored period ``per``,
+    the same bits, a block at a time (:mod:`mbm.regimes.stored_block`)."""
+    t_eval = outs[0]
+    starts, ends, _, n = per
+    p_hi, p_lo = strobe_period(c[12], c[5])
+    blk = block_scratch()
+    sb, wb, kb = blk[0], blk[1], blk[2]
+    i = 0
+    for b0 in range(lo, hi, STORED_BLOCK):
+        m = min(STORED_BLOCK, hi - b0)
+        for q in range(m):
+            periods, s = strobe_split(t_eval[b0 + q], c[4], p_hi, p_lo)
+            i = block_window(starts, n, s, i)
+            sb[q], wb[q] = s, i
+            kb[q] = c[3] + ends[min(i, n), 2] + c[6] * periods
+        block_write(per, blk, m, b0, outs)
+
+
+@numba.njit(**INLINE)
+def _strobe_store(kind, c):
+    """:func:`_strobe_windows_taylor` of kind ``kind`` (Taylor only; no window otherwise)."""
+    if kind == KIND_TAYLOR:
+        return _strobe_windows_taylor(c)
+    return np.empty(1), np.empty((1, 3)), np.empty((0, 0)), 0
+
+
+@numba.njit(**INLINE)
+def _strobe_stored(kind, c, starts, ends, coefs, n, t):
+    """:func:`_strobe_lookup_taylor` of kind ``kind`` (Taylor only)."""
+    if kind == KIND_TAYLOR:
+        return _strobe_lookup_taylor(c, starts, ends, coefs, n, t)
     return math.nan, math.nan, 0.0
 
 
