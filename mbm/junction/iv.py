@@ -563,21 +563,8 @@ def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0
         if flag is not False and flag is not True:
             raise TypeError(f"{name} must be True or False, got {flag!r}")
     y = check_state("(theta0, theta_dot0)", [check_real("theta0", theta0), check_real("theta_dot0", theta_dot0)])
-    regimes, velocities, periods, states, starts, converged = [], [], [], [], [], []
-    bar = progress_bar(g.size, "I-V points", unit="point") if progress else None
-    for gi in g:
-        starts.append(y.copy())
-        regime, v, period, y, ok, _ = _measure(Pendulum(beta, gi, omega, *drive), y, integrate, velocity_tol)
-        regimes.append(regime)
-        velocities.append(v)
-        periods.append(period)
-        states.append(y.copy())
-        converged.append(ok)
-        if bar is not None:
-            bar.update()
-    if bar is not None:
-        bar.close()
-    converged = np.array(converged, dtype=bool)
+    regimes, velocities, periods, states, starts, converged = _sweep_points(
+        (beta, omega, drive), g, y, integrate, velocity_tol, progress)
     _warn_unsettled(g, converged, velocity_tol)
     switching, retrapping, unsettled = _currents(beta, omega, g, regimes, velocities, states,
                                                  current_tol=current_tol, integrate=integrate, drive=drive,
@@ -595,6 +582,29 @@ def iv_curve(beta, gamma, *, omega=1.0, current_tol=1e-4, theta0=0.0, theta_dot0
                    retrapping_bracket=tuple(map(float, retrapping)), converged=converged,
                    velocity_tol=velocity_tol, switching_settled=not unsettled["switching"],
                    retrapping_settled=not unsettled["retrapping"], dvoltage_dgamma=slope)
+
+
+def _sweep_points(params, g, y, integrate, velocity_tol, progress):
+    # Each bias point settled from the last one's state (params: β, ω, drive), with the
+    # progress bar: (regimes, velocities, periods, end states, start states, converged).
+    beta, omega, drive = params
+    regimes, velocities, periods, states, starts, converged = [], [], [], [], [], []
+    bar = progress_bar(g.size, "I-V points", unit="point") if progress else None
+    try:
+        for gi in g:
+            starts.append(y.copy())
+            regime, v, period, y, ok, _ = _measure(Pendulum(beta, gi, omega, *drive), y, integrate, velocity_tol)
+            regimes.append(regime)
+            velocities.append(v)
+            periods.append(period)
+            states.append(y.copy())
+            converged.append(ok)
+            if bar is not None:
+                bar.update()
+    finally:
+        if bar is not None:
+            bar.close()
+    return regimes, velocities, periods, states, starts, np.array(converged, dtype=bool)
 
 
 def _slope(model, regime, period, y):

@@ -511,6 +511,16 @@ def _check_options(rtol, atol, approximant, tau, max_windows, progress):
     return dict(rtol=rtol, atol=atol, approximant=approximant, tau=tau, max_windows=max_windows)
 
 
+def _compute(values, dims, kw, how):
+    """The grid's variables by the path ``how`` = (chunks, progress, protocol) asks for."""
+    chunks, progress, protocol = how
+    if protocol == "adiabatic":
+        return _adiabatic(values, dims, kw, chunks, progress)
+    if chunks is None:
+        return _local(values, dims, dict(kw, names=dims), progress)
+    return _chunked(values, dims, dict(kw, names=dims), chunks)
+
+
 PROTOCOLS = ("independent", "adiabatic")
 
 
@@ -619,37 +629,28 @@ def sweep(*, beta, gamma, omega=1.0, theta0=0.0, theta_dot0=0.0, t_span, t_eval=
         elsewhere it is the two samples' estimate, not a whole-drive-period average
         (:func:`mbm.iv_curve` measures that).
     protocol : {"independent", "adiabatic"}, optional
-        ``"independent"`` (default): every scene starts from (θ₀, θ'₀), as after a
-        sudden bias step.  ``"adiabatic"``: ``gamma`` (a 1-D array) is swept in the
-        order given, each bias starting from the state at t1 of the previous bias
-        with the same other parameters (θ modulo 2π), as an I–V measurement does: the
-        map shows hysteresis; give ``gamma`` decreasing for a sweep down
-        (:mod:`mbm.junction.adiabatic`).  ``chunks`` then splits the other dimensions
-        only (``gamma`` whole).
+        ``"independent"`` (default): every scene from (θ₀, θ'₀), a sudden bias step.
+        ``"adiabatic"``: the 1-D ``gamma`` swept in its order (decreasing: down), each
+        bias from the previous one's state at t1 (:mod:`mbm.junction.adiabatic`): the
+        hysteresis of an I–V measurement; ``chunks`` splits the other dimensions only.
 
     Returns
     -------
     xarray.Dataset
         Coordinates: the array parameters (and ``time`` = ``t_eval``).  Variables:
-        ``theta``, ``theta_dot`` over (parameters..., time), or the reductions'
-        variables over (parameters...); ``status`` (int32) per scene: 0 where the run
-        reached t1, else a code of ``mbm.status`` whose words are in the
-        ``flag_meanings`` attribute and whose messages are in ``flag_messages``
-        (:func:`status_message`).  A failed scene is never a silent NaN: its
-        reductions are NaN (``regime``: ``"failed"``) and its status says why; its
-        time series keeps the outputs it reached (exactly as
-        :func:`mbm.solve_batch`) and is NaN after.  Attributes: the scalar parameters,
-        ``t_span``, ``rtol``, ``atol``, ``approximant``, ``max_windows``, ``tau``
-        (where given), ``reduce`` (comma-separated, where given),
-        ``regime_turns`` (with ``"regime"``) and ``mbm_version``.
+        ``theta``, ``theta_dot`` over (parameters..., time), or the reductions' over
+        (parameters...); ``status`` (int32): 0 where the run reached t1, else an
+        ``mbm.status`` code (words in ``flag_meanings``, messages in ``flag_messages``).
+        A failed scene's reductions are NaN (``regime``: ``"failed"``), its series NaN
+        past the outputs it reached.  Attributes: the scalar parameters, ``t_span``, the
+        options given, ``reduce``, ``regime_turns``, ``protocol`` and ``mbm_version``.
 
     Raises
     ------
     ValueError
-        For an invalid argument, naming it (empty, 2-D or non-finite parameter
-        arrays, β < 0, ω ≤ 0, a drive A ≠ 0 with Ω ≤ 0, an unknown reduction, a bad
-        span, ``t_eval`` or option), or an approximant outside the domain of some
-        scene's model.
+        For an invalid argument, naming it (empty, 2-D or non-finite parameter arrays,
+        β < 0, ω ≤ 0, A ≠ 0 with Ω ≤ 0, an unknown reduction, a bad span, ``t_eval``,
+        option or protocol), or an approximant outside the domain of a scene's model.
     TypeError
         For a parameter or option that is not real numbers (a str, bool, complex).
     KeyboardInterrupt
@@ -658,11 +659,8 @@ def sweep(*, beta, gamma, omega=1.0, theta0=0.0, theta_dot0=0.0, t_span, t_eval=
 
     Notes
     -----
-    Each scene is an independent run with the same options, so results do not depend
-    on how the grid is split: chunked, unchunked and a single :func:`mbm.solve_batch`
-    over all scenes agree bit for bit.  An adiabatic sweep's scenes depend on the
-    earlier biases of their chain, and chunked and unchunked adiabatic sweeps agree bit
-    for bit with each other and with the chain of :func:`mbm.solve_batch` calls.
+    Results do not depend on how the grid is split: chunked, unchunked and one
+    :func:`mbm.solve_batch` over all scenes (adiabatic: its chain) agree bit for bit.
     """
     values, fixed, drive = _grid_parameters((beta, gamma, omega, theta0, theta_dot0),
                                             (drive_amplitude, drive_frequency, drive_phase))
@@ -677,12 +675,7 @@ def sweep(*, beta, gamma, omega=1.0, theta0=0.0, theta_dot0=0.0, t_span, t_eval=
 
     kw = dict(fixed=fixed, t_span=(t0, t1), times=_output_times(reduce, (t0, t1), t_eval),
               variables=_variables(reduce), options=options)
-    if protocol == "adiabatic":
-        data = _adiabatic(values, dims, kw, chunks, progress)
-    elif chunks is None:
-        data = _local(values, dims, dict(kw, names=dims), progress)
-    else:
-        data = _chunked(values, dims, dict(kw, names=dims), chunks)
+    data = _compute(values, dims, kw, (chunks, progress, protocol))
     ds = _dataset(data, values, dims, fixed, (t0, t1), t_eval, reduce, options)
     ds.attrs["protocol"] = protocol
     return _show_dask_progress(ds) if chunks is not None and progress else ds
