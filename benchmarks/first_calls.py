@@ -16,7 +16,7 @@ paper's Example 1 (P2: β = 0.1, γ = 0.3, θ₀ = 30°, rtol = atol = 1e-9, 201
   [0, 400]): the run switches to its limit cycle's stored period (a second entry);
 * ``mbm.solve_batch`` alone on 64 damped scenes (locked and running ones);
 * the junction toolkit's and the noise's entry points alone (``iv_curve``, ``shapiro_steps``,
-  ``sweep``, ``escape_times``, ``switching_currents``), and ``mbm.solve`` with
+  ``sweep``, ``escape_times``, ``switching_currents``, ``retrapping_currents``), and ``mbm.solve`` with
   ``error_estimate=True``;
 * ``python -m mbm demo`` as a whole (wall time of the command);
 * ``solve_ivp`` and ``mbm.solve`` alone again with ``MBM_COMPILE_HELPER=0``.
@@ -86,6 +86,8 @@ def escape():
     mbm.escape_times(1.0, 0.7, 0.2, 64, seed=1)
 def switching():
     mbm.switching_currents(0.2, 0.05, 1e-2, 64, seed=1)
+def retrapping():
+    mbm.retrapping_currents(0.2, 0.01, 1e-3, 16, seed=1)
 def estimate():
     mbm.solve(m, (0.0, 80.0), y0, rtol=1e-9, atol=1e-9, t_eval=t, error_estimate=True)
 def timed(fn):
@@ -109,6 +111,7 @@ ROWS = {
     "mbm.sweep, first call (2 × 8 scenes, mean velocity)": "print(json.dumps(timed(sweep)))",
     "mbm.escape_times, first call (64 escapes)": "print(json.dumps(timed(escape)))",
     "mbm.switching_currents, first call (64 ramps)": "print(json.dumps(timed(switching)))",
+    "mbm.retrapping_currents, first call (16 ramps down)": "print(json.dumps(timed(retrapping)))",
     "mbm.solve with error_estimate=True, first call": "print(json.dumps(timed(estimate)))",
 }
 #: row label -> the entry point the compile notice names (mbm.compile.cache._entry_point):
@@ -121,7 +124,9 @@ ENTRIES = {
     "mbm.shapiro_steps, first call (β = 0.5, A = 0.8, Ω = 0.5, 9 points)": ("shapiro_steps",),
     "mbm.sweep, first call (2 × 8 scenes, mean velocity)": ("sweep",),
     "mbm.escape_times, first call (64 escapes)": ("escape_times",),
-    "mbm.switching_currents, first call (64 ramps)": ("switching_currents",),
+    # switching_grid runs switching_currents' kernels: the same compile.
+    "mbm.switching_currents, first call (64 ramps)": ("switching_currents", "switching_grid"),
+    "mbm.retrapping_currents, first call (16 ramps down)": ("retrapping_currents",),
 }
 ENTRIES_OUT = ROOT / "mbm" / "compile" / "first_calls.json"
 # The same first calls compiling on one core (the last rows of the table).

@@ -256,5 +256,5 @@ def test_first_calls_file_covers_the_public_entry_points():
     """The generated table (python -m benchmarks.first_calls) has a row for each entry that compiles."""
     measured = _cache.first_call_seconds()
     for entry in ("MBM.__init__", "solve", "solve_batch", "iv_curve", "shapiro_steps", "sweep",
-                  "escape_times", "switching_currents"):
+                  "escape_times", "switching_currents", "switching_grid", "retrapping_currents"):
         assert entry in measured and 0.0 < measured[entry] < 600.0, entry
