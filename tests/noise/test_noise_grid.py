@@ -43,3 +43,38 @@ def test_a_scalar_axis_is_a_grid_of_one_and_seeds_reproduce():
 def test_switching_grid_refuses(args, words):
     with pytest.raises(ValueError, match=words):
         mbm.switching_grid(*args)
+
+
+def test_chunked_grid_is_dask_backed_and_equals_the_local_grid_bit_for_bit():
+    dask = pytest.importorskip("dask")
+    temps, rates = [0.03, 0.04, 0.05], [1e-3, 3e-4]
+    kw = dict(seed=7, gamma_start=0.6)
+    local = mbm.switching_grid(1.0, temps, rates, 40, **kw)
+    lazy = mbm.switching_grid(1.0, temps, rates, 40, chunks={"temperature": 2}, **kw)
+    assert lazy["mean"].chunks == ((2, 1), (2,))  # one task per chunk of points
+    for scheduler in ("synchronous", "threads"):
+        with dask.config.set(scheduler=scheduler):
+            done = lazy.compute()
+        for k in ("mean", "width", "skewness", "kurtosis", "switched", "seed"):
+            a, b = done[k].values, local[k].values
+            assert a.dtype == b.dtype and a.tobytes() == b.tobytes(), (scheduler, k)
+    assert done.attrs == local.attrs
+
+
+@pytest.mark.parametrize("chunks, match", [
+    ({"voltage": 1}, "not dimensions of the grid"),
+    ({"temperature": 0}, "chunks must be an int >= 1"),
+    (1.5, "chunks must be an int >= 1"),
+])
+def test_chunks_refused_with_their_name(chunks, match):
+    pytest.importorskip("dask")
+    with pytest.raises(ValueError, match=match):
+        mbm.switching_grid(1.0, [0.03], [1e-3], 10, seed=1, chunks=chunks)
+
+
+def test_chunked_grid_checks_its_arguments_before_any_task():
+    pytest.importorskip("dask")
+    with pytest.raises(ValueError, match="dt"):
+        mbm.switching_grid(1.0, [0.03], [1e-3], 10, seed=1, dt=-1.0, chunks=1)
+    with pytest.raises(ValueError, match="n must"):
+        mbm.switching_grid(1.0, [0.03], [1e-3], 0, seed=1, chunks=1)
