@@ -92,11 +92,7 @@ def kramers_rate(beta, gamma, temperature, omega=1.0):
     float
         The rate k (escapes per unit time).
     """
-    beta = check_positive("beta", beta)
-    temperature = check_positive("temperature", temperature)
-    omega = check_rule("omega", omega)
-    gamma = _check_gamma(gamma, omega)
-    w = well(gamma, omega)
+    beta, gamma, temperature, omega, w = _rate_args(beta, gamma, temperature, omega)
     a = beta / (2.0 * w["omega_barrier"])
     k = w["omega_well"] / (2.0 * math.pi) * (math.sqrt(1.0 + a * a) - a)
     return k * math.exp(-w["barrier"] / temperature) * (2.0 if gamma == 0.0 else 1.0)
@@ -172,11 +168,7 @@ def bhl_rate(beta, gamma, temperature, omega=1.0):
     float
         The rate k (escapes per unit time).
     """
-    beta = check_positive("beta", beta)
-    temperature = check_positive("temperature", temperature)
-    omega = check_rule("omega", omega)
-    gamma = _check_gamma(gamma, omega)
-    w = well(gamma, omega)
+    beta, gamma, temperature, omega, w = _rate_args(beta, gamma, temperature, omega)
     delta = beta * barrier_action(gamma, omega) / temperature
     a_t = 4.0 / (1.0 + math.sqrt(1.0 + 4.0 / delta)) ** 2
     return w["omega_well"] / (2.0 * math.pi) * a_t * math.exp(-w["barrier"] / temperature)
@@ -252,6 +244,25 @@ def _check_gamma(gamma, omega, name="gamma"):
         raise ValueError(f"{name} must satisfy |{name}| < omega**2 = {omega * omega!r} "
                          f"(a well to escape from), got {g!r}")
     return g
+
+
+def _rate_args(beta, gamma, temperature, omega):
+    # A rate formula's arguments checked, and the well they describe.
+    beta = check_positive("beta", beta)
+    temperature = check_positive("temperature", temperature)
+    omega = check_rule("omega", omega)
+    gamma = _check_gamma(gamma, omega)
+    return beta, gamma, temperature, omega, well(gamma, omega)
+
+
+def ramp_args(beta, temperature, ramp_rate, omega, n, dt):
+    """A ramped histogram's arguments checked (:func:`switching_currents`,
+    :func:`mbm.retrapping_currents`): (β, T, r, ω, n, dt)."""
+    beta = check_positive("beta", beta)
+    temperature = check_positive("temperature", temperature)
+    ramp_rate = check_positive("ramp_rate", ramp_rate)
+    omega = check_rule("omega", omega)
+    return beta, temperature, ramp_rate, omega, _check_count(n), _check_dt(dt, omega)
 
 
 def _check_count(n):
@@ -430,12 +441,7 @@ def switching_currents(beta, temperature, ramp_rate, n, *, omega=1.0, seed=None,
     SwitchingHistogram
         ``kurtosis`` is m4/m2² (not the excess).
     """
-    beta = check_positive("beta", beta)
-    temperature = check_positive("temperature", temperature)
-    ramp_rate = check_positive("ramp_rate", ramp_rate)
-    omega = check_rule("omega", omega)
-    n = _check_count(n)
-    dt = _check_dt(dt, omega)
+    beta, temperature, ramp_rate, omega, n, dt = ramp_args(beta, temperature, ramp_rate, omega, n, dt)
     g0 = _check_gamma(check_rule("gamma_start", gamma_start, (">=0", ">= 0")), omega, "gamma_start")
     seed = resolve_seed(seed)
     g_end = GAMMA_END * omega * omega

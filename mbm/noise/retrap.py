@@ -12,9 +12,9 @@ import math
 
 import numpy as np
 
-from ..validate import check_positive, check_rule
-from .api import (DT_DEFAULT, GAMMA_END, MAX_STEPS, SwitchingHistogram, _check_count, _check_dt,
-                  _chunked, _moments, _steps, _threads)
+from ..validate import check_rule
+from .api import (DT_DEFAULT, GAMMA_END, MAX_STEPS, SwitchingHistogram, _chunked, _moments, _steps, _threads,
+                  ramp_args)
 from .flow import make_params, substeps
 from .kernels import retrapping_kernel
 from .rng import resolve_seed
@@ -102,12 +102,7 @@ def retrapping_currents(beta, temperature, ramp_rate, n, *, omega=1.0, seed=None
     RetrappingHistogram
         ``kurtosis`` is m4/m2² (not the excess).
     """
-    beta = check_positive("beta", beta)
-    temperature = check_positive("temperature", temperature)
-    ramp_rate = check_positive("ramp_rate", ramp_rate)
-    omega = check_rule("omega", omega)
-    n = _check_count(n)
-    dt = _check_dt(dt, omega)
+    beta, temperature, ramp_rate, omega, n, dt = ramp_args(beta, temperature, ramp_rate, omega, n, dt)
     w2 = omega * omega
     if gamma_start is None:
         g0 = min(w2, RETRAP_START * 4.0 * beta * omega / math.pi)
