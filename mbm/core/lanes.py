@@ -34,6 +34,7 @@ from .controller import (
 from .chains import REACHES, _run_sets, set_flag
 from .record import window_control
 from .loop import _regime_set, damped_setup, emit_taylor, locked_test
+from ..regimes.locked import LockSetup
 from .window import (
     KIND_TAYLOR,
     _reduce_phi,
@@ -173,7 +174,7 @@ def _lane_before(p, ln, q, ins, ho):
     k, y0 = _reduce_phi(k, y0)
     ln.wind, ln.phi = k, y0
     if ln.can_lock != 0:
-        lk = (ln.lk_d, ln.lk_wl2, ln.lk_g0, ln.lk_g1, ln.lk_sd, ln.lk_q2, ln.can_lock2 != 0)
+        lk = LockSetup(ln.lk_d, ln.lk_wl2, ln.lk_g0, ln.lk_g1, ln.lk_sd, ln.lk_q2, ln.can_lock2 != 0)
         if locked_test(r, y0, y1, k * _TWO_PI, lk, False)[0] > 0:
             _lane_hand_off(p, ln, ho)
             return False

@@ -95,6 +95,8 @@ from ..regimes.libration import _libration_test
 from ..regimes.locked import (
     LOCKED2_WIDTH,
     LOCKED_WIDTH,
+    LockSetup,
+    Tolerance,
     _lock_setup,
     locked_choice,
     locked_coef,
@@ -175,11 +177,11 @@ def damped_setup(r, may, width):
         _form_damped(r)
     can_lock = (may and r.switch.regimes != REGIMES_PERIODIC and abs(gamma) < omega * omega
                 and (width == 0 or width >= LOCKED_WIDTH))
-    lk = (0.0, 1.0, 0.0, 0.0, 0.0, 0.0, False)
+    lk = LockSetup(0.0, 1.0, 0.0, 0.0, 0.0, 0.0, False)
     if can_lock:
         # L6-L7 only where the store has room for the second-order form.
         q2 = q.dmp_q2 if width == 0 or width >= LOCKED2_WIDTH else 0.0
-        lk = (q.dmp_d, q.dmp_wl2, q.dmp_g0, q.dmp_g1, q.dmp_sd, q2, q2 > 0.0)
+        lk = LockSetup(q.dmp_d, q.dmp_wl2, q.dmp_g0, q.dmp_g1, q.dmp_sd, q2, q2 > 0.0)
     can_cycle = may and (width == 0 or width >= CYCLE_WIDTH)
     if can_cycle:
         return can_lock, lk, can_cycle, q.dmp_sec_off, q.dmp_sec_acc
@@ -211,16 +213,13 @@ def locked_test(r, y0, y1, off, lk, far):
     quotient per window again, and their pass measured 2-4 % slower with it).  Shared
     by the loop and the lanes."""
     m, c = r.model, r.control
-    lk_d, lk_wl2, lk_g0, lk_g1, lk_sd, lk_q2, can_lock2 = lk
+    tols = Tolerance(c.rtol, c.atol)
     locked = r.switch.regime == REGIME_LOCKED
     # The far pre-test first: most windows stop there, with no quotient on their path.
-    if far and not locked and locked_far(off + y0, y1, lk_d, lk_sd, lk_wl2, lk_g0, m.omega, c.rtol, c.atol,
-                                         lk_q2):
+    if far and not locked and locked_far(off + y0, y1, lk, m.omega, tols):
         return 0, 0.0
-    if locked or not locked_quick_reject(off + y0, y1, lk_d, lk_sd, lk_wl2, lk_g0, lk_g1, m.omega, c.rtol, c.atol,
-                                         lk_q2):
-        return locked_choice(m.beta, m.gamma, m.omega, y0, y1, lk_d, lk_wl2, lk_g0, lk_g1, c.rtol, c.atol, off,
-                             can_lock2)
+    if locked or not locked_quick_reject(off + y0, y1, lk, m.omega, tols):
+        return locked_choice(m.beta, m.gamma, m.omega, y0, y1, lk, tols, off)
     return 0, 0.0
 
 
@@ -235,7 +234,7 @@ def _regime_setup(kind, rset, r, may, width, t, n_total):
     constants of a driven one (S1-S7: Taylor, β > 0; not with max_dtheta, the short
     windows of solve_ivp's event search, each of which would re-take a period)."""
     can_lock = can_cycle = False
-    lk = (0.0, 1.0, 0.0, 0.0, 0.0, 0.0, False)
+    lk = LockSetup(0.0, 1.0, 0.0, 0.0, 0.0, 0.0, False)
     sec_off = sec_acc = 0.0
     if rset == RS_DAMPED:
         can_lock, lk, can_cycle, sec_off, sec_acc = damped_setup(r, may, width)
@@ -373,7 +372,7 @@ def _source(kind, rset, simd, r, t, y0, y1, k, off, direction, max_step, h_abs, 
     if rset == RS_DAMPED and can_lock:
         lk_order, lk_ts = locked_test(r, y0, y1, off, lk, True)
     if rset == RS_DAMPED and lk_order > 0:  # (the other sets' entries compile no locked window)
-        coef = locked_coef(beta, lk[1], lk_ts, y0, y1, gamma, lk_order)
+        coef = locked_coef(beta, lk.wl2, lk_ts, y0, y1, gamma, lk_order)
         t_new = _window_end(t, direction, t_bound, max_step)
         th, v = locked_eval(coef, t_new - t)
         if r.switch.regime != REGIME_LOCKED:
