@@ -43,6 +43,7 @@ from .window import (
     window_log_eps,
 )
 from ..regimes.common import REGIME_LOCKED, REGIME_NONE
+from ..regimes.cycle import CycleSpan, CycleWatch
 from ..regimes.cycle_windows import _TWO_PI, _watch_cycle
 from ..status import STATUS_ANCHOR, STATUS_OK
 from .event_batch import EVENTS_CAPACITY, lane_events
@@ -238,8 +239,8 @@ def _lane_window(p, ln, coef, h, th, v, ho):
                            out[i, 2] if wrapped else out_theta, wrapped)
     if ln.can_cycle != 0 and r.switch.regime == REGIME_NONE:
         m = r.model
-        _watch_cycle(KIND_TAYLOR, r, coef, t, t_new, y0, th, v, k, off, ln.sec_off, ln.sec_acc, m.beta, m.gamma,
-                     m.omega, r.state.t_bound, c.rtol, c.atol)
+        _watch_cycle(KIND_TAYLOR, r, coef, CycleSpan(t, t_new, y0, th, v, k, off),
+                     CycleWatch(ln.sec_off, ln.sec_acc, m.beta, m.gamma, m.omega, r.state.t_bound, c.rtol, c.atol))
     ln.t, ln.phi, ln.v, ln.h_abs = t_new, th, v, h_next
     ln.n_windows += 1
     if r.switch.regime != REGIME_NONE:

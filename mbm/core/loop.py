@@ -74,6 +74,7 @@ from .window import (
     window_log_eps,
 )
 from ..regimes.common import (
+    Tolerance,
     REGIME_LIBRATION,
     REGIME_LOCKED,
     REGIME_NONE,
@@ -81,7 +82,7 @@ from ..regimes.common import (
     REGIME_RUNNING,
     REGIMES_PERIODIC,
 )
-from ..regimes.cycle import CYCLE_WIDTH, cycle_coef, section_offset
+from ..regimes.cycle import CYCLE_WIDTH, CycleAnchor, CycleSpan, CycleWatch, Retake, cycle_coef, section_offset
 from ..regimes.cycle_windows import (
     CYCLE_SWITCHED,
     _TWO_PI,
@@ -96,7 +97,6 @@ from ..regimes.locked import (
     LOCKED2_WIDTH,
     LOCKED_WIDTH,
     LockSetup,
-    Tolerance,
     _lock_setup,
     locked_choice,
     locked_coef,
@@ -308,8 +308,8 @@ def _source_cycle(kind, simd, r, t, direction, max_step, h_abs, per):
     t_new = _window_end(t, direction, r.state.t_bound, max_step)
     if y.cyc_k == CYCLE_SWITCHED:
         refine_period(kind, r, simd)  # (R4), once per run
-    coef = cycle_coef(y.cyc_theta, y.cyc_v, y.cyc_T, t - y.cyc_t, m.beta, m.gamma, m.omega, c.rtol, c.atol,
-                      y.cyc_sign, c.karg, c.error_order, y.cyc_wind, y.cyc_Tlo)
+    coef = cycle_coef(CycleAnchor(y.cyc_theta, y.cyc_v, y.cyc_T, y.cyc_Tlo, y.cyc_sign, y.cyc_wind), t - y.cyc_t,
+                      Retake(m.beta, m.gamma, m.omega, c.rtol, c.atol, c.karg, c.error_order))
     if per[3] == -2:
         per = _period_store(kind, coef, simd)
     th, v, k_new = _period_value(kind, coef, per[0], per[1], per[2], per[3], t_new - t)
@@ -603,8 +603,9 @@ def _runner(rset, simd=False):
             else:  # (k_new = k outside the stored periods)
                 j = _emit_formula(kind, rset, coef, (t, t_new, th, v, is_locked), k, j, direction, outs)
             if rset == RS_DAMPED and not is_locked and can_cycle and r.switch.regime == REGIME_NONE:
-                _watch_cycle(kind, r, coef, t, t_new, y0, th, v, k, off, sec_off, sec_acc, r.model.beta,
-                             r.model.gamma, r.model.omega, t_bound, r.control.rtol, r.control.atol)
+                _watch_cycle(kind, r, coef, CycleSpan(t, t_new, y0, th, v, k, off),
+                             CycleWatch(sec_off, sec_acc, r.model.beta, r.model.gamma, r.model.omega, t_bound,
+                                        r.control.rtol, r.control.atol))
             if rset == RS_DRIVEN and sp_next <= t_new and r.switch.regime == REGIME_NONE:
                 sp_next = _watch_strobe(kind, p, coef, t, t_new, k, off, sp[0], sp[1], sp[2], n_total)
             if store:

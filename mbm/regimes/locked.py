@@ -84,9 +84,6 @@ LockSetup = collections.namedtuple("LockSetup", ("d", "wl2", "g0", "g1", "sd", "
 #: :func:`locked_constants`' result: the well's constants d, ω_l² (L1) and G₀, G₁ (L4).
 Well = collections.namedtuple("Well", ("d", "wl2", "g0", "g1"))
 
-#: A run's tolerances: ``rtol``, ``atol``.
-Tolerance = collections.namedtuple("Tolerance", ("rtol", "atol"))
-
 
 @kernel
 def green_integrals(beta, wl2):
@@ -225,7 +222,7 @@ def locked_quick_reject(theta, v, lk, omega, tols):
     omega : float
         The model's ω.
     tols : Tolerance
-        The run's tolerances.
+        The run's tolerances (:data:`mbm.regimes.common.Tolerance`).
 
     Returns
     -------

@@ -188,7 +188,7 @@ def test_second_order_switches_earlier_on_weak_damping():
     d, wl2, g0, g1 = regimes.locked_constants(0.01, 0.3, 1.0)
     assert r.regime == "locked" and r.t_regime < 2200.0
     ends = mbm.solve(model, (0.0, 1e4), [1.0, 0.0], **kw)
-    tols = regimes.locked.Tolerance(1e-10, 1e-10)
+    tols = regimes.common.Tolerance(1e-10, 1e-10)
     order, ts = regimes.locked_choice(0.01, 0.3, 1.0, ends.y[0, -2], ends.y[1, -2], _lock(d, wl2, g0, g1, True),
                                       tols, 0.0)
     assert order == 2
@@ -310,7 +310,7 @@ def test_every_path_gives_the_same_answer_and_regime():
     ends = mbm.solve(model, (0.0, T), y0, **kw)
     assert ends.t[-2] == fast.t_regime and ends.t[-1] == T
     order, ts = regimes.locked_choice(0.3, 0.5, 1.0, ends.y[0, -2], ends.y[1, -2], _lock(d, wl2, g0, g1, True),
-                                      regimes.locked.Tolerance(kw["rtol"], kw["atol"]), 0.0)
+                                      regimes.common.Tolerance(kw["rtol"], kw["atol"]), 0.0)
     assert order in (1, 2) and ts == d
     coef = regimes.locked_coef(0.3, wl2, d, ends.y[0, -2], ends.y[1, -2], 0.5, order)
     for tq in (fast.t_regime + 0.37, 512.25, T):
@@ -390,7 +390,7 @@ def test_no_early_switch_near_the_saddle_or_the_bifurcation(heyoka_ref):
         # at ~1e-4 here, the first-order one at ~1e-6), and the switch the rule's own.
         assert abs(x) < 1e-3 and ends.t[-2] == ends.t_regime
         order, _ = regimes.locked_choice(beta, gamma, 1.0, ends.y[0, -2], ends.y[1, -2], _lock(d, wl2, g0, g1, True),
-                                         regimes.locked.Tolerance(kw["rtol"], kw["atol"]), 0.0)
+                                         regimes.common.Tolerance(kw["rtol"], kw["atol"]), 0.0)
         assert order > 0
         t = np.linspace(0.0, T, 201)
         r = mbm.solve(model, (0.0, T), y0, t_eval=t, **kw)
@@ -518,7 +518,7 @@ def test_quick_rejection_never_refuses_a_state_the_full_test_takes(seed):
         phase = rng.uniform(0.0, 2.0 * math.pi)
         x, v = amp * math.cos(phase), amp * math.sqrt(wl2) * math.sin(phase)
         y0 = d + x
-        tols = lk.Tolerance(tol, tol)
+        tols = regimes.common.Tolerance(tol, tol)
         order, _ = lk.locked_choice.py_func(beta, gamma * omega**2, omega, y0, v, setup, tols, off)
         reject = lk.locked_quick_reject.py_func(off + y0, v, setup, omega, tols)
         a, tol_t = lk.QUICK_FACTOR * math.sqrt(x * x + v * v / wl2), regimes.SWITCH_SAFETY * (tol + tol * abs(off + d))
@@ -581,7 +581,7 @@ def test_far_pretest_rejects_only_where_the_quick_test_rejects(seed):
             phase = rng.uniform(0.0, 2.0 * math.pi)
             x, v = amp * math.cos(phase), amp * math.sqrt(wl2) * math.sin(phase)
         theta = d + 2.0 * math.pi * k + x
-        tols = lk.Tolerance(tol, tol)
+        tols = regimes.common.Tolerance(tol, tol)
         far = lk.locked_far.py_func(theta, v, setup, omega, tols)
         reject = lk.locked_quick_reject.py_func(theta, v, setup, omega, tols)
         first = _first_stage_rejects(lk, theta, v, d, sd, wl2, g0, omega, tol, q2)
