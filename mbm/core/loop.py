@@ -92,7 +92,7 @@ from ..regimes.cycle_windows import (
     _period_value,
     _watch_cycle,
 )
-from ..regimes.libration import _libration_test
+from ..regimes.libration import LibrationStart, _libration_test
 from ..regimes.locked import (
     LOCKED2_WIDTH,
     LOCKED_WIDTH,
@@ -573,8 +573,8 @@ def _runner(rset, simd=False):
             off = k * _TWO_PI  # θ's scale for the tolerances (scipy's rtol·|θ| of the whole angle)
             if rset == RS_CONSERVATIVE and can_librate:
                 can_librate = False
-                _libration_test(r, t, y0, y1, k, off, r.model.gamma, r.model.omega, t_bound, r.control.rtol,
-                                r.control.atol)
+                _libration_test(r, LibrationStart(t, y0, y1, k, off), r.model.gamma, r.model.omega, t_bound,
+                                Tolerance(r.control.rtol, r.control.atol))
                 if r.switch.regime != REGIME_NONE:
                     status = STATUS_PAUSED  # the rest of the run is the stored period: RS_CYCLE's entry
                     break
