@@ -37,6 +37,7 @@ from ..approximants.belendez2007 import belendez_anchor_kernel
 from ..approximants.salas2022 import salas_torque_anchor
 from ..approximants.splitting import split_anchor
 from ..compile.jit import kernel
+from ..regimes.cycle import CycleSpan, CycleWatch
 from .record import RUN, WindowControl
 
 __all__ = ["OPS", "SIGNATURES", "call_adaptive", "call_anchor", "call_crossing", "call_error", "call_eval",
@@ -68,7 +69,8 @@ SIGNATURES = {
     OP_ERROR: _PAIR(_COEF, _F8),
     OP_FIRST: _F8(*_CONTROL_ARGS),
     OP_ADAPTIVE: types.Tuple((_I8, _F8, _F8, _F8, _F8))(*_CONTROL_ARGS),
-    OP_CROSSING: types.none(_RECORD, _COEF, *((_F8,) * 15), _I8, _I8),
+    OP_CROSSING: types.none(_RECORD, _COEF, types.BaseTuple.from_types((_F8,) * 7, CycleSpan),
+                            types.BaseTuple.from_types((_F8,) * 8, CycleWatch), _I8, _I8),
     OP_PERIOD_STORE: types.Tuple((_COEF, types.Array(_F8, 2, "C"), types.Array(_F8, 2, "C"), _I8))(_COEF),
     OP_PERIOD_VALUE: types.UniTuple(_F8, 3)(_COEF, _COEF, types.Array(_F8, 2, "C"), types.Array(_F8, 2, "C"),
                                             _I8, _F8),

@@ -34,6 +34,7 @@ from .controller import (
 from .chains import REACHES, _run_sets, set_flag
 from .record import window_control
 from .loop import _regime_set, damped_setup, emit_taylor, locked_test
+from ..regimes.locked import LockSetup
 from .window import (
     KIND_TAYLOR,
     _reduce_phi,
@@ -42,6 +43,7 @@ from .window import (
     window_log_eps,
 )
 from ..regimes.common import REGIME_LOCKED, REGIME_NONE
+from ..regimes.cycle import CycleSpan, CycleWatch
 from ..regimes.cycle_windows import _TWO_PI, _watch_cycle
 from ..status import STATUS_ANCHOR, STATUS_OK
 from .event_batch import EVENTS_CAPACITY, lane_events
@@ -173,7 +175,7 @@ def _lane_before(p, ln, q, ins, ho):
     k, y0 = _reduce_phi(k, y0)
     ln.wind, ln.phi = k, y0
     if ln.can_lock != 0:
-        lk = (ln.lk_d, ln.lk_wl2, ln.lk_g0, ln.lk_g1, ln.lk_sd, ln.lk_q2, ln.can_lock2 != 0)
+        lk = LockSetup(ln.lk_d, ln.lk_wl2, ln.lk_g0, ln.lk_g1, ln.lk_sd, ln.lk_q2, ln.can_lock2 != 0)
         if locked_test(r, y0, y1, k * _TWO_PI, lk, False)[0] > 0:
             _lane_hand_off(p, ln, ho)
             return False
@@ -237,8 +239,8 @@ def _lane_window(p, ln, coef, h, th, v, ho):
                            out[i, 2] if wrapped else out_theta, wrapped)
     if ln.can_cycle != 0 and r.switch.regime == REGIME_NONE:
         m = r.model
-        _watch_cycle(KIND_TAYLOR, r, coef, t, t_new, y0, th, v, k, off, ln.sec_off, ln.sec_acc, m.beta, m.gamma,
-                     m.omega, r.state.t_bound, c.rtol, c.atol)
+        _watch_cycle(KIND_TAYLOR, r, coef, CycleSpan(t, t_new, y0, th, v, k, off),
+                     CycleWatch(ln.sec_off, ln.sec_acc, m.beta, m.gamma, m.omega, r.state.t_bound, c.rtol, c.atol))
     ln.t, ln.phi, ln.v, ln.h_abs = t_new, th, v, h_next
     ln.n_windows += 1
     if r.switch.regime != REGIME_NONE:

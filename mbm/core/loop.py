@@ -74,6 +74,7 @@ from .window import (
     window_log_eps,
 )
 from ..regimes.common import (
+    Tolerance,
     REGIME_LIBRATION,
     REGIME_LOCKED,
     REGIME_NONE,
@@ -81,7 +82,7 @@ from ..regimes.common import (
     REGIME_RUNNING,
     REGIMES_PERIODIC,
 )
-from ..regimes.cycle import CYCLE_WIDTH, cycle_coef, section_offset
+from ..regimes.cycle import CYCLE_WIDTH, CycleAnchor, CycleSpan, CycleWatch, Retake, cycle_coef, section_offset
 from ..regimes.cycle_windows import (
     CYCLE_SWITCHED,
     _TWO_PI,
@@ -91,10 +92,11 @@ from ..regimes.cycle_windows import (
     _period_value,
     _watch_cycle,
 )
-from ..regimes.libration import _libration_test
+from ..regimes.libration import LibrationStart, _libration_test
 from ..regimes.locked import (
     LOCKED2_WIDTH,
     LOCKED_WIDTH,
+    LockSetup,
     _lock_setup,
     locked_choice,
     locked_coef,
@@ -102,8 +104,16 @@ from ..regimes.locked import (
     locked_far,
     locked_quick_reject,
 )
-from ..regimes.strobe import STROBE_WIDTH, strobe_coef
-from ..regimes.strobe_windows import _strobe_range_taylor, _strobe_setup, _strobe_store, _strobe_stored, _watch_strobe
+from ..regimes.strobe import STROBE_WIDTH, StrobeAnchor, StrobeRetake, strobe_coef
+from ..regimes.strobe_windows import (
+    StrobeClock,
+    StrobeSpan,
+    _strobe_range_taylor,
+    _strobe_setup,
+    _strobe_store,
+    _strobe_stored,
+    _watch_strobe,
+)
 from ..status import (
     STATUS_ANCHOR,
     STATUS_INTERRUPTED,
@@ -175,11 +185,11 @@ def damped_setup(r, may, width):
         _form_damped(r)
     can_lock = (may and r.switch.regimes != REGIMES_PERIODIC and abs(gamma) < omega * omega
                 and (width == 0 or width >= LOCKED_WIDTH))
-    lk = (0.0, 1.0, 0.0, 0.0, 0.0, 0.0, False)
+    lk = LockSetup(0.0, 1.0, 0.0, 0.0, 0.0, 0.0, False)
     if can_lock:
         # L6-L7 only where the store has room for the second-order form.
         q2 = q.dmp_q2 if width == 0 or width >= LOCKED2_WIDTH else 0.0
-        lk = (q.dmp_d, q.dmp_wl2, q.dmp_g0, q.dmp_g1, q.dmp_sd, q2, q2 > 0.0)
+        lk = LockSetup(q.dmp_d, q.dmp_wl2, q.dmp_g0, q.dmp_g1, q.dmp_sd, q2, q2 > 0.0)
     can_cycle = may and (width == 0 or width >= CYCLE_WIDTH)
     if can_cycle:
         return can_lock, lk, can_cycle, q.dmp_sec_off, q.dmp_sec_acc
@@ -211,16 +221,13 @@ def locked_test(r, y0, y1, off, lk, far):
     quotient per window again, and their pass measured 2-4 % slower with it).  Shared
     by the loop and the lanes."""
     m, c = r.model, r.control
-    lk_d, lk_wl2, lk_g0, lk_g1, lk_sd, lk_q2, can_lock2 = lk
+    tols = Tolerance(c.rtol, c.atol)
     locked = r.switch.regime == REGIME_LOCKED
     # The far pre-test first: most windows stop there, with no quotient on their path.
-    if far and not locked and locked_far(off + y0, y1, lk_d, lk_sd, lk_wl2, lk_g0, m.omega, c.rtol, c.atol,
-                                         lk_q2):
+    if far and not locked and locked_far(off + y0, y1, lk, m.omega, tols):
         return 0, 0.0
-    if locked or not locked_quick_reject(off + y0, y1, lk_d, lk_sd, lk_wl2, lk_g0, lk_g1, m.omega, c.rtol, c.atol,
-                                         lk_q2):
-        return locked_choice(m.beta, m.gamma, m.omega, y0, y1, lk_d, lk_wl2, lk_g0, lk_g1, c.rtol, c.atol, off,
-                             can_lock2)
+    if locked or not locked_quick_reject(off + y0, y1, lk, m.omega, tols):
+        return locked_choice(m.beta, m.gamma, m.omega, y0, y1, lk, tols, off)
     return 0, 0.0
 
 
@@ -235,7 +242,7 @@ def _regime_setup(kind, rset, r, may, width, t, n_total):
     constants of a driven one (S1-S7: Taylor, β > 0; not with max_dtheta, the short
     windows of solve_ivp's event search, each of which would re-take a period)."""
     can_lock = can_cycle = False
-    lk = (0.0, 1.0, 0.0, 0.0, 0.0, 0.0, False)
+    lk = LockSetup(0.0, 1.0, 0.0, 0.0, 0.0, 0.0, False)
     sec_off = sec_acc = 0.0
     if rset == RS_DAMPED:
         can_lock, lk, can_cycle, sec_off, sec_acc = damped_setup(r, may, width)
@@ -244,14 +251,16 @@ def _regime_setup(kind, rset, r, may, width, t, n_total):
         can_librate = (may and (kind == KIND_TAYLOR or kind == KIND_SPLIT)
                        and abs(r.model.gamma) < r.model.omega * r.model.omega and n_total == 0
                        and r.switch.regime == REGIME_NONE and (width == 0 or width >= CYCLE_WIDTH))
-    sp = (0.0, 0.0, 0.0, math.inf)  # T_d hi, lo, e^{−βT_d}, the next sample's time
+    sp = StrobeClock(0.0, 0.0, 0.0, math.inf)  # T_d hi, lo, e^{−βT_d}, the next sample's time
     if rset == RS_DRIVEN:
         m = r.model
         if (may and r.switch.regimes != REGIMES_PERIODIC and m.beta > 0.0 and m.drive_freq > 0.0
                 and kind == KIND_TAYLOR
                 and r.control.max_dtheta == math.inf and (width == 0 or width >= STROBE_WIDTH)):
             sp = _strobe_setup(r, t, m.drive_freq, m.beta, n_total)
-    return RegimeSetup(can_lock, lk, can_cycle, sec_off, sec_acc, can_librate, sp)
+    c = r.control
+    cw = CycleWatch(sec_off, sec_acc, r.model.beta, r.model.gamma, r.model.omega, r.state.t_bound, c.rtol, c.atol)
+    return RegimeSetup(can_lock, lk, can_cycle, cw, can_librate, sp)
 
 
 @numba.njit(**INLINE)
@@ -282,9 +291,11 @@ Window = collections.namedtuple(
     "Window", ("status", "coef", "t_new", "theta", "v", "k_new", "h_abs", "h_next", "is_locked", "per"))
 
 #: What :func:`_regime_setup` derives once per call: the damped set's constants
-#: (:func:`damped_setup`), whether the libration test applies, the strobe's constants.
+#: (:func:`damped_setup`; the return map's as its :data:`mbm.regimes.cycle.CycleWatch`
+#: ``cw``), whether the libration test applies, the strobe's constants (a
+#: :data:`mbm.regimes.strobe_windows.StrobeClock`).
 RegimeSetup = collections.namedtuple(
-    "RegimeSetup", ("can_lock", "lk", "can_cycle", "sec_off", "sec_acc", "can_librate", "sp"))
+    "RegimeSetup", ("can_lock", "lk", "can_cycle", "cw", "can_librate", "sp"))
 
 #: A window's start: the time, φ and θ' (θ = 2πk + φ), the winding count k and its
 #: offset 2πk (θ's scale for the tolerances), the length to try (≤ 0: search it).
@@ -309,8 +320,8 @@ def _source_cycle(kind, simd, r, t, direction, max_step, h_abs, per):
     t_new = _window_end(t, direction, r.state.t_bound, max_step)
     if y.cyc_k == CYCLE_SWITCHED:
         refine_period(kind, r, simd)  # (R4), once per run
-    coef = cycle_coef(y.cyc_theta, y.cyc_v, y.cyc_T, t - y.cyc_t, m.beta, m.gamma, m.omega, c.rtol, c.atol,
-                      y.cyc_sign, c.karg, c.error_order, y.cyc_wind, y.cyc_Tlo)
+    coef = cycle_coef(CycleAnchor(y.cyc_theta, y.cyc_v, y.cyc_T, y.cyc_Tlo, y.cyc_sign, y.cyc_wind), t - y.cyc_t,
+                      Retake(m.beta, m.gamma, m.omega, c.rtol, c.atol, c.karg, c.error_order))
     if per[3] == -2:
         per = _period_store(kind, coef, simd)
     th, v, k_new = _period_value(kind, coef, per[0], per[1], per[2], per[3], t_new - t)
@@ -324,8 +335,9 @@ def _source_strobe(kind, r, t, direction, max_step, h_abs, per):
     :func:`_source` returns it (a :data:`Window`)."""
     m, c, s = r.model, r.control, r.strobe
     t_new = _window_end(t, direction, r.state.t_bound, max_step)
-    coef = strobe_coef(s.str_phi, s.str_v, s.str_k, s.str_ta, s.str_q, s.str_p, s.str_psi, m.beta, m.gamma,
-                       m.omega, m.drive_amp, m.drive_freq, c.rtol, c.atol, c.karg, c.error_order)
+    coef = strobe_coef(StrobeAnchor(s.str_phi, s.str_v, s.str_k, s.str_ta, s.str_q, s.str_p, s.str_psi),
+                       StrobeRetake(m.beta, m.gamma, m.omega, m.drive_amp, m.drive_freq, c.rtol, c.atol, c.karg,
+                                    c.error_order))
     if per[3] == -2:
         per = _strobe_store(kind, coef)
     th, v, k_new = _strobe_stored(kind, coef, per[0], per[1], per[2], per[3], t_new)
@@ -373,7 +385,7 @@ def _source(kind, rset, simd, r, t, y0, y1, k, off, direction, max_step, h_abs, 
     if rset == RS_DAMPED and can_lock:
         lk_order, lk_ts = locked_test(r, y0, y1, off, lk, True)
     if rset == RS_DAMPED and lk_order > 0:  # (the other sets' entries compile no locked window)
-        coef = locked_coef(beta, lk[1], lk_ts, y0, y1, gamma, lk_order)
+        coef = locked_coef(beta, lk.wl2, lk_ts, y0, y1, gamma, lk_order)
         t_new = _window_end(t, direction, t_bound, max_step)
         th, v = locked_eval(coef, t_new - t)
         if r.switch.regime != REGIME_LOCKED:
@@ -556,13 +568,13 @@ def _runner(rset, simd=False):
             win_t[0], win_y[0, 0], win_y[0, 1] = t, theta_of(k, y0), y1
         may = r.switch.regimes != 0 and r.control.controller == CONTROLLER_ADAPTIVE and direction > 0.0
         rs = _regime_setup(kind, rset, r, may, width, t, n_total)
-        can_cycle, sec_off, sec_acc, can_librate, sp = rs.can_cycle, rs.sec_off, rs.sec_acc, rs.can_librate, rs.sp
+        can_cycle, cw, can_librate, sp = rs.can_cycle, rs.cw, rs.can_librate, rs.sp
         if rset == RS_DAMPED and fresh:
             _keep_damped(buf)
         ws = taylor_workspace(r.control.karg)  # one coefficient workspace for the call's windows
         per = (np.empty(0), np.empty((0, 2)), np.empty((0, 0)), -2)  # the stored period (R3)
         scratch = (ws, per)  # once per call: per window, a tuple of arrays costs their refcounts
-        sp_next = sp[3]
+        sp_next = sp.t_next
         seen = -1  # the regime last checked against this entry's set (-1: the first window checks)
         while direction * (t_bound - t) > 0.0:
             status, seen = _stop_before(kind, rset, r, (n, n_total), store, cap, seen, cancel)
@@ -574,8 +586,8 @@ def _runner(rset, simd=False):
             off = k * _TWO_PI  # θ's scale for the tolerances (scipy's rtol·|θ| of the whole angle)
             if rset == RS_CONSERVATIVE and can_librate:
                 can_librate = False
-                _libration_test(r, t, y0, y1, k, off, r.model.gamma, r.model.omega, t_bound, r.control.rtol,
-                                r.control.atol)
+                _libration_test(r, LibrationStart(t, y0, y1, k, off), r.model.gamma, r.model.omega, t_bound,
+                                Tolerance(r.control.rtol, r.control.atol))
                 if r.switch.regime != REGIME_NONE:
                     status = STATUS_PAUSED  # the rest of the run is the stored period: RS_CYCLE's entry
                     break
@@ -604,10 +616,9 @@ def _runner(rset, simd=False):
             else:  # (k_new = k outside the stored periods)
                 j = _emit_formula(kind, rset, coef, (t, t_new, th, v, is_locked), k, j, direction, outs)
             if rset == RS_DAMPED and not is_locked and can_cycle and r.switch.regime == REGIME_NONE:
-                _watch_cycle(kind, r, coef, t, t_new, y0, th, v, k, off, sec_off, sec_acc, r.model.beta,
-                             r.model.gamma, r.model.omega, t_bound, r.control.rtol, r.control.atol)
+                _watch_cycle(kind, r, coef, CycleSpan(t, t_new, y0, th, v, k, off), cw)
             if rset == RS_DRIVEN and sp_next <= t_new and r.switch.regime == REGIME_NONE:
-                sp_next = _watch_strobe(kind, p, coef, t, t_new, k, off, sp[0], sp[1], sp[2], n_total)
+                sp_next = _watch_strobe(kind, p, coef, StrobeSpan(t, t_new, k, off), sp, n_total)
             if store:
                 _store_window(win_t, win_y, win_coef, n, coef, t_new, theta_of(k_new, th), v)
             t, y0, y1, h_abs, k = t_new, th, v, h_next, k_new

@@ -5,6 +5,11 @@ switch), and REGIME_NAMES gives the name a result reports.  SWITCH_SAFETY is the
 of the tolerance every regime's switch rule allows (L5, R2, C4, S5).
 """
 
+import collections
+
+#: A run's tolerances: ``rtol``, ``atol`` (the switch rules' scale).
+Tolerance = collections.namedtuple("Tolerance", ("rtol", "atol"))
+
 # (L5): the remainder bound must be this fraction of the tolerance, so the switch adds
 # at most a tenth of one window's allowed error to the outputs after it.
 SWITCH_SAFETY = 0.1

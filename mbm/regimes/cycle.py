@@ -12,6 +12,7 @@ The derivation, items R1–R4 (the comments below cite them), is in the
 documentation's theory page, ``docs/theory/regimes.md``.
 """
 
+import collections
 import math
 
 import numpy as np
@@ -59,6 +60,29 @@ CYC_ERROR_ORDER = 12  # the approximant's error order
 CYC_WIND = 13  # k_c: the anchor's winding count (mbm.core.window "Winding")
 CYC_PERIOD_LO = 14  # T_lo: T_c + T_lo is the period in double-double (0 for the running cycle; C3)
 
+#: The return map's last changes between successive crossings (R2): of θ' (``dv``), the
+#: one before (``dv_prev``), of the return time (``dT``).
+MapStep = collections.namedtuple("MapStep", ("dv", "dv_prev", "dT"))
+
+#: A cycle's anchor (R3, C3): the crossing of θ = 2π·``wind`` + ``theta`` with speed ``v``,
+#: the period ``period`` (+ ``period_lo`` in double-double: 0 for the running cycle) and
+#: the winding ``sign`` (θ advances by 2π·sign per period; 0: a libration).
+CycleAnchor = collections.namedtuple("CycleAnchor", ("theta", "v", "period", "period_lo", "sign", "wind"))
+
+#: What a stored period is re-taken with (R3): the model β, γ, ω, the tolerances and the
+#: approximant's kind argument and error order.
+Retake = collections.namedtuple("Retake", ("beta", "gamma", "omega", "rtol", "atol", "karg", "error_order"))
+
+#: An ordinary window the return map watches: [``t``, ``t_new``] from φ = ``y0`` to
+#: (``th``, ``v``), ``k`` the winding count and ``off`` = 2πk.
+CycleSpan = collections.namedtuple("CycleSpan", ("t", "t_new", "y0", "th", "v", "k", "off"))
+
+#: The return map's constants of a run (R1, R2): the section's offset θ_s
+#: (``sec_off``) and θ'' = ``sec_acc`` − βθ' on it, the model β, γ, ω, the span's end
+#: ``t_bound`` and the tolerances.
+CycleWatch = collections.namedtuple(
+    "CycleWatch", ("sec_off", "sec_acc", "beta", "gamma", "omega", "t_bound", "rtol", "atol"))
+
 
 @kernel
 def section_offset(gamma, omega):
@@ -78,15 +102,14 @@ def section_offset(gamma, omega):
 
 
 @kernel
-def cycle_switch(dv, dv_prev, dT, v, theta, vmax, amax, n_rest, rtol, atol):
+def cycle_switch(step, v, theta, vmax, amax, n_rest, tols):
     """Whether the return map has converged enough to switch to the cycle (item R2).
 
     Parameters
     ----------
-    dv, dv_prev : float
-        The last two changes of θ' between successive crossings.
-    dT : float
-        The last change of the return time.
+    step : MapStep
+        The last two changes of θ' between successive crossings (``dv``, ``dv_prev``) and
+        the last change of the return time (``dT``).
     v, theta : float
         θ', θ at the last crossing.
     vmax : float
@@ -95,13 +118,15 @@ def cycle_switch(dv, dv_prev, dT, v, theta, vmax, amax, n_rest, rtol, atol):
         A bound on |θ''| (|γ| + β·vmax + ω²).
     n_rest : float
         Periods left to the end of the span.
-    rtol, atol : float
-        The run's tolerances.
+    tols : Tolerance
+        The run's tolerances (:data:`mbm.regimes.common.Tolerance`).
 
     Returns
     -------
     bool
     """
+    dv, dv_prev, dT = step.dv, step.dv_prev, step.dT
+    rtol, atol = tols.rtol, tols.atol
     if dv_prev == 0.0:
         return dv == 0.0 and dT == 0.0
     mu = abs(dv) / abs(dv_prev)
@@ -116,34 +141,30 @@ def cycle_switch(dv, dv_prev, dT, v, theta, vmax, amax, n_rest, rtol, atol):
 
 
 @kernel
-def cycle_coef(theta_c, v_c, period, t_off, beta, gamma, omega, rtol, atol, sign, karg, error_order,
-               wind_c, period_lo):
+def cycle_coef(anchor, t_off, retake):
     """A running-cycle window's coefficient vector (layout: CYCLE_TAG; item R3).
 
     Parameters
     ----------
-    theta_c, v_c : float
-        The cycle's anchor: the crossing of θ = θ_c with speed v_c.
-    period : float
-        T_c.
+    anchor : CycleAnchor
+        The cycle's anchor: the crossing of θ = 2π·wind + θ_c with speed v_c, the
+        period T_c (``period_lo``: its low part in double-double, 0 for the running
+        cycle's averaged period; C3) and the winding sign (+1 or −1: θ advances by
+        2π·sign per period).
     t_off : float
         Time from the anchor crossing to the window's start.
-    beta, gamma, omega, rtol, atol : float
-        The model and the tolerances the stored period is re-taken with.
-    sign : float
-        +1 or −1: θ advances by 2π·sign per period.
-    karg, error_order : int
-        The approximant's kind argument and error order.
-    wind_c : float
-        Winding count of the anchor: it lies at θ = 2π·wind_c + θ_c.
-    period_lo : float
-        Low part of the period: T_c + period_lo is the period in double-double (0 for
-        the running cycle's averaged period; C3).
+    retake : Retake
+        The model, the tolerances, the approximant's kind argument and error order the
+        stored period is re-taken with.
 
     Returns
     -------
     ndarray, shape (CYCLE_WIDTH,)
     """
+    theta_c, v_c, period, period_lo, sign, wind_c = (anchor.theta, anchor.v, anchor.period, anchor.period_lo,
+                                                     anchor.sign, anchor.wind)
+    beta, gamma, omega, rtol, atol, karg, error_order = (retake.beta, retake.gamma, retake.omega, retake.rtol,
+                                                         retake.atol, retake.karg, retake.error_order)
     c = np.empty(CYCLE_WIDTH)
     c[CYC_TAG] = CYCLE_TAG
     c[CYC_THETA] = theta_c

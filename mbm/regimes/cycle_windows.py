@@ -10,7 +10,9 @@ libration (:mod:`mbm.regimes.libration`) uses the same stored period with a
 double-double period (C3).
 """
 
+import collections
 import math
+
 import numba
 import numpy as np
 
@@ -38,8 +40,12 @@ from ..core.kind_ops import (
 from ..compile.jit import INLINE, kernel
 from .common import REGIME_RUNNING
 from .stored_block import STORED_BLOCK, block_scratch, block_window, block_write
+from .common import Tolerance
 from .cycle import (
     CROSSING_ITERATIONS,
+    CycleAnchor,
+    MapStep,
+    Retake,
     cycle_coef,
     CYCLE_AVERAGE_PERIODS,
     CYCLE_MAX_WINDOWS,
@@ -80,14 +86,18 @@ CYCLE_REFINED = -1
 # ~10-100 windows at the tolerances in use.
 PERIOD_STORE_START = 64
 
+#: A section level crossed (R1): the ``level``, θ'' = ``acc0`` − ``beta``·θ' on it
+#: (``acc0`` = γ − ω² sin(level)) and ``w2`` = ω².
+Level = collections.namedtuple("Level", ("level", "acc0", "beta", "w2"))
+
 
 @numba.njit(**INLINE)
-def _crossing(kind, coef, h, f0, f1, level, acc0, beta, w2):
-    """Where the window's θ(s) crosses ``level`` in (0, h] (f0, f1: θ − level at 0, h).
+def _crossing(kind, coef, h, f0, f1, lev):
+    """Where the window's θ(s) crosses ``lev.level`` in (0, h] (f0, f1: θ − level at 0, h).
 
-    Safeguarded Newton (θ' from the formula) inside the sign bracket (R1).  ``acc0``
-    is γ − ω² sin(level) and ``w2`` ω², so that θ'' = acc0 − βθ' on the level (the
-    equation of motion).  Newton's next correction after a step d is about
+    Safeguarded Newton (θ' from the formula) inside the sign bracket (R1).  ``lev`` is a
+    :data:`Level`: its ``acc0`` is γ − ω² sin(level) and ``w2`` ω², so that θ'' =
+    acc0 − βθ' on the level (the equation of motion).  Newton's next correction after a step d is about
     (θ''/2θ')·d²; once that is below CROSSING_NEWTON_SAFETY ulps of s, the step's end
     is the root, and θ' there is carried from the last evaluation by d·θ''.  That
     carry is off by at most ~1.5(ω²|θ'| + β|θ''|)·d² (θ'' varies with θ − level = −θ'd
@@ -96,6 +106,7 @@ def _crossing(kind, coef, h, f0, f1, level, acc0, beta, w2):
     are not made: two evaluations per crossing instead of four on a running scene.
     Returns ``(s, θ'(s))``.
     """
+    level, acc0, beta, w2 = lev.level, lev.acc0, lev.beta, lev.w2
     lo, hi, flo = 0.0, h, f0
     s = h * f0 / (f0 - f1) if f0 != f1 else h
     v = 0.0
@@ -343,8 +354,8 @@ def _refined_period(kind, simd, r, theta_c, v_c, period, sgn, wind):
     if not (1.0 - math.exp(-m.beta * period) >= PERIOD_REFINE_MIN_CONTRACTION):
         return period
     rt, at = min(ctl.rtol, PERIOD_REFINE_RTOL), min(ctl.atol, PERIOD_REFINE_RTOL)
-    c = cycle_coef(theta_c, v_c, PERIOD_REFINE_SPAN * period, 0.0, m.beta, m.gamma, m.omega, rt, at, sgn, ctl.karg,
-                   ctl.error_order, wind, 0.0)
+    c = cycle_coef(CycleAnchor(theta_c, v_c, PERIOD_REFINE_SPAN * period, 0.0, sgn, wind), 0.0,
+                   Retake(m.beta, m.gamma, m.omega, rt, at, ctl.karg, ctl.error_order))
     starts, ends, coefs, n = _period_store(kind, c, simd)
     w2 = m.omega * m.omega
     acc0 = m.gamma - w2 * math.sin(theta_c)  # θ'' = acc0 − βθ' on every level θ_c + 2πj
@@ -355,7 +366,7 @@ def _refined_period(kind, simd, r, theta_c, v_c, period, sgn, wind):
         while i < n:
             f0, f1 = ends[i, 0] - level, ends[i + 1, 0] - level
             if f1 == 0.0 or (f0 < 0.0) != (f1 < 0.0):
-                sx = _crossing(kind, coefs[i], starts[i + 1] - starts[i], f0, f1, level, acc0, m.beta, w2)[0]
+                sx = _crossing(kind, coefs[i], starts[i + 1] - starts[i], f0, f1, Level(level, acc0, m.beta, w2))[0]
                 if j == 1:
                     t1 = starts[i] + sx
                 else:
@@ -401,16 +412,18 @@ def _cycle_crossing_for(kind):
     period), so its Newton iteration is compiled once and the common window pays nothing."""
 
     @kernel
-    def cycle_crossing(r, coef, t, t_new, y0, th, v, k, off, sec_off, sec_acc, beta, gamma, omega, t_bound,
-                       rtol, atol, m0, m1):
-        """The window [t, t_new] from φ = ``y0`` to (``th``, ``v``) crossed the level between
-        sections ``m0`` and ``m1`` (|m1 − m0| = 1): its time and speed into the return map
-        in the run record ``r``, and the switch to the running cycle once converged."""
+    def cycle_crossing(r, coef, span, cw, m0, m1):
+        """The window ``span`` (a :data:`CycleSpan`: [t, t_new] from φ = y0 to (th, v))
+        crossed the level between sections ``m0`` and ``m1`` (|m1 − m0| = 1): its time and
+        speed into the return map in the run record ``r``, and the switch to the running
+        cycle once converged (``cw``: the run's :data:`CycleWatch`)."""
+        t, t_new, y0, th, v, k, off = span.t, span.t_new, span.y0, span.th, span.v, span.k, span.off
+        sec_off, sec_acc, beta, gamma, omega = cw.sec_off, cw.sec_acc, cw.beta, cw.gamma, cw.omega
+        t_bound, rtol, atol = cw.t_bound, cw.rtol, cw.atol
         cy = r.cycle
         sgn = 1.0 if m1 > m0 else -1.0
         level = sec_off + _TWO_PI * max(m0, m1)
-        sx, vx = _crossing(kind, coef, t_new - t, y0 - level, th - level, level, sec_acc, beta,
-                           omega * omega)
+        sx, vx = _crossing(kind, coef, t_new - t, y0 - level, th - level, Level(level, sec_acc, beta, omega * omega))
         tx = t + sx
         if cy.sec_n > 0 and cy.sec_sign == sgn:
             period = tx - cy.sec_t
@@ -425,9 +438,9 @@ def _cycle_crossing_for(kind):
                     cy.cyc_theta, cy.cyc_v, cy.cyc_t, cy.cyc_sign = level, vx, tx, sgn
                     cy.cyc_wind = k
             elif cy.sec_n >= 2 and cycle_switch(
-                    dv, cy.sec_dv, period - cy.sec_T, vx, off + level, cy.sec_vmax,
-                    abs(gamma) + beta * cy.sec_vmax + omega * omega, (t_bound - t_new) / period, rtol,
-                    atol):
+                    MapStep(dv, cy.sec_dv, period - cy.sec_T), vx, off + level, cy.sec_vmax,
+                    abs(gamma) + beta * cy.sec_vmax + omega * omega, (t_bound - t_new) / period,
+                    Tolerance(rtol, atol)):
                 cy.cyc_k, cy.cyc_t = 1, tx
             cy.sec_dv, cy.sec_T = dv, period
             cy.sec_n += 1
@@ -443,12 +456,13 @@ _cycle_crossing_split = _cycle_crossing_for(KIND_SPLIT)
 
 
 @numba.njit(**INLINE)
-def _watch_cycle(kind, r, coef, t, t_new, y0, th, v, k, off, sec_off, sec_acc, beta, gamma, omega, t_bound,
-                 rtol, atol):
-    """After an ordinary window [t, t_new] from φ = ``y0`` to (``th``, ``v``): the return
-    map's bookkeeping in the run record ``r`` (a crossing of θ_s + 2πm, its period and
-    speed; the switch to the running cycle, ``r.switch.regime``, once converged).  A window
-    that crosses a level calls its kind's compiled :func:`_cycle_crossing_for`."""
+def _watch_cycle(kind, r, coef, span, cw):
+    """After an ordinary window ``span`` (a :data:`CycleSpan`: [t, t_new] from φ = y0 to
+    (th, v)): the return map's bookkeeping in the run record ``r`` (a crossing of θ_s +
+    2πm, its period and speed; the switch to the running cycle, ``r.switch.regime``, once
+    converged; ``cw``: the run's :data:`CycleWatch`).  A window that crosses a level
+    calls its kind's compiled :func:`_cycle_crossing_for`."""
+    y0, th, v, sec_off = span.y0, span.th, span.v, cw.sec_off
     cy = r.cycle
     # The return map (mbm.regimes, R1, R2): a crossing of a saddle level
     # θ = θ_s + 2πm in this window.
@@ -457,11 +471,8 @@ def _watch_cycle(kind, r, coef, t, t_new, y0, th, v, k, off, sec_off, sec_acc, b
     cy.sec_vmax = max(cy.sec_vmax, abs(v))
     if abs(m1 - m0) == 1.0:
         if kind == KIND_TAYLOR:
-            _cycle_crossing_taylor(r, coef, t, t_new, y0, th, v, k, off, sec_off, sec_acc, beta, gamma, omega,
-                                   t_bound, rtol, atol, m0, m1)
+            _cycle_crossing_taylor(r, coef, span, cw, m0, m1)
         elif kind == KIND_SPLIT:
-            call_crossing(KIND_SPLIT * OPS_PER_KIND + OP_CROSSING, (r, coef, t, t_new, y0, th, v, k, off, sec_off,
-                                                                   sec_acc, beta, gamma, omega, t_bound, rtol,
-                                                                   atol, m0, m1))
+            call_crossing(KIND_SPLIT * OPS_PER_KIND + OP_CROSSING, (r, coef, span, cw, m0, m1))
     elif m1 != m0:
         cy.sec_n, cy.cyc_k = 0, 0

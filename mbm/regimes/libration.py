@@ -11,6 +11,7 @@ The derivation, items C1–C4 (the comments below cite them), is in the
 documentation's theory page, ``docs/theory/regimes.md``.
 """
 
+import collections
 import math
 
 import numpy as np
@@ -65,11 +66,21 @@ LIBRATION_MIN_PERIODS = 16
 # reach 1e-33 relative at 0.25).
 DD_X_MINUS_SIN_TERMS = 12
 
+#: The potential's constants in double-double (C1), each a (hi, lo) pair: ``w2`` = ω²,
+#: ``cd`` = cos d, ``e`` = ω² sin d − γ; and ``gamma`` = γ (a double).
+DDPotential = collections.namedtuple("DDPotential", ("w2", "cd", "e", "gamma"))
+
+#: Where a fresh conservative run's libration test is taken (C4): time ``t``, φ = ``y0``,
+#: θ' = ``y1``, the winding count ``k`` and ``off`` = 2πk.
+LibrationStart = collections.namedtuple("LibrationStart", ("t", "y0", "y1", "k", "off"))
+
 
 @kernel
-def _dd_potential(w2h, w2l, cdh, cdl, eh, el, gamma, xh, xl):
+def _dd_potential(pot, xh, xl):
     # (C1): U(x) = 2ω² cos d sin²(x/2) + (ω² sin d − γ) sin x − γ(x − sin x) in
-    # double-double; (w2h, w2l) = ω², (cdh, cdl) = cos d, (eh, el) = ω² sin d − γ.
+    # double-double; ``pot`` a DDPotential: (w2h, w2l) = ω², (cdh, cdl) = cos d,
+    # (eh, el) = ω² sin d − γ.
+    (w2h, w2l), (cdh, cdl), (eh, el), gamma = pot.w2, pot.cd, pot.e, pot.gamma
     hh, hl = 0.5 * xh, 0.5 * xl
     sh, sl, ch, cl = dd_sincos_any(hh, hl)
     s2h, s2l = dd_mul(sh, sl, sh, sl)
@@ -120,12 +131,13 @@ def _turning_point(w2, gamma, d, h0, edge):
 
 
 @kernel
-def _period_quadrature(w2h, w2l, cdh, cdl, eh, el, gamma, hh, hl, mh, ml, rh, rl):
+def _period_quadrature(pot, h, m, r):
     """(C2): the period as the midpoint rule over ψ of x = m + r sin ψ, M doubled until two
     successive sums agree: ``(t_hi, t_lo, their change)``, nan where the energy H' − U
     is not positive at a node or no M ≤ LIBRATION_NODES_MAX converged.  The potential's
-    constants, H' and the turning points' midpoint m and half-width r in double-double
-    (:func:`libration_period`)."""
+    constants (a :data:`DDPotential`), H' and the turning points' midpoint m and
+    half-width r, each a (hi, lo) pair in double-double (:func:`libration_period`)."""
+    (hh, hl), (mh, ml), (rh, rl) = h, m, r
     nan = math.nan
     prev_h, prev_l = nan, 0.0
     m_nodes = LIBRATION_NODES_MIN
@@ -138,7 +150,7 @@ def _period_quadrature(w2h, w2l, cdh, cdl, eh, el, gamma, hh, hl, mh, ml, rh, rl
             snh, snl, csh, csl = dd_sincos(qh, ql)
             xh_, xl_ = dd_mul(rh, rl, snh, snl)
             xh_, xl_ = dd_add(mh, ml, xh_, xl_)
-            uh, ul2 = _dd_potential(w2h, w2l, cdh, cdl, eh, el, gamma, xh_, xl_)
+            uh, ul2 = _dd_potential(pot, xh_, xl_)
             fh, fl = dd_add(hh, hl, -uh, -ul2)
             if not (fh > 0.0):
                 return nan, nan, nan
@@ -206,9 +218,10 @@ def libration_period(gamma, omega, theta, v):
     sdh, sdl, cdh, cdl = dd_sincos(d, 0.0)
     eh, el = dd_mul(w2h, w2l, sdh, sdl)
     eh, el = dd_add(eh, el, -gamma, 0.0)
+    pot = DDPotential((w2h, w2l), (cdh, cdl), (eh, el), gamma)
     # H' = v²/2 + U(x₀).
     vh, vl = two_prod(v, v)
-    uh, ul2 = _dd_potential(w2h, w2l, cdh, cdl, eh, el, gamma, x0h, x0l)
+    uh, ul2 = _dd_potential(pot, x0h, x0l)
     hh, hl = dd_add(0.5 * vh, 0.5 * vl, uh, ul2)
     if not (hh > 0.0):
         return nan, nan, nan, nan, nan
@@ -219,7 +232,7 @@ def libration_period(gamma, omega, theta, v):
         xh_ = _turning_point(w2, gamma, d, hh, edge)
         xl_ = 0.0
         for _ in range(LIBRATION_DD_NEWTON):
-            uh, ul2 = _dd_potential(w2h, w2l, cdh, cdl, eh, el, gamma, xh_, xl_)
+            uh, ul2 = _dd_potential(pot, xh_, xl_)
             fh, fl = dd_add(hh, hl, -uh, -ul2)
             du = w2 * math.sin(d + xh_) - gamma
             if du == 0.0:
@@ -233,17 +246,20 @@ def libration_period(gamma, omega, theta, v):
     rh, rl = 0.5 * rh, 0.5 * rl
     if not (rh >= LIBRATION_MIN_AMPLITUDE):
         return nan, nan, nan, nan, nan
-    th, tl, diff = _period_quadrature(w2h, w2l, cdh, cdl, eh, el, gamma, hh, hl, mh, ml, rh, rl)
+    th, tl, diff = _period_quadrature(pot, (hh, hl), (mh, ml), (rh, rl))
     if th != th:
         return nan, nan, nan, nan, nan
     return th, tl, diff + LIBRATION_DD_FLOOR * th, math.sqrt(2.0 * hh), 2.0 * rh
 
 
 @kernel
-def _libration_test(r, t, y0, y1, k, off, gamma, omega, t_bound, rtol, atol):
-    """The libration test of a fresh conservative run (mbm.regimes, C1-C4): switches the
-    record ``r`` to REGIME_LIBRATION where the stored period's phase error over the rest
-    of the span is within the tolerance (C4)."""
+def _libration_test(r, start, gamma, omega, t_bound, tols):
+    """The libration test of a fresh conservative run (mbm.regimes, C1-C4) from ``start``
+    (a :data:`LibrationStart`): switches the record ``r`` to REGIME_LIBRATION where the
+    stored period's phase error over the rest of the span (to ``t_bound``) is within the
+    tolerances ``tols`` (a :data:`mbm.regimes.common.Tolerance`; C4)."""
+    t, y0, y1, k, off = start.t, start.y0, start.y1, start.k, start.off
+    rtol, atol = tols.rtol, tols.atol
     lb_hi, lb_lo, lb_dt, lb_vmax, lb_span = libration_period(gamma, omega, y0, y1)
     if lb_hi == lb_hi:
         n_rest = (t_bound - t) / lb_hi

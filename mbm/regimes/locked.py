@@ -81,6 +81,9 @@ Locked2Terms = collections.namedtuple("Locked2Terms", ("qr", "qi", "m", "dr", "d
 #: :func:`_lock_setup`'s result: the locked test's constants of a run (L5).
 LockSetup = collections.namedtuple("LockSetup", ("d", "wl2", "g0", "g1", "sd", "q2", "can_lock2"))
 
+#: :func:`locked_constants`' result: the well's constants d, ω_l² (L1) and G₀, G₁ (L4).
+Well = collections.namedtuple("Well", ("d", "wl2", "g0", "g1"))
+
 
 @kernel
 def green_integrals(beta, wl2):
@@ -123,14 +126,14 @@ def locked_constants(beta, gamma, omega):
 
     Returns
     -------
-    d, wl2, g0, g1 : float
-        d = arcsin(γ/ω²), ω_l² = ω² cos d and :func:`green_integrals`.
+    Well
+        d = arcsin(γ/ω²), ω_l² = ω² cos d and :func:`green_integrals`' G₀, G₁.
     """
     w2 = omega * omega
     d = math.asin(gamma / w2)
     wl2 = w2 * math.cos(d)
     g0, g1 = green_integrals(beta, wl2)
-    return d, wl2, g0, g1
+    return Well(d, wl2, g0, g1)
 
 
 @numba.njit(**INLINE)
@@ -163,10 +166,11 @@ def _nearest_k(theta, d):
 
 
 @numba.njit(**INLINE)
-def _bounds_fail(a, sd, cd, g0, g1, omega, tol, tol_v, second):
+def _bounds_fail(a, cd, omega, lk, tol, tol_v):
     # At a lower bound ``a`` of A: L5's first-order bounds ω²ρ(A)G₀, ω²ρ(A)G₁ and, where
-    # ``second``, L7's, which are at least ω²G₀ρ₃(A) and ω²G₁ρ₃(A), all fail (each
-    # grows with A).
+    # the second order is available (``lk.q2`` > 0), L7's, which are at least ω²G₀ρ₃(A)
+    # and ω²G₁ρ₃(A), all fail (each grows with A).  ``lk``: a :data:`LockSetup`.
+    sd, g0, g1, second = lk.sd, lk.g0, lk.g1, lk.q2 > 0.0
     w2 = omega * omega
     r = w2 * _rho(sd, a)
     if r * g0 <= tol and r * g1 <= tol_v:
@@ -178,11 +182,13 @@ def _bounds_fail(a, sd, cd, g0, g1, omega, tol, tol_v, second):
 
 
 @numba.njit(**INLINE)
-def locked_far(theta, v, d, sd, wl2, g0, omega, rtol, atol, q2):
+def locked_far(theta, v, lk, omega, tols):
     """True where :func:`locked_quick_reject`'s first stage surely rejects: its test by
     products in place of its quotients (off the window's critical path: 1/ω_l²
     is the run's constant), with :data:`FAR_MARGIN` on the tolerance; False leaves the
     answer to :func:`locked_quick_reject`.  Arguments as there."""
+    d, sd, wl2, g0, q2 = lk.d, lk.sd, lk.wl2, lk.g0, lk.q2
+    rtol, atol = tols.rtol, tols.atol
     k = np.floor((theta - d) * _INV_TWO_PI + 0.5)
     ts = d + 2.0 * math.pi * k
     x = theta - ts
@@ -194,7 +200,7 @@ def locked_far(theta, v, d, sd, wl2, g0, omega, rtol, atol, q2):
 
 
 @kernel
-def locked_quick_reject(theta, v, d, sd, wl2, g0, g1, omega, rtol, atol, q2):
+def locked_quick_reject(theta, v, lk, omega, tols):
     """True when the locked test surely fails (cheap; run before every window).
 
     A necessary condition only, in two stages: the linear amplitude estimate times
@@ -208,20 +214,22 @@ def locked_quick_reject(theta, v, d, sd, wl2, g0, g1, omega, rtol, atol, q2):
     ----------
     theta, v : float
         The state.
-    d, wl2, g0, g1 : float
-        From :func:`locked_constants`.
-    sd : float
-        |sin d| (formed once per run: a sin per window was ~10 % of the test).
-    omega, rtol, atol : float
-        The model's ω and the run's tolerances.
-    q2 : float
-        ω²G₀ cos d / 6, the leading term of L7's bound per A³ (a lower estimate of
-        it), or 0 where the second-order form is not available.
+    lk : LockSetup
+        From :func:`_lock_setup`: d, ω_l², G₀, G₁ (:func:`locked_constants`), |sin d|
+        (formed once per run: a sin per window was ~10 % of the test) and q₂ =
+        ω²G₀ cos d / 6, the leading term of L7's bound per A³ (a lower estimate of it),
+        or 0 where the second-order form is not available.
+    omega : float
+        The model's ω.
+    tols : Tolerance
+        The run's tolerances (:data:`mbm.regimes.common.Tolerance`).
 
     Returns
     -------
     bool
     """
+    d, sd, wl2, g0, q2 = lk.d, lk.sd, lk.wl2, lk.g0, lk.q2
+    rtol, atol = tols.rtol, tols.atol
     k = _nearest_k(theta, d)
     ts = d + 2.0 * math.pi * k
     x = theta - ts
@@ -239,7 +247,7 @@ def locked_quick_reject(theta, v, d, sd, wl2, g0, g1, omega, rtol, atol, q2):
     a_lin = math.sqrt(max(2.0 * h0 / wl2, 0.0))
     a_lo = (a_lin / math.sqrt(1.0 + w2 * sd * a_lin / (3.0 * wl2)) * (1.0 - AMPLITUDE_MARGIN)
             - X_ROUNDING * _EPS * (abs(theta) + abs(ts)))
-    return _bounds_fail(max(a_lo, 0.0), sd, wl2 / w2, g0, g1, omega, tol, SWITCH_SAFETY * atol, q2 > 0.0)
+    return _bounds_fail(max(a_lo, 0.0), wl2 / w2, omega, lk, tol, SWITCH_SAFETY * atol)
 
 
 @kernel
@@ -273,7 +281,7 @@ def _amplitude_newton(w2, gamma, d, wl2, h0, edge):
 
 
 @kernel
-def locked_bound(beta, gamma, omega, theta, v, d, wl2, g0, g1):
+def locked_bound(beta, gamma, omega, theta, v, well):
     """Rigorous bounds on the locked closed form's deviation over any horizon (L3, L4).
 
     Parameters
@@ -282,8 +290,8 @@ def locked_bound(beta, gamma, omega, theta, v, d, wl2, g0, g1):
         The model, β > 0 and |γ| < ω².
     theta, v : float
         The state the closed form is anchored at.
-    d, wl2, g0, g1 : float
-        From :func:`locked_constants`.
+    well : Well
+        From :func:`locked_constants` (or a :data:`LockSetup`: d, G₀, G₁ are read).
 
     Returns
     -------
@@ -294,6 +302,7 @@ def locked_bound(beta, gamma, omega, theta, v, d, wl2, g0, g1):
         :func:`locked_eval` from this state; inf when the state is not trapped in the
         well of θ* (on or above its lower saddle).
     """
+    d, g0, g1 = well.d, well.g0, well.g1
     ts, amp = locked_amplitude(gamma, omega, theta, v, d)
     r = omega * omega * _rho(abs(math.sin(d)), amp)
     return ts, r * g0, r * g1
@@ -376,15 +385,15 @@ def locked2_terms(beta, gamma, wl2, x0, v0):
 
 
 @kernel
-def locked2_bound(beta, gamma, omega, d, wl2, g0, g1, amp, x0, v0):
+def locked2_bound(beta, gamma, omega, well, amp, x0, v0):
     """L7's bounds on the second-order form's deviation over any horizon.
 
     Parameters
     ----------
     beta, gamma, omega : float
         The model (under-damped about θ*: ω_l² > β²/4).
-    d, wl2, g0, g1 : float
-        From :func:`locked_constants`.
+    well : Well
+        From :func:`locked_constants` (or a :data:`LockSetup`: d, ω_l², G₀, G₁ are read).
     amp : float
         A from :func:`locked_amplitude`.
     x0, v0 : float
@@ -395,6 +404,7 @@ def locked2_bound(beta, gamma, omega, d, wl2, g0, g1, amp, x0, v0):
     bound_theta, bound_v : float
         sup over t ≥ 0 of |θ − θ_L| and |θ' − θ_L'|; inf where q ≥ 1 or A is inf.
     """
+    d, wl2, g0, g1 = well.d, well.wl2, well.g0, well.g1
     if not (amp < math.inf) or not (wl2 - 0.25 * beta * beta > 0.0):
         return math.inf, math.inf
     w2 = omega * omega
@@ -411,7 +421,7 @@ def locked2_bound(beta, gamma, omega, d, wl2, g0, g1, amp, x0, v0):
 
 
 @kernel
-def locked_choice(beta, gamma, omega, theta, v, d, wl2, g0, g1, rtol, atol, off, second):
+def locked_choice(beta, gamma, omega, theta, v, lk, tols, off):
     """Whether the locked closed form may take over from (θ, θ'), and of which order (L5, L7).
 
     Parameters
@@ -420,14 +430,14 @@ def locked_choice(beta, gamma, omega, theta, v, d, wl2, g0, g1, rtol, atol, off,
         The model, β > 0, |γ| < ω².
     theta, v : float
         The state (θ reduced by the loop's winding: ``off`` + θ is the angle).
-    d, wl2, g0, g1 : float
-        From :func:`locked_constants`.
-    rtol, atol : float
+    lk : LockSetup
+        From :func:`_lock_setup`: d, ω_l², G₀, G₁ (:func:`locked_constants`) and
+        ``can_lock2``, whether the second-order form may be taken (room for
+        LOCKED2_WIDTH); |sin d| and q₂ are not read.
+    tols : Tolerance
         The run's tolerances.
     off : float
         2π × the winding count (the tolerance's scale is that of the whole angle).
-    second : bool
-        Whether the second-order form may be taken (room for LOCKED2_WIDTH).
 
     Returns
     -------
@@ -436,6 +446,8 @@ def locked_choice(beta, gamma, omega, theta, v, d, wl2, g0, g1, rtol, atol, off,
     theta_star : float
         The equilibrium (of θ's reduced value).
     """
+    d, g0, g1, second = lk.d, lk.g0, lk.g1, lk.can_lock2
+    rtol, atol = tols.rtol, tols.atol
     ts, amp = locked_amplitude(gamma, omega, theta, v, d)
     if not (amp < math.inf):
         return 0, ts
@@ -445,7 +457,7 @@ def locked_choice(beta, gamma, omega, theta, v, d, wl2, g0, g1, rtol, atol, off,
     if r * g0 <= tol_t and r * g1 <= tol_v:
         return 1, ts
     if second:
-        bt, bv = locked2_bound(beta, gamma, omega, d, wl2, g0, g1, amp, theta - ts, v)
+        bt, bv = locked2_bound(beta, gamma, omega, lk, amp, theta - ts, v)
         if bt <= tol_t and bv <= tol_v:
             return 2, ts
     return 0, ts

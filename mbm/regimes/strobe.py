@@ -14,6 +14,7 @@ The derivation, items S1–S7 (the comments below cite them), is in the
 documentation's theory page, ``docs/theory/regimes.md``.
 """
 
+import collections
 import math
 
 import numpy as np
@@ -85,6 +86,25 @@ STR_FREQ = 12  # Ω: the drive's frequency
 STR_RTOL = 13  # rtol the stored period is re-taken with
 STR_ATOL = 14  # atol the stored period is re-taken with
 STR_KARG_ORDER = 15  # karg + STROBE_CODE·error_order (the approximant's kind argument and error order)
+
+#: The last four stroboscopic deviations Δ, oldest first (S3, S4): ``d3``, ``d2``, ``d1``
+#: and the newest ``c``, each a (θ part, θ' part) pair.
+StrobeDevs = collections.namedtuple("StrobeDevs", ("d3", "d2", "d1", "c"))
+
+#: The switch rule's fits so far (S4): the traces fitted at the two samples before
+#: (``tau1``, ``tau2``; nan: failed or not made) and the last clean fit's spectral
+#: radius ``rho_clean`` (nan: none yet).
+StrobeFits = collections.namedtuple("StrobeFits", ("tau1", "tau2", "rho_clean"))
+
+#: A phase-locked window's anchor (S6, S7): θ = 2π``k`` + ``phi``, θ' = ``v`` at time
+#: ``t`` (a stroboscopic sample's), ``q`` drive periods and ``p`` turns per period, the
+#: drive's phase ``psi`` there (:func:`strobe_phase`).
+StrobeAnchor = collections.namedtuple("StrobeAnchor", ("phi", "v", "k", "t", "q", "p", "psi"))
+
+#: What a phase-locked window's stored period is re-taken with (S6): the model β, γ, ω,
+#: the drive's A, Ω, the tolerances and the approximant's kind argument and error order.
+StrobeRetake = collections.namedtuple(
+    "StrobeRetake", ("beta", "gamma", "omega", "amp", "freq", "rtol", "atol", "karg", "error_order"))
 
 
 @kernel
@@ -196,25 +216,25 @@ def _spectral_radius(tau, det):
 
 
 @kernel
-def strobe_switch(d3t, d3v, d2t, d2v, d1t, d1v, ct, cv, det, omega, scale, tau1, tau2, rho_clean):
+def strobe_switch(devs, det, omega, scale, fits):
     """Whether the stroboscopic deviations have converged enough to switch (items S3-S5).
 
     Parameters
     ----------
-    d3t, d3v, d2t, d2v, d1t, d1v, ct, cv : float
-        The last four deviations Δ (θ and θ' parts), oldest first (ct, cv the newest).
+    devs : StrobeDevs
+        The last four deviations Δ, oldest first, each a (θ part, θ' part) pair (a plain
+        tuple of pairs from Python).
     det : float
         D = e^{−βP} (S2).
     omega : float
         ω: the θ parts are weighted by it.
     scale : float
         SWITCH_SAFETY · min(atol + rtol·|θ'|, ω(atol + rtol·|θ|)) at the anchor (S5).
-    tau1, tau2 : float
-        The traces fitted at the two samples before (nan where that fit failed or was
-        not made).
-    rho_clean : float
-        The spectral radius of the last clean fit (residual ≤ STROBE_CLEAN_RESIDUAL;
-        nan: none yet).
+    fits : StrobeFits
+        The traces fitted at the two samples before (``tau1``, ``tau2``: nan where that
+        fit failed or was not made) and the spectral radius of the last clean fit
+        (``rho_clean``: residual ≤ STROBE_CLEAN_RESIDUAL; nan: none yet); a plain
+        triple from Python.
 
     Returns
     -------
@@ -229,6 +249,8 @@ def strobe_switch(d3t, d3v, d2t, d2v, d1t, d1v, ct, cv, det, omega, scale, tau1,
     rho, bound : float
         The spectral radius used and B (S3); inf where a fit failed.
     """
+    (d3t, d3v), (d2t, d2v), (d1t, d1v), (ct, cv) = devs
+    tau1, tau2, rho_clean = fits
     # Scaled to the largest component (the squares below neither underflow nor overflow).
     big = max(max(max(omega * abs(d3t), abs(d3v)), max(omega * abs(d2t), abs(d2v))),
               max(max(omega * abs(d1t), abs(d1v)), max(omega * abs(ct), abs(cv))))
@@ -283,31 +305,26 @@ def strobe_switch(d3t, d3v, d2t, d2v, d1t, d1v, ct, cv, det, omega, scale, tau1,
 
 
 @kernel
-def strobe_coef(phi_a, v_a, k_a, t_a, q, p, psi_a, beta, gamma, omega, amp, freq, rtol, atol, karg,
-                error_order):
+def strobe_coef(anchor, retake):
     """A phase-locked window's coefficient vector (layout: STROBE_TAG; item S6).
 
     Parameters
     ----------
-    phi_a, v_a, k_a : float
-        The anchor: θ = 2πk_a + φ_a, θ'_a.
-    t_a : float
-        Its time (a stroboscopic sample's).
-    q, p : float
-        Drive periods per period (1 to STROBE_MAX_PERIODS, S7) and turns per period.
-    psi_a : float
-        :func:`strobe_phase` at t_a.
-    beta, gamma, omega, amp, freq : float
-        The model and the drive's A, Ω.
-    rtol, atol : float
-        The tolerances the stored period is re-taken with.
-    karg, error_order : int
-        The approximant's kind argument and error order.
+    anchor : StrobeAnchor
+        The anchor: θ = 2πk_a + φ_a, θ'_a at its time t_a (a stroboscopic sample's);
+        q, p: drive periods per period (1 to STROBE_MAX_PERIODS, S7) and turns per
+        period; ψ_a: :func:`strobe_phase` at t_a.
+    retake : StrobeRetake
+        The model and the drive's A, Ω, the tolerances, the approximant's kind argument
+        and error order the stored period is re-taken with.
 
     Returns
     -------
     ndarray, shape (STROBE_WIDTH,)
     """
+    phi_a, v_a, k_a, t_a, q, p, psi_a = anchor.phi, anchor.v, anchor.k, anchor.t, anchor.q, anchor.p, anchor.psi
+    beta, gamma, omega, amp, freq = retake.beta, retake.gamma, retake.omega, retake.amp, retake.freq
+    rtol, atol, karg, error_order = retake.rtol, retake.atol, retake.karg, retake.error_order
     c = np.empty(STROBE_WIDTH)
     c[STR_TAG] = STROBE_TAG
     c[STR_PHI] = phi_a

@@ -9,7 +9,9 @@ periods, S7) from the anchor sample (S6): its windows taken once
 their reference.
 """
 
+import collections
 import math
+
 import numba
 import numpy as np
 
@@ -35,6 +37,8 @@ from .strobe import (
     STROBE_DISTINCT,
     STROBE_MAX_PERIODS,
     STROBE_RING,
+    StrobeDevs,
+    StrobeFits,
     strobe_period,
     strobe_phase,
     strobe_split,
@@ -42,6 +46,15 @@ from .strobe import (
     strobe_time,
 )
 from ..status import STATUS_OK
+
+#: The window whose stroboscopic samples are taken: [``t``, ``t_new``], winding count
+#: ``k``, ``off`` = 2πk.
+StrobeSpan = collections.namedtuple("StrobeSpan", ("t", "t_new", "k", "off"))
+
+#: The drive's clock (S1, S2; :func:`_strobe_setup`): T_d = ``hi`` + ``lo`` in double-double
+#: (:func:`mbm.regimes.strobe.strobe_period`), ``det`` = e^{−βT_d} and the next sample's
+#: time ``t_next`` (inf: none).
+StrobeClock = collections.namedtuple("StrobeClock", ("hi", "lo", "det", "t_next"))
 
 # The stored period's first capacity in windows (doubled as needed): a drive period of
 # the n = 1 step of β = 0.2, A = 2, Ω = 1 took 9, 12 and 15 windows at rtol 1e-3, 1e-6
@@ -248,12 +261,15 @@ def _strobe_stored(kind, c, starts, ends, coefs, n, t):
 
 
 @kernel
-def _strobe_samples_taylor(p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det, n_total):
-    """The stroboscopic samples of the window [t, t_new] (formula ``coef``, winding count
-    ``k``, ``off`` = 2πk) and the switch rule at each (mbm.regimes, S1-S7): the run
-    record ``p[0]`` keeps the samples' state and, on a switch, the anchor.  ``sp_hi``,
-    ``sp_lo``: T_d (regimes.strobe_period); ``sp_det``: e^{−βT_d}; ``n_total``: the
-    run's windows before this one.  Returns the next sample's time (after t_new)."""
+def _strobe_samples_taylor(p, coef, span, clock, n_total):
+    """The stroboscopic samples of the window ``span`` (a :data:`StrobeSpan`: [t, t_new],
+    formula ``coef``, winding count k, off = 2πk) and the switch rule at each
+    (mbm.regimes, S1-S7): the run record ``p[0]`` keeps the samples' state and, on a
+    switch, the anchor.  ``clock``: a :data:`StrobeClock`, T_d (regimes.strobe_period)
+    and e^{−βT_d} (its t_next unread); ``n_total``: the run's windows before this one.  Returns the next
+    sample's time (after t_new)."""
+    t, t_new, k, off = span.t, span.t_new, span.k, span.off
+    sp_hi, sp_lo, sp_det = clock.hi, clock.lo, clock.det
     r = p[0]
     sb = r.strobe
     beta, gamma, omega = r.model.beta, r.model.gamma, r.model.omega
@@ -280,8 +296,8 @@ def _strobe_samples_taylor(p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det, n_to
                 # (S5): the switch rule; the anchor is this sample at t_n itself.
                 scale = SWITCH_SAFETY * min(atol + rtol * abs(b), omega * (atol + rtol * abs(off + a)))
                 ok, tau, sb.str_rho, _, _ = strobe_switch(
-                    sb.str_d3t, sb.str_d3v, sb.str_d2t, sb.str_d2v, sb.str_d1t, sb.str_d1v, dth, dv, sp_det,
-                    omega, scale, sb.str_tau1, sb.str_tau2, sb.str_rho)
+                    StrobeDevs((sb.str_d3t, sb.str_d3v), (sb.str_d2t, sb.str_d2v), (sb.str_d1t, sb.str_d1v), (dth, dv)),
+                    sp_det, omega, scale, StrobeFits(sb.str_tau1, sb.str_tau2, sb.str_rho))
                 # (S6): a period the stored re-run can take (it stops at CYCLE_MAX_WINDOWS).
                 if ok and n_total + 1 - sb.str_nw <= CYCLE_MAX_WINDOWS // 2:
                     r.switch.regime = REGIME_PHASE_LOCKED
@@ -363,8 +379,8 @@ def _strobe_subharmonic(p, k, phi, v, scale, sp_hi, n_total):
             # (S7): S3-S5 on P^q, det DP^q = e^{−βqT_d} exactly.
             det = math.exp(-beta * (q * sp_hi))
             ok, tau, sb.str_qrho[q], _, bound = strobe_switch(
-                d3t, d3v, d2t, d2v, d1t, d1v, ct, cv, det, omega, scale, sb.str_qtau1[q], sb.str_qtau2[q],
-                sb.str_qrho[q])
+                StrobeDevs((d3t, d3v), (d2t, d2v), (d1t, d1v), (ct, cv)), det, omega, scale,
+                StrobeFits(sb.str_qtau1[q], sb.str_qtau2[q], sb.str_qrho[q]))
             # (S6): q periods the stored re-run can take.
             nw = sb.str_ring[4 * ((n - q) % STROBE_RING) + 3]
             ok = ok and n_total + 1 - nw <= CYCLE_MAX_WINDOWS // 2
@@ -395,8 +411,9 @@ def _strobe_subharmonic(p, k, phi, v, scale, sp_hi, n_total):
 
 @kernel
 def _strobe_setup(r, t, freq, beta, n_total):
-    """The stroboscopic watch's constants of a driven run (S1-S7): ``(T_d hi, T_d lo,
-    e^{−βT_d}, the next sample's time)``; a fresh run sets the samples' origin."""
+    """The stroboscopic watch's constants of a driven run (S1-S7), a :data:`StrobeClock`
+    (T_d hi, T_d lo, e^{−βT_d}, the next sample's time); a fresh run sets the samples'
+    origin."""
     sb = r.strobe
     sp_hi, sp_lo = strobe_period(freq, 1.0)
     sp_det = math.exp(-beta * sp_hi)  # (S2): det DP, exactly e^{−βT_d}
@@ -412,13 +429,13 @@ def _strobe_setup(r, t, freq, beta, n_total):
     sp_next = math.inf
     if r.switch.regime == REGIME_NONE:
         sp_next = strobe_time(sb.str_t0, float(sb.str_n), sp_hi, sp_lo)[0]
-    return sp_hi, sp_lo, sp_det, sp_next
+    return StrobeClock(sp_hi, sp_lo, sp_det, sp_next)
 
 
 @numba.njit(**INLINE)
-def _watch_strobe(kind, p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det, n_total):
+def _watch_strobe(kind, p, coef, span, clock, n_total):
     """:func:`_strobe_samples_taylor` through its compiled entry (Taylor only: the only kind
     that integrates a drive; no sample otherwise)."""
     if kind == KIND_TAYLOR:
-        return _strobe_samples_taylor(p, coef, t, t_new, k, off, sp_hi, sp_lo, sp_det, n_total)
+        return _strobe_samples_taylor(p, coef, span, clock, n_total)
     return math.inf

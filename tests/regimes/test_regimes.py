@@ -113,7 +113,7 @@ def test_locked_bound_holds_against_heyoka(heyoka_ref, seed):
     phase = rng.uniform(0.0, 2 * np.pi)
     k = rng.integers(-3, 4)
     y0 = (d + 2 * np.pi * k + amp * math.cos(phase), amp * math.sqrt(wl2) * math.sin(phase))
-    ts, bt, bv = regimes.locked_bound(beta, gamma, omega, y0[0], y0[1], d, wl2, g0, g1)
+    ts, bt, bv = regimes.locked_bound(beta, gamma, omega, y0[0], y0[1], regimes.locked.Well(d, wl2, g0, g1))
     assert math.isfinite(bt) and ts == d + 2 * np.pi * k
     t = np.linspace(0.0, 50.0 / beta + 50.0, 2001)
     ref = heyoka_ref(beta, gamma, omega, y0, t)
@@ -140,7 +140,8 @@ def test_second_order_form_and_its_bound_against_heyoka(heyoka_ref, seed):
     k = rng.integers(-3, 4)
     y0 = (d + 2 * np.pi * k + amp * math.cos(phase), amp * math.sqrt(wl2) * math.sin(phase))
     ts, a_bound = regimes.locked_amplitude(gamma, omega, y0[0], y0[1], d)
-    bt, bv = regimes.locked2_bound(beta, gamma, omega, d, wl2, g0, g1, a_bound, y0[0] - ts, y0[1])
+    bt, bv = regimes.locked2_bound(beta, gamma, omega, regimes.locked.Well(d, wl2, g0, g1), a_bound, y0[0] - ts,
+                                   y0[1])
     assert math.isfinite(bt) and math.isfinite(bv)
     t = np.linspace(0.0, 30.0 / beta + 50.0, 3001)
     ref = heyoka_ref(beta, gamma, omega, y0, t)
@@ -187,12 +188,18 @@ def test_second_order_switches_earlier_on_weak_damping():
     d, wl2, g0, g1 = regimes.locked_constants(0.01, 0.3, 1.0)
     assert r.regime == "locked" and r.t_regime < 2200.0
     ends = mbm.solve(model, (0.0, 1e4), [1.0, 0.0], **kw)
-    order, ts = regimes.locked_choice(0.01, 0.3, 1.0, ends.y[0, -2], ends.y[1, -2], d, wl2, g0, g1, 1e-10,
-                                      1e-10, 0.0, True)
+    tols = regimes.common.Tolerance(1e-10, 1e-10)
+    order, ts = regimes.locked_choice(0.01, 0.3, 1.0, ends.y[0, -2], ends.y[1, -2], _lock(d, wl2, g0, g1, True),
+                                      tols, 0.0)
     assert order == 2
     # Without room for the second-order vector the first-order switch only.
-    assert regimes.locked_choice(0.01, 0.3, 1.0, ends.y[0, -2], ends.y[1, -2], d, wl2, g0, g1, 1e-10, 1e-10,
-                                 0.0, False)[0] == 0
+    assert regimes.locked_choice(0.01, 0.3, 1.0, ends.y[0, -2], ends.y[1, -2], _lock(d, wl2, g0, g1, False), tols,
+                                 0.0)[0] == 0
+
+
+def _lock(d, wl2, g0, g1, second):
+    # A LockSetup for locked_choice (it reads d, ω_l², G₀, G₁ and can_lock2 only).
+    return regimes.locked.LockSetup(d, wl2, g0, g1, 0.0, 0.0, second)
 
 
 def test_locked_bound_is_infinite_where_the_motion_is_not_trapped():
@@ -200,15 +207,15 @@ def test_locked_bound_is_infinite_where_the_motion_is_not_trapped():
     d, wl2, g0, g1 = regimes.locked_constants(beta, gamma, omega)
     inf = math.inf
     # At the saddle θ = π − d (H = barrier), and above the lower barrier.
-    assert regimes.locked_bound(beta, gamma, omega, math.pi - d, 0.0, d, wl2, g0, g1)[1] == inf
-    assert regimes.locked_bound(beta, gamma, omega, d, 1.5, d, wl2, g0, g1)[1] == inf
+    assert regimes.locked_bound(beta, gamma, omega, math.pi - d, 0.0, regimes.locked.Well(d, wl2, g0, g1))[1] == inf
+    assert regimes.locked_bound(beta, gamma, omega, d, 1.5, regimes.locked.Well(d, wl2, g0, g1))[1] == inf
     # Near the bifurcation γ → ω² the well is shallow: a tiny amplitude is already large.
     gb = 0.999
     db, wlb, g0b, g1b = regimes.locked_constants(beta, gb, omega)
-    assert regimes.locked_bound(beta, gb, omega, db + 0.05, 0.0, db, wlb, g0b, g1b)[1] > 1e-2
-    assert regimes.locked_bound(beta, gb, omega, db + 0.1, 0.0, db, wlb, g0b, g1b)[1] == inf
-    small = regimes.locked_bound(beta, gamma, omega, d + 1e-4, 0.0, d, wl2, g0, g1)[1]
-    near = regimes.locked_bound(beta, gb, omega, db + 1e-4, 0.0, db, wlb, g0b, g1b)[1]
+    assert regimes.locked_bound(beta, gb, omega, db + 0.05, 0.0, regimes.locked.Well(db, wlb, g0b, g1b))[1] > 1e-2
+    assert regimes.locked_bound(beta, gb, omega, db + 0.1, 0.0, regimes.locked.Well(db, wlb, g0b, g1b))[1] == inf
+    small = regimes.locked_bound(beta, gamma, omega, d + 1e-4, 0.0, regimes.locked.Well(d, wl2, g0, g1))[1]
+    near = regimes.locked_bound(beta, gb, omega, db + 1e-4, 0.0, regimes.locked.Well(db, wlb, g0b, g1b))[1]
     assert near > 5.0 * small
 
 
@@ -302,8 +309,8 @@ def test_every_path_gives_the_same_answer_and_regime():
     d, wl2, g0, g1 = regimes.locked_constants(0.3, 0.5, 1.0)
     ends = mbm.solve(model, (0.0, T), y0, **kw)
     assert ends.t[-2] == fast.t_regime and ends.t[-1] == T
-    order, ts = regimes.locked_choice(0.3, 0.5, 1.0, ends.y[0, -2], ends.y[1, -2], d, wl2, g0, g1, kw["rtol"],
-                                      kw["atol"], 0.0, True)
+    order, ts = regimes.locked_choice(0.3, 0.5, 1.0, ends.y[0, -2], ends.y[1, -2], _lock(d, wl2, g0, g1, True),
+                                      regimes.common.Tolerance(kw["rtol"], kw["atol"]), 0.0)
     assert order in (1, 2) and ts == d
     coef = regimes.locked_coef(0.3, wl2, d, ends.y[0, -2], ends.y[1, -2], 0.5, order)
     for tq in (fast.t_regime + 0.37, 512.25, T):
@@ -375,15 +382,15 @@ def test_no_early_switch_near_the_saddle_or_the_bifurcation(heyoka_ref):
                                (0.2, 0.99, [math.asin(0.99) + 0.05, 0.0], 600.0)):
         model = mbm.Pendulum(beta, gamma)
         d, wl2, g0, g1 = regimes.locked_constants(beta, gamma, 1.0)
-        assert regimes.locked_bound(beta, gamma, 1.0, y0[0], y0[1], d, wl2, g0, g1)[1] > 1e-3
+        assert regimes.locked_bound(beta, gamma, 1.0, y0[0], y0[1], regimes.locked.Well(d, wl2, g0, g1))[1] > 1e-3
         ends = mbm.solve(model, (0.0, T), y0, **kw)
         assert ends.regime == "locked"
         x = ends.y[0, -2] - d - 2 * np.pi * round((ends.y[0, -2] - d) / (2 * np.pi))
         # Small against the ~2.6 rad to the saddle (the second-order form, L6, takes over
         # at ~1e-4 here, the first-order one at ~1e-6), and the switch the rule's own.
         assert abs(x) < 1e-3 and ends.t[-2] == ends.t_regime
-        order, _ = regimes.locked_choice(beta, gamma, 1.0, ends.y[0, -2], ends.y[1, -2], d, wl2, g0, g1,
-                                         kw["rtol"], kw["atol"], 0.0, True)
+        order, _ = regimes.locked_choice(beta, gamma, 1.0, ends.y[0, -2], ends.y[1, -2], _lock(d, wl2, g0, g1, True),
+                                         regimes.common.Tolerance(kw["rtol"], kw["atol"]), 0.0)
         assert order > 0
         t = np.linspace(0.0, T, 201)
         r = mbm.solve(model, (0.0, T), y0, t_eval=t, **kw)
@@ -503,16 +510,17 @@ def test_quick_rejection_never_refuses_a_state_the_full_test_takes(seed):
     for _ in range(4000):
         beta, gamma, omega = rng.uniform(0.02, 1.0), rng.uniform(-0.95, 0.95), rng.uniform(0.5, 2.0)
         tol = 10.0 ** rng.uniform(-12, -4)
-        d, wl2, g0, g1, sd, q2, two = lk._lock_setup.py_func(beta, gamma * omega**2, omega, True, True)
+        setup = lk._lock_setup.py_func(beta, gamma * omega**2, omega, True, True)
+        d, wl2, g0, g1, sd, q2, two = setup
         k = float(rng.integers(-10**6, 10**6)) if rng.uniform() < 0.3 else 0.0
         off = 2.0 * math.pi * k
         amp = 10.0 ** rng.uniform(0.5 * math.log10(tol) - 1.5, math.log10(tol) / 3.0 + 0.5)
         phase = rng.uniform(0.0, 2.0 * math.pi)
         x, v = amp * math.cos(phase), amp * math.sqrt(wl2) * math.sin(phase)
         y0 = d + x
-        order, _ = lk.locked_choice.py_func(beta, gamma * omega**2, omega, y0, v, d, wl2, g0, g1, tol, tol, off,
-                                            two)
-        reject = lk.locked_quick_reject.py_func(off + y0, v, d, sd, wl2, g0, g1, omega, tol, tol, q2)
+        tols = regimes.common.Tolerance(tol, tol)
+        order, _ = lk.locked_choice.py_func(beta, gamma * omega**2, omega, y0, v, setup, tols, off)
+        reject = lk.locked_quick_reject.py_func(off + y0, v, setup, omega, tols)
         a, tol_t = lk.QUICK_FACTOR * math.sqrt(x * x + v * v / wl2), regimes.SWITCH_SAFETY * (tol + tol * abs(off + d))
         first_stage = omega**2 * lk._rho(sd, a) * g0 > tol_t and not (q2 > 0.0 and q2 * a**3 <= tol_t)
         if order > 0:
@@ -559,7 +567,8 @@ def test_far_pretest_rejects_only_where_the_quick_test_rejects(seed):
     for _ in range(3000):
         beta, gamma, omega = rng.uniform(0.02, 1.0), rng.uniform(-0.95, 0.95), rng.uniform(0.5, 2.0)
         tol = 10.0 ** rng.uniform(-12, -2)
-        d, wl2, g0, g1, sd, q2, _ = lk._lock_setup.py_func(beta, gamma * omega**2, omega, True, True)
+        setup = lk._lock_setup.py_func(beta, gamma * omega**2, omega, True, True)
+        d, wl2, g0, g1, sd, q2, _ = setup
         k = float(rng.integers(-10**6, 10**6)) if rng.uniform() < 0.3 else 0.0
         where = rng.uniform()
         if where < 0.3:  # at the first stage's threshold
@@ -572,8 +581,9 @@ def test_far_pretest_rejects_only_where_the_quick_test_rejects(seed):
             phase = rng.uniform(0.0, 2.0 * math.pi)
             x, v = amp * math.cos(phase), amp * math.sqrt(wl2) * math.sin(phase)
         theta = d + 2.0 * math.pi * k + x
-        far = lk.locked_far.py_func(theta, v, d, sd, wl2, g0, omega, tol, tol, q2)
-        reject = lk.locked_quick_reject.py_func(theta, v, d, sd, wl2, g0, g1, omega, tol, tol, q2)
+        tols = regimes.common.Tolerance(tol, tol)
+        far = lk.locked_far.py_func(theta, v, setup, omega, tols)
+        reject = lk.locked_quick_reject.py_func(theta, v, setup, omega, tols)
         first = _first_stage_rejects(lk, theta, v, d, sd, wl2, g0, omega, tol, q2)
         assert not far or (first and reject), (beta, gamma, omega, tol, k, x, v)
         if where >= 0.3 and abs(x) <= lk.FAR_X and first:

@@ -119,8 +119,8 @@ def _linear_deviations(mu1, mu2, skew, n, complex_pair=False):
 def _first_switch(x, det, scale):
     tau1 = tau2 = rho_clean = math.nan
     for n in range(3, len(x)):
-        ok, tau, rho_clean, rho, bound = regimes.strobe_switch(
-            *x[n - 3], *x[n - 2], *x[n - 1], *x[n], det, 1.0, scale, tau1, tau2, rho_clean)
+        devs = tuple((float(x[i, 0]), float(x[i, 1])) for i in range(n - 3, n + 1))
+        ok, tau, rho_clean, rho, bound = regimes.strobe_switch(devs, det, 1.0, scale, (tau1, tau2, rho_clean))
         tau2, tau1 = tau1, tau
         if ok:
             return n, rho, bound

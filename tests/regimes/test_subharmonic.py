@@ -292,8 +292,9 @@ def _first_s5_switch(params, tol, n_samples):
             if len(devs) >= 3 and turns == p_dev:
                 scale = regimes.SWITCH_SAFETY * min(tol + tol * abs(b),
                                                     omega * (tol + tol * abs(2 * math.pi * k + a)))
-                ok, tau, rho, _, _ = regimes.strobe_switch(*devs[-3][0:2], *devs[-2][0:2], *devs[-1][0:2],
-                                                           dth, dv, det, omega, scale, tau1, tau2, rho)
+                ok, tau, rho, _, _ = regimes.strobe_switch(
+                    (tuple(devs[-3][0:2]), tuple(devs[-2][0:2]), tuple(devs[-1][0:2]), (dth, dv)), det, omega, scale,
+                    (tau1, tau2, rho))
                 if ok:
                     return tn[i]
             if devs and turns == p_dev:
