@@ -37,7 +37,7 @@ import numpy as np
 
 import mbm
 
-from .report import block
+from .report import block, write_page
 
 BETA, GAMMA, T_END = 0.1, 1.2, 1000.0
 MBM_RTOLS = (1e-9, 1e-12)
@@ -310,11 +310,7 @@ def main(argv=None):
     for name, tol, ms, err, n in first_slip_rows(args.scenes, args.repeat, slipping_only=True):
         table.append(f"| {name} | {tol:g} | {ms:.1f} | {err:.2g} | {n} |")
     lines += block("events-first-slip-slipping", table)
-    text = "\n".join(lines) + "\n"
-    print(text)
-    if args.out:
-        with open(args.out, "w", encoding="utf-8") as f:
-            f.write(text)
+    write_page(lines, args.out)
 
 
 if __name__ == "__main__":

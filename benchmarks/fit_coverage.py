@@ -19,7 +19,7 @@ import numpy as np
 
 import mbm
 
-from .report import block
+from .report import block, write_page
 
 TRUE = mbm.Junction(I_c=10e-6, R=10.0, C=1e-12)
 CURRENTS = np.linspace(25e-6, 3e-6, 23)
@@ -62,11 +62,7 @@ def main(argv=None):
     lines += block("fit-coverage", table)
     lines += ["", "| seed | β_c fitted | σ(β_c) | error / σ |", "|---|---|---|---|"]
     lines += [f"| {s} | {b:.4f} | {e:.4f} | {q:.2f} |" for s, (b, e, q) in enumerate(rows)]
-    text = "\n".join(lines) + "\n"
-    print(text)
-    if args.out:
-        with open(args.out, "w", encoding="utf-8") as f:
-            f.write(text)
+    write_page(lines, args.out)
 
 
 if __name__ == "__main__":

@@ -29,6 +29,7 @@ from .registry import KNOB_LABELS
 from .scenes import SCENES
 
 __all__ = [
+    "write_page",
     "format_report",
     "readme_blocks",
     "write_plots",
@@ -76,6 +77,16 @@ _QUOTE_RE = re.compile(
 def block(name, lines):
     """``lines`` (a list of str) wrapped as the named block, as a list of lines."""
     return [f"<!-- block {name} -->", *lines, "<!-- /block -->"]
+
+
+def write_page(lines, out=None):
+    """Print a generated page (``lines`` joined) and write it to ``out`` where given."""
+    text = "\n".join(lines) + "\n"
+    print(text)
+    if out:
+        with open(out, "w", encoding="utf-8") as f:
+            f.write(text)
+    return text
 
 
 def extract_blocks(text):

@@ -22,7 +22,7 @@ import numpy as np
 
 import mbm
 
-from .report import block
+from .report import block, write_page
 
 BETA, GAMMA, TOL = 0.1, 1.2, 1e-9
 
@@ -79,11 +79,7 @@ def main(argv=None):
     table = ["| events stored | mbm.solve, ns per event | numpy fill of the same arrays, ns per event | ratio |",
              "|---|---|---|---|", f"| {n} | {ours:.1f} | {numpy_ns:.1f} | {ours / numpy_ns:.1f} |"]
     lines += block("stored-events", table)
-    text = "\n".join(lines) + "\n"
-    print(text)
-    if args.out:
-        with open(args.out, "w", encoding="utf-8") as f:
-            f.write(text)
+    write_page(lines, args.out)
 
 
 if __name__ == "__main__":
