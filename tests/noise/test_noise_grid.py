@@ -6,7 +6,7 @@ import pytest
 import mbm
 from mbm.noise.grids import point_seed
 
-pytest.importorskip("xarray")
+import dask  # noqa: E402  (the test extra installs dask and xarray: no skip)
 
 
 def test_grid_points_are_switching_currents_runs_and_order_sensibly():
@@ -46,7 +46,6 @@ def test_switching_grid_refuses(args, words):
 
 
 def test_chunked_grid_is_dask_backed_and_equals_the_local_grid_bit_for_bit():
-    dask = pytest.importorskip("dask")
     temps, rates = [0.03, 0.04, 0.05], [1e-3, 3e-4]
     kw = dict(seed=7, gamma_start=0.6)
     local = mbm.switching_grid(1.0, temps, rates, 40, **kw)
@@ -67,13 +66,11 @@ def test_chunked_grid_is_dask_backed_and_equals_the_local_grid_bit_for_bit():
     (1.5, "chunks must be an int >= 1"),
 ])
 def test_chunks_refused_with_their_name(chunks, match):
-    pytest.importorskip("dask")
     with pytest.raises(ValueError, match=match):
         mbm.switching_grid(1.0, [0.03], [1e-3], 10, seed=1, chunks=chunks)
 
 
 def test_chunked_grid_checks_its_arguments_before_any_task():
-    pytest.importorskip("dask")
     with pytest.raises(ValueError, match="dt"):
         mbm.switching_grid(1.0, [0.03], [1e-3], 10, seed=1, dt=-1.0, chunks=1)
     with pytest.raises(ValueError, match="n must"):
