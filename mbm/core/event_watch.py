@@ -13,6 +13,9 @@ event, :data:`EV_WIDTH` columns, built by :mod:`mbm.events.compiled`) in time or
   the period's events are located once on its own windows and shifted by T_c per turn
   (the winding count by the turn's sign), so counting over 10⁶ time units costs what a
   few periods do, and storing them writes whole turns in one sweep (:func:`_fill_turns`);
+* the events a run's cycle windows will store are bounded before they are located
+  (:func:`cycle_events_bound`), so the caller reserves the buffers once, and one
+  event's rows are split into its result's arrays in one pass (:func:`event_columns`);
 * a section event Ωt + φ ≡ phase (mod 2π) is at known times; its state is the
   window's value there.
 
@@ -36,7 +39,7 @@ from ..compile.jit import INLINE, kernel
 from ..special.polyroots import crossings
 from .window import KIND_TAYLOR, evaluate, theta_of
 
-__all__ = ["locate", "taylor_events", "Tally", "Watch", "window_may_cross", "workspace", "trap_allowed", "trapped_unreachable", "EV_ANGLE", "EV_VELOCITY", "EV_SECTION", "EV_WIDTH", "WATCH_OK", "WATCH_CROWDED",
+__all__ = ["locate", "cycle_events_bound", "event_columns", "taylor_events", "Tally", "Watch", "window_may_cross", "workspace", "trap_allowed", "trapped_unreachable", "EV_ANGLE", "EV_VELOCITY", "EV_SECTION", "EV_WIDTH", "WATCH_OK", "WATCH_CROWDED",
            "WATCH_LOCKED"]
 
 # The event table's rows: (type, value, modulo, direction, terminal count).
@@ -585,3 +588,66 @@ def _cycle_window(c, span, ev, tally, ws, found):
                 return evf, evi, count, True, True
         turn += 1.0
     return evf, evi, count, False, True
+
+
+@numba.njit(cache=True)  # called from Python
+def cycle_events_bound(windows, ev, tally):
+    """At most how many events :func:`locate` appends on the cycle windows among
+    ``windows`` (as :func:`locate` takes them): per window, each event's rows in one turn
+    of its stored period times the turns the window meets, no more than the :data:`Tally`
+    lets it store (its cap, and its terminal count, past which the run stops).  The
+    caller reserves the buffers from it (numpy's allocation, not grown turn by turn); a
+    window whose turns differ (an angle modulo other than 2π) may exceed it, and the
+    buffers then grow as :func:`locate` grows them."""
+    starts, _, coefs, n = windows
+    hits, stored, cap = tally
+    n_ev = ev.shape[0]
+    total = 0
+    ws = workspace(coefs.shape[1])
+    for i in range(n):
+        c = coefs[i]
+        if c[0] != CYCLE_TAG:
+            continue
+        p_starts, _, p_coefs, p_n = _period_store(KIND_TAYLOR, c)
+        if p_n < 1:
+            continue
+        rows, ok = _period_events((p_starts, p_coefs, p_n), ev, 0.0, ws)
+        if not ok:
+            continue
+        per = np.zeros(n_ev, np.int64)
+        for q in range(rows.shape[0]):
+            per[int(rows[q, 4])] += 1
+        period, tau0 = c[CYC_PERIOD], c[CYC_T_OFF]
+        turns = int(math.floor((tau0 + starts[i + 1] - starts[i]) / period) - math.floor(tau0 / period)) + 1
+        for e in range(n_ev):
+            if ev[e, 4] > 0.0 and per[e] > 0:
+                turns = min(turns, max(0, (int(ev[e, 4]) - hits[e]) // per[e] + 1))
+        for e in range(n_ev):
+            k = turns * per[e]
+            if cap[e] >= 0:
+                k = min(k, max(0, cap[e] - stored[e]) + 1)
+            total += k
+    return total
+
+
+@numba.njit(cache=True)  # called from Python
+def event_columns(found, e, cols, from_theta):
+    """The rows of event ``e`` among ``found`` = (evf, evi, count), in time order, split
+    into ``cols`` = (t (k,), y (k, 2), winding (k,) int64) until those are full: t, (θ,
+    θ'), and the row's level count m, or θ's winding count ⌊(θ + π)/2π⌋ where
+    ``from_theta`` (a velocity event, an event function).  Returns the rows written."""
+    evf, evi, count = found
+    t, y, wind = cols
+    k = 0
+    for q in range(count):
+        if k == t.size:
+            break
+        if evi[q] != e:
+            continue
+        t[k], y[k, 0], y[k, 1] = evf[q, 0], evf[q, 1], evf[q, 2]
+        if from_theta:
+            wind[k] = np.int64(math.floor((evf[q, 1] + math.pi) / _TWO_PI))
+        else:
+            wind[k] = np.int64(evf[q, 3])
+        k += 1
+    return k

@@ -27,7 +27,8 @@ import numpy as np
 from ..core import controller, loop, record, window
 from ..validate import as_t_eval, check_real, t_eval_error, t_eval_problem
 from ..approximants.taylor import HEADER as _HEADER, N_EXTRA as _N_EXTRA
-from ..core.event_watch import EV_ANGLE, EV_SECTION, EV_VELOCITY, EV_WIDTH, WATCH_CROWDED, WATCH_LOCKED, WATCH_OK, locate
+from ..core.event_watch import (EV_ANGLE, EV_SECTION, EV_VELOCITY, EV_WIDTH, WATCH_CROWDED, WATCH_LOCKED, WATCH_OK,
+                                cycle_events_bound, event_columns, locate)
 from ..regimes import REGIME_NAMES, REGIME_NONE, REGIME_PHASE_LOCKED, cycle_summary, strobe_summary
 from ..regimes.common import REGIMES_ALL, REGIMES_OFF, REGIMES_PERIODIC
 from ..regimes.cycle import CYCLE_WIDTH
@@ -364,10 +365,21 @@ class _Run:
         lock = np.array([model.gamma, model.omega, self.ig.rtol, self.ig.atol])
         tally = (self.hits if hits is None else hits, self.stored if stored is None else stored,
                  self.cap if cap is None else cap)
+        ev = self.ev if ev is None else ev
+        windows = (win_t, start_theta, win_coef, n)
+        self._reserve(self.count + cycle_events_bound(windows, ev, tally))
         self.evf, self.evi, self.count, stop, ok = locate(
-            (win_t, start_theta, win_coef, n), self.ev if ev is None else ev, tally,
+            windows, ev, tally,
             (model.drive_frequency, model.drive_phase, self.direction), (self.evf, self.evi, self.count), lock)
         return stop, ok
+
+    def _reserve(self, need):
+        # The event buffers grown to ``need`` rows at once (numpy's allocation: the stored
+        # cycle's events are written in one sweep, not pushed one by one).
+        if need > self.evi.size:
+            evf, evi = np.empty((need, 4)), np.empty(need, np.int64)
+            evf[: self.count], evi[: self.count] = self.evf[: self.count], self.evi[: self.count]
+            self.evf, self.evi = evf, evi
 
     def _merge(self, win_t, start_theta, win_coef, n, first, last):
         # Every event of n windows, built-in (all, none terminal) and g's, in time order;
@@ -458,17 +470,14 @@ class _Run:
         res["t_events"], res["y_events"], res["winding_events"] = [], [], []
         res["n_events"] = self.hits.copy()
         for e, item in enumerate(items):
-            # One event's rows: a slice where it is the only event (no gather), else its rows.
-            rows = evf if len(items) == 1 else evf[np.flatnonzero(evi == e)]
-            if self.cap[e] >= 0:
-                rows = rows[: self.cap[e]]  # a terminal event past the cap is only the stop
-            res["t_events"].append(rows[:, 0].copy())
-            res["y_events"].append(rows[:, 1:3].copy())
-            if isinstance(item, Event) and item.kind != "velocity":
-                m = rows[:, 3]
-            else:
-                m = np.floor((rows[:, 1] + math.pi) / _TWO_PI)  # θ's winding count
-            res["winding_events"].append(m.astype(np.int64))
+            # One event's rows, in one compiled pass; a terminal event past the cap is only the stop.
+            k = int(self.stored[e]) if self.cap[e] < 0 else int(min(self.stored[e], self.cap[e]))
+            cols = (np.empty(k), np.empty((k, 2)), np.empty(k, np.int64))
+            from_theta = not isinstance(item, Event) or item.kind == "velocity"  # θ's winding count
+            k = event_columns((evf, evi, self.count), e, cols, from_theta)
+            res["t_events"].append(cols[0][:k])
+            res["y_events"].append(cols[1][:k])
+            res["winding_events"].append(cols[2][:k])
         return res
 
 
