@@ -148,6 +148,18 @@ def value_rate(c, s):
     return p, q
 
 
+@njit(**INLINE)
+def row_value_rate(d, i, n, s):
+    """:func:`value_rate` of row ``i`` of ``d`` to degree ``n`` (no slice: a view costs its
+    reference count at every output)."""
+    p = d[i, n]
+    q = 0.0
+    for k in range(n - 1, -1, -1):
+        q = q * s + p
+        p = p * s + d[i, k]
+    return p, q
+
+
 def workspace(nt, n_cols):
     """The arrays :func:`tangent_series` fills, for degree ``nt`` and ``n_cols`` columns."""
     return (np.empty(nt + 1), np.empty(nt + 1), np.empty(nt + 1), np.empty(nt + 1), np.empty(nt + 1),

@@ -37,7 +37,7 @@ from ..approximants.taylor_series import HEADER
 from ..compile.jit import INLINE
 from .reference import reference_eps, reference_step
 from .regimes import expm2, linear_columns, linear_forcing, period_at, period_map, period_store
-from .series import COL_THETA0, COL_V0, columns, sincos_of, tangent_series, value_rate
+from .series import COL_THETA0, COL_V0, columns, row_value_rate, sincos_of, tangent_series, value_rate
 
 #: Windows per compiled call of the pass: Ctrl-C is honoured between calls (a few ms each).
 CHUNK_WINDOWS = 4096
@@ -80,15 +80,15 @@ Report = collections.namedtuple("Report", ("err", "sens", "rows"))
 def _columns_at(ws, nt, s, rows, tr):
     # Φ(s)·e into tr.e2 and Φ(s)·S + P(s) into tr.S2, from the columns' series to degree nt.
     d, e, S, out_e, out_s = ws[5], tr.e, tr.S, tr.e2, tr.S2
-    p00, p10 = value_rate(d[0, : nt + 1], s)
-    p01, p11 = value_rate(d[1, : nt + 1], s)
+    p00, p10 = row_value_rate(d, 0, nt, s)
+    p01, p11 = row_value_rate(d, 1, nt, s)
     out_e[0] = p00 * e[0] + p01 * e[1]
     out_e[1] = p10 * e[0] + p11 * e[1]
     for i in range(rows.size):
         x0 = p00 * S[0, i] + p01 * S[1, i]
         x1 = p10 * S[0, i] + p11 * S[1, i]
         if rows[i] >= 2:
-            q0, q1 = value_rate(d[rows[i], : nt + 1], s)
+            q0, q1 = row_value_rate(d, rows[i], nt, s)
             x0 += q0
             x1 += q1
         out_s[0, i] = x0
@@ -128,6 +128,34 @@ def _advance(tr):
 
 
 @njit(**INLINE)
+def _own_outputs(d, an, span, te, j, arrays):
+    # The outputs j, … in (t0, t1] of a Taylor window (:func:`_taylor_window`): as
+    # :func:`_columns_at`, :func:`_tail` and :func:`_report` per output, on arrays taken
+    # out of their tuples once per window (each taking costs a reference count).
+    # ``span`` = (t0, t1, direction, kt, n); ``arrays`` = (e, S, err, sens, rows).
+    t0, t1, direction, kt, n = span
+    e, S, err, sens, rows = arrays
+    while j < te.size and direction * (te[j] - t1) <= 0.0:
+        s = te[j] - t0
+        p00, p10 = row_value_rate(d, 0, kt, s)
+        p01, p11 = row_value_rate(d, 1, kt, s)
+        d0, d1 = _tail(an, n, s)
+        err[0, j] = (p00 * e[0] + p01 * e[1]) + d0
+        err[1, j] = (p10 * e[0] + p11 * e[1]) + d1
+        for i in range(rows.size):
+            x0 = p00 * S[0, i] + p01 * S[1, i]
+            x1 = p10 * S[0, i] + p11 * S[1, i]
+            if rows[i] >= 2:
+                q0, q1 = row_value_rate(d, rows[i], kt, s)
+                x0 += q0
+                x1 += q1
+            sens[i, 0, j] = x0
+            sens[i, 1, j] = x1
+        j += 1
+    return j
+
+
+@njit(**INLINE)
 def _taylor_window(sc, codes, ws, coef, span, io, j):
     # Window [t0, t1] of the run's own Taylor coefficients ``coef`` (degree n = coef[1]):
     # Φ and the columns to degree span.kt from them, the local error from their tail.
@@ -141,13 +169,8 @@ def _taylor_window(sc, codes, ws, coef, span, io, j):
     sincos_of(a, kt - 2, ws[1], ws[2])
     columns(sc, t0, codes, ws, kt)
     an = coef[HEADER:]
-    te = track.t_out
-    while j < te.size and direction * (te[j] - t1) <= 0.0:
-        s = te[j] - t0
-        _columns_at(ws, kt, s, report.rows, tr)
-        d0, d1 = _tail(an, n, s)
-        _report(report, j, tr, d0, d1)
-        j += 1
+    j = _own_outputs(ws[5], an, (t0, t1, direction, kt, n), track.t_out, j,
+                     (tr.e, tr.S, report.err, report.sens, report.rows))
     _columns_at(ws, kt, t1 - t0, report.rows, tr)
     _advance(tr)
     d0, d1 = _tail(an, n, t1 - t0)
