@@ -129,10 +129,10 @@ def _advance(tr):
 
 @njit(**INLINE)
 def _own_outputs(d, an, span, te, j, arrays):
-    # The outputs j, … in (t0, t1] of a Taylor window (:func:`_taylor_window`): as
-    # :func:`_columns_at`, :func:`_tail` and :func:`_report` per output, on arrays taken
-    # out of their tuples once per window (each taking costs a reference count).
-    # ``span`` = (t0, t1, direction, kt, n); ``arrays`` = (e, S, err, sens, rows).
+    # The outputs j, … in (t0, t1] of a Taylor window: Φ(s)·e plus the output's own
+    # local error (:func:`_tail`) into err, Φ(s)·S + P(s) into sens (as
+    # :func:`_columns_at` and :func:`_report`).  ``span`` = (t0, t1, direction, kt, n);
+    # ``arrays`` = (e, S, err, sens, rows).  Returns the next output index.
     t0, t1, direction, kt, n = span
     e, S, err, sens, rows = arrays
     while j < te.size and direction * (te[j] - t1) <= 0.0:
@@ -155,28 +155,56 @@ def _own_outputs(d, an, span, te, j, arrays):
     return j
 
 
+@njit(cache=True)
+def _own_windows(sc, codes, ws, track, ctl, io, at):
+    # The run's own Taylor windows from window at[0] while they last (:func:`_is_own`),
+    # at most to window at[2]: Φ and the columns to degree ctl.kt from their stored
+    # coefficients (degree n = coef[1]), the local error from their tail.  The arrays
+    # are taken out of their tuples once per call (each taking costs a reference count),
+    # not per window.  ``at`` = (window, output, last window, direction); returns (next
+    # window, next output).
+    n, j, end, direction = at
+    report, tr = io
+    a, sn, cn, d = ws[0], ws[1], ws[2], ws[5]
+    wt, coefs, te = track.t, track.coef, track.t_out
+    e, S, e2, S2, rows = tr.e, tr.S, tr.e2, tr.S2, report.rows
+    arrays = (e, S, report.err, report.sens, rows)
+    kt = ctl.kt
+    while n < end and _is_own(wt, coefs, ctl, n, direction):
+        t0, t1 = wt[n], wt[n + 1]
+        coef = coefs[n]
+        deg = int(coef[1])
+        for k in range(kt + 1):
+            a[k] = coef[HEADER + k]
+        sincos_of(a, kt - 2, sn, cn)
+        columns(sc, t0, codes, ws, kt)
+        an = coef[HEADER:]
+        j = _own_outputs(d, an, (t0, t1, direction, kt, deg), te, j, arrays)
+        h = t1 - t0
+        p00, p10 = row_value_rate(d, 0, kt, h)
+        p01, p11 = row_value_rate(d, 1, kt, h)
+        d0, d1 = _tail(an, deg, h)
+        for i in range(rows.size):
+            x0 = p00 * S[0, i] + p01 * S[1, i]
+            x1 = p10 * S[0, i] + p11 * S[1, i]
+            if rows[i] >= 2:
+                q0, q1 = row_value_rate(d, rows[i], kt, h)
+                x0 += q0
+                x1 += q1
+            S2[0, i], S2[1, i] = x0, x1
+            S[0, i], S[1, i] = x0, x1
+        e2[0], e2[1] = p00 * e[0] + p01 * e[1], p10 * e[0] + p11 * e[1]
+        e[0], e[1] = e2[0] + d0, e2[1] + d1
+        n += 1
+    return n, j
+
+
 @njit(**INLINE)
-def _taylor_window(sc, codes, ws, coef, span, io, j):
-    # Window [t0, t1] of the run's own Taylor coefficients ``coef`` (degree n = coef[1]):
-    # Φ and the columns to degree span.kt from them, the local error from their tail.
-    # Returns the next output index.
-    t0, t1, direction, kt = span.t0, span.t1, span.direction, span.kt
-    track, report, tr = io
-    a = ws[0]
-    n = int(coef[1])
-    for k in range(kt + 1):
-        a[k] = coef[HEADER + k]
-    sincos_of(a, kt - 2, ws[1], ws[2])
-    columns(sc, t0, codes, ws, kt)
-    an = coef[HEADER:]
-    j = _own_outputs(ws[5], an, (t0, t1, direction, kt, n), track.t_out, j,
-                     (tr.e, tr.S, report.err, report.sens, report.rows))
-    _columns_at(ws, kt, t1 - t0, report.rows, tr)
-    _advance(tr)
-    d0, d1 = _tail(an, n, t1 - t0)
-    tr.e[0] += d0
-    tr.e[1] += d1
-    return j
+def _is_own(wt, coefs, ctl, n, direction):
+    # Whether window n is one of the run's own Taylor windows of degree ctl.n_order,
+    # before the regime's formula takes over (at ctl.t_taylor).
+    return (n < coefs.shape[0] and direction * (ctl.t_taylor - wt[n]) > 0.0 and coefs[n, 0] == 0.0
+            and coefs[n, 1] == ctl.n_order)
 
 
 @njit(cache=True)
@@ -290,17 +318,16 @@ def transport(sc, codes, track, ctl, report, ws, carry):
     io = (track, report, tr)
     j = cursor[1]
     end = min(wt.size - 1, cursor[0] + CHUNK_WINDOWS)
-    for n in range(cursor[0], end):
-        t0, t1 = wt[n], wt[n + 1]
-        own = (n < coefs.shape[0] and direction * (ctl.t_taylor - t0) > 0.0 and coefs[n, 0] == 0.0
-               and coefs[n, 1] == ctl.n_order)
-        if own:
-            j = _taylor_window(sc, codes, ws, coefs[n], Span(t0, t1, direction, True, ctl.kt, ctl.tol, _NO_LOCK), io, j)
+    n = cursor[0]
+    while n < end:
+        if _is_own(wt, coefs, ctl, n, direction):
+            n, j = _own_windows(sc, codes, ws, track, ctl, (report, tr), (n, j, end, direction))
         else:
             j, taken = _regime_window(sc, codes, ws, n, ctl, direction, io, j, store)
             if taken < 0:
                 return -1
             cursor[2] += taken
+            n += 1
     cursor[0], cursor[1] = end, j
     return 1 if end < wt.size - 1 else 0
 
