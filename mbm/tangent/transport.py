@@ -261,7 +261,8 @@ def _named(track, ctl, report):
 
 @njit(cache=True)
 def start(track, report, n_codes, nt, period):
-    """The pass's carry at the run's start: (Transported, the stored period's arrays, cursor),
+    """The pass's carry at the run's start: (:data:`Transported`'s fields as a plain tuple,
+    the stored period's arrays, cursor),
     cursor = [next window, next output, reference sub-windows so far]; the outputs at t0
     written (zero error, the initial sensitivities).  ``track`` and ``report``: the fields
     of :data:`Track` and :data:`Report` as plain tuples."""
@@ -280,7 +281,7 @@ def start(track, report, n_codes, nt, period):
         _report(report, j, tr, 0.0, 0.0)
         j += 1
     store = period_store(n_codes, nt) if period == period else period_store(0, 0)
-    return tr, store, np.array([0, j, 0], np.int64)
+    return (tr.e, tr.S, tr.e2, tr.S2), store, np.array([0, j, 0], np.int64)
 
 
 @njit(cache=True)
@@ -313,7 +314,8 @@ def transport(sc, codes, track, ctl, report, ws, carry):
     """
     track, ctl, report = _named(track, ctl, report)
     wt, coefs = track.t, track.coef
-    tr, store, cursor = carry
+    fields, store, cursor = carry
+    tr = Transported(fields[0], fields[1], fields[2], fields[3])
     direction = 1.0 if wt[wt.size - 1] >= wt[0] else -1.0
     io = (track, report, tr)
     j = cursor[1]
