@@ -266,6 +266,7 @@ class Integrator:
         # taken and put back per call (list pop/append are atomic, so threads sharing
         # an Integrator each get their own).
         self._records = []
+        self._coef_stores = []  # the tangent pass's window-coefficient stores (_run_stored)
         # A result's entries that are the same for every call (copied per call: a
         # dict copy and ten stores are cheaper than a dict built from keywords).
         self._base = dict.fromkeys(_RESULT_KEYS)
@@ -316,15 +317,17 @@ class Integrator:
         # The run in ``buf`` from ``start`` = (t0, θ0, θ'0, t1, h) with its window ends
         # stored, and with ``width`` > 0 its windows' coefficients, the store grown as it
         # fills (chunked: Ctrl-C gets in between calls); ``outs``: (t_eval, its output
-        # rows) or none.  Returns (window ends' times, states, coefficients, windows taken).
+        # rows) or none.  Returns (window ends' times, states, the coefficients' whole
+        # store, windows taken).
         t0, theta0, v0, t1, h = start
         te, y = outs
         ints = buf[1].view(np.int64)
         entry, item = self._entry, ints.item
         cap = TANGENT_CAPACITY if width else ENDS_CAPACITY
+        win_c = self._coef_store(cap, width)
+        cap = max(cap, win_c.shape[0])
         win_t = np.empty(cap + 1)
         win_y = np.empty((cap + 1, 2))
-        win_c = np.empty((cap if width else 0, width))
         n = entry(buf, True, t0, theta0, v0, t1, h, te, y, win_t, win_y, win_c, _NEVER)
         if n < 0:
             raise t_eval_error(-n, t0, t1)
@@ -339,7 +342,18 @@ class Integrator:
             if regime != chosen:  # a regime switch: its set's entry
                 entry, chosen = _entry_at(self, regime), regime
             n += entry(buf, False, t0, theta0, v0, t1, h, te, y, win_t[n:], win_y[n:], win_c[n:], _NEVER)
-        return win_t[: n + 1], win_y[: n + 1], win_c[:n], n
+        return win_t[: n + 1], win_y[: n + 1], win_c, n
+
+    def _coef_store(self, cap, width):
+        # A window-coefficient store of ``width`` columns (0: none): a previous call's
+        # (grown to its run's windows: no growth, no fresh pages to fault in; one width
+        # per Integrator), else a new one.  Put back by _solve once the pass has read it.
+        if width:
+            try:
+                return self._coef_stores.pop()
+            except IndexError:  # none yet, or other threads hold them
+                pass
+        return np.empty((cap if width else 0, width))
 
     def _solve(self, t0, t1, theta0, v0, t_eval, wrap, tangent=None):
         # solve with the span and the state checked (float t0, t1, theta0, v0).
@@ -372,8 +386,9 @@ class Integrator:
                 # The window ends stored (the outputs, or the tangent pass's track, which
                 # follows a Taylor run's windows on their own coefficients).
                 width = 0 if tangent is None else _tangent.coefficient_width(self._kind, self._karg)
-                win_t, win_y, win_c, n = self._run_stored(buf, (t0, theta0, v0, t1, h),
+                win_t, win_y, store, n = self._run_stored(buf, (t0, theta0, v0, t1, h),
                                                           (_NO_T, _NO_OUT) if t_eval is None else (te, y), width)
+                win_c = store[:n]
                 if t_eval is None:
                     t, y = win_t, win_y.T
             else:
@@ -418,6 +433,7 @@ class Integrator:
         r["mean_velocity"] = mean_velocity
         if tangent is not None:
             _tangent.attach(r, self, tangent, (win_t, win_y, win_c))
+            self._coef_stores.append(store)  # read: the next call's store
         return r
 
 

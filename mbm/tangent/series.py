@@ -93,12 +93,21 @@ def columns(sc, t0, codes, ws, nt):
         d[i, 1] = 1.0 if codes[i] == COL_V0 else 0.0
     for k in range(nt - 1):
         inv = _INV_K12[k]
-        for i in range(codes.size):
-            conv = 0.0
+        i = 0
+        while i < codes.size:
+            # Two columns per pass: their sums are independent chains (the same order each).
+            i1 = min(i + 1, codes.size - 1)
+            c0 = 0.0
+            c1 = 0.0
             for j in range(k + 1):
-                conv += cn[j] * d[i, k - j]
-            b = _forcing(codes[i], k, sc, t0, a, sn, ds, dc)
-            d[i, k + 2] = (b - beta * (k + 1.0) * d[i, k + 1] - w2 * conv) * inv
+                c0 += cn[j] * d[i, k - j]
+                c1 += cn[j] * d[i1, k - j]
+            b0 = _forcing(codes[i], k, sc, t0, a, sn, ds, dc)
+            d[i, k + 2] = (b0 - beta * (k + 1.0) * d[i, k + 1] - w2 * c0) * inv
+            if i1 > i:
+                b1 = _forcing(codes[i1], k, sc, t0, a, sn, ds, dc)
+                d[i1, k + 2] = (b1 - beta * (k + 1.0) * d[i1, k + 1] - w2 * c1) * inv
+            i += 2
 
 
 @njit(cache=True)
@@ -145,6 +154,18 @@ def value_rate(c, s):
     for k in range(n - 1, -1, -1):
         q = q * s + p
         p = p * s + c[k]
+    return p, q
+
+
+@njit(**INLINE)
+def row_value_rate(d, i, n, s):
+    """:func:`value_rate` of row ``i`` of ``d`` to degree ``n`` (no slice: a view costs its
+    reference count at every output)."""
+    p = d[i, n]
+    q = 0.0
+    for k in range(n - 1, -1, -1):
+        q = q * s + p
+        p = p * s + d[i, k]
     return p, q
 
 

@@ -37,7 +37,7 @@ from ..approximants.taylor_series import HEADER
 from ..compile.jit import INLINE
 from .reference import reference_eps, reference_step
 from .regimes import expm2, linear_columns, linear_forcing, period_at, period_map, period_store
-from .series import COL_THETA0, COL_V0, columns, sincos_of, tangent_series, value_rate
+from .series import COL_THETA0, COL_V0, columns, row_value_rate, sincos_of, tangent_series, value_rate
 
 #: Windows per compiled call of the pass: Ctrl-C is honoured between calls (a few ms each).
 CHUNK_WINDOWS = 4096
@@ -80,15 +80,15 @@ Report = collections.namedtuple("Report", ("err", "sens", "rows"))
 def _columns_at(ws, nt, s, rows, tr):
     # Φ(s)·e into tr.e2 and Φ(s)·S + P(s) into tr.S2, from the columns' series to degree nt.
     d, e, S, out_e, out_s = ws[5], tr.e, tr.S, tr.e2, tr.S2
-    p00, p10 = value_rate(d[0, : nt + 1], s)
-    p01, p11 = value_rate(d[1, : nt + 1], s)
+    p00, p10 = row_value_rate(d, 0, nt, s)
+    p01, p11 = row_value_rate(d, 1, nt, s)
     out_e[0] = p00 * e[0] + p01 * e[1]
     out_e[1] = p10 * e[0] + p11 * e[1]
     for i in range(rows.size):
         x0 = p00 * S[0, i] + p01 * S[1, i]
         x1 = p10 * S[0, i] + p11 * S[1, i]
         if rows[i] >= 2:
-            q0, q1 = value_rate(d[rows[i], : nt + 1], s)
+            q0, q1 = row_value_rate(d, rows[i], nt, s)
             x0 += q0
             x1 += q1
         out_s[0, i] = x0
@@ -128,32 +128,83 @@ def _advance(tr):
 
 
 @njit(**INLINE)
-def _taylor_window(sc, codes, ws, coef, span, io, j):
-    # Window [t0, t1] of the run's own Taylor coefficients ``coef`` (degree n = coef[1]):
-    # Φ and the columns to degree span.kt from them, the local error from their tail.
-    # Returns the next output index.
-    t0, t1, direction, kt = span.t0, span.t1, span.direction, span.kt
-    track, report, tr = io
-    a = ws[0]
-    n = int(coef[1])
-    for k in range(kt + 1):
-        a[k] = coef[HEADER + k]
-    sincos_of(a, kt - 2, ws[1], ws[2])
-    columns(sc, t0, codes, ws, kt)
-    an = coef[HEADER:]
-    te = track.t_out
+def _own_outputs(d, an, span, te, j, arrays):
+    # The outputs j, … in (t0, t1] of a Taylor window: Φ(s)·e plus the output's own
+    # local error (:func:`_tail`) into err, Φ(s)·S + P(s) into sens (as
+    # :func:`_columns_at` and :func:`_report`).  ``span`` = (t0, t1, direction, kt, n);
+    # ``arrays`` = (e, S, err, sens, rows).  Returns the next output index.
+    t0, t1, direction, kt, n = span
+    e, S, err, sens, rows = arrays
     while j < te.size and direction * (te[j] - t1) <= 0.0:
         s = te[j] - t0
-        _columns_at(ws, kt, s, report.rows, tr)
+        p00, p10 = row_value_rate(d, 0, kt, s)
+        p01, p11 = row_value_rate(d, 1, kt, s)
         d0, d1 = _tail(an, n, s)
-        _report(report, j, tr, d0, d1)
+        err[0, j] = (p00 * e[0] + p01 * e[1]) + d0
+        err[1, j] = (p10 * e[0] + p11 * e[1]) + d1
+        for i in range(rows.size):
+            x0 = p00 * S[0, i] + p01 * S[1, i]
+            x1 = p10 * S[0, i] + p11 * S[1, i]
+            if rows[i] >= 2:
+                q0, q1 = row_value_rate(d, rows[i], kt, s)
+                x0 += q0
+                x1 += q1
+            sens[i, 0, j] = x0
+            sens[i, 1, j] = x1
         j += 1
-    _columns_at(ws, kt, t1 - t0, report.rows, tr)
-    _advance(tr)
-    d0, d1 = _tail(an, n, t1 - t0)
-    tr.e[0] += d0
-    tr.e[1] += d1
     return j
+
+
+@njit(cache=True)
+def _own_windows(sc, codes, ws, track, ctl, io, at):
+    # The run's own Taylor windows from window at[0] while they last (:func:`_is_own`),
+    # at most to window at[2]: Φ and the columns to degree ctl.kt from their stored
+    # coefficients (degree n = coef[1]), the local error from their tail.  The arrays
+    # are taken out of their tuples once per call (each taking costs a reference count),
+    # not per window.  ``at`` = (window, output, last window, direction); returns (next
+    # window, next output).
+    n, j, end, direction = at
+    report, tr = io
+    a, sn, cn, d = ws[0], ws[1], ws[2], ws[5]
+    wt, coefs, te = track.t, track.coef, track.t_out
+    e, S, e2, S2, rows = tr.e, tr.S, tr.e2, tr.S2, report.rows
+    arrays = (e, S, report.err, report.sens, rows)
+    kt = ctl.kt
+    while n < end and _is_own(wt, coefs, ctl, n, direction):
+        t0, t1 = wt[n], wt[n + 1]
+        coef = coefs[n]
+        deg = int(coef[1])
+        for k in range(kt + 1):
+            a[k] = coef[HEADER + k]
+        sincos_of(a, kt - 2, sn, cn)
+        columns(sc, t0, codes, ws, kt)
+        an = coef[HEADER:]
+        j = _own_outputs(d, an, (t0, t1, direction, kt, deg), te, j, arrays)
+        h = t1 - t0
+        p00, p10 = row_value_rate(d, 0, kt, h)
+        p01, p11 = row_value_rate(d, 1, kt, h)
+        d0, d1 = _tail(an, deg, h)
+        for i in range(rows.size):
+            x0 = p00 * S[0, i] + p01 * S[1, i]
+            x1 = p10 * S[0, i] + p11 * S[1, i]
+            if rows[i] >= 2:
+                q0, q1 = row_value_rate(d, rows[i], kt, h)
+                x0 += q0
+                x1 += q1
+            S2[0, i], S2[1, i] = x0, x1
+            S[0, i], S[1, i] = x0, x1
+        e2[0], e2[1] = p00 * e[0] + p01 * e[1], p10 * e[0] + p11 * e[1]
+        e[0], e[1] = e2[0] + d0, e2[1] + d1
+        n += 1
+    return n, j
+
+
+@njit(**INLINE)
+def _is_own(wt, coefs, ctl, n, direction):
+    # Whether window n is one of the run's own Taylor windows of degree ctl.n_order,
+    # before the regime's formula takes over (at ctl.t_taylor).
+    return (n < coefs.shape[0] and direction * (ctl.t_taylor - wt[n]) > 0.0 and coefs[n, 0] == 0.0
+            and coefs[n, 1] == ctl.n_order)
 
 
 @njit(cache=True)
@@ -210,7 +261,8 @@ def _named(track, ctl, report):
 
 @njit(cache=True)
 def start(track, report, n_codes, nt, period):
-    """The pass's carry at the run's start: (Transported, the stored period's arrays, cursor),
+    """The pass's carry at the run's start: (:data:`Transported`'s fields as a plain tuple,
+    the stored period's arrays, cursor),
     cursor = [next window, next output, reference sub-windows so far]; the outputs at t0
     written (zero error, the initial sensitivities).  ``track`` and ``report``: the fields
     of :data:`Track` and :data:`Report` as plain tuples."""
@@ -229,7 +281,7 @@ def start(track, report, n_codes, nt, period):
         _report(report, j, tr, 0.0, 0.0)
         j += 1
     store = period_store(n_codes, nt) if period == period else period_store(0, 0)
-    return tr, store, np.array([0, j, 0], np.int64)
+    return (tr.e, tr.S, tr.e2, tr.S2), store, np.array([0, j, 0], np.int64)
 
 
 @njit(cache=True)
@@ -262,22 +314,22 @@ def transport(sc, codes, track, ctl, report, ws, carry):
     """
     track, ctl, report = _named(track, ctl, report)
     wt, coefs = track.t, track.coef
-    tr, store, cursor = carry
+    fields, store, cursor = carry
+    tr = Transported(fields[0], fields[1], fields[2], fields[3])
     direction = 1.0 if wt[wt.size - 1] >= wt[0] else -1.0
     io = (track, report, tr)
     j = cursor[1]
     end = min(wt.size - 1, cursor[0] + CHUNK_WINDOWS)
-    for n in range(cursor[0], end):
-        t0, t1 = wt[n], wt[n + 1]
-        own = (n < coefs.shape[0] and direction * (ctl.t_taylor - t0) > 0.0 and coefs[n, 0] == 0.0
-               and coefs[n, 1] == ctl.n_order)
-        if own:
-            j = _taylor_window(sc, codes, ws, coefs[n], Span(t0, t1, direction, True, ctl.kt, ctl.tol, _NO_LOCK), io, j)
+    n = cursor[0]
+    while n < end:
+        if _is_own(wt, coefs, ctl, n, direction):
+            n, j = _own_windows(sc, codes, ws, track, ctl, (report, tr), (n, j, end, direction))
         else:
             j, taken = _regime_window(sc, codes, ws, n, ctl, direction, io, j, store)
             if taken < 0:
                 return -1
             cursor[2] += taken
+            n += 1
     cursor[0], cursor[1] = end, j
     return 1 if end < wt.size - 1 else 0
 

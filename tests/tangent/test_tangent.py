@@ -248,3 +248,23 @@ def test_a_run_of_many_chunks():
     ref = hy.taylor_adaptive(vs, [0.1, 0.0], pars=_pars(model), tol=1e-15, compact_mode=True).propagate_grid(te)[-1]
     mine = np.stack([r.sensitivities[0, 0], r.sensitivities[1, 0]], axis=1)  # ∂θ/∂θ₀, ∂θ/∂γ
     assert np.abs(mine - ref[:, [2, 5]]).max() < 1e-5 * np.abs(ref[:, [2, 5]]).max()
+
+
+def test_a_reused_store_gives_a_fresh_integrators_answer():
+    # An Integrator keeps the pass's window-coefficient store for its next call: after a
+    # long run (the store grown past its first capacity) and a run that switches to its
+    # running cycle, a short run's estimate and sensitivities are a fresh Integrator's,
+    # bit for bit (no stale window of an earlier run is read).
+    from mbm.frontends.solve import TANGENT_CAPACITY
+
+    model = mbm.Pendulum(0.1, 1.2)
+    ig = mbm.Integrator(model, rtol=1e-8, atol=1e-8)
+    long = ig.solve((0.0, 600.0), [0.0, 0.0], t_eval=np.linspace(0.0, 600.0, 7), error_estimate=True)
+    assert long.n_windows > TANGENT_CAPACITY and long.regime == "running"
+    for span, y0 in (((0.0, 5.0), [0.5, 0.0]), ((0.0, 300.0), [1.0, 0.2]), ((10.0, 0.0), [0.2, 0.1])):
+        te = np.linspace(span[0], span[1], 11)
+        mine = ig.solve(span, y0, t_eval=te, error_estimate=True, sensitivities=ALL[:5])
+        fresh = mbm.Integrator(model, rtol=1e-8, atol=1e-8).solve(span, y0, t_eval=te, error_estimate=True,
+                                                                  sensitivities=ALL[:5])
+        np.testing.assert_array_equal(mine.error_estimate, fresh.error_estimate)
+        np.testing.assert_array_equal(mine.sensitivities, fresh.sensitivities)
