@@ -65,6 +65,9 @@ from .window import (
     KIND_SALAS_TORQUE,
     KIND_SPLIT,
     KIND_TAYLOR,
+    Drive,
+    Model,
+    Start,
     _put,
     _reduce_phi,
     anchor,
@@ -305,6 +308,10 @@ At = collections.namedtuple("At", ("t", "phi", "v", "k", "off", "h_abs"))
 #: θ wrapped to (−π, π]) the winding count ``w`` (``w`` is ``theta`` when not wrapped).
 Outputs = collections.namedtuple("Outputs", ("t_eval", "theta", "v", "w", "wrapped"))
 
+#: A window's outputs' span (t, t_new] in the direction of time (±1), and its winding
+#: count k (θ = 2πk + φ).
+Span = collections.namedtuple("Span", ("t", "t_new", "direction", "k"))
+
 
 # The window sources, one per kind of window: run_entry branches on its constant set
 # itself (numba prunes a branch on a closure constant before it inlines the calls in
@@ -351,9 +358,9 @@ def _anchored(kind, rset, simd, r, t, y0, y1, ws):
     drive's term in RS_DRIVEN; ``simd``: the default degree's entry (:func:`_runner`)."""
     m = r.model
     if rset == RS_DRIVEN:
-        return anchor_driven(kind, r.control.karg, m.beta, m.gamma, m.omega, m.drive_amp, m.drive_freq,
-                             m.drive_phase, t, y0, y1, ws[0], ws[1], simd)
-    return anchor(kind, r.control.karg, m.beta, m.gamma, m.omega, y0, y1, ws[0], ws[1], simd)
+        return anchor_driven(kind, r.control.karg, Model(m.beta, m.gamma, m.omega),
+                             Drive(m.drive_amp, m.drive_freq, m.drive_phase), Start(t, y0, y1), ws[0], ws[1], simd)
+    return anchor(kind, r.control.karg, Model(m.beta, m.gamma, m.omega), y0, y1, ws[0], ws[1], simd)
 
 
 @numba.njit(**INLINE)
@@ -370,23 +377,24 @@ def _source_fixed(kind, rset, simd, r, at, ctl, scratch):
 
 
 @numba.njit(**INLINE)
-def _source(kind, rset, simd, r, t, y0, y1, k, off, direction, max_step, h_abs, log_eps, can_lock, lk, ws, per):
-    """The window from (t, φ = ``y0``, θ' = ``y1``, winding ``k``) outside the stored
-    periods: the locked closed form (L2, L5), or the approximant anchored at the state
-    under the adaptive controller (a fixed window: :func:`_source_fixed`).  Returns its
-    :data:`Window` (``per`` passed through).  Its arguments stay one by one: taken as
-    At, WindowControl and RegimeSetup records they cost about 5 % of the common damped
-    run (scene P4: 250 -> 265 µs, best of 7 × 200 calls, four alternations)."""
-    m, c = r.model, r.control
+def _source(kind, rset, simd, r, at, ctl, rs, scratch):
+    """The window from ``at`` (an :data:`At`: t, φ, θ', winding k, its offset, the length
+    to try) outside the stored periods: the locked closed form (L2, L5; ``rs`` the
+    :data:`RegimeSetup`), or the approximant anchored at the state under the adaptive
+    controller ``ctl`` (a :data:`mbm.core.record.WindowControl`; a fixed window:
+    :func:`_source_fixed`).  Returns its :data:`Window` (``scratch`` = (workspace, the
+    stored period), the latter passed through)."""
+    t, y0, y1, k, off, h_abs = at
+    ws, per = scratch
+    m = r.model
     beta, gamma, omega = m.beta, m.gamma, m.omega
-    rtol, atol, error_order = c.rtol, c.atol, c.error_order
-    t_bound = r.state.t_bound
+    lk = rs.lk
     lk_order, lk_ts = 0, 0.0
-    if rset == RS_DAMPED and can_lock:
+    if rset == RS_DAMPED and rs.can_lock:
         lk_order, lk_ts = locked_test(r, y0, y1, off, lk, True)
     if rset == RS_DAMPED and lk_order > 0:  # (the other sets' entries compile no locked window)
         coef = locked_coef(beta, lk.wl2, lk_ts, y0, y1, gamma, lk_order)
-        t_new = _window_end(t, direction, t_bound, max_step)
+        t_new = _window_end(t, ctl.direction, ctl.t_bound, ctl.max_step)
         th, v = locked_eval(coef, t_new - t)
         if r.switch.regime != REGIME_LOCKED:
             r.switch.regime = REGIME_LOCKED
@@ -396,7 +404,6 @@ def _source(kind, rset, simd, r, t, y0, y1, k, off, direction, max_step, h_abs, 
     coef = _anchored(kind, rset, simd, r, t, y0, y1, ws)
     if coef[0] != 0.0:
         return Window(STATUS_ANCHOR, coef, t, y0, y1, k, h_abs, h_abs, False, per)
-    ctl = window_control(direction, t_bound, max_step, rtol, atol, error_order, log_eps)
     if h_abs <= 0.0:
         h_abs = _first(kind, coef, t, y0, y1, off, omega, ctl)
     st, t_new, th, v, h_next = _adaptive(kind, coef, t, y0, y1, off, h_abs, ctl)
@@ -404,12 +411,14 @@ def _source(kind, rset, simd, r, t, y0, y1, k, off, direction, max_step, h_abs, 
 
 
 @numba.njit(**INLINE)
-def emit_taylor(coef, t, t_new, t_eval, j, direction, k, out_theta, out_v, out_w, wrapped):
-    """The outputs of an ordinary Taylor window in (t, t_new] in one call, four times at
-    once (the same Horner steps per time as evaluate, so the same bits; an output at
-    t_new is the evaluation that produced the state).  Returns the next output index.
-    Shared by the loop and the lanes.  The rows one by one: taken from an Outputs record
-    at each window they cost a few % of the common damped run (reference counts)."""
+def emit_taylor(coef, span, t_eval, j, out_theta, out_v, out_w, wrapped):
+    """The outputs of an ordinary Taylor window in (t, t_new] (``span``: a :data:`Span`)
+    in one call, four times at once (the same Horner steps per time as evaluate, so the
+    same bits; an output at t_new is the evaluation that produced the state).  Returns
+    the next output index.  Shared by the loop and the lanes.  The rows one by one:
+    taken from an Outputs record at each window they cost a few % of the common damped
+    run (reference counts)."""
+    t, t_new, direction, k = span
     j2 = j
     while j2 < t_eval.size and (direction * (t_eval[j2] - t_new) <= 0.0):
         j2 += 1
@@ -464,7 +473,7 @@ def _emit_formula(kind, rset, coef, ends, k, j, direction, outs):
     t, t_new, th, v, is_locked = ends
     t_eval, out_theta, out_v, out_w, wrapped = outs
     if kind == KIND_TAYLOR and not is_locked:
-        return emit_taylor(coef, t, t_new, t_eval, j, direction, k, out_theta, out_v, out_w, wrapped)
+        return emit_taylor(coef, Span(t, t_new, direction, k), t_eval, j, out_theta, out_v, out_w, wrapped)
     while j < t_eval.size and (direction * (t_eval[j] - t_new) <= 0.0):
         if t_eval[j] == t_new:
             _put(out_theta, out_w, wrapped, j, k, th)
@@ -507,15 +516,17 @@ def _finish(r, status, at, n_total, j, outs):
     r.progress.status = status
 
 
-# The entries' contract.  ``run_entry(buf, fresh, t0, theta0, v0, t1, h, t_eval, out,
-# win_t, win_y, win_coef, cancel)`` advances the run in ``buf``'s last row (a RUN record's
-# float64 words: mbm.core.record.start_record) window by window.  With ``fresh`` the run
-# is first set up from ``buf``'s row 0 (a template record), the span (t0, t1), the state
-# (theta0, v0) and the first window's h_abs ``h``, and ``t_eval`` checked
-# (mbm.validate.t_eval_problem: where it fails nothing is run and −(its code) returned);
-# otherwise those five are unused and the run resumes as it stands.  One compiled entry
-# serves every caller (mbm.MBM, mbm.Integrator, the compiled whole runs), so none links
-# the loop into a wrapper of its own.
+# The entries' contract.  ``run_entry(buf, fresh, start, arrays)`` advances the run in
+# ``buf``'s last row (a RUN record's float64 words: mbm.core.record.start_record) window
+# by window; ``start`` = (t0, theta0, v0, t1, h), ``arrays`` = (t_eval, out, win_t,
+# win_y, win_coef, cancel), plain tuples (a named tuple costs ~9 µs of the dispatcher's
+# typing per call from Python).  With ``fresh`` the run is first set up from ``buf``'s
+# row 0 (a template record), the span (t0, t1), the state (theta0, v0) and the first
+# window's h_abs ``h``, and ``t_eval`` checked (mbm.validate.t_eval_problem: where it
+# fails nothing is run and −(its code) returned); otherwise ``start`` is unused and the
+# run resumes as it stands.  One compiled entry serves every caller (mbm.MBM,
+# mbm.Integrator, the compiled whole runs), so none links the loop into a wrapper of its
+# own.
 #
 # It stops at t_bound (status 0), at a failure (a STATUS_* code), at max_windows, paused
 # (STATUS_PAUSED) after call_windows windows, when the window store is full or at a
@@ -541,9 +552,11 @@ def _runner(rset, simd=False):
     STATUS_ANCHOR: :func:`entry_for` chooses), the entry the other kinds share."""
 
     @numba.njit(cache=True)
-    def run_entry(buf, fresh, t0, theta0, v0, t1, h, t_eval, out, win_t, win_y, win_coef, cancel):
+    def run_entry(buf, fresh, start, arrays):
         """Advance the run in ``buf``'s last row window by window (the entries' contract above
         :func:`_runner`); returns the windows taken, or −(the t_eval problem's code)."""
+        t0, theta0, v0, t1, h = start
+        t_eval, out, win_t, win_y, win_coef, cancel = arrays
         if fresh:
             problem = t_eval_problem(t_eval, t0, t1, False)
             if problem != 0:
@@ -605,9 +618,10 @@ def _runner(rset, simd=False):
                 st, coef, t_new, th, v, k_new, h_abs, h_next, is_locked, per = _source_fixed(
                     kind, rset, simd, r, At(t, y0, y1, k, off, h_abs), ctl, scratch)
             else:
+                c = r.control
+                ctl = window_control(direction, t_bound, max_step, c.rtol, c.atol, c.error_order, log_eps)
                 st, coef, t_new, th, v, k_new, h_abs, h_next, is_locked, per = _source(
-                    kind, rset, simd, r, t, y0, y1, k, off, direction, max_step, h_abs, log_eps, rs.can_lock, rs.lk,
-                    ws, per)
+                    kind, rset, simd, r, At(t, y0, y1, k, off, h_abs), ctl, rs, scratch)
             if st != STATUS_OK:
                 status = st
                 break
@@ -719,6 +733,10 @@ def runner_for(r):
     return entry_for(int(r["control"]["kind"]), set_of(r), int(r["control"]["karg"]))
 
 
+#: The start (t0, θ0, θ'0, t1, h) of an entry's call that resumes a run (unused there).
+_NO_START = (0.0, 0.0, 0.0, 0.0, 0.0)
+
+
 def run(p, t_eval, out, win_t, win_y, win_coef, cancel):
     """Advance the run ``p[0]``: the entry of its kind and regime set (:data:`RUNNERS`,
     ``run_entry`` of :func:`_runner`), resumed through the new set's entry after a regime
@@ -733,6 +751,6 @@ def run(p, t_eval, out, win_t, win_y, win_coef, cancel):
         if entry is None:
             progress["status"][0] = STATUS_ANCHOR
             return n
-        n += entry(buf, False, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
+        n += entry(buf, False, _NO_START, (t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel))
         if progress["status"][0] != STATUS_PAUSED or set_of(p[0]) == rset:
             return n

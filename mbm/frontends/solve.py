@@ -325,7 +325,7 @@ class Integrator:
         win_t = np.empty(cap + 1)
         win_y = np.empty((cap + 1, 2))
         win_c = np.empty((cap if width else 0, width))
-        n = entry(buf, True, t0, theta0, v0, t1, h, te, y, win_t, win_y, win_c, _NEVER)
+        n = entry(buf, True, start, (te, y, win_t, win_y, win_c, _NEVER))
         if n < 0:
             raise t_eval_error(-n, t0, t1)
         chosen = REGIME_NONE
@@ -338,7 +338,7 @@ class Integrator:
             regime = item(_W_REGIME)
             if regime != chosen:  # a regime switch: its set's entry
                 entry, chosen = _entry_at(self, regime), regime
-            n += entry(buf, False, t0, theta0, v0, t1, h, te, y, win_t[n:], win_y[n:], win_c[n:], _NEVER)
+            n += entry(buf, False, start, (te, y, win_t[n:], win_y[n:], win_c[n:], _NEVER))
         return win_t[: n + 1], win_y[: n + 1], win_c[:n], n
 
     def _solve(self, t0, t1, theta0, v0, t_eval, wrap, tangent=None):
@@ -378,7 +378,8 @@ class Integrator:
                     t, y = win_t, win_y.T
             else:
                 entry = self._entry
-                problem = entry(buf, True, t0, theta0, v0, t1, h, te, y, _NO_T, _NO_Y, _NO_COEF, _NEVER)
+                start, arrays = (t0, theta0, v0, t1, h), (te, y, _NO_T, _NO_Y, _NO_COEF, _NEVER)
+                problem = entry(buf, True, start, arrays)
                 if problem < 0:
                     raise t_eval_error(-problem, t0, t1)
                 chosen = REGIME_NONE
@@ -386,7 +387,7 @@ class Integrator:
                     regime = item(_W_REGIME)
                     if regime != chosen:  # a regime switch: its set's entry
                         entry, chosen = _entry_at(self, regime), regime
-                    entry(buf, False, t0, theta0, v0, t1, h, te, y, _NO_T, _NO_Y, _NO_COEF, _NEVER)
+                    entry(buf, False, start, arrays)
             if t_eval is not None:
                 t = te
                 j = item(_W_J)
