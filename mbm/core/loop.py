@@ -320,9 +320,9 @@ Span = collections.namedtuple("Span", ("t", "t_new", "direction", "k"))
 
 @numba.njit(**INLINE)
 def _source_cycle(kind, simd, r, t, direction, max_step, h_abs, per):
-    """The running cycle's window (RS_CYCLE: the stored period shifted, R3), as
-    :func:`_source` returns it (a :data:`Window`) (``per``: the period's windows, built at the call's
-    first cycle window; ``simd``: the default degree's entry, :func:`_runner`)."""
+    """The running cycle's window (RS_CYCLE: the stored period shifted, R3), a
+    :data:`Window` (``per``: the period's windows, built at the call's first cycle
+    window; ``simd``: the default degree's entry, :func:`_runner`)."""
     m, c, y = r.model, r.control, r.cycle
     t_new = _window_end(t, direction, r.state.t_bound, max_step)
     if y.cyc_k == CYCLE_SWITCHED:
@@ -338,8 +338,8 @@ def _source_cycle(kind, simd, r, t, direction, max_step, h_abs, per):
 
 @numba.njit(**INLINE)
 def _source_strobe(kind, r, t, direction, max_step, h_abs, per):
-    """The phase-locked window (RS_STROBE: the stored drive period, S6, S7), as
-    :func:`_source` returns it (a :data:`Window`)."""
+    """The phase-locked window (RS_STROBE: the stored drive period, S6, S7), a
+    :data:`Window`."""
     m, c, s = r.model, r.control, r.strobe
     t_new = _window_end(t, direction, r.state.t_bound, max_step)
     coef = strobe_coef(StrobeAnchor(s.str_phi, s.str_v, s.str_k, s.str_ta, s.str_q, s.str_p, s.str_psi),
@@ -366,7 +366,7 @@ def _anchored(kind, rset, simd, r, t, y0, y1, ws):
 @numba.njit(**INLINE)
 def _source_fixed(kind, rset, simd, r, at, ctl, scratch):
     """The window of a fixed length ``min(at.h_abs, ctl.max_step)`` (RS_FIXED, the kinds
-    without an estimate, a fixed controller's window), as :func:`_source` returns it."""
+    without an estimate, a fixed controller's window), a :data:`Window`."""
     t, y0, y1, k, _, h_abs = at
     ws, per = scratch
     coef = _anchored(kind, rset, simd, r, t, y0, y1, ws)
@@ -377,15 +377,15 @@ def _source_fixed(kind, rset, simd, r, at, ctl, scratch):
 
 
 @numba.njit(**INLINE)
-def _source(kind, rset, simd, r, at, ctl, rs, scratch):
+def _source(kind, rset, simd, r, at, ctl, rs, ws):
     """The window from ``at`` (an :data:`At`: t, φ, θ', winding k, its offset, the length
     to try) outside the stored periods: the locked closed form (L2, L5; ``rs`` the
-    :data:`RegimeSetup`), or the approximant anchored at the state under the adaptive
-    controller ``ctl`` (a :data:`mbm.core.record.WindowControl`; a fixed window:
-    :func:`_source_fixed`).  Returns its :data:`Window` (``scratch`` = (workspace, the
-    stored period), the latter passed through)."""
+    :data:`RegimeSetup`), or the approximant anchored at the state (into the workspace
+    ``ws``) under the adaptive controller ``ctl`` (a
+    :data:`mbm.core.record.WindowControl`; a fixed window: :func:`_source_fixed`).
+    Returns its :data:`Window`'s fields but the stored period, which it leaves alone
+    (a tuple of arrays taken apart at each window costs their reference counts)."""
     t, y0, y1, k, off, h_abs = at
-    ws, per = scratch
     m = r.model
     beta, gamma, omega = m.beta, m.gamma, m.omega
     lk = rs.lk
@@ -400,14 +400,14 @@ def _source(kind, rset, simd, r, at, ctl, rs, scratch):
             r.switch.regime = REGIME_LOCKED
             r.switch.t_regime = t
         st = STATUS_OK if math.isfinite(th) and math.isfinite(v) else STATUS_NONFINITE
-        return Window(st, coef, t_new, th, v, k, h_abs, h_abs, True, per)
+        return st, coef, t_new, th, v, k, h_abs, h_abs, True
     coef = _anchored(kind, rset, simd, r, t, y0, y1, ws)
     if coef[0] != 0.0:
-        return Window(STATUS_ANCHOR, coef, t, y0, y1, k, h_abs, h_abs, False, per)
+        return STATUS_ANCHOR, coef, t, y0, y1, k, h_abs, h_abs, False
     if h_abs <= 0.0:
         h_abs = _first(kind, coef, t, y0, y1, off, omega, ctl)
     st, t_new, th, v, h_next = _adaptive(kind, coef, t, y0, y1, off, h_abs, ctl)
-    return Window(st, coef, t_new, th, v, k, h_abs, h_next, False, per)
+    return st, coef, t_new, th, v, k, h_abs, h_next, False
 
 
 @numba.njit(**INLINE)
@@ -620,8 +620,8 @@ def _runner(rset, simd=False):
             else:
                 c = r.control
                 ctl = window_control(direction, t_bound, max_step, c.rtol, c.atol, c.error_order, log_eps)
-                st, coef, t_new, th, v, k_new, h_abs, h_next, is_locked, per = _source(
-                    kind, rset, simd, r, At(t, y0, y1, k, off, h_abs), ctl, rs, scratch)
+                st, coef, t_new, th, v, k_new, h_abs, h_next, is_locked = _source(
+                    kind, rset, simd, r, At(t, y0, y1, k, off, h_abs), ctl, rs, ws)
             if st != STATUS_OK:
                 status = st
                 break
