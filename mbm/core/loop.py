@@ -377,37 +377,39 @@ def _source_fixed(kind, rset, simd, r, at, ctl, scratch):
 
 
 @numba.njit(**INLINE)
-def _source(kind, rset, simd, r, at, ctl, rs, ws):
-    """The window from ``at`` (an :data:`At`: t, φ, θ', winding k, its offset, the length
-    to try) outside the stored periods: the locked closed form (L2, L5; ``rs`` the
-    :data:`RegimeSetup`), or the approximant anchored at the state (into the workspace
-    ``ws``) under the adaptive controller ``ctl`` (a
-    :data:`mbm.core.record.WindowControl`; a fixed window: :func:`_source_fixed`).
-    Returns its :data:`Window`'s fields but the stored period, which it leaves alone
-    (a tuple of arrays taken apart at each window costs their reference counts)."""
-    t, y0, y1, k, off, h_abs = at
-    m = r.model
+def _source(kind, rset, simd, r, t, y0, y1, k, off, direction, max_step, h_abs, log_eps, can_lock, lk, ws, per):
+    """The window from (t, φ = ``y0``, θ' = ``y1``, winding ``k``) outside the stored
+    periods: the locked closed form (L2, L5), or the approximant anchored at the state
+    under the adaptive controller (a fixed window: :func:`_source_fixed`).  Returns its
+    :data:`Window` (``per`` passed through).  Its arguments stay one by one: taken as
+    At, WindowControl and RegimeSetup records they cost about 5 % of the common damped
+    run (scene P4: 250 -> 265 µs, best of 7 × 200 calls, four alternations), and as At,
+    (direction, max_step, log_eps) and RegimeSetup with the workspace alone about 4 % of
+    a driven one (benchmarks.warm_calls' driven row: 69 -> 71.5 µs, four alternations)."""
+    m, c = r.model, r.control
     beta, gamma, omega = m.beta, m.gamma, m.omega
-    lk = rs.lk
+    rtol, atol, error_order = c.rtol, c.atol, c.error_order
+    t_bound = r.state.t_bound
     lk_order, lk_ts = 0, 0.0
-    if rset == RS_DAMPED and rs.can_lock:
+    if rset == RS_DAMPED and can_lock:
         lk_order, lk_ts = locked_test(r, y0, y1, off, lk, True)
     if rset == RS_DAMPED and lk_order > 0:  # (the other sets' entries compile no locked window)
         coef = locked_coef(beta, lk.wl2, lk_ts, y0, y1, gamma, lk_order)
-        t_new = _window_end(t, ctl.direction, ctl.t_bound, ctl.max_step)
+        t_new = _window_end(t, direction, t_bound, max_step)
         th, v = locked_eval(coef, t_new - t)
         if r.switch.regime != REGIME_LOCKED:
             r.switch.regime = REGIME_LOCKED
             r.switch.t_regime = t
         st = STATUS_OK if math.isfinite(th) and math.isfinite(v) else STATUS_NONFINITE
-        return st, coef, t_new, th, v, k, h_abs, h_abs, True
+        return Window(st, coef, t_new, th, v, k, h_abs, h_abs, True, per)
     coef = _anchored(kind, rset, simd, r, t, y0, y1, ws)
     if coef[0] != 0.0:
-        return STATUS_ANCHOR, coef, t, y0, y1, k, h_abs, h_abs, False
+        return Window(STATUS_ANCHOR, coef, t, y0, y1, k, h_abs, h_abs, False, per)
+    ctl = window_control(direction, t_bound, max_step, rtol, atol, error_order, log_eps)
     if h_abs <= 0.0:
         h_abs = _first(kind, coef, t, y0, y1, off, omega, ctl)
     st, t_new, th, v, h_next = _adaptive(kind, coef, t, y0, y1, off, h_abs, ctl)
-    return st, coef, t_new, th, v, k, h_abs, h_next, False
+    return Window(st, coef, t_new, th, v, k, h_abs, h_next, False, per)
 
 
 @numba.njit(**INLINE)
@@ -618,10 +620,9 @@ def _runner(rset, simd=False):
                 st, coef, t_new, th, v, k_new, h_abs, h_next, is_locked, per = _source_fixed(
                     kind, rset, simd, r, At(t, y0, y1, k, off, h_abs), ctl, scratch)
             else:
-                c = r.control
-                ctl = window_control(direction, t_bound, max_step, c.rtol, c.atol, c.error_order, log_eps)
-                st, coef, t_new, th, v, k_new, h_abs, h_next, is_locked = _source(
-                    kind, rset, simd, r, At(t, y0, y1, k, off, h_abs), ctl, rs, ws)
+                st, coef, t_new, th, v, k_new, h_abs, h_next, is_locked, per = _source(
+                    kind, rset, simd, r, t, y0, y1, k, off, direction, max_step, h_abs, log_eps, rs.can_lock, rs.lk,
+                    ws, per)
             if st != STATUS_OK:
                 status = st
                 break
