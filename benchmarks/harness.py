@@ -125,7 +125,7 @@ def entry_calls(entry):
     def calls(n, buf, t0, theta0, v0, t1, h, t_eval, out, win_t, win_y, win_coef, cancel):
         total = 0
         for _ in range(n):
-            total += entry(buf, True, t0, theta0, v0, t1, h, t_eval, out, win_t, win_y, win_coef, cancel)
+            total += entry(buf, True, (t0, theta0, v0, t1, h), (t_eval, out, win_t, win_y, win_coef, cancel))
         return total
 
     return calls

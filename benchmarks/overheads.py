@@ -124,9 +124,9 @@ def fixed_costs(repeats=DEFAULT_REPEATS, block=BLOCK):
         "mbm.solve, span 1e-9 (one window)":
             (lambda: mbm.solve(model, TINY_SPAN, Y0, t_eval=te_tiny, **opts), None),
         "compiled entry from Python, zero-length span":
-            (lambda: entry(buf, True, 0.0, Y0[0], Y0[1], 0.0, h, te1, out, *empty), None),
+            (lambda: entry(buf, True, (0.0, Y0[0], Y0[1], 0.0, h), (te1, out, *empty)), None),
         "compiled entry from Python, span 1e-9":
-            (lambda: entry(buf, True, 0.0, Y0[0], Y0[1], TINY_SPAN[1], h, te_tiny, out, *empty), None),
+            (lambda: entry(buf, True, (0.0, Y0[0], Y0[1], TINY_SPAN[1], h), (te_tiny, out, *empty)), None),
         "compiled entry in a compiled loop, zero-length span": compiled(0.0, te1),
         "compiled entry in a compiled loop, span 1e-9": compiled(TINY_SPAN[1], te_tiny),
         f"Integrator.solve, P1 (t ≤ 20) with {N_OUTPUTS} outputs":

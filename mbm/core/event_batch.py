@@ -21,7 +21,7 @@ import numpy as np
 from ..compile.jit import kernel
 from .event_watch import (WATCH_CROWDED, WATCH_LOCKED, WATCH_OK, Tally, Watch, locate, taylor_events,
                           trap_allowed, trapped_unreachable)
-from .chains import _run_sets
+from .chains import _run_sets, flag_bits
 from .window import KIND_TAYLOR
 from ..regimes.common import REGIME_LOCKED, REGIME_NONE
 from ..status import STATUS_CROWDED, STATUS_EVENT, STATUS_OK, STATUS_PAUSED
@@ -113,7 +113,7 @@ def scene_events_for(flags):
     """The compiled run with events of one scene (Taylor windows), for the regime sets
     flagged in ``flags`` (:func:`mbm.core.lanes.batch_flags`; constants of the closure,
     so only those sets' entries are compiled, each closure cached apart)."""
-    k0, _, _, _, s0, s1, s2, s3, s4, s5 = flags
+    bits = flag_bits(tuple(flags[:1]) + (0, 0, 0) + tuple(flags[4:]))  # kind "taylor" alone
 
     @numba.njit(cache=True, nogil=True)
     def run_scene_events(p, i, run, ev, tally, store, found):
@@ -144,8 +144,8 @@ def scene_events_for(flags):
                 r.switch.t_regime = r.state.t
                 break
             before = r.progress.n_windows
-            n = _run_sets(KIND_TAYLOR, k0, 0, 0, 0, s0, s1, s2, s3, s4, s5, p[i:i + 1], t_eval, out_i,
-                          win_t[: chunk + 1], win_y[: chunk + 1], win_coef[:chunk], cancel)
+            n = _run_sets(KIND_TAYLOR, bits, p[i:i + 1],
+                          (t_eval, out_i, win_t[: chunk + 1], win_y[: chunk + 1], win_coef[:chunk], cancel))
             c0 = count
             evf, evi, count, stop, ok = locate((win_t, np.ascontiguousarray(win_y[: n + 1, 0]), win_coef, n), ev,
                                                (hits, stored, caps),

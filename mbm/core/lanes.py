@@ -31,9 +31,9 @@ from .controller import (
     accept_try,
     first_try,
 )
-from .chains import REACHES, _run_sets, set_flag
+from .chains import F_CYCLE, F_DAMPED, F_TAYLOR_SIMD, REACHES, _run_sets, flag_bits, set_flag
 from .record import window_control
-from .loop import _regime_set, damped_setup, emit_taylor, locked_test
+from .loop import Span, _regime_set, damped_setup, emit_taylor, locked_test
 from ..regimes.locked import LockSetup
 from .window import (
     KIND_TAYLOR,
@@ -146,6 +146,11 @@ def _lane_trap(p, ln, n_out, ev):
 HandOff = collections.namedtuple("HandOff", ("t_eval", "out", "win_t", "win_y", "win_coef", "cancel", "handed"))
 
 
+#: The flags of a lane's scene in the loop (mbm.core.chains.flag_bits): the default
+#: degree's Taylor entries of RS_DAMPED and RS_CYCLE.
+_HAND_OFF = F_TAYLOR_SIMD | F_DAMPED | F_CYCLE
+
+
 @kernel
 def _lane_hand_off(p, ln, ho):
     # The lane's state written back as a paused run's, and the run finished by the loop
@@ -157,7 +162,7 @@ def _lane_hand_off(p, ln, ho):
     if handed.size:
         handed[i] = 1
         return
-    _run_sets(KIND_TAYLOR, 2, 0, 0, 0, 0, 1, 0, 0, 1, 0, p[i:i + 1], t_eval, out[i], win_t, win_y, win_coef, cancel)
+    _run_sets(KIND_TAYLOR, _HAND_OFF, p[i:i + 1], (t_eval, out[i], win_t, win_y, win_coef, cancel))
 
 
 @numba.njit(**INLINE)
@@ -235,7 +240,7 @@ def _lane_window(p, ln, coef, h, th, v, ho):
     if j < t_eval.size and ln.direction * (t_eval[j] - t_new) <= 0.0:
         # (The views of out made only for a window that has outputs.)
         out_theta = out[i, 0]
-        ln.j = emit_taylor(coef, t, t_new, t_eval, j, ln.direction, k, out_theta, out[i, 1],
+        ln.j = emit_taylor(coef, Span(t, t_new, ln.direction, k), t_eval, j, out_theta, out[i, 1],
                            out[i, 2] if wrapped else out_theta, wrapped)
     if ln.can_cycle != 0 and r.switch.regime == REGIME_NONE:
         m = r.model
@@ -358,17 +363,16 @@ def no_events():
 def _rows_for(flags):
     """The compiled run of the scenes that do not take the lanes, for a batch whose
     scenes' kinds and regime sets are ``flags`` (:func:`batch_flags`): constants of the
-    closure, so only those kinds' and sets' entries are compiled (each closure cached
-    apart)."""
-    k0, k1, k2, k3, s0, s1, s2, s3, s4, s5 = flags
+    closure (as one int, :func:`mbm.core.chains.flag_bits`), so only those kinds' and
+    sets' entries are compiled (each closure cached apart)."""
+    bits = flag_bits(flags)
 
     @numba.njit(cache=True, nogil=True)
     def run_rows(p, ids, t_eval, out, cancel):
         """Run the scenes ``ids`` of ``p`` (output rows ``out[ids]``) one by one by the loop."""
         win_t, win_y, win_coef = np.empty(0), np.empty((0, 2)), np.empty((0, 0))
         for i in ids:
-            _run_sets(p[i].control.kind, k0, k1, k2, k3, s0, s1, s2, s3, s4, s5, p[i:i + 1], t_eval, out[i], win_t,
-                      win_y, win_coef, cancel)
+            _run_sets(p[i].control.kind, bits, p[i:i + 1], (t_eval, out[i], win_t, win_y, win_coef, cancel))
         return 0
 
     return run_rows

@@ -65,6 +65,9 @@ from .window import (
     KIND_SALAS_TORQUE,
     KIND_SPLIT,
     KIND_TAYLOR,
+    Drive,
+    Model,
+    Start,
     _put,
     _reduce_phi,
     anchor,
@@ -305,6 +308,10 @@ At = collections.namedtuple("At", ("t", "phi", "v", "k", "off", "h_abs"))
 #: θ wrapped to (−π, π]) the winding count ``w`` (``w`` is ``theta`` when not wrapped).
 Outputs = collections.namedtuple("Outputs", ("t_eval", "theta", "v", "w", "wrapped"))
 
+#: A window's outputs' span (t, t_new] in the direction of time (±1), and its winding
+#: count k (θ = 2πk + φ).
+Span = collections.namedtuple("Span", ("t", "t_new", "direction", "k"))
+
 
 # The window sources, one per kind of window: run_entry branches on its constant set
 # itself (numba prunes a branch on a closure constant before it inlines the calls in
@@ -313,9 +320,9 @@ Outputs = collections.namedtuple("Outputs", ("t_eval", "theta", "v", "w", "wrapp
 
 @numba.njit(**INLINE)
 def _source_cycle(kind, simd, r, t, direction, max_step, h_abs, per):
-    """The running cycle's window (RS_CYCLE: the stored period shifted, R3), as
-    :func:`_source` returns it (a :data:`Window`) (``per``: the period's windows, built at the call's
-    first cycle window; ``simd``: the default degree's entry, :func:`_runner`)."""
+    """The running cycle's window (RS_CYCLE: the stored period shifted, R3), a
+    :data:`Window` (``per``: the period's windows, built at the call's first cycle
+    window; ``simd``: the default degree's entry, :func:`_runner`)."""
     m, c, y = r.model, r.control, r.cycle
     t_new = _window_end(t, direction, r.state.t_bound, max_step)
     if y.cyc_k == CYCLE_SWITCHED:
@@ -331,8 +338,8 @@ def _source_cycle(kind, simd, r, t, direction, max_step, h_abs, per):
 
 @numba.njit(**INLINE)
 def _source_strobe(kind, r, t, direction, max_step, h_abs, per):
-    """The phase-locked window (RS_STROBE: the stored drive period, S6, S7), as
-    :func:`_source` returns it (a :data:`Window`)."""
+    """The phase-locked window (RS_STROBE: the stored drive period, S6, S7), a
+    :data:`Window`."""
     m, c, s = r.model, r.control, r.strobe
     t_new = _window_end(t, direction, r.state.t_bound, max_step)
     coef = strobe_coef(StrobeAnchor(s.str_phi, s.str_v, s.str_k, s.str_ta, s.str_q, s.str_p, s.str_psi),
@@ -351,15 +358,15 @@ def _anchored(kind, rset, simd, r, t, y0, y1, ws):
     drive's term in RS_DRIVEN; ``simd``: the default degree's entry (:func:`_runner`)."""
     m = r.model
     if rset == RS_DRIVEN:
-        return anchor_driven(kind, r.control.karg, m.beta, m.gamma, m.omega, m.drive_amp, m.drive_freq,
-                             m.drive_phase, t, y0, y1, ws[0], ws[1], simd)
-    return anchor(kind, r.control.karg, m.beta, m.gamma, m.omega, y0, y1, ws[0], ws[1], simd)
+        return anchor_driven(kind, r.control.karg, Model(m.beta, m.gamma, m.omega),
+                             Drive(m.drive_amp, m.drive_freq, m.drive_phase), Start(t, y0, y1), ws[0], ws[1], simd)
+    return anchor(kind, r.control.karg, Model(m.beta, m.gamma, m.omega), y0, y1, ws[0], ws[1], simd)
 
 
 @numba.njit(**INLINE)
 def _source_fixed(kind, rset, simd, r, at, ctl, scratch):
     """The window of a fixed length ``min(at.h_abs, ctl.max_step)`` (RS_FIXED, the kinds
-    without an estimate, a fixed controller's window), as :func:`_source` returns it."""
+    without an estimate, a fixed controller's window), a :data:`Window`."""
     t, y0, y1, k, _, h_abs = at
     ws, per = scratch
     coef = _anchored(kind, rset, simd, r, t, y0, y1, ws)
@@ -376,7 +383,9 @@ def _source(kind, rset, simd, r, t, y0, y1, k, off, direction, max_step, h_abs, 
     under the adaptive controller (a fixed window: :func:`_source_fixed`).  Returns its
     :data:`Window` (``per`` passed through).  Its arguments stay one by one: taken as
     At, WindowControl and RegimeSetup records they cost about 5 % of the common damped
-    run (scene P4: 250 -> 265 µs, best of 7 × 200 calls, four alternations)."""
+    run (scene P4: 250 -> 265 µs, best of 7 × 200 calls, four alternations), and as At,
+    (direction, max_step, log_eps) and RegimeSetup with the workspace alone about 4 % of
+    a driven one (benchmarks.warm_calls' driven row: 69 -> 71.5 µs, four alternations)."""
     m, c = r.model, r.control
     beta, gamma, omega = m.beta, m.gamma, m.omega
     rtol, atol, error_order = c.rtol, c.atol, c.error_order
@@ -404,12 +413,14 @@ def _source(kind, rset, simd, r, t, y0, y1, k, off, direction, max_step, h_abs, 
 
 
 @numba.njit(**INLINE)
-def emit_taylor(coef, t, t_new, t_eval, j, direction, k, out_theta, out_v, out_w, wrapped):
-    """The outputs of an ordinary Taylor window in (t, t_new] in one call, four times at
-    once (the same Horner steps per time as evaluate, so the same bits; an output at
-    t_new is the evaluation that produced the state).  Returns the next output index.
-    Shared by the loop and the lanes.  The rows one by one: taken from an Outputs record
-    at each window they cost a few % of the common damped run (reference counts)."""
+def emit_taylor(coef, span, t_eval, j, out_theta, out_v, out_w, wrapped):
+    """The outputs of an ordinary Taylor window in (t, t_new] (``span``: a :data:`Span`)
+    in one call, four times at once (the same Horner steps per time as evaluate, so the
+    same bits; an output at t_new is the evaluation that produced the state).  Returns
+    the next output index.  Shared by the loop and the lanes.  The rows one by one:
+    taken from an Outputs record at each window they cost a few % of the common damped
+    run (reference counts)."""
+    t, t_new, direction, k = span
     j2 = j
     while j2 < t_eval.size and (direction * (t_eval[j2] - t_new) <= 0.0):
         j2 += 1
@@ -464,7 +475,7 @@ def _emit_formula(kind, rset, coef, ends, k, j, direction, outs):
     t, t_new, th, v, is_locked = ends
     t_eval, out_theta, out_v, out_w, wrapped = outs
     if kind == KIND_TAYLOR and not is_locked:
-        return emit_taylor(coef, t, t_new, t_eval, j, direction, k, out_theta, out_v, out_w, wrapped)
+        return emit_taylor(coef, Span(t, t_new, direction, k), t_eval, j, out_theta, out_v, out_w, wrapped)
     while j < t_eval.size and (direction * (t_eval[j] - t_new) <= 0.0):
         if t_eval[j] == t_new:
             _put(out_theta, out_w, wrapped, j, k, th)
@@ -507,15 +518,17 @@ def _finish(r, status, at, n_total, j, outs):
     r.progress.status = status
 
 
-# The entries' contract.  ``run_entry(buf, fresh, t0, theta0, v0, t1, h, t_eval, out,
-# win_t, win_y, win_coef, cancel)`` advances the run in ``buf``'s last row (a RUN record's
-# float64 words: mbm.core.record.start_record) window by window.  With ``fresh`` the run
-# is first set up from ``buf``'s row 0 (a template record), the span (t0, t1), the state
-# (theta0, v0) and the first window's h_abs ``h``, and ``t_eval`` checked
-# (mbm.validate.t_eval_problem: where it fails nothing is run and −(its code) returned);
-# otherwise those five are unused and the run resumes as it stands.  One compiled entry
-# serves every caller (mbm.MBM, mbm.Integrator, the compiled whole runs), so none links
-# the loop into a wrapper of its own.
+# The entries' contract.  ``run_entry(buf, fresh, start, arrays)`` advances the run in
+# ``buf``'s last row (a RUN record's float64 words: mbm.core.record.start_record) window
+# by window; ``start`` = (t0, theta0, v0, t1, h), ``arrays`` = (t_eval, out, win_t,
+# win_y, win_coef, cancel), plain tuples (a named tuple costs ~9 µs of the dispatcher's
+# typing per call from Python).  With ``fresh`` the run is first set up from ``buf``'s
+# row 0 (a template record), the span (t0, t1), the state (theta0, v0) and the first
+# window's h_abs ``h``, and ``t_eval`` checked (mbm.validate.t_eval_problem: where it
+# fails nothing is run and −(its code) returned); otherwise ``start`` is unused and the
+# run resumes as it stands.  One compiled entry serves every caller (mbm.MBM,
+# mbm.Integrator, the compiled whole runs), so none links the loop into a wrapper of its
+# own.
 #
 # It stops at t_bound (status 0), at a failure (a STATUS_* code), at max_windows, paused
 # (STATUS_PAUSED) after call_windows windows, when the window store is full or at a
@@ -541,9 +554,11 @@ def _runner(rset, simd=False):
     STATUS_ANCHOR: :func:`entry_for` chooses), the entry the other kinds share."""
 
     @numba.njit(cache=True)
-    def run_entry(buf, fresh, t0, theta0, v0, t1, h, t_eval, out, win_t, win_y, win_coef, cancel):
+    def run_entry(buf, fresh, start, arrays):
         """Advance the run in ``buf``'s last row window by window (the entries' contract above
         :func:`_runner`); returns the windows taken, or −(the t_eval problem's code)."""
+        t0, theta0, v0, t1, h = start
+        t_eval, out, win_t, win_y, win_coef, cancel = arrays
         if fresh:
             problem = t_eval_problem(t_eval, t0, t1, False)
             if problem != 0:
@@ -719,6 +734,10 @@ def runner_for(r):
     return entry_for(int(r["control"]["kind"]), set_of(r), int(r["control"]["karg"]))
 
 
+#: The start (t0, θ0, θ'0, t1, h) of an entry's call that resumes a run (unused there).
+_NO_START = (0.0, 0.0, 0.0, 0.0, 0.0)
+
+
 def run(p, t_eval, out, win_t, win_y, win_coef, cancel):
     """Advance the run ``p[0]``: the entry of its kind and regime set (:data:`RUNNERS`,
     ``run_entry`` of :func:`_runner`), resumed through the new set's entry after a regime
@@ -733,6 +752,6 @@ def run(p, t_eval, out, win_t, win_y, win_coef, cancel):
         if entry is None:
             progress["status"][0] = STATUS_ANCHOR
             return n
-        n += entry(buf, False, 0.0, 0.0, 0.0, 0.0, 0.0, t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel)
+        n += entry(buf, False, _NO_START, (t_eval, out, win_t[n:], win_y[n:], win_coef[n:], cancel))
         if progress["status"][0] != STATUS_PAUSED or set_of(p[0]) == rset:
             return n

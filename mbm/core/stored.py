@@ -5,6 +5,8 @@
 bit with less work per time.
 """
 
+import collections
+
 import numba
 import numpy as np
 
@@ -23,6 +25,10 @@ from ..regimes.locked import LOCKED_TAG, LOCKED_WIDTH, locked_eval
 from ..regimes.strobe import STROBE_TAG, STROBE_WIDTH
 from ..regimes.strobe_windows import _strobe_store, _strobe_stored
 
+#: A run's stored windows: their start times (``win_t``), the θ at each start
+#: (``win_y[:, 0]``), their coefficients (``win_coef``) and their count.
+StoredWindows = collections.namedtuple("StoredWindows", ("starts", "start_theta", "coefs", "n"))
+
 # Small per-window pieces are inlined into their callers, where the kind is a constant
 # (numba prunes the other kinds' branches before compiling); large ones are compiled
 # once per kind and called.
@@ -38,8 +44,9 @@ def _same_row(coefs, i, r, width):
 
 
 @numba.njit(**INLINE)
-def _evaluate_windows(kind, starts, start_theta, coefs, n, direction, t, out_theta, out_v):
-    """Evaluate a run of ``n`` stored windows (``win_t``, ``win_y``, ``win_coef`` of :func:`run`) at ``t``.
+def _evaluate_windows(kind, windows, direction, t, out_theta, out_v):
+    """Evaluate a run's stored windows (``windows``, a :data:`StoredWindows` of ``win_t``,
+    ``win_y``, ``win_coef`` of :func:`mbm.core.loop.run`) at ``t``.
 
     Window i covers [starts[i], starts[i+1]]; a time on an interior boundary takes the
     later window (whose anchor is the earlier window's end value), the run's end the
@@ -48,6 +55,7 @@ def _evaluate_windows(kind, starts, start_theta, coefs, n, direction, t, out_the
     recovered from its start's θ, ``start_theta[i]`` (``win_y[i, 0]``), so the value
     is the run's own θ = 2πk + φ to the bit.
     """
+    starts, start_theta, coefs, n = windows
     # The stored period of the cycle windows met (R3): built once (they share it).
     per_n = -2
     per_starts = np.empty(0)
@@ -106,22 +114,22 @@ def _evaluate_windows(kind, starts, start_theta, coefs, n, direction, t, out_the
 
 @kernel
 def _evaluate_windows_taylor(starts, start_theta, coefs, n, direction, t, out_theta, out_v):
-    _evaluate_windows(KIND_TAYLOR, starts, start_theta, coefs, n, direction, t, out_theta, out_v)
+    _evaluate_windows(KIND_TAYLOR, StoredWindows(starts, start_theta, coefs, n), direction, t, out_theta, out_v)
 
 
 @kernel
 def _evaluate_windows_exact(starts, start_theta, coefs, n, direction, t, out_theta, out_v):
-    _evaluate_windows(KIND_EXACT, starts, start_theta, coefs, n, direction, t, out_theta, out_v)
+    _evaluate_windows(KIND_EXACT, StoredWindows(starts, start_theta, coefs, n), direction, t, out_theta, out_v)
 
 
 @kernel
 def _evaluate_windows_salas_torque(starts, start_theta, coefs, n, direction, t, out_theta, out_v):
-    _evaluate_windows(KIND_SALAS_TORQUE, starts, start_theta, coefs, n, direction, t, out_theta, out_v)
+    _evaluate_windows(KIND_SALAS_TORQUE, StoredWindows(starts, start_theta, coefs, n), direction, t, out_theta, out_v)
 
 
 @kernel
 def _evaluate_windows_split(starts, start_theta, coefs, n, direction, t, out_theta, out_v):
-    _evaluate_windows(KIND_SPLIT, starts, start_theta, coefs, n, direction, t, out_theta, out_v)
+    _evaluate_windows(KIND_SPLIT, StoredWindows(starts, start_theta, coefs, n), direction, t, out_theta, out_v)
 
 
 _EVALUATORS = {KIND_TAYLOR: _evaluate_windows_taylor, KIND_EXACT: _evaluate_windows_exact,

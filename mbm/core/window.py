@@ -12,7 +12,9 @@ Winding (:data:`TWO_PI_A`): the angle of a run of a wrapping kind is held as
 θ = 2πk + φ (:func:`theta_of`, :func:`wrap`).
 """
 
+import collections
 import math
+
 import numba
 import numpy as np
 
@@ -31,6 +33,16 @@ from ..approximants.taylor import (
 from ..compile.jit import INLINE, kernel
 from .kind_ops import OP_ANCHOR, OP_ERROR, OP_EVAL, OPS_PER_KIND, call_anchor, call_error, call_eval
 
+
+
+#: The autonomous pendulum's constants of an anchor: θ'' + βθ' + ω² sin θ = γ.
+Model = collections.namedtuple("Model", ("beta", "gamma", "omega"))
+
+#: The AC drive of an anchor (torque γ + A sin(Ωt + φ)): amplitude, frequency, phase.
+Drive = collections.namedtuple("Drive", ("amp", "freq", "phase"))
+
+#: A driven window's start: its time, θ and θ'.
+Start = collections.namedtuple("Start", ("t", "theta", "v"))
 
 
 # Kinds of the compiled dispatch: ``compiled_kind`` name -> (id, the approximant's
@@ -108,8 +120,9 @@ def kind_of(approximant):
 
 
 @numba.njit(**INLINE)
-def anchor(kind, karg, beta, gamma, omega, theta0, v0, ws_coef, ws_scratch, simd=False):
-    """Coefficient vector of approximant ``kind`` anchored at (θ₀, θ̇₀); coef[0] = status.
+def anchor(kind, karg, model, theta0, v0, ws_coef, ws_scratch, simd=False):
+    """Coefficient vector of approximant ``kind`` of ``model`` (a :data:`Model`) anchored
+    at (θ₀, θ̇₀); coef[0] = status.
 
     Kind "taylor" writes it into the run's workspace ``ws_coef``, ``ws_scratch``
     (:func:`mbm.approximants.taylor.taylor_workspace`; no allocation per window), so
@@ -117,6 +130,7 @@ def anchor(kind, karg, beta, gamma, omega, theta0, v0, ws_coef, ws_scratch, simd
     ``simd`` (a constant of the caller) anchors "taylor" at degree SIMD_ORDER alone,
     compiling no loop form of the recurrence (another ``karg``: STATUS_BAD_ORDER).
     """
+    beta, gamma, omega = model
     if kind == KIND_TAYLOR:
         # (nested: with a kind read at run time, ``simd`` alone prunes the loop form)
         if simd:
@@ -131,12 +145,14 @@ def anchor(kind, karg, beta, gamma, omega, theta0, v0, ws_coef, ws_scratch, simd
 
 
 @numba.njit(**INLINE)
-def anchor_driven(kind, karg, beta, gamma, omega, amp, freq, phase, t0, theta0, v0, ws_coef, ws_scratch,
-                  simd=False):
-    """:func:`anchor` of the driven equation (torque γ + A sin(Ωt + φ)), the window
-    starting at time ``t0``, into the workspace as :func:`anchor` (``simd`` as there);
-    only kind "taylor" integrates a drive (the others: a bad status, never the
-    autonomous formula)."""
+def anchor_driven(kind, karg, model, drive, start, ws_coef, ws_scratch, simd=False):
+    """:func:`anchor` of the driven equation (torque γ + A sin(Ωt + φ): ``drive`` a
+    :data:`Drive`), the window starting at ``start`` (a :data:`Start`: t₀, θ₀, θ̇₀),
+    into the workspace as :func:`anchor` (``simd`` as there); only kind "taylor"
+    integrates a drive (the others: a bad status, never the autonomous formula)."""
+    beta, gamma, omega = model
+    amp, freq, phase = drive
+    t0, theta0, v0 = start
     if kind == KIND_TAYLOR:
         if simd:
             return taylor24_driven_coefficients_into(beta, gamma, omega, amp, freq, phase, t0, theta0, v0, karg,

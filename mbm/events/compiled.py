@@ -333,8 +333,8 @@ class _Run:
             win_coef = np.empty((cap, self.width))
             runner = loop.runner_for(r)
             before = int(r["progress"]["n_windows"])
-            n = runner(record.words_of(p), False, 0.0, 0.0, 0.0, 0.0, 0.0, self.te, self.out, win_t, win_y, win_coef,
-                       np.zeros(1, np.int64))
+            n = runner(record.words_of(p), False, (0.0, 0.0, 0.0, 0.0, 0.0),
+                       (self.te, self.out, win_t, win_y, win_coef, np.zeros(1, np.int64)))
             start_theta = np.ascontiguousarray(win_y[: n + 1, 0])
             last = int(r["progress"]["status"]) != STATUS_PAUSED
             if self.funcs:

@@ -16,7 +16,7 @@ from ..approximants.taylor import HEADER, N_EXTRA
 from ..choice import auto_name
 from ..core import controller, record, window
 from ..core.event_batch import EVENTS_CAPACITY, FIRST_CHUNK, LAST_CHUNK, scene_events_for, stop_at
-from ..core.chains import _run_sets
+from ..core.chains import F_DRIVEN, F_PLAIN, F_TAYLOR_SIMD, _run_sets
 from ..core.event_watch import EV_ANGLE, EV_VELOCITY, EV_WIDTH
 from .compiled import as_events
 from ..regimes.common import REGIMES_ALL, REGIMES_OFF, REGIMES_PERIODIC
@@ -29,6 +29,9 @@ __all__ = ["event_table", "solve_njit_events", "solve_njit_function_events"]
 _TAYLOR = get_approximant(auto_name(False))
 _KIND, _KARG = window.kind_of(_TAYLOR)
 _ORDER = int(_TAYLOR.error_order)
+#: The sets a run with regimes off takes (mbm.core.chains.flag_bits): the plain and the
+#: driven, the default degree's Taylor entries alone.
+_FLAGS = F_TAYLOR_SIMD | F_PLAIN | F_DRIVEN
 # The window store's width for the default Taylor series (its coefficients, a cycle's).
 _WIDTH = max(HEADER + int(_KARG) + 1 + N_EXTRA, CYCLE_WIDTH)
 # The run of one scene through every regime set of the Taylor kind.
@@ -62,8 +65,13 @@ def event_table(events):
 
 
 @numba.njit(cache=True)
-def _init_taylor(p, beta, gamma, omega, t0, theta0, v0, t_bound, rtol, atol, max_windows, amp, freq, phase, regimes):
-    # p[0] a fresh adaptive run of the default Taylor series (mbm.solve's with events).
+def _init_taylor(p, run_model, run_state, tol, regimes):
+    # p[0] a fresh adaptive run of the default Taylor series (mbm.solve's with events):
+    # ``run_model`` a record.RunModel, ``run_state`` a record.RunState, ``tol`` (rtol,
+    # atol, max_windows).
+    beta, gamma, omega, amp, freq, phase = run_model
+    t0, theta0, v0, t_bound = run_state
+    rtol, atol, max_windows = tol
     drive = (amp, freq, phase) if amp != 0.0 else (0.0, 0.0, 0.0)
     model = (float(beta), float(gamma), float(omega), float(drive[0]), float(drive[1]), float(drive[2]))
     state = (float(t0), float(theta0), float(v0), float(t_bound))
@@ -188,8 +196,8 @@ def solve_njit_events(beta, gamma, omega, t0, theta0, v0, t_bound, t_eval, out, 
     cancel = np.zeros(1, dtype=np.int64)
     lock = np.empty(4)
     while True:
-        _init_taylor(p, beta, gamma, omega, t0, theta0, v0, t_bound, rtol, atol, max_windows, drive_amplitude,
-                     drive_frequency, drive_phase, np.int64(regimes))
+        _init_taylor(p, record.RunModel(beta, gamma, omega, drive_amplitude, drive_frequency, drive_phase),
+                     record.RunState(t0, theta0, v0, t_bound), (rtol, atol, max_windows), np.int64(regimes))
         hits = np.zeros(nev, np.int64)
         stored = np.zeros(nev, np.int64)
         evf = np.empty((EVENTS_CAPACITY, 4))
@@ -281,8 +289,8 @@ def solve_njit_function_events(beta, gamma, omega, t0, theta0, v0, t_bound, t_ev
     if max_events < 1:
         raise ValueError("max_events must be >= 1")
     p = np.empty(1, dtype=record.RUN)
-    _init_taylor(p, beta, gamma, omega, t0, theta0, v0, t_bound, rtol, atol, max_windows, drive_amplitude,
-                 drive_frequency, drive_phase, np.int64(REGIMES_OFF))
+    _init_taylor(p, record.RunModel(beta, gamma, omega, drive_amplitude, drive_frequency, drive_phase),
+                 record.RunState(t0, theta0, v0, t_bound), (rtol, atol, max_windows), np.int64(REGIMES_OFF))
     r = p[0]
     win_t, win_y, win_coef = _window_store()
     cancel = np.zeros(1, dtype=np.int64)
@@ -298,9 +306,8 @@ def solve_njit_function_events(beta, gamma, omega, t0, theta0, v0, t_bound, t_ev
     while True:
         before = r.progress.n_windows
         # Regimes off: the plain (or driven) entry of the Taylor kind alone, at the
-        # default degree (Taylor flag 2: mbm.core.chains._dispatch_flagged).
-        n = _run_sets(_KIND, 2, 0, 0, 0, 1, 0, 0, 1, 0, 0, p, t_eval, out, win_t[: chunk + 1], win_y[: chunk + 1],
-                      win_coef[:chunk], cancel)
+        # default degree (mbm.core.chains._dispatch_flagged).
+        n = _run_sets(_KIND, _FLAGS, p, (t_eval, out, win_t[: chunk + 1], win_y[: chunk + 1], win_coef[:chunk], cancel))
         last = r.progress.status != STATUS_PAUSED
         rows, m = function_crossings(g, direction, win_t, np.ascontiguousarray(win_y[: n + 1, 0]), win_coef, n, ref,
                                      first, last)

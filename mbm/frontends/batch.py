@@ -408,9 +408,9 @@ def _run_scenes(params, y0, opts, *, approximant, tau, events, wrap, tangent, dr
     def fresh(rows):
         # The records of the scenes ``rows`` at their start.
         q = np.empty(rows.size, dtype=record.RUN)
-        record.init_runs(q, np.ascontiguousarray(model[:, rows]), float(t0), np.ascontiguousarray(y0[rows]), float(t1),
-                       np.ascontiguousarray(plan[:, rows]), np.ascontiguousarray(h[rows]), float(max_step),
-                       float(rtol), float(atol), int(max_windows))
+        record.init_runs(q, np.ascontiguousarray(model[:, rows]), np.ascontiguousarray(y0[rows]),
+                         np.ascontiguousarray(plan[:, rows]), np.ascontiguousarray(h[rows]),
+                         (float(t0), float(t1), float(max_step), float(rtol), float(atol), int(max_windows)))
         return q
 
     p = fresh(np.arange(beta.size))

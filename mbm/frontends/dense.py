@@ -17,6 +17,7 @@ A kind of :data:`mbm.core.window.COMPILED_KINDS` without an entry here is evalua
 :func:`mbm.core.stored.evaluate_windows` itself (:func:`evaluate_windows_into`).
 """
 
+import collections
 import math
 
 import numba
@@ -104,10 +105,15 @@ def _strobe_run(kind, c, t, lo, hi, out_theta, out_v):
         out_v[q] = b
 
 
+#: The times ``t[lo:hi]`` that one window gives.
+Rows = collections.namedtuple("Rows", ("lo", "hi"))
+
+
 @numba.njit(**INLINE)
-def _cycle_run(kind, simd, c, t0, t, lo, hi, out_theta, out_v):
+def _cycle_run(kind, simd, c, t0, t, rows, out_theta, out_v):
     # A cycle window: the stored period (re-taken once for these times), shifted (its
     # own winding count).
+    lo, hi = rows
     p_starts, p_ends, p_coefs, p_n = _period_store(kind, c, simd)
     if kind == KIND_TAYLOR:
         # These times in one call, sorted ones walking the period's windows.
@@ -129,8 +135,9 @@ def _nan_run(lo, hi, out_theta, out_v):
 
 
 @numba.njit(**INLINE)
-def _plain_run(kind, c, t0, start_theta_i, t, lo, hi, out_theta, out_v):
+def _plain_run(kind, c, t0, start_theta_i, t, rows, out_theta, out_v):
     # An ordinary or locked window.
+    lo, hi = rows
     ki = _winding(kind, c, start_theta_i)
     if c.size >= LOCKED_WIDTH and c[0] == LOCKED_TAG:
         for q in range(lo, hi):
@@ -186,11 +193,11 @@ def _entries(dset, simd=False):
                     _nan_run(j, j2, out_theta, out_v)
             elif (kind == KIND_TAYLOR or kind == KIND_SPLIT) and c.size >= CYCLE_WIDTH and c[0] == CYCLE_TAG:
                 if dset == RS_CYCLE:
-                    _cycle_run(kind, simd, c, starts[i], t, j, j2, out_theta, out_v)
+                    _cycle_run(kind, simd, c, starts[i], t, Rows(j, j2), out_theta, out_v)
                 else:
                     _nan_run(j, j2, out_theta, out_v)
             else:
-                _plain_run(kind, c, starts[i], start_theta[i], t, j, j2, out_theta, out_v)
+                _plain_run(kind, c, starts[i], start_theta[i], t, Rows(j, j2), out_theta, out_v)
             j = j2
 
     @numba.njit(cache=True)
@@ -210,11 +217,11 @@ def _entries(dset, simd=False):
                 _nan_run(lo, hi, out[0], out[1])
         elif (kind == KIND_TAYLOR or kind == KIND_SPLIT) and c.size >= CYCLE_WIDTH and c[0] == CYCLE_TAG:
             if dset == RS_CYCLE:
-                _cycle_run(kind, simd, c, starts[i], t, lo, hi, out[0], out[1])
+                _cycle_run(kind, simd, c, starts[i], t, Rows(lo, hi), out[0], out[1])
             else:
                 _nan_run(lo, hi, out[0], out[1])
         else:
-            _plain_run(kind, c, starts[i], start_theta[i], t, lo, hi, out[0], out[1])
+            _plain_run(kind, c, starts[i], start_theta[i], t, Rows(lo, hi), out[0], out[1])
         y = np.empty(2)
         y[0] = out[0, 0]
         y[1] = out[1, 0]

@@ -98,6 +98,7 @@ _PAUSED = STATUS_PAUSED
 _NO_TIMES = np.empty(0)
 _NO_OUT = np.empty((2, 0))
 _NEVER = np.zeros(1, dtype=np.int64)
+_NO_START = (0.0, 0.0, 0.0, 0.0, 0.0)  # a resumed run's (unused: mbm.core.loop's entries' contract)
 
 
 class _MBMBase(OdeSolver):
@@ -411,7 +412,7 @@ class MBM(_MBMBase):
         win_t = np.empty(size + 1)
         win_y = np.empty((size + 1, 2))
         win_coef = np.empty((size, self._width))
-        n = run(buf, False, 0.0, 0.0, 0.0, 0.0, 0.0, _NO_TIMES, _NO_OUT, win_t, win_y, win_coef, _NEVER)
+        n = run(buf, False, _NO_START, (_NO_TIMES, _NO_OUT, win_t, win_y, win_coef, _NEVER))
         # Paused with the store full (or, windows_per_step=None, after CALL_WINDOWS):
         # go on in a larger store (twice the windows so far and a buffer more), up to
         # the limit.
@@ -422,8 +423,7 @@ class MBM(_MBMBase):
                 win_y = np.concatenate((win_y[: n + 1], np.empty((size - n, 2))))
                 win_coef = np.concatenate((win_coef[:n], np.empty((size - n, self._width))))
             run = self._runner = loop.runner_for(p[0])
-            n += run(buf, False, 0.0, 0.0, 0.0, 0.0, 0.0, _NO_TIMES, _NO_OUT, win_t[n:], win_y[n:], win_coef[n:],
-                     _NEVER)
+            n += run(buf, False, _NO_START, (_NO_TIMES, _NO_OUT, win_t[n:], win_y[n:], win_coef[n:], _NEVER))
         self._store_size = size
         self.n_windows = ints.item(_W_NW)
         regime = ints.item(_W_REGIME)

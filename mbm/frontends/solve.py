@@ -328,7 +328,7 @@ class Integrator:
         cap = max(cap, win_c.shape[0])
         win_t = np.empty(cap + 1)
         win_y = np.empty((cap + 1, 2))
-        n = entry(buf, True, t0, theta0, v0, t1, h, te, y, win_t, win_y, win_c, _NEVER)
+        n = entry(buf, True, start, (te, y, win_t, win_y, win_c, _NEVER))
         if n < 0:
             raise t_eval_error(-n, t0, t1)
         chosen = REGIME_NONE
@@ -341,7 +341,7 @@ class Integrator:
             regime = item(_W_REGIME)
             if regime != chosen:  # a regime switch: its set's entry
                 entry, chosen = _entry_at(self, regime), regime
-            n += entry(buf, False, t0, theta0, v0, t1, h, te, y, win_t[n:], win_y[n:], win_c[n:], _NEVER)
+            n += entry(buf, False, start, (te, y, win_t[n:], win_y[n:], win_c[n:], _NEVER))
         return win_t[: n + 1], win_y[: n + 1], win_c, n
 
     def _coef_store(self, cap, width):
@@ -393,7 +393,8 @@ class Integrator:
                     t, y = win_t, win_y.T
             else:
                 entry = self._entry
-                problem = entry(buf, True, t0, theta0, v0, t1, h, te, y, _NO_T, _NO_Y, _NO_COEF, _NEVER)
+                start, arrays = (t0, theta0, v0, t1, h), (te, y, _NO_T, _NO_Y, _NO_COEF, _NEVER)
+                problem = entry(buf, True, start, arrays)
                 if problem < 0:
                     raise t_eval_error(-problem, t0, t1)
                 chosen = REGIME_NONE
@@ -401,7 +402,7 @@ class Integrator:
                     regime = item(_W_REGIME)
                     if regime != chosen:  # a regime switch: its set's entry
                         entry, chosen = _entry_at(self, regime), regime
-                    entry(buf, False, t0, theta0, v0, t1, h, te, y, _NO_T, _NO_Y, _NO_COEF, _NEVER)
+                    entry(buf, False, start, arrays)
             if t_eval is not None:
                 t = te
                 j = item(_W_J)

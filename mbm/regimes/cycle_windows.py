@@ -22,6 +22,7 @@ from ..core.record import window_control
 from ..core.window import (
     KIND_SPLIT,
     KIND_TAYLOR,
+    Model,
     anchor,
     evaluate,
     window_log_eps,
@@ -200,7 +201,7 @@ def _period_windows_for(kind, simd=False):
         starts[0], ends[0, 0], ends[0, 1] = 0.0, theta_c, v_c
         tt, a0, a1, h = 0.0, theta_c, v_c, -1.0
         for n in range(CYCLE_MAX_WINDOWS):
-            coef = anchor(kind, karg, beta, gamma, omega, a0, a1, ws_coef, ws_scratch, simd)
+            coef = anchor(kind, karg, Model(beta, gamma, omega), a0, a1, ws_coef, ws_scratch, simd)
             if coef[0] != 0.0:
                 break
             if n == 0:

@@ -22,6 +22,9 @@ from ..core.window import (
     KIND_TAYLOR,
     TWO_PI_A,
     TWO_PI_B,
+    Drive,
+    Model,
+    Start,
     anchor_driven,
     evaluate,
     window_log_eps,
@@ -92,7 +95,8 @@ def _strobe_eval_taylor(c, t):
         # The tolerance scale of the anchor's period, the same in every period.
         off = (k_a + kk) * _TWO_PI
         # The drive at t_a + tt: phase Ω·tt + ψ_a (S6).
-        coef = anchor_driven(KIND_TAYLOR, karg, beta, gamma, omega, amp, freq, psi, tt, a0, a1, ws_coef, ws_scratch)
+        coef = anchor_driven(KIND_TAYLOR, karg, Model(beta, gamma, omega), Drive(amp, freq, psi), Start(tt, a0, a1),
+                             ws_coef, ws_scratch)
         if coef[0] != 0.0:
             break
         ctl = window_control(1.0, p_hi, math.inf, rtol, atol, error_order, log_eps)
@@ -155,7 +159,8 @@ def _strobe_windows_taylor(c):
         if not (-math.pi <= a0 <= math.pi):
             kk, a0 = wrap(kk, a0)
         off = (c[3] + kk) * _TWO_PI
-        coef = anchor_driven(KIND_TAYLOR, karg, beta, gamma, omega, amp, freq, psi, tt, a0, a1, ws_coef, ws_scratch)
+        coef = anchor_driven(KIND_TAYLOR, karg, Model(beta, gamma, omega), Drive(amp, freq, psi), Start(tt, a0, a1),
+                             ws_coef, ws_scratch)
         if coef[0] != 0.0:
             return starts, ends, coefs, n
         ctl = window_control(1.0, p_hi, math.inf, rtol, atol, error_order, log_eps)

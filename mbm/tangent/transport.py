@@ -75,6 +75,10 @@ Transported = collections.namedtuple("Transported", ("e", "S", "e2", "S2"))
 #: each sensitivity's row in the series' columns (0: θ₀'s, 1: θ̇₀'s, ≥ 2: a parameter's).
 Report = collections.namedtuple("Report", ("err", "sens", "rows"))
 
+#: Where the pass stands: the window ``n``, the next output ``j`` and the direction of
+#: time (±1).
+Cursor = collections.namedtuple("Cursor", ("n", "j", "direction"))
+
 
 @njit(**INLINE)
 def _columns_at(ws, nt, s, rows, tr):
@@ -325,7 +329,7 @@ def transport(sc, codes, track, ctl, report, ws, carry):
         if _is_own(wt, coefs, ctl, n, direction):
             n, j = _own_windows(sc, codes, ws, track, ctl, (report, tr), (n, j, end, direction))
         else:
-            j, taken = _regime_window(sc, codes, ws, n, ctl, direction, io, j, store)
+            j, taken = _regime_window(sc, codes, ws, ctl, io, Cursor(n, j, direction), store)
             if taken < 0:
                 return -1
             cursor[2] += taken
@@ -343,10 +347,12 @@ _COL_FREQ = 6  # mbm.tangent.series.COL_FREQ
 
 
 @njit(cache=True)
-def _regime_window(sc, codes, ws, n, ctl, direction, io, j, store):
-    # Window n when it is not the run's own Taylor window: a locked window (the reference
-    # until settled, then the linear flow), a stored period's (Floquet over the stored
-    # period), or any other (the reference).  Returns (next output, sub-windows; −1: failed).
+def _regime_window(sc, codes, ws, ctl, io, at, store):
+    # Window n when it is not the run's own Taylor window (``at``: a Cursor): a locked
+    # window (the reference until settled, then the linear flow), a stored period's
+    # (Floquet over the stored period), or any other (the reference).  Returns (next
+    # output, sub-windows; −1: failed).
+    n, j, direction = at
     track = io[0]
     wt, wy, coefs = track.t, track.y, track.coef
     t0, t1 = wt[n], wt[n + 1]

@@ -87,7 +87,8 @@ def test_an_entry_called_for_another_set_pauses_and_run_resumes_through_the_righ
     f2 = record.flat(p2)
     f2[0]["status"] = STATUS_OK
     f2[0]["t_bound"] = span[1] + 10.0
-    assert damped(record.words_of(p2), False, 0.0, 0.0, 0.0, 0.0, 0.0, np.empty(0), np.empty((2, 0)), *args[2:]) == 0
+    no_start, arrays = (0.0, 0.0, 0.0, 0.0, 0.0), (np.empty(0), np.empty((2, 0)), *args[2:])
+    assert damped(record.words_of(p2), False, no_start, arrays) == 0
     assert f2[0]["status"] == STATUS_PAUSED and f2[0]["t"] == f[0]["t"]
 
 
@@ -275,8 +276,8 @@ def _entry_outputs(entry, model, y0, span, te, **kw):
     f[0]["t"], f[0]["theta"], f[0]["v"], f[0]["t_bound"] = span[0], y0[0], y0[1], span[1]
     f[0]["call_windows"] = 0
     out = np.empty((2, te.size))
-    n = entry(record.words_of(p), False, 0.0, 0.0, 0.0, 0.0, 0.0, te, out, np.empty(0), np.empty((0, 2)),
-              np.empty((0, 0)), np.zeros(1, np.int64))
+    n = entry(record.words_of(p), False, (0.0, 0.0, 0.0, 0.0, 0.0),
+              (te, out, np.empty(0), np.empty((0, 2)), np.empty((0, 0)), np.zeros(1, np.int64)))
     return int(f[0]["status"]), n, out
 
 
@@ -301,7 +302,7 @@ def test_the_default_degree_entry_refuses_another_degree_with_a_status():
 
 
 def test_solve_njit_runs_the_default_degree_that_run_taylor_compiles():
-    # chains.run_taylor compiles the default degree's entries alone (flag 2)
+    # chains.run_taylor compiles the default degree's entries alone (F_TAYLOR_SIMD)
     from mbm.approximants.taylor_simd import SIMD_ORDER
 
     assert fast._AUTO_TAYLOR == (window.KIND_TAYLOR, SIMD_ORDER)

@@ -90,7 +90,7 @@ def test_batch_records_are_new_run_records_bit_for_bit():
     h = np.array([-1.0, 5.0])
     model = np.stack([beta, gamma, omega, np.zeros(2), np.zeros(2), np.zeros(2)])
     p = np.empty(2, dtype=record.RUN)
-    record.init_runs(p, model, 0.0, y0, 5.0, plan, h, math.inf, 1e-8, 1e-9, 1000)
+    record.init_runs(p, model, y0, plan, h, (0.0, 5.0, math.inf, 1e-8, 1e-9, 1000))
     for i in range(2):
         want = record.new_run(record.RunModel(beta[i], gamma[i], omega[i]), record.RunState(0.0, *y0[i], 5.0),
                               record.RunControl(plan[0, i], plan[1, i], plan[2, i], h[i], math.inf, math.inf, 1e-8,
@@ -134,7 +134,7 @@ def _entry_run(buf, theta0, t1, t_eval):
     entry = loop.entry_for(window.KIND_TAYLOR, loop.RS_DAMPED, 24)
     out = np.empty((2, t_eval.size))
     no_t, no_y, no_coef = np.empty(0), np.empty((0, 2)), np.empty((0, 0))
-    entry(buf, True, 0.0, theta0, 0.0, t1, -1.0, t_eval, out, no_t, no_y, no_coef, np.zeros(1, dtype=np.int64))
+    entry(buf, True, (0.0, theta0, 0.0, t1, -1.0), (t_eval, out, no_t, no_y, no_coef, np.zeros(1, dtype=np.int64)))
     return out, buf[1].copy()
 
 
