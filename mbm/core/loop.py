@@ -289,7 +289,8 @@ def _stop_before(kind, rset, r, counts, store, cap, seen, cancel):
 
 #: A window as a source gives it: its status, the anchored coefficients, the end time and
 #: state (θ, θ', winding), the length tried and the next proposal, whether it is the
-#: locked closed form, and the stored period's windows (passed through).
+#: locked closed form, and the stored period's windows (passed through; 0 from
+#: :func:`_source`, whose caller keeps its own).
 Window = collections.namedtuple(
     "Window", ("status", "coef", "t_new", "theta", "v", "k_new", "h_abs", "h_next", "is_locked", "per"))
 
@@ -377,15 +378,17 @@ def _source_fixed(kind, rset, simd, r, at, ctl, scratch):
 
 
 @numba.njit(**INLINE)
-def _source(kind, rset, simd, r, t, y0, y1, k, off, direction, max_step, h_abs, log_eps, can_lock, lk, ws, per):
-    """The window from (t, φ = ``y0``, θ' = ``y1``, winding ``k``) outside the stored
-    periods: the locked closed form (L2, L5), or the approximant anchored at the state
-    under the adaptive controller (a fixed window: :func:`_source_fixed`).  Returns its
-    :data:`Window` (``per`` passed through).  Its arguments stay one by one: taken as
-    At, WindowControl and RegimeSetup records they cost about 5 % of the common damped
-    run (scene P4: 250 -> 265 µs, best of 7 × 200 calls, four alternations), and as At,
-    (direction, max_step, log_eps) and RegimeSetup with the workspace alone about 4 % of
-    a driven one (benchmarks.warm_calls' driven row: 69 -> 71.5 µs, four alternations)."""
+def _source(kind, rset, simd, r, at, reach, lock, ws):
+    """The window from ``at`` (an :data:`At`: t, φ, θ', winding k, its offset, the length to
+    try) outside the stored periods: the locked closed form (L2, L5), or the approximant
+    anchored at the state under the adaptive controller (a fixed window:
+    :func:`_source_fixed`).  ``reach`` = (direction, max_step, log_eps), ``lock`` =
+    (can_lock, the LockSetup), ``ws`` the approximant's workspace; all but ``ws`` plain
+    scalars, so that the inlined source costs what its arguments one by one did.  Returns
+    its :data:`Window` with no stored period (the caller keeps its own)."""
+    t, y0, y1, k, off, h_abs = at
+    direction, max_step, log_eps = reach
+    can_lock, lk = lock
     m, c = r.model, r.control
     beta, gamma, omega = m.beta, m.gamma, m.omega
     rtol, atol, error_order = c.rtol, c.atol, c.error_order
@@ -401,15 +404,15 @@ def _source(kind, rset, simd, r, t, y0, y1, k, off, direction, max_step, h_abs, 
             r.switch.regime = REGIME_LOCKED
             r.switch.t_regime = t
         st = STATUS_OK if math.isfinite(th) and math.isfinite(v) else STATUS_NONFINITE
-        return Window(st, coef, t_new, th, v, k, h_abs, h_abs, True, per)
+        return Window(st, coef, t_new, th, v, k, h_abs, h_abs, True, 0)
     coef = _anchored(kind, rset, simd, r, t, y0, y1, ws)
     if coef[0] != 0.0:
-        return Window(STATUS_ANCHOR, coef, t, y0, y1, k, h_abs, h_abs, False, per)
+        return Window(STATUS_ANCHOR, coef, t, y0, y1, k, h_abs, h_abs, False, 0)
     ctl = window_control(direction, t_bound, max_step, rtol, atol, error_order, log_eps)
     if h_abs <= 0.0:
         h_abs = _first(kind, coef, t, y0, y1, off, omega, ctl)
     st, t_new, th, v, h_next = _adaptive(kind, coef, t, y0, y1, off, h_abs, ctl)
-    return Window(st, coef, t_new, th, v, k, h_abs, h_next, False, per)
+    return Window(st, coef, t_new, th, v, k, h_abs, h_next, False, 0)
 
 
 @numba.njit(**INLINE)
@@ -620,9 +623,9 @@ def _runner(rset, simd=False):
                 st, coef, t_new, th, v, k_new, h_abs, h_next, is_locked, per = _source_fixed(
                     kind, rset, simd, r, At(t, y0, y1, k, off, h_abs), ctl, scratch)
             else:
-                st, coef, t_new, th, v, k_new, h_abs, h_next, is_locked, per = _source(
-                    kind, rset, simd, r, t, y0, y1, k, off, direction, max_step, h_abs, log_eps, rs.can_lock, rs.lk,
-                    ws, per)
+                st, coef, t_new, th, v, k_new, h_abs, h_next, is_locked, _ = _source(
+                    kind, rset, simd, r, At(t, y0, y1, k, off, h_abs), (direction, max_step, log_eps),
+                    (rs.can_lock, rs.lk), ws)
             if st != STATUS_OK:
                 status = st
                 break
