@@ -139,9 +139,9 @@ def anchor_driven(kind, karg, beta, gamma, omega, amp, freq, phase, t0, theta0, 
     autonomous formula)."""
     if kind == KIND_TAYLOR:
         if simd:
-            return taylor24_driven_coefficients_into(beta, gamma, omega, amp, freq, phase, t0, theta0, v0, karg,
+            return taylor24_driven_coefficients_into((beta, gamma, omega, amp, freq, phase), t0, theta0, v0, karg,
                                                      ws_coef, ws_scratch)
-        return taylor_driven_coefficients_into(beta, gamma, omega, amp, freq, phase, t0, theta0, v0, karg,
+        return taylor_driven_coefficients_into((beta, gamma, omega, amp, freq, phase), t0, theta0, v0, karg,
                                                ws_coef, ws_scratch)
     bad = np.full(1, np.nan)
     bad[0] = -1.0
