@@ -302,7 +302,7 @@ def solve_njit_function_events(beta, gamma, omega, t0, theta0, v0, t_bound, t_ev
         n = _run_sets(_KIND, 2, 0, 0, 0, 1, 0, 0, 1, 0, 0, p, t_eval, out, win_t[: chunk + 1], win_y[: chunk + 1],
                       win_coef[:chunk], cancel)
         last = r.progress.status != STATUS_PAUSED
-        rows, m = function_crossings(g, direction, win_t, np.ascontiguousarray(win_y[: n + 1, 0]), win_coef, n, ref,
+        rows, m = function_crossings(g, direction, (win_t, np.ascontiguousarray(win_y[: n + 1, 0]), win_coef, n), ref,
                                      first, last)
         first = False
         if m < 0:
