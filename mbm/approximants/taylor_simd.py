@@ -58,8 +58,8 @@ LANES = 8
 # constant index HEADER + k, so the anchor makes no view of the vector.
 HEADER = 5
 
-#: The drive's series at a window's start (taylor.py's driven form, module
-#: docstring "AC drive"): f = A, freq = Ω, u = sin ψ, w = cos ψ of the phase ψ there.
+#: The drive's series at a window's start (the driven form, :mod:`mbm.approximants.taylor`'s
+#: docstring, "AC drive"): f = A, freq = Ω, u = sin ψ, w = cos ψ of the phase ψ there.
 DriveSeries = collections.namedtuple("DriveSeries", ("f", "freq", "u", "w"))
 
 _DBL = ir.DoubleType()
@@ -244,6 +244,11 @@ def _coef_data(context, builder, aryty, ary):
     return context.make_array(aryty)(context, builder, ary).data
 
 
+def _tuples(*pairs):
+    # Each (type, n) a tuple type of n entries: the intrinsics' arguments.
+    return all(isinstance(ty, types.BaseTuple) and len(ty) == n for ty, n in pairs)
+
+
 def _items(builder, tup, n):
     # The IR values of a tuple's n entries.
     return tuple(builder.extract_value(tup, i) for i in range(n))
@@ -252,6 +257,8 @@ def _items(builder, tup, n):
 @intrinsic
 def _series(typingctx, model, anchor, coef):
     # model: (β, γ, ω²); anchor: (sin θ₀, cos θ₀, θ₀, θ'₀).
+    if not _tuples((model, 3), (anchor, 4)):
+        return None
     sig = types.none(model, anchor, coef)
 
     def codegen(context, builder, signature, args):
@@ -265,6 +272,8 @@ def _series(typingctx, model, anchor, coef):
 @intrinsic
 def _driven_series(typingctx, model, drive, anchor, coef):
     # model and anchor as _series'; drive: the DriveSeries (f, freq, u, w).
+    if not _tuples((model, 3), (drive, 4), (anchor, 4)):
+        return None
     sig = types.none(model, drive, anchor, coef)
 
     def codegen(context, builder, signature, args):
