@@ -53,6 +53,7 @@ from ..compile.jit import NJIT_OPTIONS, kernel
 from ..special.pendulum_flow import (  # noqa: F401
     FLOW_PARAM_NAMES,
     N_FLOW,
+    FlowSetup,
     REGIME_LIBRATION,
     REGIME_REST,
     REGIME_ROTATION,
@@ -137,9 +138,10 @@ def belendez_anchor_kernel(beta, gamma, omega, theta0, v0):
 @kernel(error_model="numpy")
 def belendez_eval_kernel(coef, t):
     """(θ, θ') at time t after the anchor; exactly the anchor at t == 0.0."""
-    return flow_eval_kernel(coef[1], coef[3], coef[4], coef[5], coef[12], coef[13],
-                            coef[8], coef[14], coef[10], coef[11], coef[16], coef[17],
-                            coef[18], coef[19], coef[20], t)
+    flow = FlowSetup(coef[1], coef[2], coef[3], coef[4], coef[5], coef[6], coef[7], coef[8], coef[9], coef[10],
+                     coef[11], coef[12], coef[13], coef[14], coef[15], coef[16], coef[17], coef[18], coef[19],
+                     coef[20], coef[0])
+    return flow_eval_kernel(flow, t)
 
 
 @kernel(error_model="numpy")

@@ -7,6 +7,7 @@ described in :mod:`mbm.approximants.salas2022`, which registers the Approximant
 classes.
 """
 
+import collections
 import math
 
 import numba
@@ -33,6 +34,11 @@ ROOT_MAXITER = 1100
 # |℘ − c| ≥ this the form in 1/(℘ − c) is used (no overflow near the poles of ℘),
 # below it the form in ℘ − c (no division by a small ℘ − c).
 WP_FORM_SWITCH = 1.0
+
+#: The Whittaker–Watson anchor of y'² = f(y) (coef[12:18], coef[8:10] of "salas-torque"):
+#: y0, y'(0) = yd0, f1 = f′(y0), c = f″(y0)/24, k0 = f(y0) f‴(y0)/24,
+#: k1 = f(y0) f⁗(y0)/48, and ℘'s invariants g2, g3.
+WhittakerWatson = collections.namedtuple("WhittakerWatson", ("y0", "yd0", "f1", "c", "k0", "k1", "g2", "g3"))
 
 STATUS_OK = 0
 STATUS_NO_D = 1
@@ -250,8 +256,10 @@ def salas_torque_anchor(beta, gamma, omega, theta0, v0):
 
 
 @kernel(error_model="numpy")
-def _ww(s, y0, yd0, f1, c, k0, k1, g2, g3):
-    """Whittaker–Watson solution of y'² = f(y) anchored at y0: returns (y, y')."""
+def _ww(s, ww):
+    """Whittaker–Watson solution of y'² = f(y) anchored at y0 (:data:`WhittakerWatson`
+    ``ww``): returns (y, y') at s."""
+    y0, yd0, f1, c, k0, k1, g2, g3 = ww
     wp, wpp = wp_kernel(s, g2, g3)
     P = wp - c
     sgn = -yd0  # √f(y0) in WW's formula; the sign follows from ℘′ ~ −2/s³
@@ -281,7 +289,7 @@ def salas_torque_eval(coef, t):
     omega = coef[11]
     bs = coef[10]
     s = omega * t
-    y, dy = _ww(s, coef[12], coef[13], coef[14], coef[15], coef[16], coef[17], coef[8], coef[9])
+    y, dy = _ww(s, WhittakerWatson(coef[12], coef[13], coef[14], coef[15], coef[16], coef[17], coef[8], coef[9]))
     e = math.exp(-0.5 * bs * s)  # (2.7)
     theta = coef[1] + e * y
     vs = e * (dy - 0.5 * bs * y)

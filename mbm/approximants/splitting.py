@@ -239,15 +239,15 @@ def drift_flow_kernel(theta0, v0, beta, gamma, t):
 
 
 @kernel(error_model="numpy")
-def compose_kernel(theta0, v0, beta, gamma, omega, t, a_w, b_w, n_stages):
+def compose_kernel(theta0, v0, model, t, a_w, b_w, n_stages):
     """The composition e^{b₀tB} e^{a₁tA} ⋯ e^{a_s tA} e^{b_s tB} applied to (θ₀, θ̇₀).
 
     Parameters
     ----------
     theta0, v0 : float
         Anchor state.
-    beta, gamma, omega : float
-        Model.
+    model : tuple
+        (β, γ, ω).
     t : float
         Time from the anchor (the step of the composition).
     a_w, b_w : ndarray
@@ -259,6 +259,7 @@ def compose_kernel(theta0, v0, beta, gamma, omega, t, a_w, b_w, n_stages):
     -------
     theta, theta_dot : float
     """
+    beta, gamma, omega = model
     if t == 0.0:
         return theta0, v0
     # Work with θ₀ − 2πj, |θ₀ − 2πj| ≤ π, and add the increment to θ₀ once at the
@@ -297,7 +298,7 @@ def split_eval_kernel(coef, t):
     th, v = coef[5], coef[6]
     h = t / n
     for _ in range(n):
-        th, v = compose_kernel(th, v, beta, coef[3], omega, h, _A_TABLE[m], _B_TABLE[m], _N_STAGES[m])
+        th, v = compose_kernel(th, v, (beta, coef[3], omega), h, _A_TABLE[m], _B_TABLE[m], _N_STAGES[m])
     return th, v
 
 

@@ -451,7 +451,7 @@ class Taylor(Approximant):
         """The coefficient vector of the driven model's series at time ``t0``
         (:func:`taylor_driven_coefficients`)."""
         amp, freq, phase = model.drive
-        return taylor_driven_coefficients(model.beta, model.gamma, model.omega, amp, freq, phase,
+        return taylor_driven_coefficients((model.beta, model.gamma, model.omega, amp, freq, phase),
                                           float(t0), theta0, v0, int(self.kind_arg))
 
     def params_from_coef(self, coef):

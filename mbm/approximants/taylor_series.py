@@ -7,6 +7,7 @@ registered ``taylor<N>`` approximants are in :mod:`mbm.approximants.taylor`, who
 docstring describes the recurrence.
 """
 
+import collections
 import math
 
 import numpy as np
@@ -14,7 +15,7 @@ from numba import njit
 
 from ..special.dd import two_prod, two_sum
 from ..compile.jit import INLINE, kernel
-from .taylor_simd import SIMD_ORDER, taylor24_driven_series, taylor24_series
+from .taylor_simd import SIMD_ORDER, DriveSeries, taylor24_driven_series, taylor24_series
 
 
 # Layout of coef (all float64):
@@ -29,6 +30,10 @@ MAX_ORDER = 60
 # (with the root test moved out of the kernel, 15-20 % of a degree-16 anchor).
 _INV_K = np.array([0.0] + [1.0 / k for k in range(1, MAX_ORDER + N_EXTRA + 1)])
 _INV_K12 = np.array([1.0 / ((k + 1.0) * (k + 2.0)) for k in range(MAX_ORDER + N_EXTRA + 1)])
+
+#: The driven equation θ'' + βθ' + ω² sin θ = γ + A sin(Ωt + φ): its β, γ, ω and the
+#: drive's A, Ω ≥ 0, φ (a plain tuple of the six, in this order, serves as well).
+DrivenModel = collections.namedtuple("DrivenModel", ("beta", "gamma", "omega", "amp", "freq", "phase"))
 
 STATUS_OK = 0
 STATUS_BAD_STATE = 1  # non-finite anchor or parameters
@@ -322,8 +327,7 @@ def drive_phase_sincos(freq, phase, t0):
 
 
 @kernel
-def taylor_driven_coefficients_into(beta, gamma, omega, amp, freq, phase, t0, theta0, v0, n_order, coef,
-                                    scratch):
+def taylor_driven_coefficients_into(model, t0, theta0, v0, n_order, coef, scratch):
     """:func:`taylor_coefficients_into` of the driven equation θ'' + βθ' + ω² sin θ = γ + A sin(Ωt + φ).
 
     The window starts at time ``t0``; the drive's series d_k (module docstring, "AC
@@ -333,10 +337,8 @@ def taylor_driven_coefficients_into(beta, gamma, omega, amp, freq, phase, t0, th
 
     Parameters
     ----------
-    beta, gamma, omega : float
-        Model parameters.
-    amp, freq, phase : float
-        The drive's A, Ω ≥ 0, φ.
+    model : DrivenModel or tuple
+        (β, γ, ω, A, Ω ≥ 0, φ): the model's parameters and the drive's.
     t0 : float
         The window's start time (the anchor's time).
     theta0, v0, n_order, coef, scratch
@@ -347,60 +349,64 @@ def taylor_driven_coefficients_into(beta, gamma, omega, amp, freq, phase, t0, th
     ndarray
         A view of ``coef`` (the layout at module top).
     """
+    beta, gamma, omega, amp, freq, phase = model
     if (n_order == SIMD_ORDER and coef.size == HEADER + SIMD_ORDER + N_EXTRA + 1
-            and _driven_finite(beta, gamma, omega, amp, freq, phase, t0, theta0, v0)):
+            and _driven_finite(model, t0, theta0, v0)):
         # In place, as taylor_coefficients_into (and for the same reason).
         _header_into(coef, n_order, beta, gamma, omega)
         u, w = drive_phase_sincos(freq, phase, t0)
-        taylor24_driven_series(beta, gamma, omega, amp, freq, u, w, theta0, v0, coef)
+        taylor24_driven_series((beta, gamma, omega), DriveSeries(amp, freq, u, w), theta0, v0, coef)
         return coef
     if n_order == SIMD_ORDER:
         # The same recurrence in vector instructions (mbm.approximants.taylor_simd).
-        return taylor24_driven_coefficients_into(beta, gamma, omega, amp, freq, phase, t0, theta0, v0, n_order,
-                                                 coef, scratch)
-    ok, coef = _prepared(coef, scratch, n_order, beta, gamma, omega,
-                         _driven_finite(beta, gamma, omega, amp, freq, phase, t0, theta0, v0))
+        return taylor24_driven_coefficients_into(model, t0, theta0, v0, n_order, coef, scratch)
+    ok, coef = _prepared(coef, scratch, n_order, beta, gamma, omega, _driven_finite(model, t0, theta0, v0))
     if not ok:
         return coef
     u, w = drive_phase_sincos(freq, phase, t0)
-    driven_series_loop(beta, gamma, omega, amp, freq, u, w, theta0, v0, n_order, coef[HEADER:], scratch)
+    driven_series_loop((beta, gamma, omega), DriveSeries(amp, freq, u, w), theta0, v0, n_order, coef[HEADER:],
+                       scratch)
     return coef
 
 
 @kernel
-def taylor24_driven_coefficients_into(beta, gamma, omega, amp, freq, phase, t0, theta0, v0, n_order, coef,
-                                      scratch):
+def taylor24_driven_coefficients_into(model, t0, theta0, v0, n_order, coef, scratch):
     """:func:`taylor_driven_coefficients_into` at degree SIMD_ORDER alone, as
     :func:`taylor24_coefficients_into` is :func:`taylor_coefficients_into`'s."""
     if n_order != SIMD_ORDER:
         coef[:HEADER] = np.nan
         coef[0] = STATUS_BAD_ORDER
         return coef[:HEADER]
-    finite = _driven_finite(beta, gamma, omega, amp, freq, phase, t0, theta0, v0)
+    beta, gamma, omega, amp, freq, phase = model
+    finite = _driven_finite(model, t0, theta0, v0)
     if coef.size == HEADER + SIMD_ORDER + N_EXTRA + 1 and finite:
         # The workspace in place, as taylor_coefficients_into.
         _header_into(coef, n_order, beta, gamma, omega)
         u, w = drive_phase_sincos(freq, phase, t0)
-        taylor24_driven_series(beta, gamma, omega, amp, freq, u, w, theta0, v0, coef)
+        taylor24_driven_series((beta, gamma, omega), DriveSeries(amp, freq, u, w), theta0, v0, coef)
         return coef
     ok, coef = _prepared(coef, scratch, n_order, beta, gamma, omega, finite)
     if not ok:
         return coef
     u, w = drive_phase_sincos(freq, phase, t0)
-    taylor24_driven_series(beta, gamma, omega, amp, freq, u, w, theta0, v0, coef)
+    taylor24_driven_series((beta, gamma, omega), DriveSeries(amp, freq, u, w), theta0, v0, coef)
     return coef
 
 
 @njit(**INLINE)
-def _driven_finite(beta, gamma, omega, amp, freq, phase, t0, theta0, v0):
+def _driven_finite(model, t0, theta0, v0):
+    beta, gamma, omega, amp, freq, phase = model
     return (_finite5(beta, gamma, omega, theta0, v0) and math.isfinite(amp) and math.isfinite(freq)
             and math.isfinite(phase) and math.isfinite(t0))
 
 
 @kernel
-def driven_series_loop(beta, gamma, omega, amp, freq, u, w, theta0, v0, n_order, a, scratch):
-    """:func:`series_loop` of the driven recurrence, the drive's phase as u = sin ψ,
-    w = cos ψ (:func:`drive_phase_sincos`)."""
+def driven_series_loop(model, drive, theta0, v0, n_order, a, scratch):
+    """:func:`series_loop` of the driven recurrence: ``model`` (β, γ, ω), ``drive`` the
+    :data:`DriveSeries` (f = A, Ω, the phase as u = sin ψ, w = cos ψ:
+    :func:`drive_phase_sincos`)."""
+    beta, gamma, omega = model
+    amp, freq, u, w = drive
     nt = n_order + N_EXTRA
     w2 = omega * omega
     # d_k = f_k · u_k: f_k = A Ω^k / k!, u_k = sin(ψ + kπ/2), w_k = cos(ψ + kπ/2), and
@@ -420,13 +426,12 @@ def driven_series_loop(beta, gamma, omega, amp, freq, u, w, theta0, v0, n_order,
 
 
 @kernel
-def taylor_driven_coefficients(beta, gamma, omega, amp, freq, phase, t0, theta0, v0, n_order):
-    """:func:`taylor_coefficients` of the driven equation, the window starting at ``t0``
-    (a new array; see :func:`taylor_driven_coefficients_into`)."""
+def taylor_driven_coefficients(model, t0, theta0, v0, n_order):
+    """:func:`taylor_coefficients` of the driven equation ``model`` (β, γ, ω, A, Ω, φ), the
+    window starting at ``t0`` (a new array; see :func:`taylor_driven_coefficients_into`)."""
     if n_order < 1 or n_order > MAX_ORDER:
         bad = np.full(HEADER, np.nan)
         bad[0] = STATUS_BAD_ORDER
         return bad
     coef, scratch = taylor_workspace(n_order)
-    return taylor_driven_coefficients_into(beta, gamma, omega, amp, freq, phase, t0, theta0, v0, n_order,
-                                           coef, scratch)
+    return taylor_driven_coefficients_into(model, t0, theta0, v0, n_order, coef, scratch)

@@ -32,6 +32,7 @@ tests/approximants/test_taylor_simd.py bounds every coefficient against a 50-dig
 for the loop form.
 """
 
+import collections
 import math
 
 from llvmlite import ir
@@ -56,6 +57,10 @@ LANES = 8
 # Where a₀ sits in the coefficient vector (taylor.HEADER): a_k is stored at the
 # constant index HEADER + k, so the anchor makes no view of the vector.
 HEADER = 5
+
+#: The drive's series at a window's start (the driven form, :mod:`mbm.approximants.taylor`'s
+#: docstring, "AC drive"): f = A, freq = Ω, u = sin ψ, w = cos ψ of the phase ψ there.
+DriveSeries = collections.namedtuple("DriveSeries", ("f", "freq", "u", "w"))
 
 _DBL = ir.DoubleType()
 _I32 = ir.IntType(32)
@@ -239,26 +244,42 @@ def _coef_data(context, builder, aryty, ary):
     return context.make_array(aryty)(context, builder, ary).data
 
 
+def _tuples(*pairs):
+    # Each (type, n) a tuple type of n entries: the intrinsics' arguments.
+    return all(isinstance(ty, types.BaseTuple) and len(ty) == n for ty, n in pairs)
+
+
+def _items(builder, tup, n):
+    # The IR values of a tuple's n entries.
+    return tuple(builder.extract_value(tup, i) for i in range(n))
+
+
 @intrinsic
-def _series(typingctx, beta, gamma, w2, s0, c0, theta0, v0, coef):
-    sig = types.none(beta, gamma, w2, s0, c0, theta0, v0, coef)
+def _series(typingctx, model, anchor, coef):
+    # model: (β, γ, ω²); anchor: (sin θ₀, cos θ₀, θ₀, θ'₀).
+    if not _tuples((model, 3), (anchor, 4)):
+        return None
+    sig = types.none(model, anchor, coef)
 
     def codegen(context, builder, signature, args):
         data = _coef_data(context, builder, signature.args[-1], args[-1])
-        _emit(builder, data, SIMD_ORDER, tuple(args[:-1]), None)
+        _emit(builder, data, SIMD_ORDER, _items(builder, args[0], 3) + _items(builder, args[1], 4), None)
         return context.get_dummy_value()
 
     return sig, codegen
 
 
 @intrinsic
-def _driven_series(typingctx, beta, gamma, w2, f, freq, u, w, s0, c0, theta0, v0, coef):
-    sig = types.none(beta, gamma, w2, f, freq, u, w, s0, c0, theta0, v0, coef)
+def _driven_series(typingctx, model, drive, anchor, coef):
+    # model and anchor as _series'; drive: the DriveSeries (f, freq, u, w).
+    if not _tuples((model, 3), (drive, 4), (anchor, 4)):
+        return None
+    sig = types.none(model, drive, anchor, coef)
 
     def codegen(context, builder, signature, args):
         data = _coef_data(context, builder, signature.args[-1], args[-1])
-        beta_, gamma_, w2_, f_, freq_, u_, w_, s0_, c0_, theta0_, v0_ = args[:-1]
-        _emit(builder, data, SIMD_ORDER, (beta_, gamma_, w2_, s0_, c0_, theta0_, v0_), (f_, freq_, u_, w_))
+        _emit(builder, data, SIMD_ORDER, _items(builder, args[0], 3) + _items(builder, args[2], 4),
+              _items(builder, args[1], 4))
         return context.get_dummy_value()
 
     return sig, codegen
@@ -374,12 +395,13 @@ def taylor24_series(beta, gamma, omega, theta0, v0, coef):
     ``coef`` must hold at least HEADER + 27 floats (the caller checks:
     :func:`mbm.approximants.taylor.taylor_coefficients_into`).
     """
-    _series(beta, gamma, omega * omega, math.sin(theta0), math.cos(theta0), theta0, v0, coef)
+    _series((beta, gamma, omega * omega), (math.sin(theta0), math.cos(theta0), theta0, v0), coef)
 
 
 @kernel
-def taylor24_driven_series(beta, gamma, omega, f, freq, u, w, theta0, v0, coef):
-    """:func:`taylor24_series` of the driven recurrence, the drive as f = A, u = sin ψ,
-    w = cos ψ (:func:`mbm.approximants.taylor.taylor_driven_coefficients_into`)."""
-    _driven_series(beta, gamma, omega * omega, f, freq, u, w, math.sin(theta0), math.cos(theta0), theta0, v0,
-                   coef)
+def taylor24_driven_series(model, drive, theta0, v0, coef):
+    """:func:`taylor24_series` of the driven recurrence: ``model`` (β, γ, ω), ``drive`` the
+    :data:`DriveSeries` (f = A, Ω, u = sin ψ, w = cos ψ;
+    :func:`mbm.approximants.taylor.taylor_driven_coefficients_into`)."""
+    beta, gamma, omega = model
+    _driven_series((beta, gamma, omega * omega), drive, (math.sin(theta0), math.cos(theta0), theta0, v0), coef)

@@ -155,9 +155,9 @@ def anchor_driven(kind, karg, model, drive, start, ws_coef, ws_scratch, simd=Fal
     t0, theta0, v0 = start
     if kind == KIND_TAYLOR:
         if simd:
-            return taylor24_driven_coefficients_into(beta, gamma, omega, amp, freq, phase, t0, theta0, v0, karg,
+            return taylor24_driven_coefficients_into((beta, gamma, omega, amp, freq, phase), t0, theta0, v0, karg,
                                                      ws_coef, ws_scratch)
-        return taylor_driven_coefficients_into(beta, gamma, omega, amp, freq, phase, t0, theta0, v0, karg,
+        return taylor_driven_coefficients_into((beta, gamma, omega, amp, freq, phase), t0, theta0, v0, karg,
                                                ws_coef, ws_scratch)
     bad = np.full(1, np.nan)
     bad[0] = -1.0

@@ -396,7 +396,7 @@ class _Run:
             rows.append(np.column_stack((found, self.builtin[self.evi[c0: self.count]])))
             self.count = c0
         for (e, g, want, _), ref in zip(self.funcs, self.refs):
-            found, m = function_crossings(g, want, win_t, start_theta, win_coef, n, ref, first, last)
+            found, m = function_crossings(g, want, (win_t, start_theta, win_coef, n), ref, first, last)
             if m < 0:
                 raise ValueError(f"the event function {g!r} returned a non-finite value at t={found[0, 0]!r}")
             found = found[:m].copy()

@@ -27,6 +27,7 @@ takes another function as an argument): about 1.2 s on a function's first call i
 process on 2 cores (``python -m benchmarks.compile_profile``), then it is reused.
 """
 
+import collections
 import math
 import numbers
 
@@ -79,6 +80,13 @@ def event_function_options(g):
     return float(np.sign(direction)), float(terminal)
 
 
+#: A run's stored Taylor windows, as :func:`function_crossings` reads them: their start
+#: times ``starts`` (n + 1, the last the end of window n − 1), the unwound θ at each start
+#: ``start_theta``, their coefficient vectors ``coefs`` (one a row) and their count ``n``
+#: (a plain tuple of the four, in this order, serves as well).
+StoredWindows = collections.namedtuple("StoredWindows", ("starts", "start_theta", "coefs", "n"))
+
+
 @numba.njit
 def _value(g, c, t_w, k, s):
     # g on the window's formula at s from its anchor, and the state there.
@@ -88,9 +96,11 @@ def _value(g, c, t_w, k, s):
 
 
 @numba.njit
-def _brent(g, c, t_w, k, xa, xb, fa, fb, xtol):
+def _brent(g, window, xa, xb, fa, fb, xtol):
     """The root of g's sign change on [xa, xb] (values fa, fb of opposite signs or one
-    zero) by Brent's method, as scipy's brentq (Zeros/brentq.c)."""
+    zero) by Brent's method, as scipy's brentq (Zeros/brentq.c); ``window`` is the
+    Taylor window's (coefficients c, start time t_w, winding k) that :func:`_value` reads."""
+    c, t_w, k = window
     xpre, xcur, fpre, fcur = xa, xb, fa, fb
     if fpre == 0.0:
         return xpre
@@ -159,8 +169,10 @@ def _push(rows, count, t, th, v, window):
 
 
 @numba.njit
-def function_crossings(g, want, starts, start_theta, coefs, n, ref, first, last):
+def function_crossings(g, want, windows, ref, first, last):
     """The sign changes of g(t, θ, θ') on ``n`` stored Taylor windows, in time order.
+
+    ``windows`` is the :data:`StoredWindows` (starts, start_theta, coefs, n).
 
     ``ref`` carries the last sample with g ≠ 0 across calls: (s-time t, g, 1 if known,
     the window index it lies in relative to this call, −1 before it); ``first``: the
@@ -169,6 +181,7 @@ def function_crossings(g, want, starts, start_theta, coefs, n, ref, first, last)
     (0 both).  Returns rows (t, θ, θ', window) and their count, or count −1 where g
     was not finite (the row 0 its t).
     """
+    starts, start_theta, coefs, n = windows
     rows = np.empty((ROWS_CAPACITY, 4))
     count = 0
     ss = np.empty(SAMPLES_PER_WINDOW + 1)
@@ -201,7 +214,7 @@ def function_crossings(g, want, starts, start_theta, coefs, n, ref, first, last)
                     if flo * gs > 0.0:
                         x = lo
                     else:
-                        x = _brent(g, c, t_w, k, lo, s, flo, gs, xtol)
+                        x = _brent(g, (c, t_w, k), lo, s, flo, gs, xtol)
                     t = starts[i + 1] if x == h else t_w + x
                     a, b = taylor_eval_kernel(c, t - t_w)  # the dense output at t
                     rows, count = _push(rows, count, t, theta_of(k, a), b, float(i))

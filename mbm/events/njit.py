@@ -309,7 +309,7 @@ def solve_njit_function_events(beta, gamma, omega, t0, theta0, v0, t_bound, t_ev
         # default degree (mbm.core.chains._dispatch_flagged).
         n = _run_sets(_KIND, _FLAGS, p, (t_eval, out, win_t[: chunk + 1], win_y[: chunk + 1], win_coef[:chunk], cancel))
         last = r.progress.status != STATUS_PAUSED
-        rows, m = function_crossings(g, direction, win_t, np.ascontiguousarray(win_y[: n + 1, 0]), win_coef, n, ref,
+        rows, m = function_crossings(g, direction, (win_t, np.ascontiguousarray(win_y[: n + 1, 0]), win_coef, n), ref,
                                      first, last)
         first = False
         if m < 0:

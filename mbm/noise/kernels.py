@@ -11,6 +11,7 @@ Scene ``i`` draws its deviates from the counter-based stream (seed, i)
 (:mod:`mbm.noise.rng`): results do not depend on the thread count.
 """
 
+import collections
 import math
 
 import numpy as np
@@ -28,6 +29,14 @@ PARALLEL_OPTIONS = dict(NJIT_OPTIONS, parallel=True, nogil=True)
 # The first counter of a scene's thermal start draws: 2^40, past any step's counter (a
 # run has at most 10^9 < 2^30 steps), so the start and the steps never share numbers.
 START_COUNTER = 2**40
+
+#: The random stream of one scene's path (:func:`path_kernel`): the run's seed and the
+#: scene's index (a plain tuple of the two serves as well).
+PathStream = collections.namedtuple("PathStream", ("seed", "scene"))
+
+#: The steps a path call runs (:func:`path_kernel`): from step k0 to step k1 of size h
+#: (a plain tuple of the three serves as well).
+PathSteps = collections.namedtuple("PathSteps", ("k0", "k1", "h"))
 
 
 @njit(**INLINE)
@@ -233,24 +242,29 @@ def moments_kernel(p, seed, n, start, h, plan, burn_steps, steps):
 
 
 @njit(**PARALLEL_OPTIONS)
-def batch_path_kernel(params, seed, states, k0, k1, h, plans, marks, out):
+def batch_path_kernel(params, seed, states, steps, plans, marks, out):
     """:func:`path_kernel` for scenes i = 0 .. N − 1 (params (N, 8), states (N, 2),
-    plans (N, 2), out (N, len(marks), 2)) on the streams (seed, i)."""
+    plans (N, 2), out (N, len(marks), 2)) on the streams (seed, i), each over the
+    :data:`PathSteps` ``steps``."""
     for i in prange(params.shape[0]):
-        path_kernel(params[i], seed, i, states[i], k0, k1, h, (plans[i, 0], plans[i, 1]), marks, out[i])
+        path_kernel(params[i], (seed, i), states[i], steps, (plans[i, 0], plans[i, 1]), marks, out[i])
 
 
 @njit(**NJIT_OPTIONS)
-def path_kernel(p, seed, scene, state, k0, k1, h, plan, marks, out):
-    """Advance one scene's ``state`` [θ, θ'] in place from step ``k0`` to step ``k1``.
+def path_kernel(p, stream, state, steps, plan, marks, out):
+    """Advance one scene's ``state`` [θ, θ'] in place from step ``k0`` to step ``k1``
+    (``steps``, the :data:`PathSteps` (k0, k1, h)).
 
     ``out[j]`` receives the state after marks[j] steps (sorted, in [k0, k1]; the
-    start k0 included).  Step k draws pair k of the stream (seed, scene) and runs D
+    start k0 included).  Step k draws pair k of the :data:`PathStream` ``stream``
+    (seed, scene) and runs D
     from time k h: the state after step k does not depend on where the runs between
     k0 and k1 were cut.  Each state is the symmetric scheme's after whole steps, each
     half O with a deviate of its own (these numbers differ from the run kernels',
     which fuse the half steps).
     """
+    seed, scene = stream
+    k0, k1, h = steps
     m = marks.shape[0]
     c2, s2 = _ou(p, h)[2:]
     b = np.empty(TAYLOR_ORDER + 1)

@@ -112,7 +112,7 @@ def solve_langevin(model, t0, t1, theta0, v0, *, temperature, seed=None, dt=None
     plan = substeps(dt, model.omega, abs(model.gamma) + abs(amp), model.drive_frequency)
     state = np.array([theta0, v0], dtype=float)
     y = np.empty((marks.size, 2))
-    _in_chunks(lambda k0, k1, j0: path_kernel(p, np.uint64(seed), 0, state, k0, k1, dt, plan, marks[j0:], y[j0:]),
+    _in_chunks(lambda k0, k1, j0: path_kernel(p, (np.uint64(seed), 0), state, (k0, k1, dt), plan, marks[j0:], y[j0:]),
                marks, CHUNK_STEPS)
     return SolveResult(t=t0 + marks * dt, y=np.ascontiguousarray(y.T), success=True, status=0,
                        message="Langevin path completed (fixed step)", n_steps=int(marks[-1]) if marks.size else 0,
@@ -161,7 +161,7 @@ def solve_langevin_batch(params, y0, t0, t1, *, temperature, seed=None, dt=None,
                      dtype=np.int64)
     states = np.array(y0, dtype=float, order="C")
     y = np.empty((n, marks.size, 2))
-    _in_chunks(lambda k0, k1, j0: batch_path_kernel(table, np.uint64(seed), states, k0, k1, dt, plans,
+    _in_chunks(lambda k0, k1, j0: batch_path_kernel(table, np.uint64(seed), states, (k0, k1, dt), plans,
                                                     marks[j0:], y[:, j0:]), marks, max(1, CHUNK_STEPS // n))
     return SolveResult(t=t0 + marks * dt, y=np.ascontiguousarray(y.transpose(0, 2, 1)),
                        status=np.zeros(n, dtype=np.int64), success=np.ones(n, dtype=bool),

@@ -119,6 +119,15 @@ FlowSetup = collections.namedtuple("FlowSetup", FLOW_PARAM_NAMES + ("status",))
 EllipticConstants = collections.namedtuple(
     "EllipticConstants", ("k_lo", "par", "parc", "K_hi", "K_lo", "u0", "rate_hi", "rate_lo", "vscale", "per"))
 
+#: The anchor of a flow, reduced (:func:`flow_setup_kernel`): θ₀/2 reduced to [−π/2, π/2]
+#: (h_hi + h_lo), its sine (sh_hi + sh_lo, rounded to sh) and cosine ch, w = θ̇₀/(2ω)
+#: (w_hi + w_lo) and |w| (aw_hi + aw_lo), all in double-double.
+FlowAnchor = collections.namedtuple(
+    "FlowAnchor", ("h_hi", "h_lo", "sh_hi", "sh_lo", "sh", "ch", "w_hi", "w_lo", "aw_hi", "aw_lo"))
+
+#: The Jacobi modulus of a flow: k = √m, m, and mc = 1 − m in double-double (mc + mc_lo).
+FlowModulus = collections.namedtuple("FlowModulus", ("k", "m", "mc", "mc_lo"))
+
 # Length of flow_setup_kernel's result: FLOW_PARAM_NAMES and the status.
 N_FLOW = len(FlowSetup._fields)
 
@@ -150,11 +159,14 @@ def _half_rate_dd(v0, omega):
 
 
 @kernel(error_model="numpy")
-def _libration_constants(sh, ch, w_hi, w_lo, k, m, mc, mc_lo, omega):
-    """Libration, sin(θ/2) = k sn(ωt + u0 | m).
+def _libration_constants(anchor, modulus, omega):
+    """Libration, sin(θ/2) = k sn(ωt + u0 | m), from the :data:`FlowAnchor` and
+    :data:`FlowModulus` of the state.
 
     Returns the :data:`EllipticConstants` of :func:`flow_setup_kernel` (k_lo = 0).
     """
+    sh, ch, w_hi, w_lo = anchor.sh, anchor.ch, anchor.w_hi, anchor.w_lo
+    k, m, mc, mc_lo = modulus
     par, parc = m, mc
     K_hi, K_lo = ellipk_dd_kernel(mc, mc_lo)
     # k sn(u0) = sin(θ₀/2), k cn(u0) = θ̇₀/(2ω), dn(u0) = cos(θ₀/2).
@@ -178,11 +190,15 @@ def _libration_constants(sh, ch, w_hi, w_lo, k, m, mc, mc_lo, omega):
 
 
 @kernel(error_model="numpy")
-def _rotation_constants(sh_hi, sh_lo, ch, h_hi, h_lo, aw_hi, aw_lo, k, m, mc, mc_lo, sign, omega):
-    """Rotation, θ/2 = am(s k ω t + u0 | 1/m).
+def _rotation_constants(anchor, modulus, sign, omega):
+    """Rotation, θ/2 = am(s k ω t + u0 | 1/m), from the :data:`FlowAnchor` and
+    :data:`FlowModulus` of the state, s = ``sign``.
 
     Returns the :data:`EllipticConstants` of :func:`flow_setup_kernel`.
     """
+    sh_hi, sh_lo, ch, h_hi, h_lo = anchor.sh_hi, anchor.sh_lo, anchor.ch, anchor.h_hi, anchor.h_lo
+    aw_hi, aw_lo = anchor.aw_hi, anchor.aw_lo
+    k, m, mc, mc_lo = modulus
     # k in double-double: the rotation rate k ω sets the phase at long times.
     a2, a2e = two_prod(sh_hi, sh_hi)
     a2e += 2.0 * sh_hi * sh_lo
@@ -273,17 +289,19 @@ def flow_setup_kernel(theta0, v0, omega):
 
     k_lo = 0.0
     sign = 1.0
+    anchor = FlowAnchor(h_hi, h_lo, sh_hi, sh_lo, sh, ch, w_hi, w_lo, aw_hi, aw_lo)
+    modulus = FlowModulus(k, m, mc, mc_lo)
     if mc > 0.0:
         # ---------------- libration: sin(θ/2) = k sn(ωt + u0 | m) ----------------
         regime = REGIME_LIBRATION
         k_lo, par, parc, K_hi, K_lo, u0, rate_hi, rate_lo, vscale, per = _libration_constants(
-            sh, ch, w_hi, w_lo, k, m, mc, mc_lo, omega)
+            anchor, modulus, omega)
     elif mc < 0.0:
         # ---------------- rotation: θ/2 = am(s k ω t + u0 | 1/m) ------------------
         regime = REGIME_ROTATION
         sign = s_dir
         k_lo, par, parc, K_hi, K_lo, u0, rate_hi, rate_lo, vscale, per = _rotation_constants(
-            sh_hi, sh_lo, ch, h_hi, h_lo, aw_hi, aw_lo, k, m, mc, mc_lo, sign, omega)
+            anchor, modulus, sign, omega)
     elif v0 != 0.0:
         # ---------------- separatrix: sin(θ/2) = s tanh(ωt + u0) ------------------
         regime = REGIME_SEPARATRIX
@@ -312,12 +330,15 @@ def flow_setup_kernel(theta0, v0, omega):
 
 
 @kernel(error_model="numpy")
-def flow_eval_kernel(regime, theta0, v0, k, par, parc, K_hi, K_lo, u0, sign,
-                     th_hi, th_lo, rate_hi, rate_lo, vscale, t):
+def flow_eval_kernel(flow, t):
     """Evaluate the exact flow set up by :func:`flow_setup_kernel` at time ``t``.
 
-    Returns ``(theta, theta_dot)``; exactly ``(theta0, v0)`` at ``t == 0.0``.
+    ``flow`` is the :data:`FlowSetup` (its status OK).  Returns ``(theta, theta_dot)``;
+    exactly ``(theta0, v0)`` at ``t == 0.0``.
     """
+    regime, theta0, v0, k, sign, vscale = flow.regime, flow.theta0, flow.v0, flow.k, flow.sign, flow.vscale
+    par, parc, K_hi, K_lo, u0 = flow.par, flow.parc, flow.K, flow.K_lo, flow.u0
+    th_hi, th_lo, rate_hi, rate_lo = flow.theta_red, flow.theta_red_lo, flow.rate, flow.rate_lo
     if t == 0.0:
         return theta0, v0
     if not math.isfinite(t):
@@ -426,8 +447,7 @@ def pendulum_flow_kernel(theta0, v0, omega, t):
     f = flow_setup_kernel(theta0, v0, omega)
     if f.status != 0.0:
         return _NAN, _NAN
-    return flow_eval_kernel(f.regime, theta0, v0, f.k, f.par, f.parc, f.K, f.K_lo, f.u0, f.sign,
-                            f.theta_red, f.theta_red_lo, f.rate, f.rate_lo, f.vscale, t)
+    return flow_eval_kernel(f, t)
 
 
 @kernel(error_model="numpy")
@@ -442,8 +462,7 @@ def pendulum_flow_array_kernel(theta0, v0, omega, t, out_theta, out_v):
         if f.status != 0.0:
             a, b = _NAN, _NAN
         else:
-            a, b = flow_eval_kernel(f.regime, theta0, v0, f.k, f.par, f.parc, f.K, f.K_lo, f.u0, f.sign,
-                                    f.theta_red, f.theta_red_lo, f.rate, f.rate_lo, f.vscale, t[i])
+            a, b = flow_eval_kernel(f, t[i])
         out_theta[i] = a
         out_v[i] = b
 

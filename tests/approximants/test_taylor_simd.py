@@ -84,7 +84,7 @@ def _loop(s, n, driven):
     scratch = np.empty(3 * (n + N_EXTRA + 1))
     if driven:
         u, w = drive_phase_sincos(s["freq"], s["phase"], s["t0"])
-        driven_series_loop(s["beta"], s["gamma"], s["omega"], s["amp"], s["freq"], u, w, s["theta0"], s["v0"],
+        driven_series_loop((s["beta"], s["gamma"], s["omega"]), (s["amp"], s["freq"], u, w), s["theta0"], s["v0"],
                            n, a, scratch)
     else:
         series_loop(s["beta"], s["gamma"], s["omega"], s["theta0"], s["v0"], n, a, scratch)
@@ -93,7 +93,7 @@ def _loop(s, n, driven):
 
 def _kernel(s, n, driven):
     if driven:
-        return taylor_driven_coefficients(s["beta"], s["gamma"], s["omega"], s["amp"], s["freq"], s["phase"],
+        return taylor_driven_coefficients((s["beta"], s["gamma"], s["omega"], s["amp"], s["freq"], s["phase"]),
                                           s["t0"], s["theta0"], s["v0"], n)
     return taylor_coefficients(s["beta"], s["gamma"], s["omega"], s["theta0"], s["v0"], n)
 
@@ -138,7 +138,7 @@ def test_workspace_in_place_gives_the_general_paths_bits(driven):
     for s in _scenes(30, 11):
         big = np.full(coef.size + 5, 7.0)
         if driven:
-            args = (s["beta"], s["gamma"], s["omega"], s["amp"], s["freq"], s["phase"], s["t0"], s["theta0"],
+            args = ((s["beta"], s["gamma"], s["omega"], s["amp"], s["freq"], s["phase"]), s["t0"], s["theta0"],
                     s["v0"], N)
             fast = taylor_driven_coefficients_into(*args, coef, scratch).copy()
             slow = taylor_driven_coefficients_into(*args, big, scratch)
@@ -155,7 +155,7 @@ def test_in_place_path_refuses_a_bad_state_as_the_general_one():
     coef, scratch = taylor_workspace(N)
     out = taylor_coefficients_into(0.1, 0.2, 1.0, math.nan, 0.4, N, coef, scratch)
     assert out[0] == taylor.STATUS_BAD_STATE and np.isnan(out[HEADER:]).all()
-    out = taylor_driven_coefficients_into(0.1, 0.2, 1.0, 0.5, 1.0, 0.0, math.inf, 0.3, 0.4, N, coef, scratch)
+    out = taylor_driven_coefficients_into((0.1, 0.2, 1.0, 0.5, 1.0, 0.0), math.inf, 0.3, 0.4, N, coef, scratch)
     assert out[0] == taylor.STATUS_BAD_STATE
 
 
@@ -177,7 +177,7 @@ def test_the_default_degree_kernels_are_the_general_ones_at_that_degree_and_refu
     from mbm.approximants.taylor_simd import SIMD_ORDER
 
     args = (0.1, 0.3, 1.0, 0.7, -0.2)
-    drive = (0.1, 0.3, 1.0, 0.4, 0.8, 0.3, 2.5, 0.7, -0.2)
+    drive = ((0.1, 0.3, 1.0, 0.4, 0.8, 0.3), 2.5, 0.7, -0.2)
     for fn24, fn, a in ((ts.taylor24_coefficients_into, ts.taylor_coefficients_into, args),
                         (ts.taylor24_driven_coefficients_into, ts.taylor_driven_coefficients_into, drive)):
         ws, wg = ts.taylor_workspace(SIMD_ORDER), ts.taylor_workspace(SIMD_ORDER)
