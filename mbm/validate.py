@@ -205,22 +205,26 @@ def check_drive(amplitude, frequency, index=None):
 
 def check_span(t_span, allow_empty=True):
     """``(t0, t_bound)`` as finite floats; ``allow_empty=False`` refuses t0 == t_bound."""
-    pair = f"t_span must be a pair of real numbers (t0, t_bound), got {t_span!r}"
     try:
         if len(t_span) != 2:
             raise ValueError
         first, last = t_span[0], t_span[1]
     except (TypeError, ValueError, IndexError, KeyError):
-        raise ValueError(pair) from None
+        raise ValueError(_pair_message(t_span)) from None
     try:
         t0, t1 = _float("t_span", first), _float("t_span", last)
     except TypeError:
-        raise TypeError(pair) from None
+        raise TypeError(_pair_message(t_span)) from None
     if not (math.isfinite(t0) and math.isfinite(t1)):
         raise ValueError(f"t_span must be finite, got {t_span!r}")
     if not allow_empty and t0 == t1:
         raise ValueError(f"t_span must have t0 != t_bound, got {t_span!r}")
     return t0, t1
+
+
+def _pair_message(t_span):
+    # check_span's message, formatted only when it is raised (a repr costs every call).
+    return f"t_span must be a pair of real numbers (t0, t_bound), got {t_span!r}"
 
 
 def check_state(name, y0):
