@@ -60,7 +60,7 @@ MANIFEST_FILE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "manife
 # paper's Example 1 (benchmarks.first_calls), the fixed windows' entry (salas-torque's,
 # the demo's, and the exact flow's, β = γ = 0), the pieces of salas-torque, split4 and
 # the exact flow, a driven scene, a scene that reaches the running cycle (its stored
-# period's entry), and the lanes of a damped batch.
+# period's entry), the lanes of a damped batch, and the tangent pass of error_estimate=True.
 _LOOP = "mbm.core.loop"
 _KINDS = "mbm.core.kind_ops"
 # The demo's second call: its fixed windows' entry and its kind's pieces.
@@ -84,6 +84,8 @@ SCENES = {
                                           "atol=1e-9, t_eval=t_long, dense_output=True)",
     ("batch", "mbm.core.lanes", "_run_lanes", ()): "mbm.solve_batch(0.1, np.linspace(0.05, 1.5, 64), 1.0, y0, "
                                                    "span, t, rtol=1e-9, atol=1e-9)",
+    ("tangent", "mbm.tangent.transport", "transport", ()): "mbm.solve(m, span, y0, rtol=1e-9, atol=1e-9, t_eval=t, "
+                                                           "error_estimate=True)",
 }
 #: The demo's first calls (``python -m mbm demo``): solve_ivp with "auto", then with
 #: "salas-torque" (its kind's pieces, then the fixed windows' entry).
@@ -157,7 +159,7 @@ def _cores():
 
 
 def prefetch(path, entry, kind=None):
-    """Start the helper for ``path`` ("solve", "ivp" or "batch") about to call compiled
+    """Start the helper for ``path`` ("solve", "ivp", "batch" or "tangent") about to call compiled
     entry ``entry`` from a cold cache, where the module docstring's conditions hold;
     with ``kind`` (a kind id other than "taylor"'s), for that kind's pieces first.
 

@@ -37,6 +37,7 @@ from ..events.compiled import solve_events
 from ..model import Pendulum
 from ..result import SolveResult
 from .. import tangent as _tangent
+from ..tangent.transport import transport as _TRANSPORT
 from ..regimes import (
     REGIME_NAMES,
     REGIME_NONE,
@@ -547,6 +548,8 @@ def _tangent_request(error_estimate, sensitivities, events):
     req = _tangent.request(error_estimate, sensitivities)
     if req is not None and events is not None:
         raise ValueError("error_estimate and sensitivities are not supported with events")
+    if req is not None:  # a cold pass compiled by the helper beside the run's own compile
+        _warm.prefetch("tangent", _TRANSPORT)
     return req
 
 
