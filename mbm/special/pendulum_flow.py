@@ -287,8 +287,7 @@ def flow_setup_kernel(theta0, v0, omega):
     if not (math.isfinite(mc) and math.isfinite(m)):
         return _failed_setup(STATUS_BAD_STATE)
 
-    k_lo = 0.0
-    sign = 1.0
+    k_lo, sign = 0.0, 1.0
     anchor = FlowAnchor(h_hi, h_lo, sh_hi, sh_lo, sh, ch, w_hi, w_lo, aw_hi, aw_lo)
     modulus = FlowModulus(k, m, mc, mc_lo)
     if mc > 0.0:
