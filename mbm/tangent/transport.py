@@ -81,22 +81,36 @@ Cursor = collections.namedtuple("Cursor", ("n", "j", "direction"))
 
 
 @njit(**INLINE)
+def _phi_at(d, nt, s):
+    # Φ(s) = (∂θ/∂θ₀, ∂θ'/∂θ₀, ∂θ/∂θ̇₀, ∂θ'/∂θ̇₀) from the columns' series to degree nt.
+    p00, p10 = row_value_rate(d, 0, nt, s)
+    p01, p11 = row_value_rate(d, 1, nt, s)
+    return p00, p10, p01, p11
+
+
+@njit(**INLINE)
+def _sensitivity_at(d, nt, s, phi, S, rows, i):
+    # Column i of Φ(s)·S + P(s) (P: the parameter's own column where rows[i] ≥ 2).
+    p00, p10, p01, p11 = phi
+    x0 = p00 * S[0, i] + p01 * S[1, i]
+    x1 = p10 * S[0, i] + p11 * S[1, i]
+    if rows[i] >= 2:
+        q0, q1 = row_value_rate(d, rows[i], nt, s)
+        x0 += q0
+        x1 += q1
+    return x0, x1
+
+
+@njit(**INLINE)
 def _columns_at(ws, nt, s, rows, tr):
     # Φ(s)·e into tr.e2 and Φ(s)·S + P(s) into tr.S2, from the columns' series to degree nt.
     d, e, S, out_e, out_s = ws[5], tr.e, tr.S, tr.e2, tr.S2
-    p00, p10 = row_value_rate(d, 0, nt, s)
-    p01, p11 = row_value_rate(d, 1, nt, s)
+    phi = _phi_at(d, nt, s)
+    p00, p10, p01, p11 = phi
     out_e[0] = p00 * e[0] + p01 * e[1]
     out_e[1] = p10 * e[0] + p11 * e[1]
     for i in range(rows.size):
-        x0 = p00 * S[0, i] + p01 * S[1, i]
-        x1 = p10 * S[0, i] + p11 * S[1, i]
-        if rows[i] >= 2:
-            q0, q1 = row_value_rate(d, rows[i], nt, s)
-            x0 += q0
-            x1 += q1
-        out_s[0, i] = x0
-        out_s[1, i] = x1
+        out_s[0, i], out_s[1, i] = _sensitivity_at(d, nt, s, phi, S, rows, i)
 
 
 @njit(**INLINE)
@@ -141,20 +155,13 @@ def _own_outputs(d, an, span, te, j, arrays):
     e, S, err, sens, rows = arrays
     while j < te.size and direction * (te[j] - t1) <= 0.0:
         s = te[j] - t0
-        p00, p10 = row_value_rate(d, 0, kt, s)
-        p01, p11 = row_value_rate(d, 1, kt, s)
+        phi = _phi_at(d, kt, s)
+        p00, p10, p01, p11 = phi
         d0, d1 = _tail(an, n, s)
         err[0, j] = (p00 * e[0] + p01 * e[1]) + d0
         err[1, j] = (p10 * e[0] + p11 * e[1]) + d1
         for i in range(rows.size):
-            x0 = p00 * S[0, i] + p01 * S[1, i]
-            x1 = p10 * S[0, i] + p11 * S[1, i]
-            if rows[i] >= 2:
-                q0, q1 = row_value_rate(d, rows[i], kt, s)
-                x0 += q0
-                x1 += q1
-            sens[i, 0, j] = x0
-            sens[i, 1, j] = x1
+            sens[i, 0, j], sens[i, 1, j] = _sensitivity_at(d, kt, s, phi, S, rows, i)
         j += 1
     return j
 
@@ -185,16 +192,11 @@ def _own_windows(sc, codes, ws, track, ctl, io, at):
         an = coef[HEADER:]
         j = _own_outputs(d, an, (t0, t1, direction, kt, deg), te, j, arrays)
         h = t1 - t0
-        p00, p10 = row_value_rate(d, 0, kt, h)
-        p01, p11 = row_value_rate(d, 1, kt, h)
+        phi = _phi_at(d, kt, h)
+        p00, p10, p01, p11 = phi
         d0, d1 = _tail(an, deg, h)
         for i in range(rows.size):
-            x0 = p00 * S[0, i] + p01 * S[1, i]
-            x1 = p10 * S[0, i] + p11 * S[1, i]
-            if rows[i] >= 2:
-                q0, q1 = row_value_rate(d, rows[i], kt, h)
-                x0 += q0
-                x1 += q1
+            x0, x1 = _sensitivity_at(d, kt, h, phi, S, rows, i)
             S2[0, i], S2[1, i] = x0, x1
             S[0, i], S[1, i] = x0, x1
         e2[0], e2[1] = p00 * e[0] + p01 * e[1], p10 * e[0] + p11 * e[1]
