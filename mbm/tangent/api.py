@@ -10,7 +10,7 @@ from ..approximants.taylor_series import HEADER, N_EXTRA
 from ..core.window import KIND_TAYLOR
 from .series import workspace
 from .reference import REF_DEGREE
-from .transport import TANGENT_DEGREE, start, transport
+from .transport import TANGENT_DEGREE, carry_arrays, start, transport
 
 #: The sensitivities one may ask for, in the order of their series' columns
 #: (:mod:`mbm.tangent.series`): the initial state, then the parameters.
@@ -104,11 +104,12 @@ def attach(r, ig, req, windows):
         # Plain tuples in Track's, Control's and Report's order (transport's signature).
         ctl = ((ig.rtol, ig.atol), t_measured, t_taylor, n_order, kt, r["period"])
         track, report = (win_t, win_y, win_c, t_out, y_out), (err, sens, rows)
-        ws = workspace(max(REF_DEGREE, int(n_order) + 2), codes.size)
-        carry = start(track, report, codes.size, ws[0].size - 1, r["period"])
+        pool, (ws, carry) = _buffers(ig, codes.size, rows.size, max(REF_DEGREE, int(n_order) + 2), r["period"])
+        start(track, report, carry)
         taken = 1
         while taken == 1:  # chunked: Ctrl-C gets in between
             taken = transport(sc, codes, track, ctl, report, ws, carry)
+        pool.append((ws, carry))  # read: the next pass's
     if taken < 0:
         err[:] = np.nan
         sens[:] = np.nan
@@ -143,6 +144,18 @@ def _setup(ig, names, own):
         cache[key] = (tuple(float(x) for x in m.params + m.drive), np.array([0, 1] + params, np.int64), rows,
                       float(n_order), kt)
     return cache[key]
+
+
+def _buffers(ig, n_codes, n_sens, nt, period):
+    # (the pool of ig's passes of this shape, (workspace, carry)): a previous pass's
+    # arrays (set afresh by start: no allocations, no arrays boxed out of compiled code),
+    # else new ones; the caller puts them back into the pool.
+    key = (n_codes, n_sens, nt, period == period)
+    pool = ig.__dict__.setdefault("_tangent_buffers", {}).setdefault(key, [])
+    try:
+        return pool, pool.pop()
+    except IndexError:  # none yet, or other threads hold them
+        return pool, (workspace(nt, n_codes), carry_arrays(n_sens, n_codes, nt, period))
 
 
 @njit(cache=True)

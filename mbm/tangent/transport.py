@@ -265,19 +265,31 @@ def _named(track, ctl, report):
             Report(report[0], report[1], report[2]))
 
 
+def carry_arrays(n_sens, n_codes, nt, period):
+    """The arrays of a pass's carry, for :func:`start` to set: (:data:`Transported`'s
+    fields as a plain tuple, the stored period's arrays, cursor), for ``n_sens``
+    sensitivities, ``n_codes`` series columns of degree ``nt``, with a stored period's
+    arrays where ``period`` is not nan.  Reusable from pass to pass."""
+    store = period_store(n_codes, nt) if period == period else period_store(0, 0)
+    return ((np.zeros(2), np.zeros((2, n_sens)), np.zeros(2), np.zeros((2, n_sens))), store,
+            np.zeros(3, np.int64))
+
+
 @njit(cache=True)
-def start(track, report, n_codes, nt, period):
-    """The pass's carry at the run's start: (:data:`Transported`'s fields as a plain tuple,
-    the stored period's arrays, cursor),
-    cursor = [next window, next output, reference sub-windows so far]; the outputs at t0
-    written (zero error, the initial sensitivities).  ``track`` and ``report``: the fields
-    of :data:`Track` and :data:`Report` as plain tuples."""
+def start(track, report, carry):
+    """Set ``carry`` (:func:`carry_arrays`) to the run's start: zero error, the initial
+    sensitivities, cursor = [next window, next output, reference sub-windows so far]; the
+    outputs at t0 written.  ``track`` and ``report``: the fields of :data:`Track` and
+    :data:`Report` as plain tuples."""
     track = Track(track[0], track[1], track[2], track[3], track[4])
     report = Report(report[0], report[1], report[2])
+    fields, _, cursor = carry
+    tr = Transported(fields[0], fields[1], fields[2], fields[3])
     rows = report.rows
-    ns = rows.size
-    tr = Transported(np.zeros(2), np.zeros((2, ns)), np.zeros(2), np.empty((2, ns)))
-    for i in range(ns):
+    for q in range(2):
+        tr.e[q] = 0.0
+        tr.e2[q] = 0.0
+    for i in range(rows.size):
         tr.S[0, i] = 1.0 if rows[i] == COL_THETA0 else 0.0
         tr.S[1, i] = 1.0 if rows[i] == COL_V0 else 0.0
         tr.S2[0, i] = tr.S[0, i]
@@ -286,14 +298,13 @@ def start(track, report, n_codes, nt, period):
     while j < track.t_out.size and track.t_out[j] == track.t[0]:
         _report(report, j, tr, 0.0, 0.0)
         j += 1
-    store = period_store(n_codes, nt) if period == period else period_store(0, 0)
-    return (tr.e, tr.S, tr.e2, tr.S2), store, np.array([0, j, 0], np.int64)
+    cursor[0], cursor[1], cursor[2] = 0, j, 0
 
 
 @njit(cache=True)
 def transport(sc, codes, track, ctl, report, ws, carry):
     """Error transport and sensitivities along a run (module docstring), CHUNK_WINDOWS
-    windows from where ``carry`` (:func:`start`) stands.
+    windows from where ``carry`` (set by :func:`start`) stands.
 
     Parameters
     ----------
@@ -310,7 +321,7 @@ def transport(sc, codes, track, ctl, report, ws, carry):
     ws : tuple
         :func:`mbm.tangent.series.workspace` of degree REF_DEGREE and len(codes) columns.
     carry : tuple
-        From :func:`start`, advanced in place.
+        From :func:`carry_arrays`, set by :func:`start`, advanced in place.
 
     Returns
     -------
