@@ -150,20 +150,45 @@ def _own_outputs(d, an, span, te, j, arrays):
     # The outputs j, … in (t0, t1] of a Taylor window: Φ(s)·e plus the output's own
     # local error (:func:`_tail`) into err, Φ(s)·S + P(s) into sens (as
     # :func:`_columns_at` and :func:`_report`).  ``span`` = (t0, t1, direction, kt, n);
-    # ``arrays`` = (e, S, err, sens, rows).  Returns the next output index.
+    # ``arrays`` = (e, S, err, sens, rows, the columns' values and rates at s: (2, columns)).
+    # Returns the next output index.
     t0, t1, direction, kt, n = span
-    e, S, err, sens, rows = arrays
+    e, S, err, sens, rows, vr = arrays
     while j < te.size and direction * (te[j] - t1) <= 0.0:
         s = te[j] - t0
-        phi = _phi_at(d, kt, s)
+        if rows.size == 0:
+            phi = _phi_at(d, kt, s)
+        else:  # every column at once: independent Horner chains side by side
+            _rows_value_rate(d, kt, s, vr)
+            phi = vr[0, 0], vr[1, 0], vr[0, 1], vr[1, 1]
         p00, p10, p01, p11 = phi
         d0, d1 = _tail(an, n, s)
         err[0, j] = (p00 * e[0] + p01 * e[1]) + d0
         err[1, j] = (p10 * e[0] + p11 * e[1]) + d1
         for i in range(rows.size):
-            sens[i, 0, j], sens[i, 1, j] = _sensitivity_at(d, kt, s, phi, S, rows, i)
+            x0 = p00 * S[0, i] + p01 * S[1, i]
+            x1 = p10 * S[0, i] + p11 * S[1, i]
+            if rows[i] >= 2:
+                x0 += vr[0, rows[i]]
+                x1 += vr[1, rows[i]]
+            sens[i, 0, j], sens[i, 1, j] = x0, x1
         j += 1
     return j
+
+
+@njit(**INLINE)
+def _rows_value_rate(d, n, s, vr):
+    # vr[0, r], vr[1, r] = value_rate of row r of d to degree n at s, for every row: the
+    # same Horner steps per row as row_value_rate, the rows' chains interleaved.
+    nr = d.shape[0]
+    for r in range(nr):
+        vr[0, r] = d[r, n]
+        vr[1, r] = 0.0
+    for k in range(n - 1, -1, -1):
+        for r in range(nr):
+            p = vr[0, r]
+            vr[1, r] = vr[1, r] * s + p
+            vr[0, r] = p * s + d[r, k]
 
 
 @njit(cache=True)
@@ -179,7 +204,7 @@ def _own_windows(sc, codes, ws, track, ctl, io, at):
     a, sn, cn, d = ws[0], ws[1], ws[2], ws[5]
     wt, coefs, te = track.t, track.coef, track.t_out
     e, S, e2, S2, rows = tr.e, tr.S, tr.e2, tr.S2, report.rows
-    arrays = (e, S, report.err, report.sens, rows)
+    arrays = (e, S, report.err, report.sens, rows, np.empty((2, d.shape[0])))
     kt = ctl.kt
     while n < end and _is_own(wt, coefs, ctl, n, direction):
         t0, t1 = wt[n], wt[n + 1]
