@@ -89,16 +89,20 @@ def _phi_at(d, nt, s):
 
 
 @njit(**INLINE)
-def _sensitivity_at(d, nt, s, phi, S, rows, i):
-    # Column i of Φ(s)·S + P(s) (P: the parameter's own column where rows[i] ≥ 2).
+def _sensitivities_at(d, nt, s, phi, S, rows, dst):
+    # dst = Φ(s)·S + P(s) (P: a parameter's own column where rows[i] ≥ 2), column by
+    # column; one call per time (arrays handed to an inlined callee cost their reference
+    # counts per call, so not per column).
     p00, p10, p01, p11 = phi
-    x0 = p00 * S[0, i] + p01 * S[1, i]
-    x1 = p10 * S[0, i] + p11 * S[1, i]
-    if rows[i] >= 2:
-        q0, q1 = row_value_rate(d, rows[i], nt, s)
-        x0 += q0
-        x1 += q1
-    return x0, x1
+    for i in range(rows.size):
+        x0 = p00 * S[0, i] + p01 * S[1, i]
+        x1 = p10 * S[0, i] + p11 * S[1, i]
+        if rows[i] >= 2:
+            q0, q1 = row_value_rate(d, rows[i], nt, s)
+            x0 += q0
+            x1 += q1
+        dst[0, i] = x0
+        dst[1, i] = x1
 
 
 @njit(**INLINE)
@@ -109,8 +113,7 @@ def _columns_at(ws, nt, s, rows, tr):
     p00, p10, p01, p11 = phi
     out_e[0] = p00 * e[0] + p01 * e[1]
     out_e[1] = p10 * e[0] + p11 * e[1]
-    for i in range(rows.size):
-        out_s[0, i], out_s[1, i] = _sensitivity_at(d, nt, s, phi, S, rows, i)
+    _sensitivities_at(d, nt, s, phi, S, rows, out_s)
 
 
 @njit(**INLINE)
@@ -220,10 +223,9 @@ def _own_windows(sc, codes, ws, track, ctl, io, at):
         phi = _phi_at(d, kt, h)
         p00, p10, p01, p11 = phi
         d0, d1 = _tail(an, deg, h)
+        _sensitivities_at(d, kt, h, phi, S, rows, S2)
         for i in range(rows.size):
-            x0, x1 = _sensitivity_at(d, kt, h, phi, S, rows, i)
-            S2[0, i], S2[1, i] = x0, x1
-            S[0, i], S[1, i] = x0, x1
+            S[0, i], S[1, i] = S2[0, i], S2[1, i]
         e2[0], e2[1] = p00 * e[0] + p01 * e[1], p10 * e[0] + p11 * e[1]
         e[0], e[1] = e2[0] + d0, e2[1] + d1
         n += 1
