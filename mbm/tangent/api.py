@@ -10,7 +10,7 @@ from ..approximants.taylor_series import HEADER, N_EXTRA
 from ..core.window import KIND_TAYLOR
 from .series import workspace
 from .reference import REF_DEGREE
-from .transport import TANGENT_DEGREE, carry_arrays, start, transport
+from .transport import TANGENT_DEGREE, carry_arrays, transport
 
 #: The sensitivities one may ask for, in the order of their series' columns
 #: (:mod:`mbm.tangent.series`): the initial state, then the parameters.
@@ -105,7 +105,7 @@ def attach(r, ig, req, windows):
         ctl = ((ig.rtol, ig.atol), t_measured, t_taylor, n_order, kt, r["period"])
         track, report = (win_t, win_y, win_c, t_out, y_out), (err, sens, rows)
         pool, (ws, carry) = _buffers(ig, codes.size, rows.size, max(REF_DEGREE, int(n_order) + 2), r["period"])
-        start(track, report, carry)
+        carry[2][0] = -1  # a fresh pass: transport's first call starts it
         taken = 1
         while taken == 1:  # chunked: Ctrl-C gets in between
             taken = transport(sc, codes, track, ctl, report, ws, carry)

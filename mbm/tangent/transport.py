@@ -331,7 +331,7 @@ def start(track, report, carry):
 @njit(cache=True)
 def transport(sc, codes, track, ctl, report, ws, carry):
     """Error transport and sensitivities along a run (module docstring), CHUNK_WINDOWS
-    windows from where ``carry`` (set by :func:`start`) stands.
+    windows from where ``carry`` stands.
 
     Parameters
     ----------
@@ -348,7 +348,8 @@ def transport(sc, codes, track, ctl, report, ws, carry):
     ws : tuple
         :func:`mbm.tangent.series.workspace` of degree REF_DEGREE and len(codes) columns.
     carry : tuple
-        From :func:`carry_arrays`, set by :func:`start`, advanced in place.
+        From :func:`carry_arrays`, advanced in place; a fresh pass's with cursor[0] = −1
+        (:func:`start` sets it first).
 
     Returns
     -------
@@ -356,6 +357,8 @@ def transport(sc, codes, track, ctl, report, ws, carry):
         1 while windows are left (call again: Ctrl-C gets in between), 0 when done, −1
         where a reference step failed (a non-finite state).
     """
+    if carry[2][0] < 0:  # a fresh pass (cursor[0] = −1): its start in this call, not one of its own
+        start(track, report, carry)
     track, ctl, report = _named(track, ctl, report)
     wt, coefs = track.t, track.coef
     fields, store, cursor = carry
