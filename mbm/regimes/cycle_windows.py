@@ -40,7 +40,7 @@ from ..core.kind_ops import (
 )
 from ..compile.jit import INLINE, kernel
 from .common import REGIME_RUNNING
-from .stored_block import STORED_BLOCK, block_scratch, block_window, block_write
+from .stored_block import STORED_BLOCK, block_scratch, block_window, block_write, first_window_at
 from .common import Tolerance
 from .cycle import (
     CROSSING_ITERATIONS,
@@ -249,13 +249,7 @@ def _period_lookup(kind, c, starts, ends, coefs, n, t):
     if n < 1:
         return math.nan, math.nan, 0.0
     k_n, s = _cycle_phase(c, t)
-    lo, hi = 0, n - 1
-    while lo < hi:
-        mid = (lo + hi) // 2
-        if starts[mid + 1] >= s:
-            hi = mid
-        else:
-            lo = mid + 1
+    lo = first_window_at(starts, n, s)
     if starts[lo + 1] == s:
         th, v = ends[lo + 1, 0], ends[lo + 1, 1]
     else:

@@ -44,6 +44,13 @@ def block_window(starts, n, s, i):
         while starts[i + 1] < s:
             i += 1
         return i
+    return first_window_at(starts, n, s)
+
+
+@numba.njit(**INLINE)
+def first_window_at(starts, n, s):
+    """The first of ``n`` (≥ 1) windows (window i covers [starts[i], starts[i + 1]]) that
+    ends at or after ``s``, by bisection; the last where none does."""
     lo, hi = 0, n - 1
     while lo < hi:
         mid = (lo + hi) // 2
