@@ -15,7 +15,7 @@ import numba
 import numpy as np
 
 from ..regimes.common import REGIME_NONE
-from ..regimes.strobe import STROBE_MAX_PERIODS, STROBE_RING
+from ..regimes.strobe import LOCK_SLOTS, STROBE_MAX_PERIODS, STROBE_RING
 from ..compile.jit import INLINE, kernel
 
 def _group(*fields):
@@ -79,14 +79,18 @@ CYCLE = _group(("sec_n", _I), ("sec_sign", _F), ("sec_t", _F), ("sec_v", _F), ("
 #: last STROBE_RING samples, sample n at words 4(n mod STROBE_RING) on (winding count,
 #: φ, θ' carried to the exact time, the window count there); per q (index q) the traces
 #: at the last two samples, the last clean fit's spectral radius, and per class n mod q
-#: the last finite tail bound B at q·STROBE_MAX_PERIODS + (n mod q) (inf: none; S7).
+#: the last finite tail bound B at q·STROBE_MAX_PERIODS + (n mod q) (inf: none; S7);
+#: the lock watch (S8): the first sample's winding and φ, the current block's sum of
+#: θ − θ_first and its count, the level (blocks of LOCK_BLOCK·2^level samples), the
+#: number of block means kept and the means.
 STROBE = _group(
     ("str_t0", _F), ("str_n", _I), ("str_k", _F), ("str_phi", _F), ("str_v", _F), ("str_p", _F),
     ("str_m", _I), ("str_d1t", _F), ("str_d1v", _F), ("str_d2t", _F), ("str_d2v", _F), ("str_d3t", _F),
     ("str_d3v", _F), ("str_ta", _F), ("str_psi", _F), ("str_tau1", _F), ("str_tau2", _F), ("str_rho", _F),
     ("str_nw", _I), ("str_q", _F), ("str_ring", _F, (4 * STROBE_RING,)), ("str_qtau1", _F, (_STROBE_Q,)),
     ("str_qtau2", _F, (_STROBE_Q,)), ("str_qrho", _F, (_STROBE_Q,)),
-    ("str_qb", _F, (_STROBE_Q * STROBE_MAX_PERIODS,)))
+    ("str_qb", _F, (_STROBE_Q * STROBE_MAX_PERIODS,)), ("lk_k0", _F), ("lk_phi0", _F), ("lk_acc", _F),
+    ("lk_cnt", _I), ("lk_lvl", _I), ("lk_nb", _I), ("lk_means", _F, (LOCK_SLOTS,)))
 
 #: The damped regimes' constants (RS_DAMPED): the locked test's (L1, L4 and L7's quick
 #: term: mbm.regimes.locked._lock_setup) and the return map's section θ_s with θ'' + βθ'
@@ -175,6 +179,9 @@ def init_run(p, i, model, state, control, max_windows, call_windows, regimes):
         b.str_qrho[q] = math.nan
     for q in range(b.str_qb.size):
         b.str_qb[q] = math.inf
+    b.lk_k0, b.lk_phi0, b.lk_acc, b.lk_cnt, b.lk_lvl, b.lk_nb = 0.0, 0.0, 0.0, 0, 0, 0
+    for q in range(b.lk_means.size):
+        b.lk_means[q] = 0.0
     a = r.damped
     a.dmp_beta, a.dmp_gamma, a.dmp_omega = math.nan, math.nan, math.nan
     a.dmp_d, a.dmp_wl2, a.dmp_g0, a.dmp_g1, a.dmp_sd, a.dmp_q2 = 0.0, 1.0, 0.0, 0.0, 0.0, 0.0

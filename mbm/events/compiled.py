@@ -29,7 +29,8 @@ from ..validate import as_t_eval, check_real, t_eval_error, t_eval_problem
 from ..approximants.taylor import HEADER as _HEADER, N_EXTRA as _N_EXTRA
 from ..core.event_watch import (EV_ANGLE, EV_SECTION, EV_VELOCITY, EV_WIDTH, WATCH_CROWDED, WATCH_LOCKED, WATCH_OK,
                                 cycle_events_bound, event_columns, locate)
-from ..regimes import REGIME_NAMES, REGIME_NONE, REGIME_PHASE_LOCKED, cycle_summary, strobe_summary
+from ..regimes import REGIME_NAMES, REGIME_NONE
+from ..regimes.summary import RunSummary, run_summary
 from ..regimes.common import REGIMES_ALL, REGIMES_OFF, REGIMES_PERIODIC
 from ..regimes.cycle import CYCLE_WIDTH
 from .functions import event_function_options, function_crossings, is_event_function
@@ -454,19 +455,17 @@ class _Run:
                 y = np.concatenate((y, evf[-1:, 1:3].T), axis=1)
             if regime != REGIME_NONE and self.direction * (t_regime - t_stop) > 0.0:
                 regime, t_regime = REGIME_NONE, math.nan  # switched after the event
-        period = mean_velocity = math.nan
-        if regime != REGIME_NONE:
-            w = self.p.view(np.float64)
-            period, mean_velocity = cycle_summary(regime, w[_W["cyc_T"]], w[_W["cyc_sign"]])
-            if regime == REGIME_PHASE_LOCKED:
-                period, mean_velocity = strobe_summary(w[_W["str_p"]], w[_W["str_q"]], w[_W["drive_freq"]])
+        summary = run_summary(self.p.view(np.float64))
+        if self.stopped and regime == REGIME_NONE:
+            # The record may have run past a terminal event: only a switch before it counts.
+            summary = RunSummary(REGIME_NAMES[REGIME_NONE], math.nan, math.nan)
         res = SolveResult(ig._base)
         if wrap:
             res["winding"] = y[2].astype(np.int64)
             y = y[:2]
         res.update(t=t, y=y, success=status in (STATUS_OK, STATUS_EVENT), status=status,
-                   message=STATUS_MESSAGES[status], n_windows=n_windows, regime=REGIME_NAMES[regime],
-                   t_regime=t_regime, period=period, mean_velocity=mean_velocity)
+                   message=STATUS_MESSAGES[status], n_windows=n_windows, regime=summary.regime,
+                   t_regime=t_regime, period=summary.period, mean_velocity=summary.mean_velocity)
         res["t_events"], res["y_events"], res["winding_events"] = [], [], []
         res["n_events"] = self.hits.copy()
         for e, item in enumerate(items):

@@ -34,12 +34,14 @@ from ..choice import auto_name
 from .solve import Integrator, _plan, _resolve, _tangent_request, compiled
 from ..tangent import AccuracyWarning
 from ..result import SolveResult
+from ..regimes.summary import run_summary
 from ..model import Pendulum
 from ..status import STATUS_EVENT, STATUS_OK
 from ..regimes import (
     REGIME_LIBRATION,
     REGIME_LOCKED,
     REGIME_NAMES,
+    REGIME_NONE,
     REGIME_PHASE_LOCKED,
     REGIME_RUNNING,
 )
@@ -220,7 +222,7 @@ def _batch_result(p, te, out, wrap, names):
     # operations, so the same bits).
     locked_to_drive = f["regime"] == REGIME_PHASE_LOCKED
     str_q = np.where(locked_to_drive, f["str_q"], 1.0)
-    return SolveResult(
+    res = SolveResult(
         t=te, y=out, status=status, success=(status == STATUS_OK) | (status == STATUS_EVENT), winding=winding,
         n_windows=f["n_windows"].astype(np.int64), approximant=names.astype(str),
         regime=np.array([REGIME_NAMES[int(k)] for k in f["regime"]], dtype=object),
@@ -234,6 +236,11 @@ def _batch_result(p, te, out, wrap, names):
                      np.divide(f["cyc_sign"] * 2.0 * np.pi, f["cyc_T"], out=np.full(n, np.nan),
                                where=f["regime"] == REGIME_RUNNING))),
     )
+    # Driven scenes that never switched: the lock watch's reading (regimes.summary, S8).
+    words = p.view(np.float64).reshape(n, -1)
+    for i in np.flatnonzero((f["regime"] == REGIME_NONE) & (f["drive_amp"] != 0.0)):
+        res.regime[i], res.period[i], res.mean_velocity[i] = run_summary(words[i])
+    return res
 
 
 def _batch_tangent(res, scenes, tangent, options, span):

@@ -37,7 +37,8 @@ from ..approximants.taylor import HEADER as _TAYLOR_HEADER, N_EXTRA as _TAYLOR_E
 from ..choice import auto_name, auto_reason
 from ..model import Pendulum
 from .probe import check_model, identify_model
-from ..regimes import REGIME_NAMES, REGIME_NONE, REGIME_PHASE_LOCKED, cycle_summary, strobe_summary
+from ..regimes import REGIME_NONE
+from ..regimes.summary import run_summary
 
 __all__ = ["MBM", "MBMEventPoints", "MBMDenseOutput", "MBMWindowsDenseOutput"]
 
@@ -90,9 +91,7 @@ _W_CALL = tuple(record.WORD[k] for k in ("beta", "gamma", "omega", "t", "theta",
                                        "drive_amp", "drive_freq", "drive_phase"))
 (_W_BETA, _W_GAMMA, _W_OMEGA, _, _, _W_V, _W_TBOUND, _W_H, _W_PHI, _W_AMP, _W_FREQ, _W_PHASE) = _W_CALL
 assert record.WORD["v"] == _W_THETA + 1  # θ, θ' adjacent: the state is one slice of the record
-_W_REGIME, _W_T_REGIME, _W_CYC_T, _W_CYC_SIGN = (record.WORD[k] for k in ("regime", "t_regime", "cyc_T",
-                                                                        "cyc_sign"))
-_W_STR_P, _W_STR_Q = record.WORD["str_p"], record.WORD["str_q"]
+_W_REGIME, _W_T_REGIME = record.WORD["regime"], record.WORD["t_regime"]
 
 _PAUSED = STATUS_PAUSED
 _NO_TIMES = np.empty(0)
@@ -426,14 +425,8 @@ class MBM(_MBMBase):
             n += run(buf, False, _NO_START, (_NO_TIMES, _NO_OUT, win_t[n:], win_y[n:], win_coef[n:], _NEVER))
         self._store_size = size
         self.n_windows = ints.item(_W_NW)
-        regime = ints.item(_W_REGIME)
-        if regime != REGIME_NONE:
-            self.regime = REGIME_NAMES[regime]
-            self.t_regime = words.item(_W_T_REGIME)
-            self.period, self.mean_velocity = cycle_summary(regime, words[_W_CYC_T], words[_W_CYC_SIGN])
-            if regime == REGIME_PHASE_LOCKED:
-                self.period, self.mean_velocity = strobe_summary(
-                    words.item(_W_STR_P), words.item(_W_STR_Q), words.item(_W_FREQ))
+        self.regime, self.period, self.mean_velocity = run_summary(words)
+        self.t_regime = words.item(_W_T_REGIME)
         if n == 0:
             return False, self._failure(ints.item(_W_STATUS))
         # θ at the starts: a view of the store's column (the evaluator takes strides).

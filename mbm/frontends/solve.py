@@ -38,13 +38,8 @@ from ..model import Pendulum
 from ..result import SolveResult
 from .. import tangent as _tangent
 from ..tangent.transport import transport as _TRANSPORT
-from ..regimes import (
-    REGIME_NAMES,
-    REGIME_NONE,
-    REGIME_PHASE_LOCKED,
-    cycle_summary,
-    strobe_summary,
-)
+from ..regimes import REGIME_NONE
+from ..regimes.summary import run_summary
 
 __all__ = ["Integrator", "solve", "solve_njit"]
 
@@ -65,8 +60,6 @@ _W = record.WORD
 _KIND_TAYLOR, _KIND_EXACT = window.KIND_TAYLOR, window.KIND_EXACT
 _KIND_SALAS_TORQUE, _KIND_SPLIT = window.KIND_SALAS_TORQUE, window.KIND_SPLIT
 _W_H = _W["h_abs"]
-_W_CYC_T, _W_CYC_SIGN = _W["cyc_T"], _W["cyc_sign"]
-_W_STR_P, _W_STR_Q, _W_FREQ = _W["str_p"], _W["str_q"], _W["drive_freq"]
 _W_STATUS, _W_J, _W_NW, _W_REGIME, _W_T_REGIME = (_W[k] for k in ("status", "j", "n_windows", "regime", "t_regime"))
 # The loop entry's arguments a call leaves empty: no outputs, no window store; never
 # cancelled (mbm.solve is chunked instead, CALL_WINDOWS).
@@ -409,14 +402,9 @@ class Integrator:
                 j = item(_W_J)
                 if j != te.size:
                     t, y = te[:j], y[:, :j]
-            status, n_windows, regime = item(_W_STATUS), item(_W_NW), item(_W_REGIME)
+            status, n_windows = item(_W_STATUS), item(_W_NW)
             t_regime = words.item(_W_T_REGIME)
-            if regime == REGIME_NONE:
-                period = mean_velocity = _NAN
-            else:
-                period, mean_velocity = cycle_summary(regime, words[_W_CYC_T], words[_W_CYC_SIGN])
-                if regime == REGIME_PHASE_LOCKED:
-                    period, mean_velocity = strobe_summary(words[_W_STR_P], words[_W_STR_Q], words[_W_FREQ])
+            summary = run_summary(words)
         finally:
             records.append((buf, words, ints))
         r = SolveResult(self._base)
@@ -429,10 +417,10 @@ class Integrator:
         r["status"] = status
         r["message"] = _MESSAGES[status]
         r["n_windows"] = n_windows
-        r["regime"] = REGIME_NAMES[regime]
+        r["regime"] = summary.regime
         r["t_regime"] = t_regime
-        r["period"] = period
-        r["mean_velocity"] = mean_velocity
+        r["period"] = summary.period
+        r["mean_velocity"] = summary.mean_velocity
         if tangent is not None:
             _tangent.attach(r, self, tangent, (win_t, win_y, win_c))
             self._coef_stores.append(store)  # read: the next call's store
@@ -506,10 +494,14 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
         ``reason`` (what "auto" chose and why), ``regime`` (``"locked"``,
         ``"running"``, ``"libration"`` or ``"phase-locked"`` (a Shapiro step) when the
         run switched to a settled motion's closed form or stored period,
-        :doc:`/guide/regimes`; else None), ``t_regime`` (when; nan if never),
+        :doc:`/guide/regimes`; also ``"phase-locked"`` for a driven run that
+        integrated to its end locked to the drive, read from its stroboscopic samples,
+        ``mbm.regimes.summary``; else None), ``t_regime`` (when; nan if never),
         ``period`` and ``mean_velocity`` (T_c and ±2π/T_c running; a libration's period
-        and 0; phase-locked q·2π/Ω and (p/q)Ω, p turns per q ≤ 4 drive periods; nan and
-        0 locked; nan otherwise),
+        and 0; phase-locked q·2π/Ω and (p/q)Ω, p turns per q ≤ 4 drive periods, or
+        without a switch (p/q)Ω with q ≤ 12 and the orbit's period up to 8 drive
+        periods, nan where the orbit has none: chaotic within the step; nan and 0
+        locked; nan otherwise),
         ``winding`` (int64, shape (n,), with ``wrap=True``; else None).
         With ``events``: ``t_events`` and ``y_events`` (a list with one array per
         event, of shapes (k,) and (k, 2), as scipy's) and ``winding_events`` (int64

@@ -2,7 +2,7 @@
 
 A run whose motion has settled on its attractor ends with one last "window" to
 ``t_bound`` whose formula is the rest of the motion, so it costs its transient only.
-One module per regime; their derivations (items L1–L7, R1–R4, C1–C4, S1–S7, which
+One module per regime; their derivations (items L1–L7, R1–R4, C1–C4, S1–S8, which
 the code's comments cite) are in the documentation's theory page,
 ``docs/theory/regimes.md``:
 
@@ -17,6 +17,8 @@ the code's comments cite) are in the documentation's theory page,
   orbit of the stroboscopic map (a Shapiro step, integer or fractional): one stored
   period of q drive periods.
 - :mod:`mbm.regimes.common`: the REGIME_* codes, REGIME_NAMES and SWITCH_SAFETY.
+- :mod:`mbm.regimes.summary` (S8): a finished run's regime, period and mean velocity
+  for every front end, and the lock watch's reading of a driven run that never switched.
 
 How a regime plugs into the window loop (the entry of :func:`mbm.core.loop._runner`):
 
@@ -42,8 +44,9 @@ evaluation
     approximant and controller (``_period_windows_for`` of
     :mod:`mbm.regimes.cycle_windows`, ``_strobe_windows_taylor`` of :mod:`mbm.regimes.strobe_windows`;
     R3, C3, S6), so every path and the dense output (mbm.frontends.dense) give the same bits.
-    A result's ``period`` and ``mean_velocity`` are :func:`cycle_summary` and
-    :func:`strobe_summary`.
+    A result's ``regime``, ``period`` and ``mean_velocity`` are
+    :func:`mbm.regimes.summary.run_summary`'s (:func:`cycle_summary`,
+    :func:`strobe_summary`, the lock watch).
 
 Every name of the former single module ``mbm/regimes.py`` is re-exported here, so
 ``from mbm.regimes import X`` and ``mbm.regimes.X`` work as before.

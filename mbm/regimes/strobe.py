@@ -67,6 +67,25 @@ STROBE_RING = 4 * STROBE_MAX_PERIODS
 # more than this many switch scales: both are within one scale of their classes'
 # limits, so those differ by 98 scales, ten tolerances: the orbit's period is not d.
 STROBE_DISTINCT = 100.0
+# (S8): the lock watch's first block of samples: 24 is a multiple of every orbit period
+# 1, 2, 3, 4, 6, 8, 12, whose swing a block's mean of θ then removes.
+LOCK_BLOCK = 24
+# (S8): block means kept; when all are filled, neighbours merge (the blocks double), so
+# the history spans the whole run in a fixed number of words.
+LOCK_SLOTS = 64
+# (S8): drive periods the lock must hold over (the later half of the history) before a
+# run that never switched is called locked: a saddle-node's laminar phases next to a
+# step are shorter than this a few 1e-6 in γ off its edge (mbm.junction.shapiro).
+LOCK_MIN_PERIODS = 384
+# (S8): the largest q of a step p/q the watch names (a mean velocity p/q·Ω).
+LOCK_MAX_Q = 12
+# (S8): the block means' largest distance (rad) from the line of slope 2πp/q: a slip
+# moves them by 2π for good, a locked orbit's means stay within its swing's remainder.
+LOCK_BAND = 0.5 * math.pi
+# (S8): the longest orbit looked for in the ring of samples (drive periods), and the
+# agreement (in switch scales) of samples that far apart for the orbit to be periodic.
+LOCK_RING_PERIODS = STROBE_RING // 2
+LOCK_PERIODIC = 1e3
 
 # The phase-locked window's coefficient layout (STROBE_WIDTH): the index of each entry
 # of :func:`strobe_coef`'s vector (S6).

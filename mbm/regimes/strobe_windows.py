@@ -36,6 +36,8 @@ from .cycle import CYCLE_MAX_WINDOWS
 from .cycle_windows import _TWO_PI
 from .stored_block import STORED_BLOCK, block_scratch, block_window, block_write
 from .strobe import (
+    LOCK_BLOCK,
+    LOCK_SLOTS,
     STROBE_CODE,
     STROBE_DISTINCT,
     STROBE_MAX_PERIODS,
@@ -336,8 +338,30 @@ def _strobe_samples_taylor(p, coef, span, clock, n_total):
         sb.str_ring[slot + 2] = bc
         sb.str_ring[slot + 3] = float(n_total + 1)
         sb.str_k, sb.str_phi, sb.str_v = k, ac, bc
+        _lock_watch(sb, k, ac)
         sb.str_n += 1
         sb.str_nw = n_total + 1
+
+
+@kernel
+def _lock_watch(sb, k, phi):
+    """(S8): add the sample θ = 2πk + φ to the lock watch's block
+    means of θ − θ_first (the record's strobe group ``sb``); a full history merges its
+    neighbours, so its blocks double."""
+    if sb.lk_nb == 0 and sb.lk_cnt == 0 and sb.lk_lvl == 0:
+        sb.lk_k0, sb.lk_phi0 = k, phi
+    sb.lk_acc += (k - sb.lk_k0) * _TWO_PI + (phi - sb.lk_phi0)
+    sb.lk_cnt += 1
+    if sb.lk_cnt < (LOCK_BLOCK << sb.lk_lvl):
+        return
+    sb.lk_means[sb.lk_nb] = sb.lk_acc / sb.lk_cnt
+    sb.lk_nb += 1
+    sb.lk_acc, sb.lk_cnt = 0.0, 0
+    if sb.lk_nb == LOCK_SLOTS:
+        for i in range(LOCK_SLOTS // 2):
+            sb.lk_means[i] = 0.5 * (sb.lk_means[2 * i] + sb.lk_means[2 * i + 1])
+        sb.lk_nb = LOCK_SLOTS // 2
+        sb.lk_lvl += 1
 
 
 # _strobe_dev and _strobe_subharmonic are called, not inlined: they are kind-free, run once
