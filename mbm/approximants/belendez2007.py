@@ -69,7 +69,7 @@ from ..special.pendulum_flow import (  # noqa: F401
     period,
     period_kernel,
 )
-from ..special.pendulum_flow_table import flow_table_eval_range
+from ..special.pendulum_flow_table import flow_table_eval_range, flow_table_point_kernel
 from .base import Approximant, ApproximantDomainError, register
 
 __all__ = [
@@ -147,16 +147,21 @@ def _flow_of(coef):
 
 @kernel(error_model="numpy")
 def belendez_eval_kernel(coef, t):
-    """(θ, θ') at time t after the anchor; exactly the anchor at t == 0.0."""
-    return flow_eval_kernel(_flow_of(coef), t)
+    """(θ, θ') at time t after the anchor; exactly the anchor at t == 0.0.
+
+    The values of the flow's table (:func:`mbm.special.pendulum_flow_table.flow_table_point_kernel`,
+    within a few ulps of :func:`flow_eval_kernel`), so that a window's outputs are the
+    same bits whether a block of them is read from a table or each is evaluated alone.
+    """
+    return flow_table_point_kernel(_flow_of(coef), t)
 
 
 @kernel(error_model="numpy")
 def belendez_eval_range(coef, t, t_eval, j, j2, out_theta, out_v):
     """(θ, θ') at the sorted times ``t_eval[j:j2]`` of the window anchored at time ``t``
-    into ``out_theta``, ``out_v``, in one call: a block with many times per anchor of
-    :func:`mbm.special.pendulum_flow_table.flow_table_eval_range` is read from its table
-    (a few ulps from :func:`belendez_eval_kernel`), a smaller one by the flow kernel."""
+    into ``out_theta``, ``out_v``, in one call: :func:`belendez_eval_kernel`'s values bit
+    for bit, a block with many times per anchor read from the flow's table
+    (:func:`mbm.special.pendulum_flow_table.flow_table_eval_range`)."""
     flow_table_eval_range(_flow_of(coef), t, t_eval, j, j2, out_theta, out_v)
 
 

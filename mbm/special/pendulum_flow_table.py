@@ -43,11 +43,14 @@ run's outputs).
 import collections
 import math
 
+import numba
 import numpy as np
 
 from .dd import dd_add, two_prod
-from .jacobi import ellipj_kernel, ellipk_kernel
+from .jacobi import ellipj_kernel
+from .jacobi_kernels import _ellipk_rough, _stack_f64
 from .pendulum_flow import (
+    HalfPeriod,
     REGIME_LIBRATION,
     REGIME_ROTATION,
     flow_argument_kernel,
@@ -67,6 +70,7 @@ __all__ = [
     "flow_table_half",
     "flow_table_kernel",
     "flow_table_eval_kernel",
+    "flow_table_point_kernel",
     "flow_table_eval_range",
 ]
 
@@ -77,7 +81,7 @@ FLOW_TABLE_DEGREE = 10
 # Half the anchor spacing as a fraction of K': (0.02)^11 ~ 2e-19; at 0.05 the neglected terms reach 1e-12.
 FLOW_TABLE_REACH = 0.02
 
-# Most anchors per half period: 2^12 covers mc down to 1e-300 (K ~ 346, K' = π/2).
+# Most anchors per half period: 2^12 covers mc down to 1e-220 (K ≈ 257, K' = π/2); a state of doubles reaches 1e-33 (K ≈ 39: 2^10).
 FLOW_TABLE_MAX_HALF = 2**12
 
 # A table pays off from this many outputs per anchor (its build ~0.3 µs per anchor,
@@ -92,6 +96,8 @@ FlowTable = collections.namedtuple("FlowTable", ("rows", "half", "inv_step"))
 
 _NAN = float("nan")
 _N_COEF = FLOW_TABLE_DEGREE + 1
+_ROW = 2 + 2 * _N_COEF  # a row: the anchor (double-double), then θ's and θ''s coefficients
+_SCD = 3 * _N_COEF  # scratch of _expand: sn's, cn's and dn's coefficients
 
 
 @kernel(error_model="numpy")
@@ -104,8 +110,9 @@ def flow_table_half(flow):
     K = flow.K
     if not (math.isfinite(K) and K > 0.0):
         return 0
-    # K' = K(1 − par): its complement is par itself (inf at par = 0: any spacing).
-    Kp = ellipk_kernel(flow.parc, flow.par)
+    # K' = K(1 − par), whose complementary modulus is √par (inf at par = 0: any spacing
+    # will do); 8 digits of it choose the power of two.
+    Kp = _ellipk_rough(math.sqrt(flow.par))
     want = K / (2.0 * FLOW_TABLE_REACH * Kp)
     half = 1
     while half < want:
@@ -133,9 +140,8 @@ def _anchor_values(flow, a_hi, a_lo):
 def _expand(flow, a_hi, a_lo, row):
     """Taylor coefficients of θ and θ' about the anchor a ∈ [0, K] into ``row[2:]``
     (interleaved, highest degree first), using sn, cn, dn's product recurrences."""
-    s = np.empty(_N_COEF)
-    c = np.empty(_N_COEF)
-    d = np.empty(_N_COEF)
+    buf = numba.carray(_stack_f64(_SCD), _SCD)  # s, c, d: no heap allocation per time
+    s, c, d = buf[:_N_COEF], buf[_N_COEF:2 * _N_COEF], buf[2 * _N_COEF:]
     s[0], c[0], d[0] = _anchor_values(flow, a_hi, a_lo)
     par = flow.par
     for i in range(_N_COEF - 1):
@@ -147,35 +153,49 @@ def _expand(flow, a_hi, a_lo, row):
         s[i + 1] = ss / (i + 1)
         c[i + 1] = -cc / (i + 1)
         d[i + 1] = -par * dd / (i + 1)
-    libration = flow.regime == REGIME_LIBRATION
-    if libration:
+    if flow.regime == REGIME_LIBRATION:
         th0, slope, w = 2.0 * math.atan2(flow.k * s[0], d[0]), 2.0 * flow.k, c
     else:
         th0, slope, w = 2.0 * math.atan2(s[0], c[0]), 2.0, d
     for i in range(_N_COEF):
-        th = th0 if i == 0 else slope * w[i - 1] / i
         col = 2 + 2 * (FLOW_TABLE_DEGREE - i)
-        row[col] = th
+        row[col] = th0 if i == 0 else slope * w[i - 1] / i
         row[col + 1] = flow.vscale * w[i]
+
+
+@kernel(error_model="numpy")
+def _fill_row(flow, half, j, row):
+    """Row ``j`` (−half … half) of the table of ``flow``: the anchor j·K/half in
+    double-double and the coefficients about it."""
+    h_hi, h_lo = flow.K / half, flow.K_lo / half  # exact: half is a power of two
+    aj = abs(j)
+    a_hi, a_lo = two_prod(float(aj), h_hi)
+    a_lo += aj * h_lo
+    _expand(flow, a_hi, a_lo, row)
+    row[0], row[1] = a_hi, a_lo
+    if j < 0:
+        # θ is odd and θ' even in r: about −a the coefficients of degree i are
+        # −(−1)^i and (−1)^i times those about a.
+        row[0], row[1] = -a_hi, -a_lo
+        for i in range(_N_COEF):
+            col = 2 + 2 * (FLOW_TABLE_DEGREE - i)
+            if i % 2 == 1:
+                row[col + 1] = -row[col + 1]
+            else:
+                row[col] = -row[col]
 
 
 @kernel(error_model="numpy")
 def flow_table_kernel(flow, half):
     """The :data:`FlowTable` of ``flow`` with ``half`` (:func:`flow_table_half`, > 0)
     anchors per half period: anchors j·K/half, j = −half … half."""
-    rows = np.empty((2 * half + 1, 2 + 2 * _N_COEF))
-    h_hi, h_lo = flow.K / half, flow.K_lo / half  # exact: half is a power of two
+    rows = np.empty((2 * half + 1, _ROW))
     for j in range(half + 1):
-        a_hi, a_lo = two_prod(float(j), h_hi)
-        a_lo += j * h_lo
-        up = rows[half + j]
-        up[0], up[1] = a_hi, a_lo
-        _expand(flow, a_hi, a_lo, up)
+        _fill_row(flow, half, j, rows[half + j])
         if j > 0:
-            # θ is odd and θ' even in r: about −a the coefficients of degree i are
-            # −(−1)^i and (−1)^i times those about a.
-            down = rows[half - j]
-            down[0], down[1] = -a_hi, -a_lo
+            # The mirrored row from the row about +a (what _fill_row(−j) computes).
+            down, up = rows[half - j], rows[half + j]
+            down[0], down[1] = -up[0], -up[1]
             for i in range(_N_COEF):
                 col = 2 + 2 * (FLOW_TABLE_DEGREE - i)
                 odd = i % 2 == 1
@@ -185,25 +205,25 @@ def flow_table_kernel(flow, half):
 
 
 @kernel(error_model="numpy")
-def flow_table_eval_kernel(flow, table, t):
-    """(θ, θ') of the exact flow ``flow`` at time ``t`` from its :data:`FlowTable`.
-
-    The argument and its reduction by 2K are :func:`flow_eval_kernel`'s (double-double,
-    horizon-free); exactly ``(theta0, v0)`` at ``t == 0.0``; NaN where t or the phase
-    is not finite.
-    """
-    if t == 0.0:
-        return flow.theta0, flow.v0
-    if not math.isfinite(t):
-        return _NAN, _NAN
+def _phase(flow, t):
+    """The reduced argument (:data:`HalfPeriod`) at time ``t``, or NaNs where t or the phase is not finite."""
     u_hi, u_lo = flow_argument_kernel(flow, t)
-    if not math.isfinite(u_lo):
-        return _NAN, _NAN
-    r_hi, r_lo, n, n2 = reduce_half_period_kernel(u_hi, u_lo, flow.K, flow.K_lo)
-    half = table.half
-    j = int(np.floor(r_hi * table.inv_step + 0.5))
-    j = min(max(j, -half), half)
-    row = table.rows[half + j]
+    if not (math.isfinite(t) and math.isfinite(u_lo)):
+        return HalfPeriod(_NAN, _NAN, _NAN, _NAN)
+    return reduce_half_period_kernel(u_hi, u_lo, flow.K, flow.K_lo)
+
+
+@kernel(error_model="numpy")
+def _nearest(r_hi, inv_step, half):
+    """The anchor nearest r (its index −half … half)."""
+    j = int(np.floor(r_hi * inv_step + 0.5))
+    return min(max(j, -half), half)
+
+
+@kernel(error_model="numpy")
+def _state(flow, row, phase):
+    """(θ, θ') from the table row of the anchor nearest the reduced argument ``phase``."""
+    r_hi, r_lo, n, n2 = phase
     # r − a: r_hi − a_hi is exact (Sterbenz: |r − a| <= a/2 unless a = 0).
     x = (r_hi - row[0]) + (r_lo - row[1])
     th = row[2]
@@ -220,11 +240,45 @@ def flow_table_eval_kernel(flow, table, t):
 
 
 @kernel(error_model="numpy")
+def flow_table_eval_kernel(flow, table, t):
+    """(θ, θ') of the exact flow ``flow`` at time ``t`` from its :data:`FlowTable`.
+
+    The argument and its reduction by 2K are :func:`flow_eval_kernel`'s (double-double,
+    horizon-free); exactly ``(theta0, v0)`` at ``t == 0.0``; NaN where t or the phase
+    is not finite.
+    """
+    if t == 0.0:
+        return flow.theta0, flow.v0
+    phase = _phase(flow, t)
+    if not math.isfinite(phase.r_hi):
+        return _NAN, _NAN
+    return _state(flow, table.rows[table.half + _nearest(phase.r_hi, table.inv_step, table.half)], phase)
+
+
+@kernel(error_model="numpy")
+def flow_table_point_kernel(flow, t):
+    """:func:`flow_table_eval_kernel` without a table, bit for bit: the one row needed
+    is expanded on the stack (~2× :func:`flow_eval_kernel`'s cost).  Where no table
+    applies (:func:`flow_table_half` is 0: the separatrix, rest), :func:`flow_eval_kernel`."""
+    half = flow_table_half(flow)
+    if half == 0:
+        return flow_eval_kernel(flow, t)
+    if t == 0.0:
+        return flow.theta0, flow.v0
+    phase = _phase(flow, t)
+    if not math.isfinite(phase.r_hi):
+        return _NAN, _NAN
+    row = numba.carray(_stack_f64(_ROW), _ROW)
+    _fill_row(flow, half, _nearest(phase.r_hi, half / flow.K, half), row)
+    return _state(flow, row, phase)
+
+
+@kernel(error_model="numpy")
 def flow_table_eval_range(flow, t, t_eval, j, j2, out_theta, out_v):
-    """(θ, θ') of the exact flow ``flow`` anchored at time ``t`` at ``t_eval[j:j2]`` into
-    ``out_theta``, ``out_v``: from a table (:func:`flow_table_kernel`) where the block
-    has FLOW_TABLE_OUTPUTS_PER_ANCHOR outputs per anchor, else by
-    :func:`flow_eval_kernel` per time (the table's cost would not pay off)."""
+    """:func:`flow_table_point_kernel` of the exact flow ``flow`` anchored at time ``t``
+    at ``t_eval[j:j2]``, into ``out_theta``, ``out_v``: from a table
+    (:func:`flow_table_kernel`, the same bits) where the block has
+    FLOW_TABLE_OUTPUTS_PER_ANCHOR outputs per anchor."""
     half = flow_table_half(flow)
     if half > 0 and j2 - j >= FLOW_TABLE_OUTPUTS_PER_ANCHOR * (half + 1):
         table = flow_table_kernel(flow, half)
@@ -232,4 +286,4 @@ def flow_table_eval_range(flow, t, t_eval, j, j2, out_theta, out_v):
             out_theta[i], out_v[i] = flow_table_eval_kernel(flow, table, t_eval[i] - t)
     else:
         for i in range(j, j2):
-            out_theta[i], out_v[i] = flow_eval_kernel(flow, t_eval[i] - t)
+            out_theta[i], out_v[i] = flow_table_point_kernel(flow, t_eval[i] - t)

@@ -4,7 +4,8 @@ Against the flow kernel (mbm.special.pendulum_flow.flow_eval_kernel) over librat
 rotation scenes from m = 1e-12 to m = 1e4 (next to the separatrix on both sides), for
 |t| <= 100 and |t| up to 1e6: within a few ulps of the motion's scale; against the
 60-digit mpmath references of tests/approximants/test_belendez2007.py at that file's own
-tolerances; the anchor bit for bit at t = 0; and through mbm.solve's outputs.
+tolerances; the anchor bit for bit at t = 0; the per-time kernel the table's bits; and through
+mbm.solve's outputs.
 """
 
 import math
@@ -21,6 +22,7 @@ from mbm.special.pendulum_flow_table import (
     flow_table_eval_range,
     flow_table_half,
     flow_table_kernel,
+    flow_table_point_kernel,
 )
 
 import belendez2007_mpmath as refmod  # noqa: E402  tests/data, on pytest's pythonpath
@@ -42,6 +44,8 @@ def _both(th0, v0, om, ts, out):
     for i in range(ts.size):
         out[0, i], out[1, i] = flow_eval_kernel(f, ts[i])
         out[2, i], out[3, i] = flow_table_eval_kernel(f, table, ts[i])
+        if flow_table_point_kernel(f, ts[i]) != (out[2, i], out[3, i]):
+            return -1
     return half
 
 
@@ -69,7 +73,7 @@ _TS = np.concatenate([np.linspace(-100.0, 100.0, _N), np.random.default_rng(5).u
 @pytest.mark.parametrize("om, th0, v0", list(_scenes()))
 def test_table_within_ulps_of_flow_kernel(om, th0, v0):
     half, (th_f, v_f, th_t, v_t) = _run(th0, v0, om, _TS)
-    assert half > 0
+    assert half > 0  # (−1: the per-time kernel differed from the table)
     th_scale = np.maximum(np.abs(th_f), np.abs(th_f[:_N]).max())
     assert np.all(np.abs(th_t - th_f) <= THETA_ULPS * np.spacing(th_scale)), np.max(
         np.abs(th_t - th_f) / np.spacing(th_scale))
@@ -121,30 +125,42 @@ def _range(th0, v0, om, t0, ts, j, j2, out):
     flow_table_eval_range(flow_setup_kernel(th0, v0, om), t0, ts, j, j2, out[0], out[1])
 
 
-def test_small_block_is_the_flow_kernel():
-    """Below FLOW_TABLE_OUTPUTS_PER_ANCHOR outputs per anchor: no table, the same bits."""
-    th0, v0, om = 1.0, 0.3, 1.3
+@numba.njit(cache=True)
+def _points(th0, v0, om, t0, ts, out):
     f = flow_setup_kernel(th0, v0, om)
-    n = FLOW_TABLE_OUTPUTS_PER_ANCHOR * (flow_table_half(f) + 1) - 1
-    ts = np.linspace(0.5, 50.0, n)
-    out = np.full((2, n + 2), np.nan)
-    _range(th0, v0, om, 0.25, ts, 0, n, out)
-    ref = np.array([flow_eval_kernel(f, t - 0.25) for t in ts]).T
-    assert np.array_equal(out[:, :n], ref)
-    assert np.all(np.isnan(out[:, n:]))
+    for i in range(ts.size):
+        out[0, i], out[1, i] = flow_table_point_kernel(f, ts[i] - t0)
+
+
+@pytest.mark.parametrize("th0, v0, om", [(1.0, 0.3, 1.3), (0.5, -2.9, 1.1), (math.pi, 0.0, 1.0)])
+def test_range_is_the_point_kernel(th0, v0, om):
+    """A block below FLOW_TABLE_OUTPUTS_PER_ANCHOR outputs per anchor (no table) and one
+    above (a table): the per-time kernel's bits, and nothing outside the block written."""
+    f = flow_setup_kernel(th0, v0, om)
+    for n in (FLOW_TABLE_OUTPUTS_PER_ANCHOR * (flow_table_half(f) + 1) - 1, 20_000):
+        ts = np.linspace(-50.0, 1e4, n)
+        out = np.full((2, n + 2), np.nan)
+        _range(th0, v0, om, 0.25, ts, 0, n, out)
+        ref = np.empty((2, n))
+        _points(th0, v0, om, 0.25, ts, ref)
+        assert np.array_equal(out[:, :n], ref)
+        assert np.all(np.isnan(out[:, n:]))
 
 
 @pytest.mark.parametrize("y0", [(1.0, 0.0), (0.0, 2.5), (-2.0, -2.1)])
 def test_solve_outputs(y0):
-    """mbm.solve's exact flow (one window) with many outputs: within the bounds of the flow
-    kernel, the anchor at t = 0 and the end state at t = T bit for bit."""
+    """mbm.solve's exact flow (one window) with many outputs: solve_ivp(method=mbm.MBM)'s
+    bits, within the bounds of the flow kernel, the anchor at t = 0."""
+    from scipy.integrate import solve_ivp
+
     model = mbm.Pendulum(0.0, 0.0, 1.0)
     t_eval = np.linspace(0.0, 2000.0, 20_001)
     r = mbm.solve(model, (0.0, 2000.0), y0, rtol=1e-9, atol=1e-9, t_eval=t_eval)
     assert r.success and r.n_windows == 1
+    s = solve_ivp(model, (0.0, 2000.0), y0, method=mbm.MBM, rtol=1e-9, atol=1e-9, t_eval=t_eval)
+    np.testing.assert_array_equal(r.y, s.y)
     flow = mbm.pendulum_flow(model, y0, t_eval)
     assert r.y[0, 0] == y0[0] and r.y[1, 0] == y0[1]
-    assert r.y[0, -1] == flow[0, -1] and r.y[1, -1] == flow[1, -1]  # the end state: the flow kernel's
     th_scale = np.maximum(np.abs(flow[0]), np.abs(flow[0]).max())
     assert np.all(np.abs(r.y[0] - flow[0]) <= THETA_ULPS * np.spacing(th_scale))
     assert np.all(np.abs(r.y[1] - flow[1]) <= V_ULPS * np.spacing(np.abs(flow[1]).max()))
