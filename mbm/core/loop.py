@@ -49,7 +49,6 @@ import numba
 import numpy as np
 
 from ..validate import t_eval_problem
-from ..approximants.belendez2007 import belendez_eval_range
 from ..approximants.taylor import taylor_eval_range, taylor_workspace
 from ..approximants.taylor_simd import SIMD_ORDER
 from ..compile.jit import INLINE, kernel
@@ -60,6 +59,7 @@ from .controller import (
     _window_end,
     fixed_window,
 )
+from .kind_ops import OP_EVAL_RANGE, OPS_PER_KIND, call_eval_range
 from .record import RUN, WORD, start_record, window_control, words_of
 from .window import (
     KIND_EXACT,
@@ -441,16 +441,16 @@ def emit_taylor(coef, span, t_eval, j, out_theta, out_v, out_w, wrapped):
 @kernel
 def emit_exact(coef, span, j, th, v, outs):
     """The outputs of an exact-flow window (undriven, kind "exact") in (t, t_new] in one
-    call (:func:`mbm.approximants.belendez2007.belendez_eval_range`: from a table of the
-    flow where the block is large); an output at t_new is the end state θ, θ' (``th``,
-    ``v``) itself.  Returns the next output index."""
+    call (:func:`mbm.approximants.belendez2007.belendez_eval_range`, :func:`evaluate`'s
+    bits: from a table of the flow where the block is large); an output at t_new is the
+    end state θ, θ' (``th``, ``v``) itself.  Returns the next output index."""
     t, t_new, direction, k = span
     t_eval, out_theta, out_v, out_w, wrapped = outs
     j2 = j
     while j2 < t_eval.size and (direction * (t_eval[j2] - t_new) < 0.0):
         j2 += 1
-    if j2 > j:
-        belendez_eval_range(coef, t, t_eval, j, j2, out_theta, out_v)
+    if j2 > j:  # (through the kinds' table: the other kinds' entries compile none of it)
+        call_eval_range(KIND_EXACT * OPS_PER_KIND + OP_EVAL_RANGE, (coef, t, t_eval, j, j2, out_theta, out_v))
     while j2 < t_eval.size and t_eval[j2] == t_new:
         out_theta[j2], out_v[j2] = th, v
         j2 += 1

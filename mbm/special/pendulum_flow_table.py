@@ -1,13 +1,14 @@
 """The exact flow at many times: a table of Taylor expansions over one half period.
 
 :func:`mbm.special.pendulum_flow.flow_eval_kernel` runs the descending Landen
-chain, a sine, a cosine and an arctangent per time.  A run that asks for many
-output times of one exact-flow window (a libration or a rotation) instead
-expands, once, the local angle and the derivative factor about anchors
-spaced evenly over the reduced argument r ∈ [−K, K] (the flow repeats with
-period 2K in u up to signs and whole turns), and per time keeps the
-double-double argument and its reduction by 2K of the flow kernel, then picks
-the nearest anchor and sums two polynomials (Horner).
+chain, a sine, a cosine and an arctangent per time.  The solver's exact-flow
+windows (a libration or a rotation) instead expand the angle θ and the rate θ'
+about anchors spaced evenly over the reduced argument r ∈ [−K, K] (the flow
+repeats with period 2K in u up to signs and whole turns): per time they keep the
+flow kernel's double-double argument and its reduction by 2K, then pick the
+nearest anchor and sum two polynomials (Horner).  A window with many output
+times builds the whole table once; a single time expands its one anchor, the
+same bits, so a value never depends on which other times were asked for.
 
 Expansions.  With s, c, d the Taylor coefficients of sn, cn, dn (parameter m)
 about an anchor a, sn' = cn dn, cn' = −sn dn, dn' = −m sn cn (DLMF 22.13.1-3)
@@ -36,8 +37,8 @@ states the bound).
 
 Kernels: :func:`flow_table_half` (anchors per half period, 0 where no table
 applies), :func:`flow_table_kernel` (the table), :func:`flow_table_eval_kernel`
-(one time), :func:`flow_table_eval_range` (sorted times of one window, the
-run's outputs).
+(one time from a table), :func:`flow_table_point_kernel` (one time, no table),
+:func:`flow_table_eval_range` (the times of one window, the run's outputs).
 """
 
 import collections
@@ -78,10 +79,12 @@ __all__ = [
 # to cost less than the Landen chain, long enough to keep the anchors few.
 FLOW_TABLE_DEGREE = 10
 
-# Half the anchor spacing as a fraction of K': (0.02)^11 ~ 2e-19; at 0.05 the neglected terms reach 1e-12.
+# Half the anchor spacing as a fraction of K': 0.02^11 ~ 2e-19 (at 0.05 the neglected
+# terms were measured at 1e-12).
 FLOW_TABLE_REACH = 0.02
 
-# Most anchors per half period: 2^12 covers mc down to 1e-220 (K ≈ 257, K' = π/2); a state of doubles reaches 1e-33 (K ≈ 39: 2^10).
+# Most anchors per half period: 2^12 covers mc down to 1e-220 (K ≈ 257, K' = π/2); a
+# state of doubles reaches mc ~ 1e-33 (K ≈ 39: 2^10).
 FLOW_TABLE_MAX_HALF = 2**12
 
 # A table pays off from this many outputs per anchor (its build ~0.3 µs per anchor,
