@@ -69,12 +69,14 @@ from ..special.pendulum_flow import (  # noqa: F401
     period,
     period_kernel,
 )
+from ..special.pendulum_flow_table import flow_table_eval_range, flow_table_point_kernel
 from .base import Approximant, ApproximantDomainError, register
 
 __all__ = [
     "belendez_anchor_kernel",
     "belendez_eval_kernel",
     "belendez_eval_array_kernel",
+    "belendez_eval_range",
     "harmonic_anchor_kernel",
     "harmonic_eval_kernel",
     "harmonic_eval_array_kernel",
@@ -136,12 +138,31 @@ def belendez_anchor_kernel(beta, gamma, omega, theta0, v0):
 
 
 @kernel(error_model="numpy")
-def belendez_eval_kernel(coef, t):
-    """(θ, θ') at time t after the anchor; exactly the anchor at t == 0.0."""
-    flow = FlowSetup(coef[1], coef[2], coef[3], coef[4], coef[5], coef[6], coef[7], coef[8], coef[9], coef[10],
+def _flow_of(coef):
+    """The :data:`FlowSetup` held by ``coef`` (:func:`belendez_anchor_kernel`)."""
+    return FlowSetup(coef[1], coef[2], coef[3], coef[4], coef[5], coef[6], coef[7], coef[8], coef[9], coef[10],
                      coef[11], coef[12], coef[13], coef[14], coef[15], coef[16], coef[17], coef[18], coef[19],
                      coef[20], coef[0])
-    return flow_eval_kernel(flow, t)
+
+
+@kernel(error_model="numpy")
+def belendez_eval_kernel(coef, t):
+    """(θ, θ') at time t after the anchor; exactly the anchor at t == 0.0.
+
+    The values of the flow's table (:func:`mbm.special.pendulum_flow_table.flow_table_point_kernel`,
+    within a few ulps of :func:`flow_eval_kernel`), so that a window's outputs are the
+    same bits whether a block of them is read from a table or each is evaluated alone.
+    """
+    return flow_table_point_kernel(_flow_of(coef), t)
+
+
+@kernel(error_model="numpy")
+def belendez_eval_range(coef, t, t_eval, j, j2, out_theta, out_v):
+    """(θ, θ') at the sorted times ``t_eval[j:j2]`` of the window anchored at time ``t``
+    into ``out_theta``, ``out_v``, in one call: :func:`belendez_eval_kernel`'s values bit
+    for bit, a block with many times per anchor read from the flow's table
+    (:func:`mbm.special.pendulum_flow_table.flow_table_eval_range`)."""
+    flow_table_eval_range(_flow_of(coef), t, t_eval, j, j2, out_theta, out_v)
 
 
 @kernel(error_model="numpy")

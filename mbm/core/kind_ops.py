@@ -41,11 +41,12 @@ from ..regimes.cycle import CycleSpan, CycleWatch
 from .record import RUN, WindowControl
 
 __all__ = ["OPS", "SIGNATURES", "call_adaptive", "call_anchor", "call_crossing", "call_error", "call_eval",
-           "call_first", "call_period_store", "call_period_value", "call_refine", "slot_of"]
+           "call_eval_range", "call_first", "call_period_store", "call_period_value", "call_refine", "slot_of"]
 
 # The ops of a kind, each a column of the table.
 OP_ANCHOR, OP_EVAL, OP_ERROR, OP_FIRST, OP_ADAPTIVE, OP_CROSSING = 0, 1, 2, 3, 4, 5
 OP_PERIOD_STORE, OP_PERIOD_VALUE, OP_REFINE = 6, 7, 8
+OP_EVAL_RANGE = 9
 # Columns per kind (room for further ops without moving the slots).
 OPS_PER_KIND = 16
 # Rows: the kind ids of mbm.core.window (0 "taylor" .. 3 "split") and room for more.
@@ -54,6 +55,7 @@ TABLE_KINDS = 8
 _F8, _I8 = types.float64, types.int64
 _COEF = types.Array(_F8, 1, "C")
 _PAIR = types.UniTuple(_F8, 2)
+_ROW = types.Array(_F8, 1, "A")
 _RECORD = numba.from_dtype(RUN)
 # The controllers' arguments (mbm.core.controller.first_window_for, adaptive_window_for):
 # the window's start (coef, t, φ, θ', the winding's offset), ω or h_abs, the run's
@@ -62,7 +64,8 @@ _CONTROL = types.NamedTuple((_F8, _F8, _F8, _F8, _F8, _I8, _F8), WindowControl)
 _CONTROL_ARGS = (_COEF,) + (_F8,) * 5 + (_CONTROL,)
 #: Each op's signature: an anchor (karg, β, γ, ω, θ₀, θ̇₀) -> coefficients (coef[0] the
 #: status), an evaluation (coef, t) -> (θ, θ'), an estimate (coef, h) -> (err_θ, err_θ');
-#: the controllers', the crossing's, the stored period's as their kernels'.
+#: the controllers', the crossing's, the stored period's as their kernels'; a window's
+#: outputs (coef, t, t_eval, j, j2, out_θ, out_θ') -> None.
 SIGNATURES = {
     OP_ANCHOR: _COEF(_I8, _F8, _F8, _F8, _F8, _F8),
     OP_EVAL: _PAIR(_COEF, _F8),
@@ -75,6 +78,7 @@ SIGNATURES = {
     OP_PERIOD_VALUE: types.UniTuple(_F8, 3)(_COEF, _COEF, types.Array(_F8, 2, "C"), types.Array(_F8, 2, "C"),
                                             _I8, _F8),
     OP_REFINE: types.none(_RECORD),
+    OP_EVAL_RANGE: types.none(_COEF, _F8, _ROW, _I8, _I8, _ROW, _ROW),
 }
 
 
@@ -106,6 +110,7 @@ _M = "mbm.core.kind_ops"
 OPS = {
     (_EXACT, OP_ANCHOR): (_M, "_exact_anchor"),
     (_EXACT, OP_EVAL): ("mbm.approximants.belendez2007", "belendez_eval_kernel"),
+    (_EXACT, OP_EVAL_RANGE): ("mbm.approximants.belendez2007", "belendez_eval_range"),
     (_SALAS_TORQUE, OP_ANCHOR): (_M, "_salas_torque_anchor"),
     (_SALAS_TORQUE, OP_EVAL): ("mbm.approximants.salas2022", "salas_torque_eval"),
     (_SPLIT, OP_ANCHOR): (_M, "_split_anchor"),
@@ -232,6 +237,9 @@ call_crossing = _table_call(OP_CROSSING)
 call_period_store = _table_call(OP_PERIOD_STORE)
 call_period_value = _table_call(OP_PERIOD_VALUE)
 call_refine = _table_call(OP_REFINE)
+#: A window's outputs t_eval[j:j2] in one call: ``call_eval_range(slot, (coef, t, t_eval, j,
+#: j2, out_θ, out_θ'))`` (the exact flow's table, mbm.special.pendulum_flow_table).
+call_eval_range = _table_call(OP_EVAL_RANGE)
 
 
 def _python_call(slot, args):
@@ -244,4 +252,4 @@ def _python_call(slot, args):
 
 if numba.config.DISABLE_JIT:
     call_anchor = call_eval = call_error = call_first = call_adaptive = call_crossing = _python_call
-    call_period_store = call_period_value = call_refine = _python_call
+    call_period_store = call_period_value = call_refine = call_eval_range = _python_call

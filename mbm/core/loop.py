@@ -59,6 +59,7 @@ from .controller import (
     _window_end,
     fixed_window,
 )
+from .kind_ops import OP_EVAL_RANGE, OPS_PER_KIND, call_eval_range
 from .record import RUN, WORD, start_record, window_control, words_of
 from .window import (
     KIND_EXACT,
@@ -437,6 +438,28 @@ def emit_taylor(coef, span, t_eval, j, out_theta, out_v, out_w, wrapped):
     return j2
 
 
+@kernel
+def emit_exact(coef, span, j, th, v, outs):
+    """The outputs of an exact-flow window (undriven, kind "exact") in (t, t_new] in one
+    call (:func:`mbm.approximants.belendez2007.belendez_eval_range`, :func:`evaluate`'s
+    bits: from a table of the flow where the block is large); an output at t_new is the
+    end state θ, θ' (``th``, ``v``) itself.  Returns the next output index."""
+    t, t_new, direction, k = span
+    t_eval, out_theta, out_v, out_w, wrapped = outs
+    j2 = j
+    while j2 < t_eval.size and (direction * (t_eval[j2] - t_new) < 0.0):
+        j2 += 1
+    if j2 > j:  # (through the kinds' table: the other kinds' entries compile none of it)
+        call_eval_range(KIND_EXACT * OPS_PER_KIND + OP_EVAL_RANGE, (coef, t, t_eval, j, j2, out_theta, out_v))
+    while j2 < t_eval.size and t_eval[j2] == t_new:
+        out_theta[j2], out_v[j2] = th, v
+        j2 += 1
+    if k != 0.0 or wrapped:
+        for i in range(j, j2):
+            _put(out_theta, out_w, wrapped, i, k, out_theta[i])
+    return j2
+
+
 @numba.njit(**INLINE)
 def _emit_stored(kind, rset, coef, per, ends, j, direction, outs):
     """The outputs in (t, t_new] of a stored period's window (RS_CYCLE, RS_STROBE;
@@ -479,6 +502,8 @@ def _emit_formula(kind, rset, coef, ends, k, j, direction, outs):
     t_eval, out_theta, out_v, out_w, wrapped = outs
     if kind == KIND_TAYLOR and not is_locked:
         return emit_taylor(coef, Span(t, t_new, direction, k), t_eval, j, out_theta, out_v, out_w, wrapped)
+    if kind == KIND_EXACT and rset == RS_FIXED:
+        return emit_exact(coef, Span(t, t_new, direction, k), j, th, v, outs)
     while j < t_eval.size and (direction * (t_eval[j] - t_new) <= 0.0):
         if t_eval[j] == t_new:
             _put(out_theta, out_w, wrapped, j, k, th)

@@ -31,6 +31,10 @@ conditioning of the anchor state ("horizon-free"): against 60-digit mpmath
 the flow is within ~6e-14 for t <= 100 and ~2e-14 at t = 1e6 in the tests'
 cases.
 
+The solver's windows (the approximant "belendez", the exact flow of β = γ = 0) read
+the same flow from a table of Taylor expansions over the half period,
+:mod:`mbm.special.pendulum_flow_table`, within a few ulps of these kernels.
+
 Kernels: :func:`pendulum_flow_kernel` (one state, one time),
 :func:`flow_setup_kernel` / :func:`flow_eval_kernel` (set up once, evaluate
 many times), :func:`pendulum_flow_array_kernel`, :func:`period_kernel`.
@@ -64,6 +68,11 @@ from ..compile.jit import NJIT_OPTIONS, kernel
 __all__ = [
     "flow_setup_kernel",
     "flow_eval_kernel",
+    "flow_argument_kernel",
+    "reduce_half_period_kernel",
+    "odd_half_periods",
+    "rotation_theta",
+    "HalfPeriod",
     "pendulum_flow_kernel",
     "pendulum_flow_array_kernel",
     "period_kernel",
@@ -328,42 +337,29 @@ def flow_setup_kernel(theta0, v0, omega):
     )
 
 
+#: A Jacobi argument reduced by the half period 2K (:func:`reduce_half_period_kernel`):
+#: u = r + (n + n2)·2K, r = r_hi + r_lo in [−K, K] (double-double).
+HalfPeriod = collections.namedtuple("HalfPeriod", ("r_hi", "r_lo", "n", "n2"))
+
+
 @kernel(error_model="numpy")
-def flow_eval_kernel(flow, t):
-    """Evaluate the exact flow set up by :func:`flow_setup_kernel` at time ``t``.
-
-    ``flow`` is the :data:`FlowSetup` (its status OK).  Returns ``(theta, theta_dot)``;
-    exactly ``(theta0, v0)`` at ``t == 0.0``.
-    """
-    regime, theta0, v0, k, sign, vscale = flow.regime, flow.theta0, flow.v0, flow.k, flow.sign, flow.vscale
-    par, parc, K_hi, K_lo, u0 = flow.par, flow.parc, flow.K, flow.K_lo, flow.u0
-    th_hi, th_lo, rate_hi, rate_lo = flow.theta_red, flow.theta_red_lo, flow.rate, flow.rate_lo
-    if t == 0.0:
-        return theta0, v0
-    if not math.isfinite(t):
-        return _NAN, _NAN
-    if regime == REGIME_REST:
-        return theta0, 0.0
-
-    # Jacobi argument u = rate·t + u0 in double-double: at t = 1e6 the plain
-    # product would already cost ~1e-10 of phase.
-    p, pe = two_prod(rate_hi, t)
-    pe += rate_lo * t
-    u_hi, u_lo = two_sum(p, u0)
+def flow_argument_kernel(flow, t):
+    """The Jacobi argument u = rate·t + u0 of the :data:`FlowSetup` ``flow`` at time ``t``,
+    in double-double ``(u_hi, u_lo)``; u_lo is not finite where the product overflows."""
+    # At t = 1e6 the plain product would already cost ~1e-10 of phase.
+    p, pe = two_prod(flow.rate, t)
+    pe += flow.rate_lo * t
+    u_hi, u_lo = two_sum(p, flow.u0)
     u_lo += pe
-    if not math.isfinite(u_lo):
-        # |rate·t| > ~1e300: the exact product overflows; the phase is meaningless there.
-        return _NAN, _NAN
+    return u_hi, u_lo
 
-    if regime == REGIME_SEPARATRIX:
-        u = u_hi + u_lo
-        # θ = s(4 arctan e^u − π) = 2 s gd(u),  gd(u) = atan(sinh u).
-        th_loc = 2.0 * sign * math.atan(math.sinh(u))
-        v = vscale / math.cosh(u)
-        return theta0 + ((th_loc - th_hi) - th_lo), v
 
-    # Reduce by the exact half period 2K (double-double): sn, cn change sign,
-    # dn is unchanged, am advances by π.
+@kernel(error_model="numpy")
+def reduce_half_period_kernel(u_hi, u_lo, K_hi, K_lo):
+    """u = u_hi + u_lo reduced by the exact half period 2K (K = K_hi + K_lo): a :data:`HalfPeriod`.
+
+    sn, cn change sign and am advances by π per half period, dn is unchanged.
+    """
     P_hi, P_lo = 2.0 * K_hi, 2.0 * K_lo
     n = np.floor((u_hi + u_lo) / P_hi + 0.5)
     q, qe = two_prod(n, P_hi)
@@ -375,6 +371,61 @@ def flow_eval_kernel(flow, t):
     if n2 != 0.0:
         q, qe = two_prod(n2, P_hi)
         r_hi, r_lo = dd_add(r_hi, r_lo, -q, -(qe + n2 * P_lo))
+    return HalfPeriod(r_hi, r_lo, n, n2)
+
+
+@kernel(error_model="numpy")
+def odd_half_periods(n, n2):
+    """Whether n + n2 is odd (a double above 2^53 is even)."""
+    return (n - 2.0 * np.floor(0.5 * n)) != (n2 - 2.0 * np.floor(0.5 * n2))
+
+
+@kernel(error_model="numpy")
+def rotation_theta(flow, two_am, n, n2):
+    """θ of a rotation from 2 am(r) ∈ [−π, π] of the reduced argument and the half
+    periods n + n2 removed: θ = 2 am(r) + 2π(n + n2), added in double-double."""
+    theta0, th_hi, th_lo = flow.theta0, flow.theta_red, flow.theta_red_lo
+    d = (two_am - th_hi) - th_lo
+    if n == 0.0 and n2 == 0.0:
+        return theta0 + d
+    b_hi, b_lo = two_prod(n, TWO_PI_HI)
+    b_lo += n * TWO_PI_LO + n2 * TWO_PI_HI
+    s1, e1 = two_sum(b_hi, d)
+    s2, e2 = two_sum(theta0, s1)
+    return s2 + ((e2 + e1) + b_lo)
+
+
+@kernel(error_model="numpy")
+def flow_eval_kernel(flow, t):
+    """Evaluate the exact flow set up by :func:`flow_setup_kernel` at time ``t``.
+
+    ``flow`` is the :data:`FlowSetup` (its status OK).  Returns ``(theta, theta_dot)``;
+    exactly ``(theta0, v0)`` at ``t == 0.0``.
+    """
+    regime, theta0, v0, k, sign, vscale = flow.regime, flow.theta0, flow.v0, flow.k, flow.sign, flow.vscale
+    par, parc, K_hi, K_lo = flow.par, flow.parc, flow.K, flow.K_lo
+    th_hi, th_lo = flow.theta_red, flow.theta_red_lo
+    if t == 0.0:
+        return theta0, v0
+    if not math.isfinite(t):
+        return _NAN, _NAN
+    if regime == REGIME_REST:
+        return theta0, 0.0
+
+    # Jacobi argument u = rate·t + u0 in double-double.
+    u_hi, u_lo = flow_argument_kernel(flow, t)
+    if not math.isfinite(u_lo):
+        # |rate·t| > ~1e300: the exact product overflows; the phase is meaningless there.
+        return _NAN, _NAN
+
+    if regime == REGIME_SEPARATRIX:
+        u = u_hi + u_lo
+        # θ = s(4 arctan e^u − π) = 2 s gd(u),  gd(u) = atan(sinh u).
+        th_loc = 2.0 * sign * math.atan(math.sinh(u))
+        v = vscale / math.cosh(u)
+        return theta0 + ((th_loc - th_hi) - th_lo), v
+
+    r_hi, r_lo, n, n2 = reduce_half_period_kernel(u_hi, u_lo, K_hi, K_lo)
     if abs(r_hi) <= 0.5 * K_hi:
         sn, cn, dn, _am = ellipj_kernel(r_hi + r_lo, par, parc)
     else:
@@ -391,8 +442,7 @@ def flow_eval_kernel(flow, t):
         dn = kc / d_x
 
     if regime == REGIME_LIBRATION:
-        # n + n2 odd (a double above 2^53 is even)
-        if (n - 2.0 * np.floor(0.5 * n)) != (n2 - 2.0 * np.floor(0.5 * n2)):
+        if odd_half_periods(n, n2):
             sn = -sn
             cn = -cn
         # Beléndez et al. (31) generalized: sin(θ/2) = k sn, cos(θ/2) = dn (> 0 in libration), so
@@ -402,15 +452,7 @@ def flow_eval_kernel(flow, t):
         return theta0 + ((th_loc - th_hi) - th_lo), vscale * cn
 
     # Rotation: θ = 2 am(u) = 2 am(r) + 2πn, with am(r) ∈ [−π/2, π/2] for |r| ≤ K.
-    two_am = 2.0 * math.atan2(sn, cn)
-    d = (two_am - th_hi) - th_lo
-    if n == 0.0 and n2 == 0.0:
-        return theta0 + d, vscale * dn
-    b_hi, b_lo = two_prod(n, TWO_PI_HI)
-    b_lo += n * TWO_PI_LO + n2 * TWO_PI_HI
-    s1, e1 = two_sum(b_hi, d)
-    s2, e2 = two_sum(theta0, s1)
-    return s2 + ((e2 + e1) + b_lo), vscale * dn
+    return rotation_theta(flow, 2.0 * math.atan2(sn, cn), n, n2), vscale * dn
 
 
 @numba.njit(**NJIT_OPTIONS)

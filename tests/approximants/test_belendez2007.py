@@ -30,6 +30,8 @@ from mbm.special.pendulum_flow import (
     period_kernel,
 )
 
+from mbm.special.pendulum_flow_table import flow_table_point_kernel
+
 import belendez2007_mpmath as refmod  # noqa: E402  tests/data, on pytest's pythonpath
 
 # Accuracy target for t <= 100 against mpmath (θ and θ').
@@ -469,8 +471,13 @@ def test_belendez_approximant():
     assert an.params["period"] == period(model, [1.2, -0.4])
     t = np.linspace(-3.0, 30.0, 37)
     th, v = an(t)
+    # The approximant reads the flow's table (its per-time kernel, the same bits as a
+    # table): within a few ulps of the flow kernel (tests/special/test_pendulum_flow_table.py).
+    flow = flow_setup_kernel(1.2, -0.4, 2.0)
     for i, ti in enumerate(t):
-        assert (th[i], v[i]) == _F(1.2, -0.4, 2.0, ti)
+        assert (th[i], v[i]) == flow_table_point_kernel(flow, ti)
+        ref = _F(1.2, -0.4, 2.0, ti)
+        assert abs(th[i] - ref[0]) <= 8 * np.spacing(2.0) and abs(v[i] - ref[1]) <= 16 * np.spacing(4.0)
     assert an(0.0) == (1.2, -0.4)
     rot = ap.anchor(model, 0.0, 9.0)
     assert rot.params["regime"] == REGIME_ROTATION and rot.params["k"] > 1.0
