@@ -508,6 +508,96 @@ def locked_coef(beta, wl2, theta_star, theta, v, gamma=0.0, order=1):
     return c
 
 
+#: :func:`locked_form`'s result: a locked window's constants (L2, L6), formed once for
+#: all its outputs: the coefficient vector's entries, b = v₀ + βx₀/2, s = sqrt(s²) (under-
+#: damped), μ = sqrt(−s²) and λ₁ = −ω_l²/(β/2 + μ) (over-damped), whether x₂ is added.
+LockedForm = collections.namedtuple("LockedForm", ("th0", "x0", "hb", "s2", "b", "s", "mu", "lam1", "order2",
+                                                   "qr", "qi", "m", "dr", "di"))
+
+
+@kernel
+def locked_form(coef):
+    """The constants of :func:`locked_eval` of one window, formed once (items L2, L6).
+
+    Parameters
+    ----------
+    coef : ndarray
+        From :func:`locked_coef`.
+
+    Returns
+    -------
+    LockedForm
+        Read by :func:`locked_at` at each time (its square roots and quotient taken here
+        once instead of at every output).
+    """
+    th0, x0, v0, hb, s2, wl2 = (coef[LCK_THETA0], coef[LCK_X0], coef[LCK_V0],
+                                coef[LCK_HALF_BETA], coef[LCK_S2], coef[LCK_WL2])
+    s = mu = lam1 = 0.0
+    if s2 > 0.0:
+        s = math.sqrt(s2)
+    elif s2 < 0.0:
+        mu = math.sqrt(-s2)
+        lam1 = -wl2 / (hb + mu)
+    order2 = coef.size >= LOCKED2_WIDTH and coef[LCK_ORDER] == 2.0 and s2 > 0.0
+    qr = qi = m = dr = di = 0.0
+    if order2:
+        qr, qi, m, dr, di = coef[LCK_QR], coef[LCK_QI], coef[LCK_M], coef[LCK_DR], coef[LCK_DI]
+    return LockedForm(th0, x0, hb, s2, v0 + hb * x0, s, mu, lam1, order2, qr, qi, m, dr, di)
+
+
+@numba.njit(**INLINE)
+def _under_at(f, t, order2):
+    # The under-damped form (s² > 0) of :func:`locked_at`, L6's x₂ added where ``order2``
+    # (a constant where the caller's loop is split on it, so each loop is branch-free).
+    x0, hb, s2, b, s = f.x0, f.hb, f.s2, f.b, f.s
+    e = math.exp(-hb * t)
+    c1 = math.cos(s * t)
+    s1 = math.sin(s * t)
+    ec = e * c1
+    es = e * s1 / s
+    x = x0 * ec + b * es
+    xd = x0 * (-hb * ec - s2 * es) + b * (ec - hb * es)
+    if order2 and t != 0.0:
+        # (L6): x₂ and x₂' (zero at the anchor by construction, skipped there so
+        # that t = 0 is the anchor bit for bit).
+        qr, qi, m, dr, di = f.qr, f.qi, f.m, f.dr, f.di
+        e2 = e * e
+        c2 = c1 * c1 - s1 * s1
+        sn2 = 2.0 * s1 * c1
+        beta = 2.0 * hb
+        x = x + (e2 * (qr * c2 - qi * sn2) + m * e2 + e * (dr * c1 - di * s1))
+        xd = xd + (e2 * ((-beta * qr - 2.0 * s * qi) * c2 - (-beta * qi + 2.0 * s * qr) * sn2) - beta * m * e2
+                   + e * ((-hb * dr - s * di) * c1 - (-hb * di + s * dr) * s1))
+    return f.th0 + (x - x0), xd
+
+
+@numba.njit(**INLINE)
+def _over_at(f, t):
+    # The over-damped (s² < 0) and critically damped (s² = 0) forms of :func:`locked_at`.
+    x0, hb, s2, b = f.x0, f.hb, f.s2, f.b
+    if s2 < 0.0:
+        mu = f.mu
+        e1 = math.exp(f.lam1 * t)
+        ec = 0.5 * (e1 + math.exp((-hb - mu) * t))
+        es = e1 * (-math.expm1(-2.0 * mu * t)) / (2.0 * mu)
+    else:
+        e = math.exp(-hb * t)
+        ec = e
+        es = e * t
+    x = x0 * ec + b * es
+    xd = x0 * (-hb * ec - s2 * es) + b * (ec - hb * es)
+    return f.th0 + (x - x0), xd
+
+
+@numba.njit(**INLINE)
+def locked_at(f, t):
+    """θ and θ' of the locked form ``f`` (:func:`locked_form`) at ``t`` from the anchor:
+    :func:`locked_eval`'s formula (L2; L6's x₂ added at order 2)."""
+    if f.s2 > 0.0:
+        return _under_at(f, t, f.order2)
+    return _over_at(f, t)
+
+
 @kernel
 def locked_eval(coef, t):
     """The linearized motion of a locked window (item L2; with L6's x₂ at order 2).
@@ -524,41 +614,42 @@ def locked_eval(coef, t):
     theta, v : float
         θ and θ' (at t = 0 the anchor, bit for bit).
     """
-    th0, x0, v0, hb, s2, wl2 = (coef[LCK_THETA0], coef[LCK_X0], coef[LCK_V0],
-                                coef[LCK_HALF_BETA], coef[LCK_S2], coef[LCK_WL2])
-    b = v0 + hb * x0
-    s = e = c1 = s1 = 0.0
-    if s2 > 0.0:
-        s = math.sqrt(s2)
-        e = math.exp(-hb * t)
-        c1 = math.cos(s * t)
-        s1 = math.sin(s * t)
-        ec = e * c1
-        es = e * s1 / s
-    elif s2 < 0.0:
-        mu = math.sqrt(-s2)
-        lam1 = -wl2 / (hb + mu)
-        e1 = math.exp(lam1 * t)
-        ec = 0.5 * (e1 + math.exp((-hb - mu) * t))
-        es = e1 * (-math.expm1(-2.0 * mu * t)) / (2.0 * mu)
+    return locked_at(locked_form(coef), t)
+
+
+@kernel
+def locked_eval_range(coef, t0, times, lo, hi, out_theta, out_v):
+    """:func:`locked_eval` at ``times[lo:hi] − t0``, written to ``out_*[lo:hi]``.
+
+    The window's constants formed once (:func:`locked_form`), then the same operations
+    per time as :func:`locked_eval` (so the same bits): the outputs of a locked window
+    cost its exponential, sine and cosine (one sincos) and a few products each.
+
+    Parameters
+    ----------
+    coef : ndarray
+        From :func:`locked_coef`.
+    t0 : float
+        The window's anchor time.
+    times : ndarray
+        Absolute times, in any order.
+    lo, hi : int
+        The rows to evaluate.
+    out_theta, out_v : ndarray
+        θ and θ' written to their rows ``lo .. hi``.
+    """
+    f = locked_form(coef)
+    # One loop per form, each free of the others' branches (a shared loop body with them
+    # measured twice the time per output at order 2).
+    if f.s2 > 0.0 and f.order2:
+        for q in range(lo, hi):
+            out_theta[q], out_v[q] = _under_at(f, times[q] - t0, True)
+    elif f.s2 > 0.0:
+        for q in range(lo, hi):
+            out_theta[q], out_v[q] = _under_at(f, times[q] - t0, False)
     else:
-        e = math.exp(-hb * t)
-        ec = e
-        es = e * t
-    x = x0 * ec + b * es
-    xd = x0 * (-hb * ec - s2 * es) + b * (ec - hb * es)
-    if coef.size >= LOCKED2_WIDTH and coef[LCK_ORDER] == 2.0 and t != 0.0 and s2 > 0.0:
-        # (L6): x₂ and x₂' (zero at the anchor by construction, skipped there so
-        # that t = 0 is the anchor bit for bit).
-        qr, qi, m, dr, di = coef[LCK_QR], coef[LCK_QI], coef[LCK_M], coef[LCK_DR], coef[LCK_DI]
-        e2 = e * e
-        c2 = c1 * c1 - s1 * s1
-        sn2 = 2.0 * s1 * c1
-        beta = 2.0 * hb
-        x = x + (e2 * (qr * c2 - qi * sn2) + m * e2 + e * (dr * c1 - di * s1))
-        xd = xd + (e2 * ((-beta * qr - 2.0 * s * qi) * c2 - (-beta * qi + 2.0 * s * qr) * sn2) - beta * m * e2
-                   + e * ((-hb * dr - s * di) * c1 - (-hb * di + s * dr) * s1))
-    return th0 + (x - x0), xd
+        for q in range(lo, hi):
+            out_theta[q], out_v[q] = _over_at(f, times[q] - t0)
 
 
 @kernel
@@ -574,10 +665,7 @@ def locked_eval_array(coef, t, out_theta, out_v):
     out_theta, out_v : ndarray
         Filled with θ, θ' (same shape as ``t``).
     """
-    for i in range(t.size):
-        a, b = locked_eval(coef, t[i])
-        out_theta[i] = a
-        out_v[i] = b
+    locked_eval_range(coef, 0.0, t, 0, t.size, out_theta, out_v)
 
 
 @kernel
