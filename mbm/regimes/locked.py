@@ -662,9 +662,10 @@ def locked_eval(coef, t):
 def locked_eval_range(coef, t0, times, lo, hi, out_theta, out_v):
     """:func:`locked_eval` at ``times[lo:hi] − t0``, written to ``out_*[lo:hi]``.
 
-    The window's constants formed once (:func:`locked_form`), then the same operations
-    per time as :func:`locked_eval` (so the same bits): the outputs of a locked window
-    cost its exponential, sine and cosine (one sincos) and a few products each.
+    The window's constants formed once (:func:`locked_form`), then the times in blocks
+    of LOCKED_BLOCK, each block's library calls (exponential and sincos) before its
+    arithmetic (L2): the same operations per time as :func:`locked_eval`, so the same
+    bits; up to LOCKED_FEW times one by one.
 
     Parameters
     ----------
