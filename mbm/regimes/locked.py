@@ -47,6 +47,10 @@ FAR_MARGIN = 1e-12
 # :func:`_nearest_k`'s by a quotient (θ on a saddle's level): the quick test decides.
 FAR_X = 3.0
 _INV_TWO_PI = 1.0 / (2.0 * math.pi)
+# (L2): below this argument exp rounds to +0 (its value is under 2⁻¹⁰⁷⁶, half the least
+# subnormal; exp(−745.14) is the first +0): +0 taken without the call, whose underflow
+# path (errno) cost an over-damped output half its time past t ≈ 270 (L2's e^{λ₂t}).
+EXP_ZERO = -746.0
 # (L6): below this e = exp(−βt/2), e² = e·e rounds to +0 (e² < 2⁻¹⁰⁷⁶, under half the
 # least subnormal), so e² is formed as 0·0, the same +0 without the underflow, whose
 # microcode assist doubled an output's time (a product's operand is chosen, not its
@@ -569,11 +573,17 @@ def _parts(f, t, form):
     # The library calls of ``form`` at t (L2): under-damped e = exp(−βt/2), cos st, sin st;
     # over-damped e^{λ₁t}, e^{λ₂t} (λ₂ = −β/2 − μ), expm1(−2μt); critical e = exp(−βt/2).
     if form != FORM_OVER:
-        return math.exp(-f.hb * t), math.cos(f.s * t), math.sin(f.s * t)
+        return _exp(-f.hb * t), math.cos(f.s * t), math.sin(f.s * t)
     if f.s2 < 0.0:
         mu = f.mu
-        return math.exp(f.lam1 * t), math.exp((-f.hb - mu) * t), math.expm1(-2.0 * mu * t)
-    return math.exp(-f.hb * t), 0.0, 0.0
+        return _exp(f.lam1 * t), _exp((-f.hb - mu) * t), math.expm1(-2.0 * mu * t)
+    return _exp(-f.hb * t), 0.0, 0.0
+
+
+@numba.njit(**INLINE)
+def _exp(x):
+    # exp(x), +0 below EXP_ZERO without the call (the same +0; NaN still exp's).
+    return 0.0 if x < EXP_ZERO else math.exp(x)
 
 
 @numba.njit(**INLINE)

@@ -81,11 +81,23 @@ def test_a_range_is_the_closed_form_per_output(form):
     assert (th[i], v[i]) == (coef[1], coef[3])
 
 
-def test_the_squared_exponential_below_its_floor_rounds_to_zero():
-    # E2_FLOOR: e·e is +0 for every e below it, and not for the next larger e by much.
+def test_the_shortcuts_give_the_library_zeros():
+    # E2_FLOOR: e·e is +0 for every e below it (and not far above); EXP_ZERO: exp is +0
+    # there (and below, exp being monotone), not a little above.
     e = np.nextafter(locked.E2_FLOOR, 0.0)
     assert e * e == 0.0 and math.copysign(1.0, e * e) == 1.0
     assert (2.0 * locked.E2_FLOOR) ** 2 > 0.0
+    assert math.exp(locked.EXP_ZERO) == 0.0 and math.exp(locked.EXP_ZERO + 2.0) > 0.0
+
+
+@pytest.mark.parametrize("form", FORMS)
+def test_non_finite_times_are_the_closed_form_s(form):
+    coef = _coef(*form)
+    times = np.array([np.nan, np.inf, -np.inf, 0.0, 1e4, 3e3, -1e3, 1e300])
+    th, v = np.empty_like(times), np.empty_like(times)
+    regimes.locked_eval_range(coef, 0.0, times, 0, times.size, th, v)
+    want = np.array([regimes.locked_eval(coef, x) for x in times])
+    np.testing.assert_array_equal(np.stack([th, v], axis=1), want)
 
 
 @pytest.mark.parametrize("wrap", [False, True])
