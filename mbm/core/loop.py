@@ -105,6 +105,7 @@ from ..regimes.locked import (
     locked_choice,
     locked_coef,
     locked_eval,
+    locked_eval_range,
     locked_far,
     locked_quick_reject,
 )
@@ -461,6 +462,24 @@ def emit_exact(coef, span, j, th, v, outs):
 
 
 @numba.njit(**INLINE)
+def emit_locked(coef, span, t_eval, j, out_theta, out_v, out_w, wrapped):
+    """The outputs of a locked window (L2, L6) in (t, t_new] (``span``: a :data:`Span`) in
+    one call: its constants formed once (:func:`mbm.regimes.locked.locked_eval_range`,
+    the same bits as :func:`mbm.regimes.locked.locked_eval` per time; an output at t_new
+    is the evaluation that gave the end state).  Returns the next output index."""
+    t, t_new, direction, k = span
+    j2 = j
+    while j2 < t_eval.size and (direction * (t_eval[j2] - t_new) <= 0.0):
+        j2 += 1
+    if j2 > j:
+        locked_eval_range(coef, t, t_eval, j, j2, out_theta, out_v)
+        if k != 0.0 or wrapped:
+            for i in range(j, j2):
+                _put(out_theta, out_w, wrapped, i, k, out_theta[i])
+    return j2
+
+
+@numba.njit(**INLINE)
 def _emit_stored(kind, rset, coef, per, ends, j, direction, outs):
     """The outputs in (t, t_new] of a stored period's window (RS_CYCLE, RS_STROBE;
     ``coef``, ``per`` the window's coefficients and the stored period; ``ends`` = (t,
@@ -504,15 +523,14 @@ def _emit_formula(kind, rset, coef, ends, k, j, direction, outs):
         return emit_taylor(coef, Span(t, t_new, direction, k), t_eval, j, out_theta, out_v, out_w, wrapped)
     if kind == KIND_EXACT and rset == RS_FIXED:
         return emit_exact(coef, Span(t, t_new, direction, k), j, th, v, outs)
+    if rset == RS_DAMPED and is_locked:
+        return emit_locked(coef, Span(t, t_new, direction, k), t_eval, j, out_theta, out_v, out_w, wrapped)
     while j < t_eval.size and (direction * (t_eval[j] - t_new) <= 0.0):
         if t_eval[j] == t_new:
             _put(out_theta, out_w, wrapped, j, k, th)
             out_v[j] = v
         else:
-            if rset == RS_DAMPED and is_locked:
-                a, b = locked_eval(coef, t_eval[j] - t)
-            else:
-                a, b = evaluate(kind, coef, t_eval[j] - t)
+            a, b = evaluate(kind, coef, t_eval[j] - t)
             _put(out_theta, out_w, wrapped, j, k, a)
             out_v[j] = b
         j += 1

@@ -21,7 +21,7 @@ from .window import (
 )
 from ..regimes.cycle import CYCLE_TAG, CYCLE_WIDTH
 from ..regimes.cycle_windows import _TWO_PI, _period_store, _period_value
-from ..regimes.locked import LOCKED_TAG, LOCKED_WIDTH, locked_eval
+from ..regimes.locked import LOCKED_TAG, LOCKED_WIDTH, LockedForm, locked_at, locked_form
 from ..regimes.strobe import STROBE_TAG, STROBE_WIDTH
 from ..regimes.strobe_windows import _strobe_store, _strobe_stored
 
@@ -66,6 +66,8 @@ def _evaluate_windows(kind, windows, direction, t, out_theta, out_v):
     str_starts = np.empty(0)
     str_ends = np.empty((0, 3))
     str_coefs = np.empty((0, 0))
+    # The locked window met last (L2): its row and constants.
+    lk_row, lk = -1, LockedForm(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, False, 0.0, 0.0, 0.0, 0.0, 0.0)
     for j in range(t.size):
         tj = t[j]
         # The last window whose start is not after tj (bisection: windows_per_step=None
@@ -99,8 +101,11 @@ def _evaluate_windows(kind, windows, direction, t, out_theta, out_v):
             out_v[j] = b
             continue
         if coefs.shape[1] >= LOCKED_WIDTH and coefs[i, 0] == LOCKED_TAG:
-            # A locked window (mbm.regimes): the closed form, cheap at any t.
-            a, b = locked_eval(coefs[i], s)
+            # A locked window (mbm.regimes): the closed form, cheap at any t, its constants
+            # formed once per window met (locked_eval's bits).
+            if i != lk_row:
+                lk, lk_row = locked_form(coefs[i]), i
+            a, b = locked_at(lk, s)
             phi0 = coefs[i, 1]
         else:
             a, b = evaluate(kind, coefs[i], s)

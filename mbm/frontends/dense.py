@@ -36,7 +36,8 @@ from ..regimes import (
     REGIME_PHASE_LOCKED,
     REGIME_RUNNING,
 )
-from ..regimes import CYCLE_TAG, CYCLE_WIDTH, LOCKED_TAG, LOCKED_WIDTH, STROBE_TAG, STROBE_WIDTH, locked_eval
+from ..regimes import CYCLE_TAG, CYCLE_WIDTH, LOCKED_TAG, LOCKED_WIDTH, STROBE_TAG, STROBE_WIDTH
+from ..regimes.locked import locked_eval_range
 
 __all__ = ["evaluate_windows_into", "evaluate_windows_at", "evaluators", "dense_set", "DENSE_TABLE"]
 
@@ -140,10 +141,10 @@ def _plain_run(kind, c, t0, start_theta_i, t, rows, out_theta, out_v):
     lo, hi = rows
     ki = _winding(kind, c, start_theta_i)
     if c.size >= LOCKED_WIDTH and c[0] == LOCKED_TAG:
-        for q in range(lo, hi):
-            a, b = locked_eval(c, t[q] - t0)
-            out_theta[q] = theta_of(ki, a)
-            out_v[q] = b
+        locked_eval_range(c, t0, t, lo, hi, out_theta, out_v)
+        if ki != 0.0:
+            for q in range(lo, hi):
+                out_theta[q] = theta_of(ki, out_theta[q])
     elif kind == KIND_TAYLOR:
         taylor_eval_range(c, t0, t, lo, hi, out_theta, out_v)
         if ki != 0.0:
