@@ -25,6 +25,7 @@ import numpy as np
 
 from ..compile.jit import INLINE
 from ..core import stored, window
+from ..core.kind_ops import OP_EVAL_RANGE, OPS_PER_KIND, call_eval_range
 from ..approximants.taylor import taylor_eval_range
 from ..approximants.taylor_simd import SIMD_ORDER
 from ..core.window import KIND_EXACT, KIND_SALAS_TORQUE, KIND_SPLIT, KIND_TAYLOR, evaluate, theta_of
@@ -147,6 +148,13 @@ def _plain_run(kind, c, t0, start_theta_i, t, rows, out_theta, out_v):
                 out_theta[q] = theta_of(ki, out_theta[q])
     elif kind == KIND_TAYLOR:
         taylor_eval_range(c, t0, t, lo, hi, out_theta, out_v)
+        if ki != 0.0:
+            for q in range(lo, hi):
+                out_theta[q] = theta_of(ki, out_theta[q])
+    elif kind == KIND_EXACT:
+        # The window's times in one call (the flow's table where they are many: the
+        # same bits as per time), through the kinds' table as the loop's emit_exact.
+        call_eval_range(KIND_EXACT * OPS_PER_KIND + OP_EVAL_RANGE, (c, t0, t, lo, hi, out_theta, out_v))
         if ki != 0.0:
             for q in range(lo, hi):
                 out_theta[q] = theta_of(ki, out_theta[q])
