@@ -33,7 +33,8 @@ from .controller import (
 )
 from .chains import F_CYCLE, F_DAMPED, F_TAYLOR_SIMD, REACHES, _run_sets, flag_bits, set_flag
 from .record import window_control
-from .loop import Span, _regime_set, damped_setup, emit_taylor, locked_test
+from .emit import Span, emit_taylor
+from .loop import _regime_set, damped_setup, locked_test
 from ..regimes.locked import LockSetup
 from .window import (
     KIND_TAYLOR,

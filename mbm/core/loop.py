@@ -49,7 +49,7 @@ import numba
 import numpy as np
 
 from ..validate import t_eval_problem
-from ..approximants.taylor import taylor_eval_range, taylor_workspace
+from ..approximants.taylor import taylor_workspace
 from ..approximants.taylor_simd import SIMD_ORDER
 from ..compile.jit import INLINE, kernel
 from .controller import (
@@ -59,7 +59,7 @@ from .controller import (
     _window_end,
     fixed_window,
 )
-from .kind_ops import OP_EVAL_RANGE, OPS_PER_KIND, call_eval_range
+from .emit import Outputs, Span, emit_exact, emit_locked, emit_taylor
 from .record import RUN, WORD, start_record, window_control, words_of
 from .window import (
     KIND_EXACT,
@@ -105,7 +105,6 @@ from ..regimes.locked import (
     locked_choice,
     locked_coef,
     locked_eval,
-    locked_eval_range,
     locked_far,
     locked_quick_reject,
 )
@@ -307,13 +306,6 @@ RegimeSetup = collections.namedtuple(
 #: offset 2πk (θ's scale for the tolerances), the length to try (≤ 0: search it).
 At = collections.namedtuple("At", ("t", "phi", "v", "k", "off", "h_abs"))
 
-#: Where a call's outputs go: the times ``t_eval`` and the rows θ, θ' and (``wrapped``:
-#: θ wrapped to (−π, π]) the winding count ``w`` (``w`` is ``theta`` when not wrapped).
-Outputs = collections.namedtuple("Outputs", ("t_eval", "theta", "v", "w", "wrapped"))
-
-#: A window's outputs' span (t, t_new] in the direction of time (±1), and its winding
-#: count k (θ = 2πk + φ).
-Span = collections.namedtuple("Span", ("t", "t_new", "direction", "k"))
 
 
 # The window sources, one per kind of window: run_entry branches on its constant set
@@ -415,68 +407,6 @@ def _source(kind, rset, simd, r, at, reach, lock, ws):
         h_abs = _first(kind, coef, t, y0, y1, off, omega, ctl)
     st, t_new, th, v, h_next = _adaptive(kind, coef, t, y0, y1, off, h_abs, ctl)
     return Window(st, coef, t_new, th, v, k, h_abs, h_next, False, 0)
-
-
-@numba.njit(**INLINE)
-def emit_taylor(coef, span, t_eval, j, out_theta, out_v, out_w, wrapped):
-    """The outputs of an ordinary Taylor window in (t, t_new] (``span``: a :data:`Span`)
-    in one call, four times at once (the same Horner steps per time as evaluate, so the
-    same bits; an output at t_new is the evaluation that produced the state).  Returns
-    the next output index.  Shared by the loop and the lanes.  The rows one by one:
-    taken from an Outputs record at each window they cost a few % of the common damped
-    run (reference counts)."""
-    t, t_new, direction, k = span
-    j2 = j
-    while j2 < t_eval.size and (direction * (t_eval[j2] - t_new) <= 0.0):
-        j2 += 1
-    if j2 > j:
-        # (Not called for an empty range: the call alone, its arrays passed and
-        # reference-counted, cost ~25 ns of a ~400 ns window.)
-        taylor_eval_range(coef, t, t_eval, j, j2, out_theta, out_v)
-        if k != 0.0 or wrapped:
-            for i in range(j, j2):
-                _put(out_theta, out_w, wrapped, i, k, out_theta[i])
-    return j2
-
-
-@kernel
-def emit_exact(coef, span, j, th, v, outs):
-    """The outputs of an exact-flow window (undriven, kind "exact") in (t, t_new] in one
-    call (:func:`mbm.approximants.belendez2007.belendez_eval_range`, :func:`evaluate`'s
-    bits: from a table of the flow where the block is large); an output at t_new is the
-    end state θ, θ' (``th``, ``v``) itself.  Returns the next output index."""
-    t, t_new, direction, k = span
-    t_eval, out_theta, out_v, out_w, wrapped = outs
-    j2 = j
-    while j2 < t_eval.size and (direction * (t_eval[j2] - t_new) < 0.0):
-        j2 += 1
-    if j2 > j:  # (through the kinds' table: the other kinds' entries compile none of it)
-        call_eval_range(KIND_EXACT * OPS_PER_KIND + OP_EVAL_RANGE, (coef, t, t_eval, j, j2, out_theta, out_v))
-    while j2 < t_eval.size and t_eval[j2] == t_new:
-        out_theta[j2], out_v[j2] = th, v
-        j2 += 1
-    if k != 0.0 or wrapped:
-        for i in range(j, j2):
-            _put(out_theta, out_w, wrapped, i, k, out_theta[i])
-    return j2
-
-
-@numba.njit(**INLINE)
-def emit_locked(coef, span, t_eval, j, out_theta, out_v, out_w, wrapped):
-    """The outputs of a locked window (L2, L6) in (t, t_new] (``span``: a :data:`Span`) in
-    one call: its constants formed once (:func:`mbm.regimes.locked.locked_eval_range`,
-    the same bits as :func:`mbm.regimes.locked.locked_eval` per time; an output at t_new
-    is the evaluation that gave the end state).  Returns the next output index."""
-    t, t_new, direction, k = span
-    j2 = j
-    while j2 < t_eval.size and (direction * (t_eval[j2] - t_new) <= 0.0):
-        j2 += 1
-    if j2 > j:
-        locked_eval_range(coef, t, t_eval, j, j2, out_theta, out_v)
-        if k != 0.0 or wrapped:
-            for i in range(j, j2):
-                _put(out_theta, out_w, wrapped, i, k, out_theta[i])
-    return j2
 
 
 @numba.njit(**INLINE)

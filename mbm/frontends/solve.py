@@ -494,14 +494,10 @@ def solve(model, t_span, y0, *, tau=None, rtol=1e-6, atol=1e-9, approximant="aut
         ``reason`` (what "auto" chose and why), ``regime`` (``"locked"``,
         ``"running"``, ``"libration"`` or ``"phase-locked"`` (a Shapiro step) when the
         run switched to a settled motion's closed form or stored period,
-        :doc:`/guide/regimes`; also ``"phase-locked"`` for a driven run that
-        integrated to its end locked to the drive, read from its stroboscopic samples,
-        ``mbm.regimes.summary``; else None), ``t_regime`` (when; nan if never),
-        ``period`` and ``mean_velocity`` (T_c and ±2π/T_c running; a libration's period
-        and 0; phase-locked q·2π/Ω and (p/q)Ω, p turns per q ≤ 4 drive periods, or
-        without a switch (p/q)Ω with q ≤ 12 and the orbit's period up to 8 drive
-        periods, nan where the orbit has none: chaotic within the step; nan and 0
-        locked; nan otherwise),
+        :doc:`/guide/regimes`, or locked to a drive unswitched; else None), ``t_regime``
+        (when; nan if never), ``period`` and ``mean_velocity`` (T_c and ±2π/T_c running;
+        a libration's period and 0; phase-locked q·2π/Ω (nan: chaotic within the step)
+        and (p/q)Ω; nan and 0 locked; nan otherwise),
         ``winding`` (int64, shape (n,), with ``wrap=True``; else None).
         With ``events``: ``t_events`` and ``y_events`` (a list with one array per
         event, of shapes (k,) and (k, 2), as scipy's) and ``winding_events`` (int64

@@ -72,7 +72,7 @@ STROBE_DISTINCT = 100.0
 LOCK_BLOCK = 24
 # (S8): block means kept; when all are filled, neighbours merge (the blocks double), so
 # the history spans the whole run in a fixed number of words.
-LOCK_SLOTS = 64
+LOCK_SLOTS = 32
 # (S8): drive periods the lock must hold over (the later half of the history) before a
 # run that never switched is called locked: a saddle-node's laminar phases next to a
 # step are shorter than this a few 1e-6 in γ off its edge (mbm.junction.shapiro).

@@ -26,11 +26,12 @@ LAYOUT = {
               "cyc_T", "cyc_t", "cyc_sign", "cyc_k", "cyc_wind", "cyc_Tlo"),
     "strobe": ("str_t0", "str_n", "str_k", "str_phi", "str_v", "str_p", "str_m", "str_d1t", "str_d1v",
                "str_d2t", "str_d2v", "str_d3t", "str_d3v", "str_ta", "str_psi", "str_tau1", "str_tau2",
-               "str_rho", "str_nw", "str_q", "str_ring", "str_qtau1", "str_qtau2", "str_qrho", "str_qb"),
+               "str_rho", "str_nw", "str_q", "str_ring", "str_qtau1", "str_qtau2", "str_qrho", "str_qb",
+               "lk_k0", "lk_phi0", "lk_acc", "lk_cnt", "lk_lvl", "lk_nb", "lk_means"),
     "damped": ("dmp_beta", "dmp_gamma", "dmp_omega", "dmp_d", "dmp_wl2", "dmp_g0", "dmp_g1", "dmp_sd", "dmp_q2",
                "dmp_sec_off", "dmp_sec_acc"),
 }
-SIZE = 1392
+SIZE = 1696
 
 
 def test_layout_is_the_named_groups():
