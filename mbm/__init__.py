@@ -18,11 +18,14 @@ garbage collector less often (``MBM_COMPILE_GC=0`` leaves it alone).
 import importlib
 
 from .compile import cache as _cache
+from .compile import cache_lock as _cache_lock
 from .compile import gc as _compile_gc
 
-# Before any compiled module: a kernel must not load from a cache older than its callees,
+# Before any compiled module: a kernel must not load another's code from a cache two
+# processes wrote at once, nor from a cache older than its callees,
 # and a first compile should say so (MBM_KEEP_CACHE=1, MBM_COMPILE_NOTICE=0 turn these off)
 # and not spend a tenth of its time in the garbage collector (MBM_COMPILE_GC=0).
+_cache_lock.install()
 _cache.check_sources()
 _cache.install_compile_notice()
 _compile_gc.install()
