@@ -61,13 +61,6 @@ E2_FLOOR = 2.0 ** -538
 # [LOCKED_TAG, θ₀, x₀ = θ₀ − θ*, v₀, β/2, s², ω_l²], θ = θ₀ + (x − x₀) so that the
 # window's start is its anchor bit for bit.  coef[0] of an approximant's window is its
 # anchor status, 0.0, so the tag tells a locked window from any other.
-# Outputs per block of :func:`locked_eval_range` (its scratch: three rows of this many,
-# allocated once per call): long enough that a block's arithmetic overlaps, short enough
-# to stay in the first-level cache.
-LOCKED_BLOCK = 64
-# Up to this many outputs :func:`locked_eval_range` takes them one by one: its blocks'
-# scratch (one allocation) would cost more than their overlap saves.
-LOCKED_FEW = 4
 LOCKED_TAG = 101.0
 LOCKED_WIDTH = 7
 # The second-order window (L6) appends [2.0, Q_r, Q_i, M, D_r, D_i]: coef[7] = 2 marks it
@@ -620,25 +613,6 @@ def _value(f, parts, t, form):
 
 
 @numba.njit(**INLINE)
-def _form_block(f, t0, times, lo, hi, outs, form):
-    # ``form`` at ``times[lo:hi] − t0`` into ``outs`` = (θ, θ' rows), a block at a time:
-    # its library calls first, then its arithmetic, a loop without calls whose outputs
-    # overlap (one loop of both measured 1.4× the time per output).
-    out_theta, out_v = outs
-    scratch = np.empty((3, min(hi - lo, LOCKED_BLOCK)))
-    eb, cb, sb = scratch[0], scratch[1], scratch[2]
-    for q0 in range(lo, hi, LOCKED_BLOCK):
-        m = min(LOCKED_BLOCK, hi - q0)
-        # (The block's rows as views indexed from 0: indices known non-negative, so the
-        # arithmetic loop is vectorized instead of gathering and scattering.)
-        tb, ob, vb = times[q0:q0 + m], out_theta[q0:q0 + m], out_v[q0:q0 + m]
-        for i in range(m):
-            eb[i], cb[i], sb[i] = _parts(f, tb[i] - t0, form)
-        for i in range(m):
-            ob[i], vb[i] = _value(f, (eb[i], cb[i], sb[i]), tb[i] - t0, form)
-
-
-@numba.njit(**INLINE)
 def locked_at(f, t):
     """θ and θ' of the locked form ``f`` (:func:`locked_form`) at ``t`` from the anchor:
     :func:`locked_eval`'s formula (L2; L6's x₂ added at order 2)."""
@@ -665,17 +639,52 @@ def locked_eval(coef, t):
     theta, v : float
         θ and θ' (at t = 0 the anchor, bit for bit).
     """
-    return locked_at(locked_form(coef), t)
+    # The closed form written out (not locked_at(locked_form(coef), t), the same
+    # operations and bits: tests/regimes/test_locked_outputs.py): a third of the compile.
+    th0, x0, v0, hb, s2, wl2 = (coef[LCK_THETA0], coef[LCK_X0], coef[LCK_V0],
+                                coef[LCK_HALF_BETA], coef[LCK_S2], coef[LCK_WL2])
+    b = v0 + hb * x0
+    s = e = c1 = s1 = 0.0
+    if s2 > 0.0:
+        s = math.sqrt(s2)
+        e = math.exp(-hb * t)
+        c1 = math.cos(s * t)
+        s1 = math.sin(s * t)
+        ec = e * c1
+        es = e * s1 / s
+    elif s2 < 0.0:
+        mu = math.sqrt(-s2)
+        lam1 = -wl2 / (hb + mu)
+        e1 = math.exp(lam1 * t)
+        ec = 0.5 * (e1 + math.exp((-hb - mu) * t))
+        es = e1 * (-math.expm1(-2.0 * mu * t)) / (2.0 * mu)
+    else:
+        e = math.exp(-hb * t)
+        ec = e
+        es = e * t
+    x = x0 * ec + b * es
+    xd = x0 * (-hb * ec - s2 * es) + b * (ec - hb * es)
+    if coef.size >= LOCKED2_WIDTH and coef[LCK_ORDER] == 2.0 and t != 0.0 and s2 > 0.0:
+        # (L6): x₂ and x₂' (zero at the anchor by construction, skipped there so
+        # that t = 0 is the anchor bit for bit).
+        qr, qi, m, dr, di = coef[LCK_QR], coef[LCK_QI], coef[LCK_M], coef[LCK_DR], coef[LCK_DI]
+        e2 = e * e
+        c2 = c1 * c1 - s1 * s1
+        sn2 = 2.0 * s1 * c1
+        beta = 2.0 * hb
+        x = x + (e2 * (qr * c2 - qi * sn2) + m * e2 + e * (dr * c1 - di * s1))
+        xd = xd + (e2 * ((-beta * qr - 2.0 * s * qi) * c2 - (-beta * qi + 2.0 * s * qr) * sn2) - beta * m * e2
+                   + e * ((-hb * dr - s * di) * c1 - (-hb * di + s * dr) * s1))
+    return th0 + (x - x0), xd
 
 
 @kernel
 def locked_eval_range(coef, t0, times, lo, hi, out_theta, out_v):
     """:func:`locked_eval` at ``times[lo:hi] − t0``, written to ``out_*[lo:hi]``.
 
-    The window's constants formed once (:func:`locked_form`), then the times in blocks
-    of LOCKED_BLOCK, each block's library calls (exponential and sincos) before its
-    arithmetic (L2): the same operations per time as :func:`locked_eval`, so the same
-    bits; up to LOCKED_FEW times one by one.
+    The window's constants formed once (:func:`locked_form`), then one loop per form of
+    the library calls and arithmetic of :func:`locked_eval`: the same operations per
+    time, so the same bits.
 
     Parameters
     ----------
@@ -691,18 +700,22 @@ def locked_eval_range(coef, t0, times, lo, hi, out_theta, out_v):
         θ and θ' written to their rows ``lo .. hi``.
     """
     f = locked_form(coef)
-    if hi - lo <= LOCKED_FEW:
-        for q in range(lo, hi):
-            out_theta[q], out_v[q] = locked_at(f, times[q] - t0)
-        return
     # One loop per form, each free of the others' branches (a shared loop body with them
-    # measured twice the time per output at order 2).
+    # measured twice the time per output at order 2).  Blocks of library calls apart from
+    # a vectorized arithmetic loop took an output from 24 to 16 ns but added 0.45 s to
+    # every first call's compile (0.55 -> 1.0 s for this kernel): not taken.
     if f.s2 > 0.0 and f.order2:
-        _form_block(f, t0, times, lo, hi, (out_theta, out_v), FORM_UNDER2)
+        for q in range(lo, hi):
+            t = times[q] - t0
+            out_theta[q], out_v[q] = _value(f, _parts(f, t, FORM_UNDER2), t, FORM_UNDER2)
     elif f.s2 > 0.0:
-        _form_block(f, t0, times, lo, hi, (out_theta, out_v), FORM_UNDER)
+        for q in range(lo, hi):
+            t = times[q] - t0
+            out_theta[q], out_v[q] = _value(f, _parts(f, t, FORM_UNDER), t, FORM_UNDER)
     else:
-        _form_block(f, t0, times, lo, hi, (out_theta, out_v), FORM_OVER)
+        for q in range(lo, hi):
+            t = times[q] - t0
+            out_theta[q], out_v[q] = _value(f, _parts(f, t, FORM_OVER), t, FORM_OVER)
 
 
 @kernel
