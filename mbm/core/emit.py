@@ -28,6 +28,22 @@ Span = collections.namedtuple("Span", ("t", "t_new", "direction", "k"))
 
 
 @numba.njit(**INLINE)
+def _block_end(t_eval, j, t_new, direction):
+    # The first output index past (t, t_new] from j (t_eval sorted in the direction).
+    while j < t_eval.size and (direction * (t_eval[j] - t_new) <= 0.0):
+        j += 1
+    return j
+
+
+@numba.njit(**INLINE)
+def _wind(out_theta, out_w, wrapped, j, j2, k):
+    # θ = 2πk + φ of rows j..j2 (or φ wrapped and k apart), where k or wrapping apply.
+    if k != 0.0 or wrapped:
+        for i in range(j, j2):
+            _put(out_theta, out_w, wrapped, i, k, out_theta[i])
+
+
+@numba.njit(**INLINE)
 def emit_taylor(coef, span, t_eval, j, out_theta, out_v, out_w, wrapped):
     """The outputs of an ordinary Taylor window in (t, t_new] (``span``: a :data:`Span`)
     in one call, four times at once (the same Horner steps per time as evaluate, so the
@@ -36,16 +52,12 @@ def emit_taylor(coef, span, t_eval, j, out_theta, out_v, out_w, wrapped):
     taken from an Outputs record at each window they cost a few % of the common damped
     run (reference counts)."""
     t, t_new, direction, k = span
-    j2 = j
-    while j2 < t_eval.size and (direction * (t_eval[j2] - t_new) <= 0.0):
-        j2 += 1
+    j2 = _block_end(t_eval, j, t_new, direction)
     if j2 > j:
         # (Not called for an empty range: the call alone, its arrays passed and
         # reference-counted, cost ~25 ns of a ~400 ns window.)
         taylor_eval_range(coef, t, t_eval, j, j2, out_theta, out_v)
-        if k != 0.0 or wrapped:
-            for i in range(j, j2):
-                _put(out_theta, out_w, wrapped, i, k, out_theta[i])
+        _wind(out_theta, out_w, wrapped, j, j2, k)
     return j2
 
 
@@ -65,9 +77,7 @@ def emit_exact(coef, span, j, th, v, outs):
     while j2 < t_eval.size and t_eval[j2] == t_new:
         out_theta[j2], out_v[j2] = th, v
         j2 += 1
-    if k != 0.0 or wrapped:
-        for i in range(j, j2):
-            _put(out_theta, out_w, wrapped, i, k, out_theta[i])
+    _wind(out_theta, out_w, wrapped, j, j2, k)
     return j2
 
 
@@ -78,12 +88,8 @@ def emit_locked(coef, span, t_eval, j, out_theta, out_v, out_w, wrapped):
     the same bits as :func:`mbm.regimes.locked.locked_eval` per time; an output at t_new
     is the evaluation that gave the end state).  Returns the next output index."""
     t, t_new, direction, k = span
-    j2 = j
-    while j2 < t_eval.size and (direction * (t_eval[j2] - t_new) <= 0.0):
-        j2 += 1
+    j2 = _block_end(t_eval, j, t_new, direction)
     if j2 > j:
         locked_eval_range(coef, t, t_eval, j, j2, out_theta, out_v)
-        if k != 0.0 or wrapped:
-            for i in range(j, j2):
-                _put(out_theta, out_w, wrapped, i, k, out_theta[i])
+        _wind(out_theta, out_w, wrapped, j, j2, k)
     return j2

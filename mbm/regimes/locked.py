@@ -598,18 +598,26 @@ def _value(f, parts, t, form):
     x = x0 * ec + b * es
     xd = x0 * (-hb * ec - s2 * es) + b * (ec - hb * es)
     if form == FORM_UNDER2 and t != 0.0:
-        # (L6): x₂ and x₂' (zero at the anchor by construction, skipped there so
-        # that t = 0 is the anchor bit for bit).
-        qr, qi, m, dr, di = f.qr, f.qi, f.m, f.dr, f.di
         ee = e if e >= E2_FLOOR else 0.0
-        e2 = ee * ee
-        c2 = c1 * c1 - s1 * s1
-        sn2 = 2.0 * s1 * c1
-        beta = 2.0 * hb
-        x = x + (e2 * (qr * c2 - qi * sn2) + m * e2 + e * (dr * c1 - di * s1))
-        xd = xd + (e2 * ((-beta * qr - 2.0 * s * qi) * c2 - (-beta * qi + 2.0 * s * qr) * sn2) - beta * m * e2
-                   + e * ((-hb * dr - s * di) * c1 - (-hb * di + s * dr) * s1))
+        x, xd = _l6_add(x, xd, (e, ee * ee, c1, s1), (s, hb), (f.qr, f.qi, f.m, f.dr, f.di))
     return f.th0 + (x - x0), xd
+
+
+@numba.njit(**INLINE)
+def _l6_add(x, xd, parts, rates, l6):
+    # (L6): x₂ and x₂' added to x, x' from ``parts`` = (E, E², cos st, sin st), ``rates``
+    # = (s, β/2) and ``l6`` = (Q_r, Q_i, M, D_r, D_i); zero at the anchor by construction,
+    # where the callers skip it so that t = 0 is the anchor bit for bit.
+    e, e2, c1, s1 = parts
+    s, hb = rates
+    qr, qi, m, dr, di = l6
+    c2 = c1 * c1 - s1 * s1
+    sn2 = 2.0 * s1 * c1
+    beta = 2.0 * hb
+    x = x + (e2 * (qr * c2 - qi * sn2) + m * e2 + e * (dr * c1 - di * s1))
+    xd = xd + (e2 * ((-beta * qr - 2.0 * s * qi) * c2 - (-beta * qi + 2.0 * s * qr) * sn2) - beta * m * e2
+               + e * ((-hb * dr - s * di) * c1 - (-hb * di + s * dr) * s1))
+    return x, xd
 
 
 @numba.njit(**INLINE)
@@ -639,8 +647,9 @@ def locked_eval(coef, t):
     theta, v : float
         θ and θ' (at t = 0 the anchor, bit for bit).
     """
-    # The closed form written out (not locked_at(locked_form(coef), t), the same
-    # operations and bits: tests/regimes/test_locked_outputs.py): a third of the compile.
+    # Written out, not locked_at(locked_form(coef), t) (the same operations and bits,
+    # tests/regimes/test_locked_outputs.py): its three inlined forms tripled this
+    # kernel's compile, part of every first call.
     th0, x0, v0, hb, s2, wl2 = (coef[LCK_THETA0], coef[LCK_X0], coef[LCK_V0],
                                 coef[LCK_HALF_BETA], coef[LCK_S2], coef[LCK_WL2])
     b = v0 + hb * x0
@@ -665,16 +674,8 @@ def locked_eval(coef, t):
     x = x0 * ec + b * es
     xd = x0 * (-hb * ec - s2 * es) + b * (ec - hb * es)
     if coef.size >= LOCKED2_WIDTH and coef[LCK_ORDER] == 2.0 and t != 0.0 and s2 > 0.0:
-        # (L6): x₂ and x₂' (zero at the anchor by construction, skipped there so
-        # that t = 0 is the anchor bit for bit).
-        qr, qi, m, dr, di = coef[LCK_QR], coef[LCK_QI], coef[LCK_M], coef[LCK_DR], coef[LCK_DI]
-        e2 = e * e
-        c2 = c1 * c1 - s1 * s1
-        sn2 = 2.0 * s1 * c1
-        beta = 2.0 * hb
-        x = x + (e2 * (qr * c2 - qi * sn2) + m * e2 + e * (dr * c1 - di * s1))
-        xd = xd + (e2 * ((-beta * qr - 2.0 * s * qi) * c2 - (-beta * qi + 2.0 * s * qr) * sn2) - beta * m * e2
-                   + e * ((-hb * dr - s * di) * c1 - (-hb * di + s * dr) * s1))
+        l6 = (coef[LCK_QR], coef[LCK_QI], coef[LCK_M], coef[LCK_DR], coef[LCK_DI])
+        x, xd = _l6_add(x, xd, (e, e * e, c1, s1), (s, hb), l6)
     return th0 + (x - x0), xd
 
 
