@@ -404,7 +404,7 @@ class Integrator:
                     t, y = te[:j], y[:, :j]
             status, n_windows = item(_W_STATUS), item(_W_NW)
             t_regime = words.item(_W_T_REGIME)
-            summary = run_summary(words)
+            summary = run_summary(words, ints)
         finally:
             records.append((buf, words, ints))
         r = SolveResult(self._base)

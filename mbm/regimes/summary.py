@@ -35,6 +35,7 @@ __all__ = ["RunSummary", "run_summary", "lock_rate", "ring_period"]
 RunSummary = collections.namedtuple("RunSummary", ("regime", "period", "mean_velocity"))
 
 _TWO_PI = 2.0 * math.pi
+_NONE = RunSummary(REGIME_NAMES[REGIME_NONE], math.nan, math.nan)
 _I = {name: WORD[name] for name in ("regime", "lk_nb", "lk_lvl", "str_n")}
 _F = {name: WORD[name] for name in ("cyc_T", "cyc_sign", "str_p", "str_q", "drive_freq", "drive_amp", "beta",
                                     "rtol", "atol", "lk_means", "str_ring")}
@@ -109,37 +110,49 @@ def ring_period(ring, n, rate, scale):
     return 0
 
 
-def run_summary(words):
+def run_summary(words, ints=None):
     """The :data:`RunSummary` of a finished run from its record's float64 words.
 
     Parameters
     ----------
     words : ndarray of float64
         One RUN record's words (:data:`mbm.core.record.WORD` indexes them).
+    ints : ndarray of int64, optional
+        The same words as int64 (a view the caller may already hold).
 
     Returns
     -------
     RunSummary
     """
-    ints = words.view(np.int64)
-    regime = int(ints[_I["regime"]])
+    # Python scalars by .item(): this runs once per call of every front end, whose
+    # shortest calls take ~10 µs.
+    if ints is None:
+        ints = words.view(np.int64)
+    regime = ints.item(_I["regime"])
     if regime == REGIME_PHASE_LOCKED:
-        period, velocity = strobe_summary(words[_F["str_p"]], words[_F["str_q"]], words[_F["drive_freq"]])
+        period, velocity = strobe_summary(words.item(_F["str_p"]), words.item(_F["str_q"]),
+                                          words.item(_F["drive_freq"]))
         return RunSummary(REGIME_NAMES[regime], period, velocity)
     if regime != REGIME_NONE:
-        return RunSummary(REGIME_NAMES[regime], *cycle_summary(regime, words[_F["cyc_T"]], words[_F["cyc_sign"]]))
-    none = RunSummary(REGIME_NAMES[REGIME_NONE], math.nan, math.nan)
-    freq = float(words[_F["drive_freq"]])
-    nb = int(ints[_I["lk_nb"]])
-    if nb < 2 or words[_F["drive_amp"]] == 0.0 or not (freq > 0.0 and words[_F["beta"]] > 0.0):
-        return none
-    start = _F["lk_means"]
-    rate = lock_rate(words[start:start + nb], ints[_I["lk_lvl"]])
+        return RunSummary(REGIME_NAMES[regime], *cycle_summary(regime, words.item(_F["cyc_T"]),
+                                                               words.item(_F["cyc_sign"])))
+    if words.item(_F["drive_amp"]) == 0.0 or ints.item(_I["lk_nb"]) < 2:
+        return _NONE
+    return _lock_summary(words, ints)
+
+
+def _lock_summary(words, ints):
+    # (S8): a driven run that never switched, read by the lock watch (module docstring).
+    freq = words.item(_F["drive_freq"])
+    if not (freq > 0.0 and words.item(_F["beta"]) > 0.0):
+        return _NONE
+    start, nb = _F["lk_means"], ints.item(_I["lk_nb"])
+    rate = lock_rate(words[start:start + nb], ints.item(_I["lk_lvl"]))
     if rate is None:
-        return none
+        return _NONE
     ring = words[_F["str_ring"]:_F["str_ring"] + 4 * STROBE_RING]
-    n = int(ints[_I["str_n"]])
+    n = ints.item(_I["str_n"])
     v_last = ring[4 * ((n - 1) % STROBE_RING) + 2]
-    m = ring_period(ring, n, rate, words[_F["atol"]] + words[_F["rtol"]] * abs(v_last))
+    m = ring_period(ring, n, rate, words.item(_F["atol"]) + words.item(_F["rtol"]) * abs(v_last))
     period = m * _TWO_PI / freq if m else math.nan
     return RunSummary(REGIME_NAMES[REGIME_PHASE_LOCKED], period, float(rate) * freq)
