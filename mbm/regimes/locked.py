@@ -647,36 +647,11 @@ def locked_eval(coef, t):
     theta, v : float
         θ and θ' (at t = 0 the anchor, bit for bit).
     """
-    # Written out, not locked_at(locked_form(coef), t) (the same operations and bits,
-    # tests/regimes/test_locked_outputs.py): its three inlined forms tripled this
-    # kernel's compile, part of every first call.
-    th0, x0, v0, hb, s2, wl2 = (coef[LCK_THETA0], coef[LCK_X0], coef[LCK_V0],
-                                coef[LCK_HALF_BETA], coef[LCK_S2], coef[LCK_WL2])
-    b = v0 + hb * x0
-    s = e = c1 = s1 = 0.0
-    if s2 > 0.0:
-        s = math.sqrt(s2)
-        e = math.exp(-hb * t)
-        c1 = math.cos(s * t)
-        s1 = math.sin(s * t)
-        ec = e * c1
-        es = e * s1 / s
-    elif s2 < 0.0:
-        mu = math.sqrt(-s2)
-        lam1 = -wl2 / (hb + mu)
-        e1 = math.exp(lam1 * t)
-        ec = 0.5 * (e1 + math.exp((-hb - mu) * t))
-        es = e1 * (-math.expm1(-2.0 * mu * t)) / (2.0 * mu)
-    else:
-        e = math.exp(-hb * t)
-        ec = e
-        es = e * t
-    x = x0 * ec + b * es
-    xd = x0 * (-hb * ec - s2 * es) + b * (ec - hb * es)
-    if coef.size >= LOCKED2_WIDTH and coef[LCK_ORDER] == 2.0 and t != 0.0 and s2 > 0.0:
-        l6 = (coef[LCK_QR], coef[LCK_QI], coef[LCK_M], coef[LCK_DR], coef[LCK_DI])
-        x, xd = _l6_add(x, xd, (e, e * e, c1, s1), (s, hb), l6)
-    return th0 + (x - x0), xd
+    f = locked_form(coef)
+    # The form as a value, not a literal: one inlined copy of the formula instead of
+    # locked_at's three (the same operations and bits).
+    form = FORM_UNDER2 if (f.s2 > 0.0 and f.order2) else (FORM_UNDER if f.s2 > 0.0 else FORM_OVER)
+    return _value(f, _parts(f, t, form), t, form)
 
 
 @kernel

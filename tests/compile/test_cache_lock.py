@@ -7,7 +7,7 @@ import pytest
 
 from mbm.compile import cache_lock
 
-pytest.importorskip("fcntl")
+pytest.importorskip("fcntl", reason="no fcntl (Windows): the lock is not installed there, numba's cache stays as it is")
 
 KEYS_PER_PROCESS = 60
 
