@@ -27,6 +27,7 @@ from ..compile.jit import INLINE
 from ..core import stored, window
 from ..core.kind_ops import OP_EVAL_RANGE, OPS_PER_KIND, call_eval_range
 from ..approximants.taylor import taylor_eval_range
+from ..approximants.taylor_series import HEADER
 from ..approximants.taylor_simd import SIMD_ORDER
 from ..core.window import KIND_EXACT, KIND_SALAS_TORQUE, KIND_SPLIT, KIND_TAYLOR, evaluate, theta_of
 from ..core.loop import RS_CYCLE, RS_PLAIN, RS_STROBE, Outputs
@@ -87,6 +88,8 @@ def _winding(kind, c, start_theta_i):
         return 0.0
     if c.size >= LOCKED_WIDTH and c[0] == LOCKED_TAG:
         phi0 = c[1]
+    elif kind == KIND_TAYLOR:
+        phi0 = c[HEADER]  # evaluate at 0: a₀ + 0·p, a₀ itself (taylor_eval_kernel)
     else:
         phi0 = evaluate(kind, c, 0.0)[0]
     return float(round((start_theta_i - phi0) / _TWO_PI))
@@ -191,8 +194,10 @@ def _entries(dset, simd=False):
         while j < m:
             # A run of times per window.
             i = _find(starts, n, direction, i, t[j])
+            # The window's bounds read once (_holds for each time: the same test).
+            lo_t, hi_t = starts[i], starts[i + 1] if i < n - 1 else direction * math.inf
             j2 = j + 1
-            while j2 < m and _holds(starts, n, direction, i, t[j2]):
+            while j2 < m and direction * (t[j2] - lo_t) >= 0.0 and direction * (t[j2] - hi_t) < 0.0:
                 j2 += 1
             c = coefs[i]
             if kind == KIND_TAYLOR and c.size >= STROBE_WIDTH and c[0] == STROBE_TAG:

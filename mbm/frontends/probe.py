@@ -30,6 +30,8 @@ from ..model import Pendulum
 __all__ = ["identify_model", "check_model"]
 
 EPS = float(np.finfo(float).eps)
+_FLOAT64 = np.dtype(np.float64)
+_FLOATS = (float, np.float64)
 # Relative tolerance for accepting an autonomous callable as a member of the family:
 # a member reproduces the fitted β, γ, ω² to round-off (a few ulps of the largest
 # term), anything above this is a different equation.
@@ -94,17 +96,25 @@ class _Probe:
         self._g = {}
 
     def __call__(self, t, theta, v):
+        return np.asarray(self.values(t, theta, v), dtype=float)
+
+    def values(self, t, theta, v):
+        """fun's two values at (t, θ, θ'): a list of two floats as fun gave it, else an array."""
         self.nfev += 1
-        out = np.asarray(self.fun(t, np.array([theta, v], dtype=float)), dtype=float).reshape(-1)
-        if out.shape != (2,):
-            raise ValueError(f"fun must return 2 values for a pendulum state, got shape {out.shape}")
+        out = self.fun(t, np.array((theta, v)))
+        if type(out) is list and len(out) == 2 and type(out[0]) in _FLOATS and type(out[1]) in _FLOATS:
+            return out
+        if type(out) is not np.ndarray or out.dtype is not _FLOAT64 or out.shape != (2,):
+            out = np.asarray(out, dtype=float).reshape(-1)  # a list, another dtype or shape
+            if out.shape != (2,):
+                raise ValueError(f"fun must return 2 values for a pendulum state, got shape {out.shape}")
         return out
 
     def g(self, t):
         """The second component at θ = θ' = 0: γ + the time part."""
         t = float(t)
         if t not in self._g:
-            self._g[t] = float(self(t, 0.0, 0.0)[1])
+            self._g[t] = float(self.values(t, 0.0, 0.0)[1])
         return self._g[t]
 
 
@@ -280,11 +290,21 @@ def _newton(ts, gs, t_ref, params):
         jac = np.column_stack((np.ones_like(ts), s, amp * c, amp * (ts - t_ref) * c)) * weight[:, None]
         norms = np.sqrt(np.sum(jac * jac, axis=0))
         norms[norms == 0.0] = 1.0
-        step, *_ = np.linalg.lstsq(jac / norms, r, rcond=None)
+        jac /= norms
+        # The normal equations: the normalised columns (1, sin, cos, (t − t_ref)·cos) are
+        # near orthogonal over the stage's periods, so squaring their condition costs no
+        # digits of the step, and a 4×4 solve costs a fraction of an SVD.
+        try:
+            step = np.linalg.solve(jac.T @ jac, jac.T @ r)
+        except np.linalg.LinAlgError:  # a vanished column (A = 0): the least-squares step
+            step = np.linalg.lstsq(jac, r, rcond=None)[0]
         dg, da, dpsi, dw = (step / norms).tolist()
         gamma, amp, freq = gamma + dg, amp + da, freq + dw
         phase = phase + (dpsi - dw * t_ref)
-        if abs(dw) * abs(ts - t_ref).max() <= 4 * EPS * (1.0 + abs(freq * ts).max()) and abs(dpsi) <= 4 * EPS:
+        # Done when the steps are round-off of what they move: Ω·t over the stage and
+        # the phase Ωt_ref + φ at t_ref.
+        if (abs(dw) * abs(ts - t_ref).max() <= 4 * EPS * (1.0 + abs(freq * ts).max())
+                and abs(dpsi) <= 4 * EPS * (1.0 + abs(phase) + abs(freq * t_ref))):
             break
     return gamma, amp, phase, freq
 
@@ -349,7 +369,7 @@ def _first_mismatch(p, model, times):
     n = len(times)
     at = [(t, 0.0, 0.0) for t in times]
     at += [(times[j], theta, v) for theta, v, _ in PROBE_CHECK_STATES for j in (0, 1, n // 2)]
-    got = np.array([p(t, theta, v) for t, theta, v in at])
+    got = np.array([p.values(t, theta, v) for t, theta, v in at], dtype=float)
     t, theta, v = (np.array(c) for c in zip(*at))
     beta, gamma, omega = model.params
     amp, freq, phase = model.drive

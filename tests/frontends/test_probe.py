@@ -237,3 +237,28 @@ def test_probing_is_bounded():
         for span in [(0.0, 1.0), (0.0, 2000.0), (0.0, 1e6)]:
             counts.append(mbm.identify_model(f, *span)[1])
     assert max(counts) <= MAX_PROBES, counts
+
+
+@pytest.mark.parametrize("form", ["list", "tuple", "array", "longdouble", "np.float64 list", "column"])
+def test_return_forms_give_the_same_model(form):
+    # The probe's fast path (a list of two floats) and its general path (np.asarray)
+    # identify the same model, to the bit.
+    j = Junction(0.3, 0.4, 0.7, 0.913, 2.5)
+    shape = {"list": list, "tuple": tuple, "array": np.array,
+             "longdouble": lambda v: np.array(v, dtype=np.longdouble),
+             "np.float64 list": lambda v: [np.float64(x) for x in v],
+             "column": lambda v: np.array(v).reshape(2, 1)}[form]
+    model, _ = mbm.identify_model(lambda t, y: shape(j.rhs(t, y)), *SPAN)
+    ref, _ = mbm.identify_model(j.rhs, *SPAN)
+    assert model == ref
+
+
+def test_gauss_newton_stops_at_round_off(monkeypatch):
+    # The stop rule measures the phase's step against the phase's own size: the bound
+    # client (φ ≈ −2.2, Ωt_ref ≈ 91) converges in a step or two, not NEWTON_ITERATIONS.
+    solves = []
+    real = np.linalg.solve
+    monkeypatch.setattr(np.linalg, "solve", lambda a, b: (solves.append(1), real(a, b))[1])
+    model, _ = mbm.identify_model(Junction(0.5, 0.4, 0.7, 0.913, 2.5).rhs, *SPAN)
+    assert 1 <= len(solves) <= 3, len(solves)
+    assert model.drive_frequency == 0.913
