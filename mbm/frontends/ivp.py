@@ -49,8 +49,9 @@ DEFAULT_ATOL = 1e-6
 # approximant has no error estimate: one tenth of the small-oscillation period 2π/ω
 # keeps the paper's |βτ| ≪ 1 assumption (2.10) for β ≲ 1.
 DEFAULT_TAU_PERIODS = 0.1
-# Initial size of the per-step window buffers with windows_per_step=None or "auto"
-# (doubled as needed: amortized linear in the number of windows).
+# Initial size of the per-step window buffers with windows_per_step=None (doubled as
+# needed: amortized linear in the number of windows); a bounded step's store is
+# allocated whole (at most WINDOWS_PER_STEP windows).
 WINDOW_BUFFER = 16
 # Most windows per step under windows_per_step="auto" when solve_ivp passes t_eval and
 # no events: a step's Python (~10 µs: the step, solve_ivp's search of t_eval, the dense
@@ -379,7 +380,9 @@ class MBM(_MBMBase):
         self._store_size = None
         self._windows = None
         if self._kind is not None:
-            self._store_size = min(WINDOW_BUFFER, wps or WINDOW_BUFFER)
+            # A step's whole store at once where it is bounded (a step that fills it pauses to
+            # grow it: a pause and a copy each time).
+            self._store_size = min(wps, WINDOWS_PER_STEP) if wps else WINDOW_BUFFER
             theta0, v0 = self.y.tolist()
             self._words = _new_record(
                 self.model, record.RunState(float(self.t), theta0, v0, float(self.t_bound)),

@@ -210,12 +210,30 @@ def strobe_split(t, t_a, p_hi, p_lo):
     n, s : float
         n an integer (as a float).
     """
+    n, s, _ = strobe_split_from(t, t_a, (p_hi, p_lo), NO_MULTIPLE)
+    return n, s
+
+
+#: A :func:`strobe_split_from` ``known`` that holds no multiple of P yet.
+NO_MULTIPLE = (math.nan, 0.0, 0.0)
+
+
+@kernel
+def strobe_split_from(t, t_a, p, known):
+    """:func:`strobe_split` (``p`` = (p_hi, p_lo)) with a multiple of P remembered:
+    ``known`` = (n, nP in double-double) of an earlier call (:data:`NO_MULTIPLE`: none)
+    is taken where this time's n is the same, as it is for most of a run of sorted
+    times (the same operations on the same values: the same bits).  Returns (n, s, the
+    multiple to pass on)."""
+    p_hi, p_lo = p
     th, tl = two_sum(t, -t_a)
     n = np.floor(th / p_hi)
     sh, sl = 0.0, 0.0
     for _ in range(3):
-        mh, ml = dd_mul_d(p_hi, p_lo, n)
-        sh, sl = dd_add(th, tl, -mh, -ml)
+        if n != known[0]:
+            mh, ml = dd_mul_d(p_hi, p_lo, n)
+            known = (n, mh, ml)
+        sh, sl = dd_add(th, tl, -known[1], -known[2])
         # The quotient's rounding can put s just outside [0, P) (compared in
         # double-double: s may round to fl(P) while below P): one period more or less.
         if sh < 0.0 or (sh == 0.0 and sl < 0.0):
@@ -224,7 +242,7 @@ def strobe_split(t, t_a, p_hi, p_lo):
             n += 1.0
         else:
             break
-    return n, min(max(sh + sl, 0.0), p_hi)
+    return n, min(max(sh + sl, 0.0), p_hi), known
 
 
 @kernel

@@ -38,6 +38,7 @@ from .stored_block import STORED_BLOCK, block_scratch, block_window, block_write
 from .strobe import (
     LOCK_BLOCK,
     LOCK_SLOTS,
+    NO_MULTIPLE,
     STROBE_CODE,
     STROBE_DISTINCT,
     STROBE_MAX_PERIODS,
@@ -47,6 +48,7 @@ from .strobe import (
     strobe_period,
     strobe_phase,
     strobe_split,
+    strobe_split_from,
     strobe_switch,
     strobe_time,
 )
@@ -241,10 +243,11 @@ def _strobe_range_taylor(c, per, outs, lo, hi):
     blk = block_scratch()
     sb, wb, kb = blk[0], blk[1], blk[2]
     i = 0
+    known = NO_MULTIPLE
     for b0 in range(lo, hi, STORED_BLOCK):
         m = min(STORED_BLOCK, hi - b0)
         for q in range(m):
-            periods, s = strobe_split(t_eval[b0 + q], c[4], p_hi, p_lo)
+            periods, s, known = strobe_split_from(t_eval[b0 + q], c[4], (p_hi, p_lo), known)
             i = block_window(starts, n, s, i)
             sb[q], wb[q] = s, i
             kb[q] = c[3] + ends[min(i, n), 2] + c[6] * periods

@@ -81,12 +81,28 @@ def test_auto_steps_bounded_and_same_bits_as_one_window_per_step():
 
 
 def test_store_grows_from_small():
-    # A short run allocates a small store: the first step starts at WINDOW_BUFFER windows.
+    # An unbounded step (windows_per_step=None) starts at WINDOW_BUFFER windows, so a
+    # short run allocates a small store.
     sc = scene("P1")
     _Spy.seen.clear()
-    solve_ivp(sc.model, sc.t_span, sc.y0_array, method=_Spy, t_eval=sc.t_eval(201), rtol=1e-3, atol=1e-3)
+    solve_ivp(sc.model, sc.t_span, sc.y0_array, method=_Spy, t_eval=sc.t_eval(201), rtol=1e-3, atol=1e-3,
+              windows_per_step=None)
     (n, size), = _Spy.seen[-1].steps
     assert n < msolver.WINDOW_BUFFER and size == msolver.WINDOW_BUFFER
+
+
+def test_bounded_step_allocates_its_bound_at_once():
+    # "auto" with t_eval bounds a step at WINDOWS_PER_STEP windows: the store is that
+    # size from the start (no pause to grow it), the same bits as a growing store.
+    sc = scene("P4")
+    _Spy.seen.clear()
+    te = sc.t_eval(201)
+    a = solve_ivp(sc.model, sc.t_span, sc.y0_array, method=_Spy, t_eval=te, rtol=1e-6, atol=1e-6)
+    steps = _Spy.seen[-1].steps
+    assert len(steps) > 1 and all(size == msolver.WINDOWS_PER_STEP for _, size in steps)
+    b = solve_ivp(sc.model, sc.t_span, sc.y0_array, method=mbm.MBM, t_eval=te, rtol=1e-6, atol=1e-6,
+                  windows_per_step=None)
+    np.testing.assert_array_equal(_bits(a.y), _bits(b.y))
 
 
 @pytest.mark.parametrize("wps", ["auto", None, 1, 5, np.int64(2)])

@@ -150,3 +150,24 @@ def test_every_output_path_is_the_re_run(step_coef):
                             out_v=out_v)
     np.testing.assert_array_equal(out_th, th)
     np.testing.assert_array_equal(out_v, v)
+
+
+def test_split_from_a_remembered_multiple_is_the_split():
+    # strobe_split_from takes n·P from the previous time where n is the same: (n, s)
+    # bit for bit strobe_split's, over sorted, unsorted and period-boundary times.
+    from mbm.regimes.strobe import NO_MULTIPLE, strobe_period, strobe_split, strobe_split_from
+
+    split = strobe_split.py_func if hasattr(strobe_split, "py_func") else strobe_split
+    p_hi, p_lo = strobe_period(0.913, 2.0)
+    t_a = 251.37
+    rng = np.random.default_rng(7)
+    k = np.arange(-3, 400, dtype=float)
+    times = np.concatenate((np.linspace(t_a, t_a + 3000.0, 4001), t_a + k * p_hi, t_a + k * (p_hi + p_lo),
+                            np.nextafter(t_a + k * p_hi, np.inf), rng.uniform(t_a, t_a + 1e5, 2000)))
+    for order in (times, rng.permutation(times)):
+        known = NO_MULTIPLE
+        for t in order:
+            n, s, known = strobe_split_from(t, t_a, (p_hi, p_lo), known)
+            n0, s0 = split(t, t_a, p_hi, p_lo)
+            assert (n, s) == (n0, s0), t
+            assert known[0] == n
