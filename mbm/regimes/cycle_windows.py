@@ -40,7 +40,7 @@ from ..core.kind_ops import (
 )
 from ..compile.jit import INLINE, kernel
 from .common import REGIME_RUNNING
-from .stored_block import STORED_BLOCK, block_scratch, block_window, block_write, first_window_at
+from .stored_block import STORED_BLOCK, block_scratch, block_window, block_write, rate_rows, first_window_at
 from .common import Tolerance
 from .cycle import (
     CROSSING_ITERATIONS,
@@ -266,6 +266,7 @@ def _period_range_taylor(c, per, outs, lo, hi, t0):
     t_eval = outs[0]
     starts, _, _, n = per
     blk = block_scratch()
+    rates = rate_rows(per)
     sb, wb, kb = blk[0], blk[1], blk[2]
     i = 0
     for b0 in range(lo, hi, STORED_BLOCK):
@@ -275,7 +276,7 @@ def _period_range_taylor(c, per, outs, lo, hi, t0):
             i = block_window(starts, n, s, i)
             sb[q], wb[q] = s, i
             kb[q] = c[13] + c[10] * periods
-        block_write(per, blk, m, b0, outs)
+        block_write(per, rates, blk, m, b0, outs)
 
 
 # The stored period re-runs a period of windows (a whole controller and step): compiled

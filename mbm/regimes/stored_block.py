@@ -62,6 +62,19 @@ def first_window_at(starts, n, s):
 
 
 @numba.njit(**INLINE)
+def rate_rows(per):
+    """k·a_k of the stored period ``per``'s windows (row i, column TAYLOR_HEADER + k): the
+    terms of θ''s Horner chain in :func:`block_values`, formed once per call instead of
+    once per output (the same products: the same bits)."""
+    _, _, coefs, n = per
+    rates = np.empty((max(n, 0), coefs.shape[1]))
+    for i in range(n):
+        for k in range(1, int(coefs[i, 1]) + 1):
+            rates[i, TAYLOR_HEADER + k] = k * coefs[i, TAYLOR_HEADER + k]
+    return rates
+
+
+@numba.njit(**INLINE)
 def _same_degree(coefs, n, i0, i1, i2, i3):
     """Whether windows i0..i3 are all stored (below n) and of one degree."""
     if max(max(i0, i1), max(i2, i3)) >= n or min(min(i0, i1), min(i2, i3)) < 0:
@@ -71,9 +84,10 @@ def _same_degree(coefs, n, i0, i1, i2, i3):
 
 
 @numba.njit(**INLINE)
-def block_values(per, blk, m):
+def block_values(per, rates, blk, m):
     """φ, θ' of a block's ``m`` times into ``blk``'s rows 3 and 4, each in its window (row
-    1; NaN rows not written where it is not stored): taylor_eval_kernel's steps, four
+    1; NaN rows not written where it is not stored; ``rates``: :func:`rate_rows` of
+    ``per``): taylor_eval_kernel's steps, four
     times at once whatever their windows (their eight Horner chains overlap instead of
     each waiting on its own latency; times spread over many windows are the common
     case, a few outputs per window)."""
@@ -94,10 +108,10 @@ def block_values(per, blk, m):
                 p1 = p1 * s1 + coefs[i1, h]
                 p2 = p2 * s2 + coefs[i2, h]
                 p3 = p3 * s3 + coefs[i3, h]
-                d0 = d0 * s0 + k * coefs[i0, h]
-                d1 = d1 * s1 + k * coefs[i1, h]
-                d2 = d2 * s2 + k * coefs[i2, h]
-                d3 = d3 * s3 + k * coefs[i3, h]
+                d0 = d0 * s0 + rates[i0, h]
+                d1 = d1 * s1 + rates[i1, h]
+                d2 = d2 * s2 + rates[i2, h]
+                d3 = d3 * s3 + rates[i3, h]
             h = TAYLOR_HEADER + 1
             thb[q] = coefs[i0, TAYLOR_HEADER] + s0 * (p0 * s0 + coefs[i0, h])
             thb[q + 1] = coefs[i1, TAYLOR_HEADER] + s1 * (p1 * s1 + coefs[i1, h])
@@ -114,15 +128,16 @@ def block_values(per, blk, m):
 
 
 @numba.njit(**INLINE)
-def block_write(per, blk, m, b0, outs):
+def block_write(per, rates, blk, m, b0, outs):
     """The values of a block's ``m`` times (``blk``: block_scratch's rows, s, window and
-    winding count filled) from the stored period ``per`` = (starts, ends, coefs, n),
+    winding count filled) from the stored period ``per`` = (starts, ends, coefs, n) and
+    its :func:`rate_rows`,
     written to rows ``b0 .. b0 + m`` of ``outs`` (t_eval, θ, θ', winding, wrapped):
     θ = 2πk + φ, or φ wrapped and its winding count; NaN past the period's windows."""
     starts, ends, _, n = per
     sb, wb, kb, thb, vb = blk
     _, out_theta, out_v, out_w, wrapped = outs
-    block_values(per, blk, m)
+    block_values(per, rates, blk, m)
     for r in range(m):
         i = wb[r]
         if i >= n:

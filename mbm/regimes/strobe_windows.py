@@ -34,7 +34,7 @@ from ..compile.jit import INLINE, kernel
 from .common import REGIME_NONE, REGIME_PHASE_LOCKED, SWITCH_SAFETY
 from .cycle import CYCLE_MAX_WINDOWS
 from .cycle_windows import _TWO_PI
-from .stored_block import STORED_BLOCK, block_scratch, block_window, block_write
+from .stored_block import STORED_BLOCK, block_scratch, block_window, block_write, rate_rows
 from .strobe import (
     LOCK_BLOCK,
     LOCK_SLOTS,
@@ -241,6 +241,7 @@ def _strobe_range_taylor(c, per, outs, lo, hi):
     starts, ends, _, n = per
     p_hi, p_lo = strobe_period(c[12], c[5])
     blk = block_scratch()
+    rates = rate_rows(per)
     sb, wb, kb = blk[0], blk[1], blk[2]
     i = 0
     known = NO_MULTIPLE
@@ -251,7 +252,7 @@ def _strobe_range_taylor(c, per, outs, lo, hi):
             i = block_window(starts, n, s, i)
             sb[q], wb[q] = s, i
             kb[q] = c[3] + ends[min(i, n), 2] + c[6] * periods
-        block_write(per, blk, m, b0, outs)
+        block_write(per, rates, blk, m, b0, outs)
 
 
 @numba.njit(**INLINE)
