@@ -33,7 +33,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ..approximants.taylor_series import HEADER
+from ..approximants.taylor_series import _INV_K12, HEADER
 from ..compile.jit import INLINE
 from .reference import reference_eps, reference_step
 from .regimes import expm2, linear_columns, linear_forcing, period_at, period_map, period_store
@@ -123,10 +123,22 @@ def _wrapped(dtheta):
 
 
 @njit(**INLINE)
+def _ipow(s, n):
+    # s**n for n ≥ 0 by squaring (a handful of multiplies where pow costs tens of ns).
+    r = 1.0
+    while n > 0:
+        if n & 1:
+            r *= s
+        s *= s
+        n >>= 1
+    return r
+
+
+@njit(**INLINE)
 def _tail(a, n, s):
     # The signed local error of a degree-n Taylor window at s (θ, θ'): minus its first two
     # neglected terms, a_{n+1} s^{n+1} + a_{n+2} s^{n+2} (the run's own error estimate's).
-    sn = s ** n
+    sn = _ipow(s, n)
     return (-(a[n + 1] + a[n + 2] * s) * sn * s,
             -((n + 1.0) * a[n + 1] + (n + 2.0) * a[n + 2] * s) * sn)
 
@@ -204,6 +216,8 @@ def _own_windows(sc, codes, ws, track, ctl, io, at):
     # window, next output).
     n, j, end, direction = at
     report, tr = io
+    if report.rows.size == 0:
+        return _own_error_windows(sc, ws, track, ctl, (report.err, tr.e), at)
     a, sn, cn, d = ws[0], ws[1], ws[2], ws[5]
     wt, coefs, te = track.t, track.coef, track.t_out
     e, S, e2, S2, rows = tr.e, tr.S, tr.e2, tr.S2, report.rows
@@ -230,6 +244,67 @@ def _own_windows(sc, codes, ws, track, ctl, io, at):
         e[0], e[1] = e2[0] + d0, e2[1] + d1
         n += 1
     return n, j
+
+
+@njit(cache=True)
+def _own_error_windows(sc, ws, track, ctl, io, at):
+    # :func:`_own_windows` for the error alone: Φ·e is the variational column started
+    # from (e, e') itself (the equation is linear), so one column to degree ctl.kt is
+    # transported in place of Φ's two; its recurrence shares each order's loop with the
+    # sin/cos series' next order (independent chains side by side).  ``io`` = (err, e).
+    n, j, end, direction = at
+    err, e = io
+    ja, sn, cn, col = ws[0], ws[1], ws[2], ws[3]
+    wt, coefs, te = track.t, track.coef, track.t_out
+    kt = ctl.kt
+    beta, w2 = sc[0], sc[2] * sc[2]
+    e0, e1 = e[0], e[1]
+    while n < end and _is_own(wt, coefs, ctl, n, direction):
+        t0, t1 = wt[n], wt[n + 1]
+        deg = int(coefs[n, 1])
+        for k in range(1, kt - 1):
+            ja[k] = k * coefs[n, HEADER + k]
+        sn[0], cn[0] = math.sin(coefs[n, HEADER]), math.cos(coefs[n, HEADER])
+        col[0], col[1] = e0, e1
+        for k in range(kt - 1):
+            if k + 1 <= kt - 2:  # sin θ, cos θ at order k + 1 (as series._sincos_order)
+                ss = 0.0
+                cc = 0.0
+                for i in range(1, k + 2):
+                    ss += ja[i] * cn[k + 1 - i]
+                    cc += ja[i] * sn[k + 1 - i]
+                sn[k + 1] = ss / (k + 1)
+                cn[k + 1] = -cc / (k + 1)
+            c0 = 0.0
+            for i in range(k + 1):
+                c0 += cn[i] * col[k - i]
+            col[k + 2] = (-beta * (k + 1.0) * col[k + 1] - w2 * c0) * _INV_K12[k]
+        an = coefs[n, HEADER:]
+        while j < te.size and direction * (te[j] - t1) <= 0.0:
+            s = te[j] - t0
+            p, q = _value_rate_to(col, kt, s)
+            d0, d1 = _tail(an, deg, s)
+            err[0, j] = p + d0
+            err[1, j] = q + d1
+            j += 1
+        h = t1 - t0
+        p, q = _value_rate_to(col, kt, h)
+        d0, d1 = _tail(an, deg, h)
+        e0, e1 = p + d0, q + d1
+        n += 1
+    e[0], e[1] = e0, e1
+    return n, j
+
+
+@njit(**INLINE)
+def _value_rate_to(c, n, s):
+    # value_rate of c[:n + 1] at s (no slice).
+    p = c[n]
+    q = 0.0
+    for k in range(n - 1, -1, -1):
+        q = q * s + p
+        p = p * s + c[k]
+    return p, q
 
 
 @njit(**INLINE)
