@@ -37,7 +37,7 @@ from ..approximants.taylor_series import _INV_K12, HEADER
 from ..compile.jit import INLINE
 from .reference import reference_eps, reference_step
 from .regimes import expm2, linear_columns, linear_forcing, period_at, period_map, period_store
-from .series import COL_THETA0, COL_V0, columns, row_value_rate, sincos_of, tangent_series, value_rate
+from .series import COL_THETA0, COL_V0, columns, row_value_rate, tangent_series, value_rate
 
 #: Windows per compiled call of the pass: Ctrl-C is honoured between calls (a few ms each).
 CHUNK_WINDOWS = 4096
@@ -229,8 +229,8 @@ def _own_windows(sc, codes, ws, track, ctl, io, at):
         deg = int(coef[1])
         for k in range(kt + 1):
             a[k] = coef[HEADER + k]
-        sincos_of(a, kt - 2, sn, cn)
-        columns(sc, t0, codes, ws, kt)
+        sn[0], cn[0] = math.sin(a[0]), math.cos(a[0])
+        columns(sc, t0, codes, ws, kt, True)
         an = coef[HEADER:]
         j = _own_outputs(d, an, (t0, t1, direction, kt, deg), te, j, arrays)
         h = t1 - t0
