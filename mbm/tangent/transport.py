@@ -595,13 +595,15 @@ def _periodic_window(sc, codes, ws, ends, span, io, j, stored):
     if n_sub < 0:
         return j, -1
     rows = report.rows
-    M, PT, thT, vT = period_at(store, n_sub, T, codes)
+    M, PT = np.empty((2, 2)), np.empty((2, codes.size))
+    thT, vT = period_at(store, n_sub, T, codes, (M, PT))
     dT = np.zeros(2)
     if span.measured:
         dT[0], dT[1] = _wrapped(anchor[1] - thT), anchor[2] - vT
     # The window's start in the anchor's frame: E_k0 = Φ_A(s0)⁻¹(e₀ − d(t0)), Σ likewise.
     k = max(0, int(math.floor((t0 - t_a) / T)))
-    phi, pc, th, v = period_at(store, n_sub, min(max(t0 - t_a - k * T, 0.0), T), codes)
+    phi, pc = np.empty((2, 2)), np.empty((2, codes.size))
+    th, v = period_at(store, n_sub, min(max(t0 - t_a - k * T, 0.0), T), codes, (phi, pc))
     d0, d1 = (_wrapped(ends[0] - th), ends[1] - v) if span.measured else (0.0, 0.0)
     _pull_back(phi, pc, rows, (d0, d1), tr)
     te, yo = track.t_out, track.y_out
@@ -612,7 +614,7 @@ def _periodic_window(sc, codes, ws, ends, span, io, j, stored):
         while k < kk:
             _apply(M, PT, dT, rows, (tr.e, tr.S), (tr.e, tr.S))  # one stored period on
             k += 1
-        phi, pc, th, v = period_at(store, n_sub, min(max(t - t_a - k * T, 0.0), T), codes)
+        th, v = period_at(store, n_sub, min(max(t - t_a - k * T, 0.0), T), codes, (phi, pc))
         _apply(phi, pc, _ZERO2, rows, (tr.e, tr.S), (tr.e2, tr.S2))  # at the phase
         y0, y1 = (ends[2], ends[3]) if last else (yo[0, j], yo[1, j])
         d0, d1 = (_wrapped(y0 - th), y1 - v) if span.measured else (0.0, 0.0)
