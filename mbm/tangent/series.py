@@ -171,6 +171,9 @@ def tangent_series(sc, t0, theta0, v0, codes, ws):
     Each order of θ and the columns' next order share one pass (independent chains side
     by side; each the same operations as apart).
     """
+    if codes.size == 2 and codes[0] == COL_THETA0 and codes[1] == COL_V0:
+        _phi_series(sc, t0, theta0, v0, ws)
+        return
     a, sn, cn, ds, dc, d = ws
     nt = a.size - 1
     beta, gamma, omega, amp, freq, phase = sc
@@ -189,6 +192,38 @@ def tangent_series(sc, t0, theta0, v0, codes, ws):
         g = gamma if k == 0 else 0.0
         a[k + 2] = (g + amp * ds[k] - beta * (k + 1.0) * a[k + 1] - w2 * sn[k]) / ((k + 1.0) * (k + 2.0))
         _columns_order(sc, t0, codes, ws, k)
+
+
+@njit(cache=True)
+def _phi_series(sc, t0, theta0, v0, ws):
+    # tangent_series of Φ's two columns alone (no forcing): one pair of chains beside
+    # sin/cos's, the same operations per column as the grouped pass.
+    a, sn, cn, ds, dc, d = ws
+    nt = a.size - 1
+    beta, gamma, omega, amp, freq, phase = sc
+    w2 = omega * omega
+    if amp != 0.0:
+        u, w = drive_phase_sincos(freq, phase, t0)
+        drive_series(freq, u, w, nt, ds, dc)
+    else:
+        ds[:] = 0.0
+    a[0], a[1] = theta0, v0
+    sn[0], cn[0] = math.sin(theta0), math.cos(theta0)
+    d[0, 0], d[0, 1], d[1, 0], d[1, 1] = 1.0, 0.0, 0.0, 1.0
+    for k in range(nt - 1):
+        if k > 0:
+            _sincos_order(k, a, sn, cn)
+        g = gamma if k == 0 else 0.0
+        a[k + 2] = (g + amp * ds[k] - beta * (k + 1.0) * a[k + 1] - w2 * sn[k]) / ((k + 1.0) * (k + 2.0))
+        c0 = 0.0
+        c1 = 0.0
+        for j in range(k + 1):
+            cj = cn[j]
+            c0 += cj * d[0, k - j]
+            c1 += cj * d[1, k - j]
+        kk = k + 1.0
+        _column_order(d, 0, k, kk, 0.0, beta, w2 * c0, _INV_K12[k])
+        _column_order(d, 1, k, kk, 0.0, beta, w2 * c1, _INV_K12[k])
 
 
 @njit(**INLINE)
