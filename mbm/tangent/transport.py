@@ -37,7 +37,7 @@ from ..approximants.taylor_series import _INV_K12, HEADER
 from ..compile.jit import INLINE
 from .reference import reference_eps, reference_step
 from .regimes import expm2, linear_columns, linear_forcing, period_at, period_map, period_store
-from .series import COL_THETA0, COL_V0, columns, row_value_rate, tangent_series, value_rate
+from .series import COL_THETA0, COL_V0, columns, row_value_rate, tangent_series
 
 #: Windows per compiled call of the pass: Ctrl-C is honoured between calls (a few ms each).
 CHUNK_WINDOWS = 4096
@@ -89,31 +89,36 @@ def _phi_at(d, nt, s):
 
 
 @njit(**INLINE)
-def _sensitivities_at(d, nt, s, phi, S, rows, dst):
-    # dst = Φ(s)·S + P(s) (P: a parameter's own column where rows[i] ≥ 2), column by
-    # column; one call per time (arrays handed to an inlined callee cost their reference
-    # counts per call, so not per column).
-    p00, p10, p01, p11 = phi
+def _columns_at(ws, nt, s, rows, tr, vr):
+    # Φ(s)·e into tr.e2 and Φ(s)·S + P(s) into tr.S2, from the columns' series to degree nt
+    # (their values and rates into vr); returns θ's value and rate at s.  θ's and every
+    # column's Horner chains side by side (value_rate's operations each).
+    a, d = ws[0], ws[5]
+    tp = a[nt]
+    tq = 0.0
+    for r in range(d.shape[0]):
+        vr[0, r] = d[r, nt]
+        vr[1, r] = 0.0
+    for k in range(nt - 1, -1, -1):
+        tq = tq * s + tp
+        tp = tp * s + a[k]
+        for r in range(d.shape[0]):
+            p = vr[0, r]
+            vr[1, r] = vr[1, r] * s + p
+            vr[0, r] = p * s + d[r, k]
+    e, S, out_e, out_s = tr.e, tr.S, tr.e2, tr.S2
+    p00, p10, p01, p11 = vr[0, 0], vr[1, 0], vr[0, 1], vr[1, 1]
+    out_e[0] = p00 * e[0] + p01 * e[1]
+    out_e[1] = p10 * e[0] + p11 * e[1]
     for i in range(rows.size):
         x0 = p00 * S[0, i] + p01 * S[1, i]
         x1 = p10 * S[0, i] + p11 * S[1, i]
         if rows[i] >= 2:
-            q0, q1 = row_value_rate(d, rows[i], nt, s)
-            x0 += q0
-            x1 += q1
-        dst[0, i] = x0
-        dst[1, i] = x1
-
-
-@njit(**INLINE)
-def _columns_at(ws, nt, s, rows, tr):
-    # Φ(s)·e into tr.e2 and Φ(s)·S + P(s) into tr.S2, from the columns' series to degree nt.
-    d, e, S, out_e, out_s = ws[5], tr.e, tr.S, tr.e2, tr.S2
-    phi = _phi_at(d, nt, s)
-    p00, p10, p01, p11 = phi
-    out_e[0] = p00 * e[0] + p01 * e[1]
-    out_e[1] = p10 * e[0] + p11 * e[1]
-    _sensitivities_at(d, nt, s, phi, S, rows, out_s)
+            x0 += vr[0, rows[i]]
+            x1 += vr[1, rows[i]]
+        out_s[0, i] = x0
+        out_s[1, i] = x1
+    return tp, tq
 
 
 @njit(**INLINE)
@@ -221,7 +226,8 @@ def _own_windows(sc, codes, ws, track, ctl, io, at):
     a, sn, cn, d = ws[0], ws[1], ws[2], ws[5]
     wt, coefs, te = track.t, track.coef, track.t_out
     e, S, e2, S2, rows = tr.e, tr.S, tr.e2, tr.S2, report.rows
-    arrays = (e, S, report.err, report.sens, rows, np.empty((2, d.shape[0])))
+    vr = np.empty((2, d.shape[0]))  # the columns' values and rates at a time
+    arrays = (e, S, report.err, report.sens, rows, vr)
     kt = ctl.kt
     while n < end and _is_own(wt, coefs, ctl, n, direction):
         t0, t1 = wt[n], wt[n + 1]
@@ -234,12 +240,17 @@ def _own_windows(sc, codes, ws, track, ctl, io, at):
         an = coef[HEADER:]
         j = _own_outputs(d, an, (t0, t1, direction, kt, deg), te, j, arrays)
         h = t1 - t0
-        phi = _phi_at(d, kt, h)
-        p00, p10, p01, p11 = phi
+        _rows_value_rate(d, kt, h, vr)  # every column at once (as at the outputs)
+        p00, p10, p01, p11 = vr[0, 0], vr[1, 0], vr[0, 1], vr[1, 1]
         d0, d1 = _tail(an, deg, h)
-        _sensitivities_at(d, kt, h, phi, S, rows, S2)
-        for i in range(rows.size):
-            S[0, i], S[1, i] = S2[0, i], S2[1, i]
+        for i in range(rows.size):  # S ← Φ(h)·S + P(h), as _columns_at
+            x0 = p00 * S[0, i] + p01 * S[1, i]
+            x1 = p10 * S[0, i] + p11 * S[1, i]
+            if rows[i] >= 2:
+                x0 += vr[0, rows[i]]
+                x1 += vr[1, rows[i]]
+            S[0, i], S[1, i] = x0, x1
+            S2[0, i], S2[1, i] = x0, x1
         e2[0], e2[1] = p00 * e[0] + p01 * e[1], p10 * e[0] + p11 * e[1]
         e[0], e[1] = e2[0] + d0, e2[1] + d1
         n += 1
@@ -326,6 +337,7 @@ def _reference_window(sc, codes, ws, start, span, io, j):
     nt = ws[0].size - 1
     te, yo = track.t_out, track.y_out
     ts, x0, x1 = t0, start[0], start[1]
+    vr = np.empty((2, codes.size))  # the columns' values and rates at a time
     n_sub = 0
     while True:
         tangent_series(sc, ts, x0, x1, codes, ws)
@@ -336,15 +348,13 @@ def _reference_window(sc, codes, ws, start, span, io, j):
         last = hs >= direction * (t1 - ts)
         t_sub = t1 if last else ts + direction * hs
         while j < te.size and direction * (te[j] - t_sub) <= 0.0:
-            _columns_at(ws, nt, te[j] - ts, report.rows, tr)
-            th, v = value_rate(ws[0], te[j] - ts)
+            th, v = _columns_at(ws, nt, te[j] - ts, report.rows, tr, vr)
             if measured:
                 _report(report, j, tr, _wrapped(yo[0, j] - th), yo[1, j] - v)
             else:
                 _report(report, j, tr, 0.0, 0.0)
             j += 1
-        _columns_at(ws, nt, t_sub - ts, report.rows, tr)
-        x0, x1 = value_rate(ws[0], t_sub - ts)
+        x0, x1 = _columns_at(ws, nt, t_sub - ts, report.rows, tr, vr)
         _advance(tr)
         ts = t_sub
         if last:
