@@ -118,7 +118,8 @@ def _columns_order(sc, t0, codes, ws, k):
     for i in range(0, codes.size, COLUMN_GROUP):
         # Six columns per pass: their sums are independent chains (each in the same
         # order as alone); a short group repeats its last column, stored once.
-        i1, i2, i3, i4, i5 = min(i + 1, last), min(i + 2, last), min(i + 3, last), min(i + 4, last), min(i + 5, last)
+        i1, i2, i3 = min(i + 1, last), min(i + 2, last), min(i + 3, last)
+        i4, i5 = min(i + 4, last), min(i + 5, last)
         c0 = 0.0
         c1 = 0.0
         c2 = 0.0
