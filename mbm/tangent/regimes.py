@@ -22,6 +22,7 @@ import math
 import numpy as np
 from numba import njit
 
+from ..compile.jit import INLINE
 from .reference import reference_step
 from .series import tangent_series, value_rate
 
@@ -117,12 +118,22 @@ def _compose(d, s, phi, pc, codes):
     # The cumulative (Φ, P) after a sub-window whose columns' series are d, at s.
     p00, p10 = value_rate(d[0], s)
     p01, p11 = value_rate(d[1], s)
-    new_phi = np.empty((2, 2))
+    out = (np.empty((2, 2)), np.empty_like(pc))
+    _compose_into((p00, p10, p01, p11), d, s, (phi, pc), codes, out)
+    return out
+
+
+@njit(**INLINE)
+def _compose_into(step, d, s, cum, codes, out):
+    # out = (Φ, P) after a sub-window whose Φ(s) is ``step`` = (p00, p10, p01, p11) and whose
+    # columns' series are d, from the cumulative ``cum`` = (Φ, P) at its start.
+    p00, p10, p01, p11 = step
+    phi, pc = cum
+    new_phi, new_pc = out
     new_phi[0, 0] = p00 * phi[0, 0] + p01 * phi[1, 0]
     new_phi[0, 1] = p00 * phi[0, 1] + p01 * phi[1, 1]
     new_phi[1, 0] = p10 * phi[0, 0] + p11 * phi[1, 0]
     new_phi[1, 1] = p10 * phi[0, 1] + p11 * phi[1, 1]
-    new_pc = np.empty_like(pc)
     for c in range(codes.size):
         x0 = p00 * pc[0, c] + p01 * pc[1, c]
         x1 = p10 * pc[0, c] + p11 * pc[1, c]
@@ -132,12 +143,12 @@ def _compose(d, s, phi, pc, codes):
             x1 += q1
         new_pc[0, c] = x0
         new_pc[1, c] = x1
-    return new_phi, new_pc
 
 
 @njit(cache=True)
-def period_at(store, n_sub, s, codes):
-    """(Φ(s), P(s), θ̂(s), θ̂'(s)) at phase s of the stored period (0 ≤ s ≤ its length)."""
+def period_at(store, n_sub, s, codes, out):
+    """(θ̂(s), θ̂'(s)) at phase s of the stored period (0 ≤ s ≤ its length), and its
+    (Φ(s), P(s)) into ``out`` = ((2, 2), (2, n_cols)) arrays."""
     starts, pa, pd, cum, pcol = store
     lo, hi = 0, n_sub - 1
     while lo < hi:  # the last sub-window starting at or before s
@@ -147,6 +158,16 @@ def period_at(store, n_sub, s, codes):
         else:
             hi = mid - 1
     u = s - starts[lo]
-    phi, pc = _compose(pd[lo], u, cum[lo], pcol[lo], codes)
-    th, v = value_rate(pa[lo], u)
-    return phi, pc, th, v
+    # θ and Φ's two columns by Horner side by side (value_rate's operations each).
+    n = pa.shape[1] - 1
+    tp, p0, p1 = pa[lo, n], pd[lo, 0, n], pd[lo, 1, n]
+    tq, q0, q1 = 0.0, 0.0, 0.0
+    for k in range(n - 1, -1, -1):
+        tq = tq * u + tp
+        tp = tp * u + pa[lo, k]
+        q0 = q0 * u + p0
+        p0 = p0 * u + pd[lo, 0, k]
+        q1 = q1 * u + p1
+        p1 = p1 * u + pd[lo, 1, k]
+    _compose_into((p0, q0, p1, q1), pd[lo], u, (cum[lo], pcol[lo]), codes, out)
+    return tp, tq

@@ -33,11 +33,11 @@ import math
 import numpy as np
 from numba import njit
 
-from ..approximants.taylor_series import HEADER
+from ..approximants.taylor_series import _INV_K12, HEADER
 from ..compile.jit import INLINE
 from .reference import reference_eps, reference_step
 from .regimes import expm2, linear_columns, linear_forcing, period_at, period_map, period_store
-from .series import COL_THETA0, COL_V0, columns, row_value_rate, sincos_of, tangent_series, value_rate
+from .series import COL_THETA0, COL_V0, columns, row_value_rate, tangent_series
 
 #: Windows per compiled call of the pass: Ctrl-C is honoured between calls (a few ms each).
 CHUNK_WINDOWS = 4096
@@ -89,31 +89,36 @@ def _phi_at(d, nt, s):
 
 
 @njit(**INLINE)
-def _sensitivities_at(d, nt, s, phi, S, rows, dst):
-    # dst = Φ(s)·S + P(s) (P: a parameter's own column where rows[i] ≥ 2), column by
-    # column; one call per time (arrays handed to an inlined callee cost their reference
-    # counts per call, so not per column).
-    p00, p10, p01, p11 = phi
+def _columns_at(ws, nt, s, rows, tr, vr):
+    # Φ(s)·e into tr.e2 and Φ(s)·S + P(s) into tr.S2, from the columns' series to degree nt
+    # (their values and rates into vr); returns θ's value and rate at s.  θ's and every
+    # column's Horner chains side by side (value_rate's operations each).
+    a, d = ws[0], ws[5]
+    tp = a[nt]
+    tq = 0.0
+    for r in range(d.shape[0]):
+        vr[0, r] = d[r, nt]
+        vr[1, r] = 0.0
+    for k in range(nt - 1, -1, -1):
+        tq = tq * s + tp
+        tp = tp * s + a[k]
+        for r in range(d.shape[0]):
+            p = vr[0, r]
+            vr[1, r] = vr[1, r] * s + p
+            vr[0, r] = p * s + d[r, k]
+    e, S, out_e, out_s = tr.e, tr.S, tr.e2, tr.S2
+    p00, p10, p01, p11 = vr[0, 0], vr[1, 0], vr[0, 1], vr[1, 1]
+    out_e[0] = p00 * e[0] + p01 * e[1]
+    out_e[1] = p10 * e[0] + p11 * e[1]
     for i in range(rows.size):
         x0 = p00 * S[0, i] + p01 * S[1, i]
         x1 = p10 * S[0, i] + p11 * S[1, i]
         if rows[i] >= 2:
-            q0, q1 = row_value_rate(d, rows[i], nt, s)
-            x0 += q0
-            x1 += q1
-        dst[0, i] = x0
-        dst[1, i] = x1
-
-
-@njit(**INLINE)
-def _columns_at(ws, nt, s, rows, tr):
-    # Φ(s)·e into tr.e2 and Φ(s)·S + P(s) into tr.S2, from the columns' series to degree nt.
-    d, e, S, out_e, out_s = ws[5], tr.e, tr.S, tr.e2, tr.S2
-    phi = _phi_at(d, nt, s)
-    p00, p10, p01, p11 = phi
-    out_e[0] = p00 * e[0] + p01 * e[1]
-    out_e[1] = p10 * e[0] + p11 * e[1]
-    _sensitivities_at(d, nt, s, phi, S, rows, out_s)
+            x0 += vr[0, rows[i]]
+            x1 += vr[1, rows[i]]
+        out_s[0, i] = x0
+        out_s[1, i] = x1
+    return tp, tq
 
 
 @njit(**INLINE)
@@ -123,10 +128,22 @@ def _wrapped(dtheta):
 
 
 @njit(**INLINE)
+def _ipow(s, n):
+    # s**n for n ≥ 0 by squaring (a handful of multiplies where pow costs tens of ns).
+    r = 1.0
+    while n > 0:
+        if n & 1:
+            r *= s
+        s *= s
+        n >>= 1
+    return r
+
+
+@njit(**INLINE)
 def _tail(a, n, s):
     # The signed local error of a degree-n Taylor window at s (θ, θ'): minus its first two
     # neglected terms, a_{n+1} s^{n+1} + a_{n+2} s^{n+2} (the run's own error estimate's).
-    sn = s ** n
+    sn = _ipow(s, n)
     return (-(a[n + 1] + a[n + 2] * s) * sn * s,
             -((n + 1.0) * a[n + 1] + (n + 2.0) * a[n + 2] * s) * sn)
 
@@ -204,10 +221,13 @@ def _own_windows(sc, codes, ws, track, ctl, io, at):
     # window, next output).
     n, j, end, direction = at
     report, tr = io
+    if report.rows.size == 0:
+        return _own_error_windows(sc, ws, track, ctl, (report.err, tr.e), at)
     a, sn, cn, d = ws[0], ws[1], ws[2], ws[5]
     wt, coefs, te = track.t, track.coef, track.t_out
     e, S, e2, S2, rows = tr.e, tr.S, tr.e2, tr.S2, report.rows
-    arrays = (e, S, report.err, report.sens, rows, np.empty((2, d.shape[0])))
+    vr = np.empty((2, d.shape[0]))  # the columns' values and rates at a time
+    arrays = (e, S, report.err, report.sens, rows, vr)
     kt = ctl.kt
     while n < end and _is_own(wt, coefs, ctl, n, direction):
         t0, t1 = wt[n], wt[n + 1]
@@ -215,21 +235,87 @@ def _own_windows(sc, codes, ws, track, ctl, io, at):
         deg = int(coef[1])
         for k in range(kt + 1):
             a[k] = coef[HEADER + k]
-        sincos_of(a, kt - 2, sn, cn)
-        columns(sc, t0, codes, ws, kt)
+        sn[0], cn[0] = math.sin(a[0]), math.cos(a[0])
+        columns(sc, t0, codes, ws, kt, True)
         an = coef[HEADER:]
         j = _own_outputs(d, an, (t0, t1, direction, kt, deg), te, j, arrays)
         h = t1 - t0
-        phi = _phi_at(d, kt, h)
-        p00, p10, p01, p11 = phi
+        _rows_value_rate(d, kt, h, vr)  # every column at once (as at the outputs)
+        p00, p10, p01, p11 = vr[0, 0], vr[1, 0], vr[0, 1], vr[1, 1]
         d0, d1 = _tail(an, deg, h)
-        _sensitivities_at(d, kt, h, phi, S, rows, S2)
-        for i in range(rows.size):
-            S[0, i], S[1, i] = S2[0, i], S2[1, i]
+        for i in range(rows.size):  # S ← Φ(h)·S + P(h), as _columns_at
+            x0 = p00 * S[0, i] + p01 * S[1, i]
+            x1 = p10 * S[0, i] + p11 * S[1, i]
+            if rows[i] >= 2:
+                x0 += vr[0, rows[i]]
+                x1 += vr[1, rows[i]]
+            S[0, i], S[1, i] = x0, x1
+            S2[0, i], S2[1, i] = x0, x1
         e2[0], e2[1] = p00 * e[0] + p01 * e[1], p10 * e[0] + p11 * e[1]
         e[0], e[1] = e2[0] + d0, e2[1] + d1
         n += 1
     return n, j
+
+
+@njit(cache=True)
+def _own_error_windows(sc, ws, track, ctl, io, at):
+    # :func:`_own_windows` for the error alone: Φ·e is the variational column started
+    # from (e, e') itself (the equation is linear), so one column to degree ctl.kt is
+    # transported in place of Φ's two; its recurrence shares each order's loop with the
+    # sin/cos series' next order (independent chains side by side).  ``io`` = (err, e).
+    n, j, end, direction = at
+    err, e = io
+    ja, sn, cn, col = ws[0], ws[1], ws[2], ws[3]
+    wt, coefs, te = track.t, track.coef, track.t_out
+    kt = ctl.kt
+    beta, w2 = sc[0], sc[2] * sc[2]
+    e0, e1 = e[0], e[1]
+    while n < end and _is_own(wt, coefs, ctl, n, direction):
+        t0, t1 = wt[n], wt[n + 1]
+        deg = int(coefs[n, 1])
+        for k in range(1, kt - 1):
+            ja[k] = k * coefs[n, HEADER + k]
+        sn[0], cn[0] = math.sin(coefs[n, HEADER]), math.cos(coefs[n, HEADER])
+        col[0], col[1] = e0, e1
+        for k in range(kt - 1):
+            if k + 1 <= kt - 2:  # sin θ, cos θ at order k + 1 (as series._sincos_order)
+                ss = 0.0
+                cc = 0.0
+                for i in range(1, k + 2):
+                    ss += ja[i] * cn[k + 1 - i]
+                    cc += ja[i] * sn[k + 1 - i]
+                sn[k + 1] = ss / (k + 1)
+                cn[k + 1] = -cc / (k + 1)
+            c0 = 0.0
+            for i in range(k + 1):
+                c0 += cn[i] * col[k - i]
+            col[k + 2] = (-beta * (k + 1.0) * col[k + 1] - w2 * c0) * _INV_K12[k]
+        an = coefs[n, HEADER:]
+        while j < te.size and direction * (te[j] - t1) <= 0.0:
+            s = te[j] - t0
+            p, q = _value_rate_to(col, kt, s)
+            d0, d1 = _tail(an, deg, s)
+            err[0, j] = p + d0
+            err[1, j] = q + d1
+            j += 1
+        h = t1 - t0
+        p, q = _value_rate_to(col, kt, h)
+        d0, d1 = _tail(an, deg, h)
+        e0, e1 = p + d0, q + d1
+        n += 1
+    e[0], e[1] = e0, e1
+    return n, j
+
+
+@njit(**INLINE)
+def _value_rate_to(c, n, s):
+    # value_rate of c[:n + 1] at s (no slice).
+    p = c[n]
+    q = 0.0
+    for k in range(n - 1, -1, -1):
+        q = q * s + p
+        p = p * s + c[k]
+    return p, q
 
 
 @njit(**INLINE)
@@ -251,6 +337,7 @@ def _reference_window(sc, codes, ws, start, span, io, j):
     nt = ws[0].size - 1
     te, yo = track.t_out, track.y_out
     ts, x0, x1 = t0, start[0], start[1]
+    vr = np.empty((2, codes.size))  # the columns' values and rates at a time
     n_sub = 0
     while True:
         tangent_series(sc, ts, x0, x1, codes, ws)
@@ -261,15 +348,13 @@ def _reference_window(sc, codes, ws, start, span, io, j):
         last = hs >= direction * (t1 - ts)
         t_sub = t1 if last else ts + direction * hs
         while j < te.size and direction * (te[j] - t_sub) <= 0.0:
-            _columns_at(ws, nt, te[j] - ts, report.rows, tr)
-            th, v = value_rate(ws[0], te[j] - ts)
+            th, v = _columns_at(ws, nt, te[j] - ts, report.rows, tr, vr)
             if measured:
                 _report(report, j, tr, _wrapped(yo[0, j] - th), yo[1, j] - v)
             else:
                 _report(report, j, tr, 0.0, 0.0)
             j += 1
-        _columns_at(ws, nt, t_sub - ts, report.rows, tr)
-        x0, x1 = value_rate(ws[0], t_sub - ts)
+        x0, x1 = _columns_at(ws, nt, t_sub - ts, report.rows, tr, vr)
         _advance(tr)
         ts = t_sub
         if last:
@@ -520,13 +605,15 @@ def _periodic_window(sc, codes, ws, ends, span, io, j, stored):
     if n_sub < 0:
         return j, -1
     rows = report.rows
-    M, PT, thT, vT = period_at(store, n_sub, T, codes)
+    M, PT = np.empty((2, 2)), np.empty((2, codes.size))
+    thT, vT = period_at(store, n_sub, T, codes, (M, PT))
     dT = np.zeros(2)
     if span.measured:
         dT[0], dT[1] = _wrapped(anchor[1] - thT), anchor[2] - vT
     # The window's start in the anchor's frame: E_k0 = Φ_A(s0)⁻¹(e₀ − d(t0)), Σ likewise.
     k = max(0, int(math.floor((t0 - t_a) / T)))
-    phi, pc, th, v = period_at(store, n_sub, min(max(t0 - t_a - k * T, 0.0), T), codes)
+    phi, pc = np.empty((2, 2)), np.empty((2, codes.size))
+    th, v = period_at(store, n_sub, min(max(t0 - t_a - k * T, 0.0), T), codes, (phi, pc))
     d0, d1 = (_wrapped(ends[0] - th), ends[1] - v) if span.measured else (0.0, 0.0)
     _pull_back(phi, pc, rows, (d0, d1), tr)
     te, yo = track.t_out, track.y_out
@@ -537,7 +624,7 @@ def _periodic_window(sc, codes, ws, ends, span, io, j, stored):
         while k < kk:
             _apply(M, PT, dT, rows, (tr.e, tr.S), (tr.e, tr.S))  # one stored period on
             k += 1
-        phi, pc, th, v = period_at(store, n_sub, min(max(t - t_a - k * T, 0.0), T), codes)
+        th, v = period_at(store, n_sub, min(max(t - t_a - k * T, 0.0), T), codes, (phi, pc))
         _apply(phi, pc, _ZERO2, rows, (tr.e, tr.S), (tr.e2, tr.S2))  # at the phase
         y0, y1 = (ends[2], ends[3]) if last else (yo[0, j], yo[1, j])
         d0, d1 = (_wrapped(y0 - th), y1 - v) if span.measured else (0.0, 0.0)
