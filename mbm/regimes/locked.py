@@ -554,8 +554,8 @@ def locked_form(coef):
     return LockedForm(th0, x0, hb, s2, v0 + hb * x0, s, mu, lam1, order2, qr, qi, m, dr, di)
 
 
-# The forms of :func:`locked_at`, one loop each in :func:`locked_eval_range` (a literal
-# there, so each loop holds its own branch alone).
+# The forms of :func:`locked_at` (literals there) and of :func:`locked_eval` and
+# :func:`locked_eval_range` (a value there: one compiled copy of the formula).
 FORM_UNDER = 1  # s² > 0, first order (L2)
 FORM_UNDER2 = 2  # s² > 0, L6's x₂ added
 FORM_OVER = 3  # s² < 0 (over-damped) or s² = 0 (critically damped), L2
@@ -658,9 +658,9 @@ def locked_eval(coef, t):
 def locked_eval_range(coef, t0, times, lo, hi, out_theta, out_v):
     """:func:`locked_eval` at ``times[lo:hi] − t0``, written to ``out_*[lo:hi]``.
 
-    The window's constants formed once (:func:`locked_form`), then one loop per form of
-    the library calls and arithmetic of :func:`locked_eval`: the same operations per
-    time, so the same bits.
+    The window's constants formed once (:func:`locked_form`), then one loop over the
+    times of the library calls and arithmetic of :func:`locked_eval` for the window's
+    form: the same operations per time, so the same bits.
 
     Parameters
     ----------
@@ -676,22 +676,19 @@ def locked_eval_range(coef, t0, times, lo, hi, out_theta, out_v):
         θ and θ' written to their rows ``lo .. hi``.
     """
     f = locked_form(coef)
-    # One loop per form, each free of the others' branches (a shared loop body with them
-    # measured twice the time per output at order 2).  Blocks of library calls apart from
-    # a vectorized arithmetic loop took an output from 24 to 16 ns but added 0.45 s to
-    # every first call's compile (0.55 -> 1.0 s for this kernel): not taken.
-    if f.s2 > 0.0 and f.order2:
-        for q in range(lo, hi):
-            t = times[q] - t0
-            out_theta[q], out_v[q] = _value(f, _parts(f, t, FORM_UNDER2), t, FORM_UNDER2)
-    elif f.s2 > 0.0:
-        for q in range(lo, hi):
-            t = times[q] - t0
-            out_theta[q], out_v[q] = _value(f, _parts(f, t, FORM_UNDER), t, FORM_UNDER)
-    else:
-        for q in range(lo, hi):
-            t = times[q] - t0
-            out_theta[q], out_v[q] = _value(f, _parts(f, t, FORM_OVER), t, FORM_OVER)
+    # The form as a value: _form_range compiled once, its loop's branch on the form
+    # invariant (LLVM takes it out of the loop).
+    form = FORM_UNDER2 if (f.s2 > 0.0 and f.order2) else (FORM_UNDER if f.s2 > 0.0 else FORM_OVER)
+    _form_range(f, (t0, times, lo, hi), out_theta, out_v, form)
+
+
+@kernel
+def _form_range(f, rows, out_theta, out_v, form):
+    # The outputs ``rows`` = (t0, times, lo, hi) of one form (locked_eval_range).
+    t0, times, lo, hi = rows
+    for q in range(lo, hi):
+        t = times[q] - t0
+        out_theta[q], out_v[q] = _value(f, _parts(f, t, form), t, form)
 
 
 @kernel
