@@ -230,7 +230,12 @@ def _phi_series(sc, t0, theta0, v0, ws):
 @njit(**INLINE)
 def value_rate(c, s):
     """(value, derivative) at ``s`` of the polynomial with coefficients ``c`` (Horner)."""
-    n = c.size - 1
+    return value_rate_to(c, c.size - 1, s)
+
+
+@njit(**INLINE)
+def value_rate_to(c, n, s):
+    """:func:`value_rate` of ``c[:n + 1]`` (no slice: a view costs its reference count)."""
     p = c[n]
     q = 0.0
     for k in range(n - 1, -1, -1):

@@ -37,7 +37,7 @@ from ..approximants.taylor_series import _INV_K12, HEADER
 from ..compile.jit import INLINE
 from .reference import reference_eps, reference_step
 from .regimes import expm2, linear_columns, linear_forcing, period_at, period_map, period_store
-from .series import COL_THETA0, COL_V0, columns, row_value_rate, tangent_series
+from .series import COL_THETA0, COL_V0, columns, row_value_rate, tangent_series, value_rate_to
 
 #: Windows per compiled call of the pass: Ctrl-C is honoured between calls (a few ms each).
 CHUNK_WINDOWS = 4096
@@ -293,29 +293,18 @@ def _own_error_windows(sc, ws, track, ctl, io, at):
         an = coefs[n, HEADER:]
         while j < te.size and direction * (te[j] - t1) <= 0.0:
             s = te[j] - t0
-            p, q = _value_rate_to(col, kt, s)
+            p, q = value_rate_to(col, kt, s)
             d0, d1 = _tail(an, deg, s)
             err[0, j] = p + d0
             err[1, j] = q + d1
             j += 1
         h = t1 - t0
-        p, q = _value_rate_to(col, kt, h)
+        p, q = value_rate_to(col, kt, h)
         d0, d1 = _tail(an, deg, h)
         e0, e1 = p + d0, q + d1
         n += 1
     e[0], e[1] = e0, e1
     return n, j
-
-
-@njit(**INLINE)
-def _value_rate_to(c, n, s):
-    # value_rate of c[:n + 1] at s (no slice).
-    p = c[n]
-    q = 0.0
-    for k in range(n - 1, -1, -1):
-        q = q * s + p
-        p = p * s + c[k]
-    return p, q
 
 
 @njit(**INLINE)
