@@ -153,8 +153,9 @@ def test_every_output_path_is_the_re_run(step_coef):
 
 
 def test_split_from_a_remembered_multiple_is_the_split():
-    # strobe_split_from takes n·P from the previous time where n is the same: (n, s)
-    # bit for bit strobe_split's, over sorted, unsorted and period-boundary times.
+    # strobe_split_from tries the previous time's n·P first (no division where it fits)
+    # and forms a new one where n changes: (n, s) bit for bit strobe_split's (which
+    # remembers none), over sorted, unsorted and period-boundary times (either side).
     from mbm.regimes.strobe import NO_MULTIPLE, strobe_period, strobe_split, strobe_split_from
 
     split = strobe_split.py_func if hasattr(strobe_split, "py_func") else strobe_split
@@ -163,7 +164,9 @@ def test_split_from_a_remembered_multiple_is_the_split():
     rng = np.random.default_rng(7)
     k = np.arange(-3, 400, dtype=float)
     times = np.concatenate((np.linspace(t_a, t_a + 3000.0, 4001), t_a + k * p_hi, t_a + k * (p_hi + p_lo),
-                            np.nextafter(t_a + k * p_hi, np.inf), rng.uniform(t_a, t_a + 1e5, 2000)))
+                            np.nextafter(t_a + k * p_hi, np.inf),
+                            np.nextafter(t_a + k * p_hi, -np.inf), np.nextafter(t_a + k * (p_hi + p_lo), -np.inf),
+                            rng.uniform(t_a, t_a + 1e5, 2000)))
     for order in (times, rng.permutation(times)):
         known = NO_MULTIPLE
         for t in order:
