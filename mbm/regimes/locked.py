@@ -647,11 +647,12 @@ def locked_eval(coef, t):
     theta, v : float
         θ and θ' (at t = 0 the anchor, bit for bit).
     """
-    f = locked_form(coef)
-    # The form as a value, not a literal: one inlined copy of the formula instead of
-    # locked_at's three (the same operations and bits).
-    form = FORM_UNDER2 if (f.s2 > 0.0 and f.order2) else (FORM_UNDER if f.s2 > 0.0 else FORM_OVER)
-    return _value(f, _parts(f, t, form), t, form)
+    # One time through locked_eval_range's loop (_form_range): the formula compiled once
+    # for both (a first call's compile), the same operations (t − 0.0 is t).
+    one = np.empty(3)
+    one[0] = t
+    locked_eval_range(coef, 0.0, one[0:1], np.int64(0), np.int64(1), one[1:2], one[2:3])
+    return one[1], one[2]
 
 
 @kernel
