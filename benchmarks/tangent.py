@@ -160,9 +160,14 @@ def report(eff, costs, args):
     big = [r for r in eff if r[3] > 10 * r[1]]
     lines.append(f"- scenes whose true error exceeds 10× the tolerance: {len(big)}; the least effectivity "
                  f"among them: {min((r[2] for r in big), default=float('nan')):.3g} (each also raises "
-                 "AccuracyWarning); those whose true error has saturated at the attractor's size "
-                 f"(≥ {SATURATED:g} rad: chaotic and sensitive driven scenes) are over-estimated by the linear "
-                 "transport, see docs/theory/error_estimate.md")
+                 "AccuracyWarning)")
+    sat = [r for r in eff if r[3] >= SATURATED]
+    if sat:
+        e = np.array([r[2] for r in sat])
+        lines.append(f"- true error saturated at the attractor's size (≥ {SATURATED:g} rad: chaotic and sensitive "
+                     f"driven scenes): {len(sat)}, effectivity [{e.min():.3g}, {e.max():.3g}]; there the linear "
+                     "transport grows past the error and the estimate is a companion run's at 1e-3 times the "
+                     "tolerances (mbm.tangent.api.SATURATION; docs/theory/error_estimate.md)")
     lines += ["", "| regime | tol | effectivity | max true error | max estimate |", "|---|---|---|---|---|"]
     for regime, tol, e, true, est, _ in eff:
         lines.append(f"| {regime} | {tol:g} | {e:.3g} | {true:.3g} | {est:.3g} |")

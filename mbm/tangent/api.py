@@ -8,6 +8,7 @@ from numba import njit
 
 from ..approximants.taylor_series import HEADER, N_EXTRA
 from ..core.window import KIND_TAYLOR
+from ..validate import RTOL_FLOOR
 from .series import workspace
 from .reference import REF_DEGREE
 from .transport import TANGENT_DEGREE, carry_arrays, transport
@@ -19,6 +20,17 @@ SENSITIVITY_NAMES = ("theta0", "v0", "beta", "gamma", "omega", "drive_amplitude"
 #: The estimate is reported as a warning past this many times the tolerance
 #: (atol + rtol·|y|): within it the run honours its tolerance as a local error control can.
 WARN_FACTOR = 10.0
+
+#: Past this |estimate of θ| (rad) the linear transport no longer holds: the error is of
+#: the size of the scale over which sin θ bends, and in chaos it saturates at the
+#: attractor's size while Φ keeps growing.  The estimate is then a companion run's.
+SATURATION = 1.0
+
+#: The companion run's tolerances, this factor tighter than the run's: its error is then
+#: a thousandth of the run's while both are linear, of the same size once both saturate,
+#: so y − y_companion measures y − y_true either way (RKSUITE's global error assessment
+#: by a second, tighter run, taken only where the linear estimate fails).
+COMPANION_FACTOR = 1e-3
 
 #: What a call asked of the pass: the error estimate (bool) and the sensitivities' names.
 Request = collections.namedtuple("Request", ("error_estimate", "names"))
@@ -78,7 +90,8 @@ def attach(r, ig, req, windows):
         coefficients (n, :func:`coefficient_width`).
 
     Adds ``error_estimate`` (the shape of ``y``: an estimate of y_computed − y_true at
-    each output), and ``sensitivities`` (len(names), 2, n_out) with
+    each output; the transported local errors, or where their θ part passes SATURATION,
+    y − a companion run's y: :func:`companion_error`), and ``sensitivities`` (len(names), 2, n_out) with
     ``sensitivity_names``, as asked; warns (:class:`AccuracyWarning`) where the
     estimate exceeds WARN_FACTOR times the tolerance.
     """
@@ -116,16 +129,49 @@ def attach(r, ig, req, windows):
         warnings.warn("the tangent pass met a non-finite state: error_estimate and sensitivities are NaN",
                       AccuracyWarning, stacklevel=5)
     if req.error_estimate:
+        how = ""
+        if taken >= 0 and np.abs(err[0]).max() > SATURATION:
+            companion = companion_error(r, ig, (win_t[0], win_y[0], win_t[-1]))
+            if companion is not None:
+                err = companion
+                how = (f" (from a companion run at {COMPANION_FACTOR:g} times the tolerances: the linear "
+                       f"estimate passed {SATURATION:g} rad)")
         r["error_estimate"] = err
         ratio, row, col = worst_ratio(err, y_out, ig.rtol, ig.atol)
         if ratio > WARN_FACTOR:
             which = ("theta", "theta'")[row]
             warnings.warn(f"the error estimate of {which} reaches {ratio:.3g} times the tolerance "
-                          f"(atol + rtol*|y|) at t = {t_out[col]:.6g} (estimated error {err[row, col]:.3g}); "
+                          f"(atol + rtol*|y|) at t = {t_out[col]:.6g} (estimated error {err[row, col]:.3g}){how}; "
                           "a tighter rtol/atol reduces it", AccuracyWarning, stacklevel=5)
     if req.names:
         r["sensitivities"] = sens
         r["sensitivity_names"] = req.names
+
+
+def companion_error(r, ig, start):
+    """y − y_companion at the outputs of result ``r``: the estimate where the linear one
+    fails (SATURATION), from a run of ``ig``'s model at COMPANION_FACTOR times its
+    tolerances (the default approximant; ``ig``'s max_step and max_windows) over the same
+    span from the same state; ``start`` = (t0, (θ0, θ'0), the end reached).  θ compared
+    unwrapped where the outputs are wrapped.  None where the tolerances cannot be made
+    ten times tighter (rtol at its floor) or the companion run fails: the linear estimate
+    stands then."""
+    rtol = max(ig.rtol * COMPANION_FACTOR, RTOL_FLOOR)
+    if rtol > 0.1 * ig.rtol:
+        return None
+    t0, y0, t_end = start
+    t_out = np.ascontiguousarray(r["t"], dtype=float)
+    comp = type(ig)(ig.model, rtol=rtol, atol=ig.atol * COMPANION_FACTOR, max_step=ig.max_step,
+                    max_windows=ig._max_windows)
+    wrapped = r.get("winding") is not None
+    c = comp.solve((float(t0), float(t_end)), [float(y0[0]), float(y0[1])], t_eval=t_out, wrap=wrapped)
+    if not c["success"] or c["t"].size != t_out.size:
+        return None
+    y, yc = np.array(r["y"][:2], dtype=float), np.array(c["y"][:2], dtype=float)
+    if wrapped:
+        y[0] += 2 * np.pi * r["winding"]
+        yc[0] += 2 * np.pi * c["winding"]
+    return y - yc
 
 
 def _setup(ig, names, own):

@@ -268,3 +268,53 @@ def test_a_reused_store_gives_a_fresh_integrators_answer():
                                                                   sensitivities=ALL[:5])
         np.testing.assert_array_equal(mine.error_estimate, fresh.error_estimate)
         np.testing.assert_array_equal(mine.sensitivities, fresh.sensitivities)
+
+
+CHAOTIC = mbm.Pendulum(0.5, 0.0, drive_amplitude=1.15, drive_frequency=2 / 3)  # Baker and Gollub's
+
+
+def test_a_saturated_estimate_comes_from_a_companion_run(monkeypatch):
+    # Chaos over T = 600 (heyoka's long double still good to ~1e-6 there): the error at
+    # 1e-6 saturates at the attractor's size (tens of rad), where the linear transport
+    # keeps growing; past SATURATION the estimate is a tighter companion run's, and its
+    # effectivity is near 1 again.  Without the companion it is far above 10.
+    import mbm.tangent.api as api
+
+    te = np.linspace(0.0, 600.0, 201)
+    true, default = None, api.SATURATION
+    for saturation, lo, hi in ((default, 0.3, 3.0), (np.inf, 10.0, np.inf)):
+        monkeypatch.setattr(api, "SATURATION", saturation)
+        with pytest.warns(mbm.AccuracyWarning) as caught:
+            r = mbm.solve(CHAOTIC, (0.0, 600.0), [0.0, 0.0], t_eval=te, rtol=1e-6, atol=1e-6, error_estimate=True)
+        if true is None:
+            true = r.y[0] - _truth(CHAOTIC, [0.0, 0.0], te)[0]
+            assert np.abs(true).max() > 5.0  # saturated
+        eff = np.abs(r.error_estimate[0]).max() / np.abs(true).max()
+        assert lo < eff < hi, (saturation, eff)
+        assert ("companion" in str(caught[0].message)) == (saturation == default)
+
+
+def test_the_companion_compares_unwrapped_angles():
+    te = np.linspace(0.0, 600.0, 101)
+    kw = dict(t_eval=te, rtol=1e-6, atol=1e-6, error_estimate=True)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", mbm.AccuracyWarning)
+        a = mbm.solve(CHAOTIC, (0.0, 600.0), [0.0, 0.0], **kw)
+        b = mbm.solve(CHAOTIC, (0.0, 600.0), [0.0, 0.0], wrap=True, **kw)
+    assert np.abs(a.error_estimate[0]).max() > 1.0
+    np.testing.assert_allclose(b.error_estimate, a.error_estimate, rtol=0, atol=1e-9)
+
+
+def test_no_companion_at_the_rtol_floor():
+    # The companion must be ten times tighter; at the floor it cannot be: None (the
+    # linear estimate stands).
+    import mbm.tangent.api as api
+    from mbm.validate import RTOL_FLOOR
+
+    ig = mbm.Integrator(CHAOTIC, rtol=RTOL_FLOOR, atol=1e-14)
+    r = ig.solve((0.0, 1.0), [0.0, 0.0], t_eval=np.linspace(0.0, 1.0, 5))
+    assert api.companion_error(r, ig, (0.0, (0.0, 0.0), 1.0)) is None
+    ig = mbm.Integrator(CHAOTIC, rtol=1e-6, atol=1e-6)
+    r = ig.solve((0.0, 1.0), [0.0, 0.0], t_eval=np.linspace(0.0, 1.0, 5))
+    err = api.companion_error(r, ig, (0.0, (0.0, 0.0), 1.0))
+    assert err.shape == (2, 5) and err[:, 0].tolist() == [0.0, 0.0] and 0.0 < np.abs(err).max() < 1e-5
