@@ -179,13 +179,7 @@ def tangent_series(sc, t0, theta0, v0, codes, ws):
     nt = a.size - 1
     beta, gamma, omega, amp, freq, phase = sc
     w2 = omega * omega
-    if amp != 0.0 or codes[codes.size - 1] >= COL_AMP:
-        u, w = drive_phase_sincos(freq, phase, t0)
-        drive_series(freq, u, w, nt, ds, dc)
-    else:
-        ds[:] = 0.0
-    a[0], a[1] = theta0, v0
-    sn[0], cn[0] = math.sin(theta0), math.cos(theta0)
+    _series_start(sc, t0, theta0, v0, ws, amp != 0.0 or codes[codes.size - 1] >= COL_AMP)
     _columns_start(codes, d)
     for k in range(nt - 1):
         if k > 0:
@@ -196,6 +190,21 @@ def tangent_series(sc, t0, theta0, v0, codes, ws):
 
 
 @njit(cache=True)
+def _series_start(sc, t0, theta0, v0, ws, drive):
+    # The set-up of tangent_series and _phi_series: the drive's series from t0 (zero
+    # where ``drive`` is off), θ's first two coefficients, sin θ₀ and cos θ₀.
+    a, sn, cn, ds, dc, _ = ws
+    freq, phase = sc[4], sc[5]
+    if drive:
+        u, w = drive_phase_sincos(freq, phase, t0)
+        drive_series(freq, u, w, a.size - 1, ds, dc)
+    else:
+        ds[:] = 0.0
+    a[0], a[1] = theta0, v0
+    sn[0], cn[0] = math.sin(theta0), math.cos(theta0)
+
+
+@njit(cache=True)
 def _phi_series(sc, t0, theta0, v0, ws):
     # tangent_series of Φ's two columns alone (no forcing): one pair of chains beside
     # sin/cos's, the same operations per column as the grouped pass.
@@ -203,13 +212,7 @@ def _phi_series(sc, t0, theta0, v0, ws):
     nt = a.size - 1
     beta, gamma, omega, amp, freq, phase = sc
     w2 = omega * omega
-    if amp != 0.0:
-        u, w = drive_phase_sincos(freq, phase, t0)
-        drive_series(freq, u, w, nt, ds, dc)
-    else:
-        ds[:] = 0.0
-    a[0], a[1] = theta0, v0
-    sn[0], cn[0] = math.sin(theta0), math.cos(theta0)
+    _series_start(sc, t0, theta0, v0, ws, amp != 0.0)
     d[0, 0], d[0, 1], d[1, 0], d[1, 1] = 1.0, 0.0, 0.0, 1.0
     for k in range(nt - 1):
         if k > 0:
